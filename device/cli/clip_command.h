@@ -1,0 +1,10 @@
+// `parallax clip RECORDING -o OUT.mp4`: the offline pipeline on a recording.
+#pragma once
+
+#include <CLI/CLI.hpp>
+
+namespace px::cli {
+
+void AddClipCommand(CLI::App& app);
+
+}  // namespace px::cli

@@ -1,0 +1,23 @@
+// `parallax`: the offline tools: simulate a capture, make a clip from a recording, benchmark.
+#include <CLI/CLI.hpp>
+
+#include "device/cli/bench_command.h"
+#include "device/cli/clip_command.h"
+#include "device/cli/sim_command.h"
+#include "pipeline/core/log.h"
+
+int main(int argc, char** argv) {
+  CLI::App app{"parallax: multi-lens capture to 3D pan & scan clip (offline tools)"};
+  app.require_subcommand(1);
+  std::string log_levels = "info";
+  app.add_option("--log", log_levels, "Log levels: 'info', or per module 'info,depth=debug'")->capture_default_str();
+  app.parse_complete_callback([&]() {
+    px::Status status = px::SetLogLevels(log_levels);
+    if (!status.ok()) throw CLI::ValidationError("--log", status.message());
+  });
+  px::cli::AddSimCommand(app);
+  px::cli::AddClipCommand(app);
+  px::cli::AddBenchCommand(app);
+  CLI11_PARSE(app, argc, argv);
+  return 0;
+}

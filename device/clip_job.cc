@@ -1,0 +1,183 @@
+#include "device/clip_job.h"
+
+#include <chrono>
+#include <memory>
+#include <nlohmann/json.hpp>
+#include <system_error>
+
+#include "device/storage/durable_file.h"
+#include "device/storage/job_journal.h"
+#include "device/storage/storage_layout.h"
+#include "pipeline/core/log.h"
+#include "pipeline/direct/camera_path.h"
+#include "sim/replay/recording.h"
+
+namespace px::device {
+namespace {
+
+namespace fs = std::filesystem;
+using Clock = std::chrono::steady_clock;
+
+double MillisecondsSince(Clock::time_point start) {
+  return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
+}
+
+// Streams rendered frames into an Mp4Writer opened on the first frame (its size is the
+// pipeline's choice), timing the encoder apart from rendering.
+class Mp4Sink final : public FrameSink {
+ public:
+  Mp4Sink(fs::path path, clip::Mp4Options options) : path_(std::move(path)), options_(std::move(options)) {}
+
+  Status Consume(int index, const cv::Mat& bgr) override {
+    const auto start = Clock::now();
+    if (!writer_) {
+      PX_ASSIGN_OR_RETURN(writer_, clip::Mp4Writer::Open(path_, bgr.cols, bgr.rows, options_));
+      width_ = bgr.cols & ~1;  // yuv420p: the writer crops odd sizes by one pixel
+      height_ = bgr.rows & ~1;
+    }
+    Status written = writer_->Write(bgr);
+    encode_ms_ += MillisecondsSince(start);
+    if (!written.ok()) return written.WithContext("frame " + std::to_string(index));
+    return OkStatus();
+  }
+
+  Status Finish() {
+    if (!writer_) return InternalError("the pipeline rendered no frames");
+    const auto start = Clock::now();
+    Status finished = writer_->Finish();
+    encode_ms_ += MillisecondsSince(start);
+    return finished;
+  }
+
+  int frames() const { return writer_ ? writer_->FramesWritten() : 0; }
+  int width() const { return width_; }
+  int height() const { return height_; }
+  double encode_ms() const { return encode_ms_; }
+
+ private:
+  fs::path path_;
+  clip::Mp4Options options_;
+  std::unique_ptr<clip::Mp4Writer> writer_;
+  int width_ = 0;
+  int height_ = 0;
+  double encode_ms_ = 0;
+};
+
+// Removes a file on scope exit unless released (the temporary clip of a failed job).
+class RemoveOnExit {
+ public:
+  explicit RemoveOnExit(fs::path path) : path_(std::move(path)) {}
+  ~RemoveOnExit() {
+    if (!path_.empty()) {
+      std::error_code ec;
+      fs::remove(path_, ec);
+    }
+  }
+  RemoveOnExit(const RemoveOnExit&) = delete;
+  RemoveOnExit& operator=(const RemoveOnExit&) = delete;
+  void Release() { path_.clear(); }
+
+ private:
+  fs::path path_;
+};
+
+}  // namespace
+
+Status ClipJobOptions::Validate() const {
+  PX_RETURN_IF_ERROR(pipeline.Validate());
+  clip::Mp4Options effective = mp4;
+  effective.fps = pipeline.direct.fps;
+  return effective.Validate();
+}
+
+nlohmann::json ClipJobReportToJson(const ClipJobReport& report) {
+  nlohmann::json timings = nlohmann::json::object();
+  for (const StageTiming& timing : report.pipeline.timings) timings[timing.stage] = timing.ms;
+  return {
+      {"clip", report.clip_path.string()},
+      {"recording", report.recording_dir.string()},
+      {"source", report.source_model},
+      {"created_at", NowIso8601Utc()},
+      {"frames", report.frames_written},
+      {"width", report.width},
+      {"height", report.height},
+      {"fps", report.pipeline.path.fps},
+      {"duration_s", report.pipeline.path.duration_s},
+      {"bytes", report.clip_bytes},
+      {"num_views", report.pipeline.num_views},
+      {"mean_hole_ratio", report.pipeline.mean_hole_ratio},
+      {"warnings", report.pipeline.warnings},
+      {"timings_ms", timings},
+      {"total_ms", report.total_ms},
+      {"camera_path", CameraPathToJson(report.pipeline.path)},
+  };
+}
+
+StatusOr<ClipJobReport> RunClipJob(const fs::path& recording_dir,
+                                   const fs::path& clip_path,
+                                   const ClipJobOptions& options,
+                                   const ProgressCallback& progress) {
+  const auto start = Clock::now();
+  auto log = Logger("device");
+  PX_RETURN_IF_ERROR(options.Validate());
+  ClipJobReport report;
+  std::error_code ec;
+  report.recording_dir = fs::absolute(recording_dir, ec);
+  if (ec) report.recording_dir = recording_dir;
+  report.clip_path = fs::absolute(clip_path, ec);
+  if (ec) report.clip_path = clip_path;
+  report.report_path = ClipReportPathFor(report.clip_path);
+
+  const auto read_start = Clock::now();
+  PX_ASSIGN_OR_RETURN(Recording recording, ReadRecording(report.recording_dir));
+  report.source_model = recording.source.model;
+  RigCalibration rig;
+  if (recording.source.rig) {
+    rig = *recording.source.rig;
+  } else if (recording.frames.kind == FrameSetKind::kLatticeFrame) {
+    return FailedPreconditionError(report.recording_dir.string() +
+                                   ": the recording has no rig calibration, and a lattice frame cannot be "
+                                   "split into views without one");
+  }
+  log->info("clip job: read recording {} ({}, {} frame(s)) in {:.0f} ms",
+            report.recording_dir.string(),
+            report.source_model,
+            recording.frames.frames.size(),
+            MillisecondsSince(read_start));
+
+  clip::Mp4Options mp4 = options.mp4;
+  mp4.fps = options.pipeline.direct.fps;
+  const fs::path temp = TemporaryPathFor(report.clip_path);
+  RemoveOnExit remove_temp(temp);
+  Mp4Sink sink(temp, mp4);
+  StatusOr<PipelineReport> pipeline = RunPipeline(recording.frames, rig, options.pipeline, &sink, progress);
+  if (!pipeline.ok()) return pipeline.status();
+  report.pipeline = std::move(pipeline).value();
+  PX_RETURN_IF_ERROR(sink.Finish().WithContext(temp.string()));
+  // The sink's own clock is the encoder's time; replace any "encode" figure the pipeline kept.
+  std::erase_if(report.pipeline.timings, [](const StageTiming& t) { return t.stage == "encode"; });
+  report.pipeline.timings.push_back({"encode", sink.encode_ms()});
+  report.frames_written = sink.frames();
+  report.width = sink.width();
+  report.height = sink.height();
+
+  PX_RETURN_IF_ERROR(FsyncFile(temp));
+  PX_RETURN_IF_ERROR(RenameDurably(temp, report.clip_path));
+  remove_temp.Release();
+  RemoveOnExit remove_clip(report.clip_path);  // until the report is beside it
+  report.clip_bytes = fs::file_size(report.clip_path, ec);
+  report.total_ms = MillisecondsSince(start);
+  PX_RETURN_IF_ERROR(WriteFileAtomically(report.report_path, ClipJobReportToJson(report).dump(2) + "\n"));
+  remove_clip.Release();
+  log->info("clip job: wrote {} ({} frames {}x{}, {:.2f} MB, encode {:.0f} ms) in {:.0f} ms",
+            report.clip_path.string(),
+            report.frames_written,
+            report.width,
+            report.height,
+            static_cast<double>(report.clip_bytes) / 1e6,
+            sink.encode_ms(),
+            report.total_ms);
+  return report;
+}
+
+}  // namespace px::device

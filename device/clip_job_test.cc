@@ -1,0 +1,128 @@
+#include "device/clip_job.h"
+
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include <nlohmann/json.hpp>
+
+#include "device/probe_mp4_for_test.h"
+#include "device/source_registry.h"
+#include "device/storage/durable_file.h"
+#include "device/temp_dir_for_test.h"
+#include "pipeline/direct/camera_path.h"
+#include "sim/replay/recording.h"
+#include "sim/synthetic/synthetic_source.h"
+
+namespace px::device {
+namespace {
+
+namespace fs = std::filesystem;
+using ::testing::HasSubstr;
+
+// A small camera and a short clip so the whole job runs in about a second on 2 cores:
+// a 3x3 lattice of 160x120 tiles, 0.5 s at 10 fps.
+ClipJobOptions SmallClipOptions() {
+  ClipJobOptions options;
+  options.pipeline.direct.duration_s = 0.5;
+  options.pipeline.direct.fps = 10;
+  options.mp4.preset = "ultrafast";
+  return options;
+}
+
+class ClipJobTest : public TempDirTest {
+ protected:
+  // Captures one frame set from the simulated camera and saves it as a recording.
+  fs::path SaveSimRecording(bool with_rig = true) {
+    SimSourceSettings settings;
+    settings.tile_width = 160;
+    settings.tile_height = 120;
+    SyntheticSourceOptions options;
+    options.camera = SimCameraFromSettings(settings).value();
+    auto source = MakeSyntheticSource(options);
+    EXPECT_TRUE(source.ok()) << source.status().ToString();
+    SourceConfig granted;
+    EXPECT_TRUE((*source)->Configure({options.camera.pixel_format, 0, 0, 1}, &granted).ok());
+    Recording recording;
+    recording.source = (*source)->Describe();
+    if (!with_rig) recording.source.rig.reset();
+    recording.frames = (*source)->Next(std::chrono::seconds(10)).value();
+    recording.created_by = "clip_job_test";
+    const fs::path dir_path = dir() / (with_rig ? "capture" : "capture_without_rig");
+    Status written = WriteRecording(dir_path, recording);
+    EXPECT_TRUE(written.ok()) << written.ToString();
+    fs::create_directories(dir() / "clips");
+    return dir_path;
+  }
+  std::vector<std::string> ClipsFolder() {
+    std::vector<std::string> names;
+    for (const auto& entry : fs::directory_iterator(dir() / "clips")) names.push_back(entry.path().filename());
+    std::sort(names.begin(), names.end());
+    return names;
+  }
+};
+
+TEST_F(ClipJobTest, MakesAPlayableClipWithItsCameraPathBesideIt) {
+  const fs::path recording = SaveSimRecording();
+  const fs::path clip = dir() / "clips" / "000001.mp4";
+  auto report = RunClipJob(recording, clip, SmallClipOptions());
+  ASSERT_TRUE(report.ok()) << report.status().ToString();
+
+  EXPECT_EQ(ClipsFolder(), (std::vector<std::string>{"000001.json", "000001.mp4"}));
+  const int want_frames = NumFrames(10, 0.5);
+  EXPECT_EQ(report->frames_written, want_frames);
+  EXPECT_EQ(report->pipeline.num_views, 9);
+  ProbedVideo video = ProbeVideo(clip);
+  ASSERT_TRUE(video.opened);
+  EXPECT_EQ(video.codec, "h264");
+  EXPECT_EQ(video.frames, want_frames);
+  EXPECT_EQ(video.width, report->width);
+  EXPECT_EQ(video.height, report->height);
+  EXPECT_EQ(report->clip_bytes, fs::file_size(clip));
+
+  auto text = ReadFileToString(dir() / "clips" / "000001.json");
+  ASSERT_TRUE(text.ok());
+  nlohmann::json j = nlohmann::json::parse(*text);
+  EXPECT_EQ(j["clip"], clip.string());
+  EXPECT_EQ(j["frames"], want_frames);
+  EXPECT_EQ(j["source"], "sim:sim-pop9-160x120");
+  EXPECT_TRUE(j["timings_ms"].contains("encode"));
+  auto path = CameraPathFromJson(j["camera_path"]);
+  ASSERT_TRUE(path.ok()) << path.status().ToString();
+  EXPECT_GE(path->keyframes.size(), 2u);
+  EXPECT_EQ(path->fps, 10);
+}
+
+TEST_F(ClipJobTest, LatticeRecordingWithoutRigFailsAndLeavesNoClip) {
+  const fs::path recording = SaveSimRecording(/*with_rig=*/false);
+  auto report = RunClipJob(recording, dir() / "clips" / "x.mp4", SmallClipOptions());
+  EXPECT_EQ(report.status().code(), StatusCode::kFailedPrecondition);
+  EXPECT_THAT(report.status().message(), HasSubstr("no rig calibration"));
+  EXPECT_TRUE(ClipsFolder().empty());
+}
+
+TEST_F(ClipJobTest, CancelledJobLeavesNoClipOrTemporary) {
+  const fs::path recording = SaveSimRecording();
+  // Cancel in the middle of rendering, when the encoder already holds a temporary file.
+  auto report = RunClipJob(
+      recording, dir() / "clips" / "x.mp4", SmallClipOptions(), [&](const std::string& stage, double fraction) {
+        return !(stage == "render" && fraction >= 0.6);
+      });
+  EXPECT_EQ(report.status().code(), StatusCode::kCancelled) << report.status().ToString();
+  EXPECT_TRUE(ClipsFolder().empty());
+}
+
+TEST_F(ClipJobTest, MissingRecordingIsNotFound) {
+  fs::create_directories(dir() / "clips");
+  auto report = RunClipJob(dir() / "nothing", dir() / "clips" / "x.mp4", SmallClipOptions());
+  EXPECT_EQ(report.status().code(), StatusCode::kNotFound) << report.status().ToString();
+  EXPECT_TRUE(ClipsFolder().empty());
+}
+
+TEST(ClipJobOptionsTest, BadOptionsNameTheField) {
+  ClipJobOptions options = SmallClipOptions();
+  options.mp4.crf = 99;
+  EXPECT_THAT(options.Validate().message(), HasSubstr("crf"));
+}
+
+}  // namespace
+}  // namespace px::device

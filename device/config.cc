@@ -1,0 +1,252 @@
+#include "device/config.h"
+
+#include <nlohmann/json.hpp>
+#include <set>
+#include <sstream>
+
+#include "device/storage/durable_file.h"
+#include "pipeline/core/json_fields.h"
+
+namespace px::device {
+namespace {
+
+namespace fs = std::filesystem;
+
+constexpr double kBytesPerMb = 1000.0 * 1000.0;
+
+// Reads the fields of one JSON object, remembering which keys it was asked for, so that the
+// leftovers can be reported as unknown (a typo must not silently fall back to a default).
+class ObjectReader {
+ public:
+  ObjectReader(const nlohmann::json& object, std::string path) : object_(object), path_(std::move(path)) {}
+
+  Status CheckIsObject() const {
+    if (!object_.is_object()) {
+      return InvalidArgumentError((path_.empty() ? "config" : path_) + ": want an object, got " + object_.type_name());
+    }
+    return OkStatus();
+  }
+
+  // A nested object; absent means an empty one (all defaults).
+  StatusOr<ObjectReader> Child(const std::string& key) {
+    known_.push_back(key);
+    static const nlohmann::json kEmpty = nlohmann::json::object();
+    const std::string child_path = json::FieldPath(path_, key);
+    auto it = object_.find(key);
+    ObjectReader child(it == object_.end() ? kEmpty : *it, child_path);
+    PX_RETURN_IF_ERROR(child.CheckIsObject());
+    return child;
+  }
+
+  Status String(const std::string& key, std::string* value) {
+    known_.push_back(key);
+    PX_ASSIGN_OR_RETURN(*value, json::GetStringOr(object_, key, path_, *value));
+    return OkStatus();
+  }
+  Status Path(const std::string& key, fs::path* value) {
+    std::string text = value->string();
+    PX_RETURN_IF_ERROR(String(key, &text));
+    *value = text;
+    return OkStatus();
+  }
+  Status Number(const std::string& key, double* value) {
+    known_.push_back(key);
+    PX_ASSIGN_OR_RETURN(*value, json::GetNumberOr(object_, key, path_, *value));
+    return OkStatus();
+  }
+  Status Int(const std::string& key, int* value) {
+    known_.push_back(key);
+    PX_ASSIGN_OR_RETURN(int64_t v, json::GetIntegerOr(object_, key, path_, *value));
+    if (v < INT32_MIN || v > INT32_MAX) {
+      return InvalidArgumentError(json::FieldPath(path_, key) + ": " + std::to_string(v) + " is out of range");
+    }
+    *value = static_cast<int>(v);
+    return OkStatus();
+  }
+  Status Uint64(const std::string& key, uint64_t* value) {
+    known_.push_back(key);
+    PX_ASSIGN_OR_RETURN(int64_t v, json::GetIntegerOr(object_, key, path_, static_cast<int64_t>(*value)));
+    if (v < 0) return InvalidArgumentError(json::FieldPath(path_, key) + ": " + std::to_string(v) + " is negative");
+    *value = static_cast<uint64_t>(v);
+    return OkStatus();
+  }
+  Status Bool(const std::string& key, bool* value) {
+    known_.push_back(key);
+    PX_ASSIGN_OR_RETURN(*value, json::GetBoolOr(object_, key, path_, *value));
+    return OkStatus();
+  }
+
+  // Call after reading every field: names the first key nobody asked for.
+  Status CheckNoUnknownFields() const {
+    const std::set<std::string> known(known_.begin(), known_.end());
+    for (const auto& [key, value] : object_.items()) {
+      if (known.count(key)) continue;
+      std::string list;
+      for (const std::string& k : known_) list += (list.empty() ? "" : ", ") + k;
+      return InvalidArgumentError(json::FieldPath(path_, key) + ": unknown field (known: " + list + ")");
+    }
+    return OkStatus();
+  }
+
+ private:
+  const nlohmann::json& object_;
+  std::string path_;
+  std::vector<std::string> known_;
+};
+
+std::string FormatNumber(double value) {
+  std::ostringstream out;
+  out << value;
+  return out.str();
+}
+
+Status RangeError(const std::string& field, double value, const std::string& range) {
+  return InvalidArgumentError(field + ": " + FormatNumber(value) + " is not in " + range);
+}
+
+}  // namespace
+
+Status DaemonConfig::Validate() const {
+  PX_RETURN_IF_ERROR(storage.Validate());
+  if (control_socket.string().size() > 107) {
+    return InvalidArgumentError("control.socket: '" + control_socket.string() + "' is longer than 107 bytes");
+  }
+  if (source.kind != "sim" && source.kind != "replay") {
+    return InvalidArgumentError("source.kind: '" + source.kind + "' is not one of sim, replay");
+  }
+  if (source.sim.camera != "pop9" && source.sim.camera != "integral5x4") {
+    return InvalidArgumentError("source.sim.camera: '" + source.sim.camera + "' is not one of pop9, integral5x4");
+  }
+  if (source.sim.tile_width < 0 || source.sim.tile_width > 8192) {
+    return RangeError("source.sim.tile_width", source.sim.tile_width, "[0, 8192] (0 = the preset's)");
+  }
+  if (source.sim.tile_height < 0 || source.sim.tile_height > 8192) {
+    return RangeError("source.sim.tile_height", source.sim.tile_height, "[0, 8192] (0 = the preset's)");
+  }
+  if (source.kind == "replay" && source.replay.path.empty()) {
+    return InvalidArgumentError("source.replay.path: empty, but source.kind is replay");
+  }
+  if (source.timeout_ms <= 0 || source.timeout_ms > 600000) {
+    return RangeError("source.timeout_ms", source.timeout_ms, "(0, 600000]");
+  }
+  if (clip.move.empty()) return InvalidArgumentError("clip.move: empty");
+  if (!(clip.duration_s > 0 && clip.duration_s <= 60)) return RangeError("clip.duration_s", clip.duration_s, "(0, 60]");
+  if (!(clip.fps > 0 && clip.fps <= 240)) return RangeError("clip.fps", clip.fps, "(0, 240]");
+  if (clip.crf < 0 || clip.crf > 51) return RangeError("clip.crf", clip.crf, "[0, 51]");
+  static const std::set<std::string> kPresets = {
+      "ultrafast", "superfast", "veryfast", "faster", "fast", "medium", "slow", "slower", "veryslow"};
+  if (!kPresets.count(clip.preset)) {
+    return InvalidArgumentError("clip.preset: '" + clip.preset +
+                                "' is not one of ultrafast, superfast, veryfast, faster, fast, medium, slow, "
+                                "slower, veryslow");
+  }
+  if (clip.num_threads < 0 || clip.num_threads > 256) {
+    return RangeError("clip.num_threads", clip.num_threads, "[0, 256] (0 = all cores)");
+  }
+  if (log_levels.empty()) return InvalidArgumentError("log.levels: empty");
+  return OkStatus();
+}
+
+StatusOr<DaemonConfig> DaemonConfigFromJson(const nlohmann::json& j) {
+  DaemonConfig config;
+  ObjectReader root(j, "");
+  PX_RETURN_IF_ERROR(root.CheckIsObject());
+
+  PX_ASSIGN_OR_RETURN(ObjectReader storage, root.Child("storage"));
+  PX_RETURN_IF_ERROR(storage.Path("root", &config.storage.root));
+  double min_free_mb = static_cast<double>(config.storage.min_free_bytes) / kBytesPerMb;
+  PX_RETURN_IF_ERROR(storage.Number("min_free_mb", &min_free_mb));
+  if (!(min_free_mb >= 0 && min_free_mb < 1e9)) return RangeError("storage.min_free_mb", min_free_mb, "[0, 1e9)");
+  config.storage.min_free_bytes = static_cast<uint64_t>(min_free_mb * kBytesPerMb + 0.5);
+  PX_RETURN_IF_ERROR(storage.CheckNoUnknownFields());
+
+  PX_ASSIGN_OR_RETURN(ObjectReader control, root.Child("control"));
+  PX_RETURN_IF_ERROR(control.Path("socket", &config.control_socket));
+  PX_RETURN_IF_ERROR(control.CheckNoUnknownFields());
+
+  PX_ASSIGN_OR_RETURN(ObjectReader source, root.Child("source"));
+  PX_RETURN_IF_ERROR(source.String("kind", &config.source.kind));
+  PX_RETURN_IF_ERROR(source.Int("timeout_ms", &config.source.timeout_ms));
+  PX_ASSIGN_OR_RETURN(ObjectReader sim, source.Child("sim"));
+  PX_RETURN_IF_ERROR(sim.Path("scene", &config.source.sim.scene));
+  PX_RETURN_IF_ERROR(sim.String("camera", &config.source.sim.camera));
+  PX_RETURN_IF_ERROR(sim.Int("tile_width", &config.source.sim.tile_width));
+  PX_RETURN_IF_ERROR(sim.Int("tile_height", &config.source.sim.tile_height));
+  PX_RETURN_IF_ERROR(sim.Uint64("seed", &config.source.sim.seed));
+  PX_RETURN_IF_ERROR(sim.CheckNoUnknownFields());
+  PX_ASSIGN_OR_RETURN(ObjectReader replay, source.Child("replay"));
+  PX_RETURN_IF_ERROR(replay.Path("path", &config.source.replay.path));
+  PX_RETURN_IF_ERROR(replay.Bool("loop", &config.source.replay.loop));
+  PX_RETURN_IF_ERROR(replay.CheckNoUnknownFields());
+  PX_RETURN_IF_ERROR(source.CheckNoUnknownFields());
+
+  PX_ASSIGN_OR_RETURN(ObjectReader clip, root.Child("clip"));
+  PX_RETURN_IF_ERROR(clip.String("move", &config.clip.move));
+  PX_RETURN_IF_ERROR(clip.Number("duration_s", &config.clip.duration_s));
+  PX_RETURN_IF_ERROR(clip.Number("fps", &config.clip.fps));
+  PX_RETURN_IF_ERROR(clip.Int("crf", &config.clip.crf));
+  PX_RETURN_IF_ERROR(clip.String("preset", &config.clip.preset));
+  PX_RETURN_IF_ERROR(clip.Int("num_threads", &config.clip.num_threads));
+  PX_RETURN_IF_ERROR(clip.CheckNoUnknownFields());
+
+  PX_ASSIGN_OR_RETURN(ObjectReader log, root.Child("log"));
+  PX_RETURN_IF_ERROR(log.String("levels", &config.log_levels));
+  PX_RETURN_IF_ERROR(log.CheckNoUnknownFields());
+
+  PX_RETURN_IF_ERROR(root.CheckNoUnknownFields());
+  PX_RETURN_IF_ERROR(config.Validate());
+  return config;
+}
+
+nlohmann::json DaemonConfigToJson(const DaemonConfig& config) {
+  nlohmann::json j;
+  j["storage"] = {{"root", config.storage.root.string()},
+                  {"min_free_mb", static_cast<double>(config.storage.min_free_bytes) / kBytesPerMb}};
+  j["control"] = {{"socket", config.control_socket.string()}};
+  j["source"] = {
+      {"kind", config.source.kind},
+      {"timeout_ms", config.source.timeout_ms},
+      {"sim",
+       {{"scene", config.source.sim.scene.string()},
+        {"camera", config.source.sim.camera},
+        {"tile_width", config.source.sim.tile_width},
+        {"tile_height", config.source.sim.tile_height},
+        {"seed", config.source.sim.seed}}},
+      {"replay", {{"path", config.source.replay.path.string()}, {"loop", config.source.replay.loop}}},
+  };
+  j["clip"] = {{"move", config.clip.move},
+               {"duration_s", config.clip.duration_s},
+               {"fps", config.clip.fps},
+               {"crf", config.clip.crf},
+               {"preset", config.clip.preset},
+               {"num_threads", config.clip.num_threads}};
+  j["log"] = {{"levels", config.log_levels}};
+  return j;
+}
+
+StatusOr<DaemonConfig> LoadDaemonConfigFile(const fs::path& path) {
+  auto text = ReadFileToString(path);
+  if (!text.ok()) return text.status().WithContext("config");
+  PX_ASSIGN_OR_RETURN(nlohmann::json j, json::Parse(*text, path.string()));
+  auto config = DaemonConfigFromJson(j);
+  if (!config.ok()) return config.status().WithContext(path.string());
+  return config;
+}
+
+StatusOr<ConfigSource> ResolveDaemonConfig(const std::string& flag_path, const char* env_value) {
+  ConfigSource source;
+  if (!flag_path.empty()) {
+    PX_ASSIGN_OR_RETURN(source.config, LoadDaemonConfigFile(flag_path));
+    source.origin = "--config " + flag_path;
+  } else if (env_value != nullptr && *env_value != '\0') {
+    auto config = LoadDaemonConfigFile(env_value);
+    if (!config.ok()) return config.status().WithContext("$PARALLAX_CONFIG");
+    source.config = std::move(config).value();
+    source.origin = std::string("$PARALLAX_CONFIG=") + env_value;
+  } else {
+    source.origin = "built-in defaults";
+  }
+  return source;
+}
+
+}  // namespace px::device

@@ -1,0 +1,149 @@
+#include "device/config.h"
+
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include <nlohmann/json.hpp>
+
+#include "device/storage/durable_file.h"
+#include "device/temp_dir_for_test.h"
+
+namespace px::device {
+namespace {
+
+using ::testing::HasSubstr;
+using ConfigFileTest = TempDirTest;
+
+std::string ErrorOf(const std::string& text) {
+  auto config = DaemonConfigFromJson(nlohmann::json::parse(text));
+  return config.ok() ? "OK" : config.status().message();
+}
+
+TEST(DaemonConfigTest, EmptyObjectGivesValidDefaults) {
+  auto config = DaemonConfigFromJson(nlohmann::json::object());
+  ASSERT_TRUE(config.ok()) << config.status().ToString();
+  EXPECT_EQ(config->storage.root, "/var/lib/parallax");
+  EXPECT_EQ(config->source.kind, "sim");
+  EXPECT_EQ(config->source.sim.camera, "pop9");
+  EXPECT_EQ(config->clip.fps, 30.0);
+  EXPECT_TRUE(DaemonConfig().Validate().ok());
+}
+
+TEST(DaemonConfigTest, ReadsEveryField) {
+  auto config = DaemonConfigFromJson(nlohmann::json::parse(R"({
+    "storage": {"root": "/data/px", "min_free_mb": 80},
+    "control": {"socket": "/tmp/px.sock"},
+    "source": {"kind": "replay", "timeout_ms": 2500,
+               "sim": {"scene": "s.json", "camera": "integral5x4", "tile_width": 160, "tile_height": 120, "seed": 7},
+               "replay": {"path": "/rec", "loop": false}},
+    "clip": {"move": "establishing_dolly", "duration_s": 0.5, "fps": 10, "crf": 28, "preset": "ultrafast",
+             "num_threads": 2},
+    "log": {"levels": "info,depth=debug"}})"));
+  ASSERT_TRUE(config.ok()) << config.status().ToString();
+  EXPECT_EQ(config->storage.root, "/data/px");
+  EXPECT_EQ(config->storage.min_free_bytes, 80'000'000u);
+  EXPECT_EQ(config->control_socket, "/tmp/px.sock");
+  EXPECT_EQ(config->source.kind, "replay");
+  EXPECT_EQ(config->source.timeout_ms, 2500);
+  EXPECT_EQ(config->source.sim.scene, "s.json");
+  EXPECT_EQ(config->source.sim.camera, "integral5x4");
+  EXPECT_EQ(config->source.sim.tile_width, 160);
+  EXPECT_EQ(config->source.sim.tile_height, 120);
+  EXPECT_EQ(config->source.sim.seed, 7u);
+  EXPECT_EQ(config->source.replay.path, "/rec");
+  EXPECT_FALSE(config->source.replay.loop);
+  EXPECT_EQ(config->clip.move, "establishing_dolly");
+  EXPECT_EQ(config->clip.duration_s, 0.5);
+  EXPECT_EQ(config->clip.fps, 10.0);
+  EXPECT_EQ(config->clip.crf, 28);
+  EXPECT_EQ(config->clip.preset, "ultrafast");
+  EXPECT_EQ(config->clip.num_threads, 2);
+  EXPECT_EQ(config->log_levels, "info,depth=debug");
+}
+
+TEST(DaemonConfigTest, ErrorsNameTheField) {
+  EXPECT_EQ(ErrorOf(R"({"clip": {"fps": 0}})"), "clip.fps: 0 is not in (0, 240]");
+  EXPECT_EQ(ErrorOf(R"({"clip": {"fps": "fast"}})"), "clip.fps: want a number, got string");
+  EXPECT_EQ(ErrorOf(R"({"clip": {"crf": 60}})"), "clip.crf: 60 is not in [0, 51]");
+  EXPECT_EQ(ErrorOf(R"({"clip": {"duration_s": -1}})"), "clip.duration_s: -1 is not in (0, 60]");
+  EXPECT_THAT(ErrorOf(R"({"clip": {"preset": "warp"}})"), HasSubstr("clip.preset: 'warp' is not one of"));
+  EXPECT_EQ(ErrorOf(R"({"source": {"kind": "webcam"}})"), "source.kind: 'webcam' is not one of sim, replay");
+  EXPECT_EQ(ErrorOf(R"({"source": {"sim": {"camera": "pop4"}}})"),
+            "source.sim.camera: 'pop4' is not one of pop9, integral5x4");
+  EXPECT_EQ(ErrorOf(R"({"source": {"kind": "replay"}})"), "source.replay.path: empty, but source.kind is replay");
+  EXPECT_EQ(ErrorOf(R"({"source": {"sim": {"seed": -3}}})"), "source.sim.seed: -3 is negative");
+  EXPECT_EQ(ErrorOf(R"({"source": {"sim": 5}})"), "source.sim: want an object, got number");
+  EXPECT_EQ(ErrorOf(R"({"storage": {"root": ""}})"), "storage.root: empty");
+  EXPECT_EQ(ErrorOf(R"({"storage": {"min_free_mb": -1}})"), "storage.min_free_mb: -1 is not in [0, 1e9)");
+  EXPECT_EQ(ErrorOf(R"([1, 2])"), "config: want an object, got array");
+}
+
+TEST(DaemonConfigTest, UnknownFieldsAreErrorsListingTheKnownOnes) {
+  EXPECT_EQ(ErrorOf(R"({"source": {"sim": {"camra": "pop9"}}})"),
+            "source.sim.camra: unknown field (known: scene, camera, tile_width, tile_height, seed)");
+  EXPECT_THAT(ErrorOf(R"({"clips": {}})"), HasSubstr("clips: unknown field (known: storage, control, source"));
+}
+
+TEST(DaemonConfigTest, PrintedConfigParsesBackToTheSameConfig) {
+  DaemonConfig config;
+  config.storage.root = "/somewhere/else";
+  config.storage.min_free_bytes = 1'500'000;
+  config.control_socket = "";
+  config.source.kind = "replay";
+  config.source.replay.path = "/recordings";
+  config.source.sim.tile_width = 160;
+  config.clip.duration_s = 0.5;
+  config.clip.fps = 12.5;
+  config.log_levels = "warn";
+  const nlohmann::json printed = DaemonConfigToJson(config);
+  auto parsed = DaemonConfigFromJson(nlohmann::json::parse(printed.dump(2)));
+  ASSERT_TRUE(parsed.ok()) << parsed.status().ToString();
+  EXPECT_EQ(DaemonConfigToJson(*parsed), printed);
+  EXPECT_EQ(parsed->storage.min_free_bytes, 1'500'000u);
+  // The defaults round-trip as well.
+  EXPECT_EQ(DaemonConfigToJson(DaemonConfigFromJson(DaemonConfigToJson(DaemonConfig())).value()),
+            DaemonConfigToJson(DaemonConfig()));
+}
+
+TEST_F(ConfigFileTest, LookupOrderIsFlagThenEnvironmentThenDefaults) {
+  const auto flag_file = dir() / "flag.json";
+  const auto env_file = dir() / "env.json";
+  ASSERT_TRUE(WriteFileAtomically(flag_file, R"({"clip": {"fps": 12}})").ok());
+  ASSERT_TRUE(WriteFileAtomically(env_file, R"({"clip": {"fps": 24}})").ok());
+
+  auto from_flag = ResolveDaemonConfig(flag_file.string(), env_file.c_str());
+  ASSERT_TRUE(from_flag.ok()) << from_flag.status().ToString();
+  EXPECT_EQ(from_flag->config.clip.fps, 12.0);
+  EXPECT_EQ(from_flag->origin, "--config " + flag_file.string());
+
+  auto from_env = ResolveDaemonConfig("", env_file.c_str());
+  ASSERT_TRUE(from_env.ok());
+  EXPECT_EQ(from_env->config.clip.fps, 24.0);
+  EXPECT_EQ(from_env->origin, "$PARALLAX_CONFIG=" + env_file.string());
+
+  auto defaults = ResolveDaemonConfig("", "");
+  ASSERT_TRUE(defaults.ok());
+  EXPECT_EQ(defaults->config.clip.fps, 30.0);
+  EXPECT_EQ(defaults->origin, "built-in defaults");
+  EXPECT_TRUE(ResolveDaemonConfig("", nullptr).ok());
+}
+
+TEST_F(ConfigFileTest, FileErrorsNameTheFileAndField) {
+  const auto bad = dir() / "bad.json";
+  ASSERT_TRUE(WriteFileAtomically(bad, R"({"clip": {"crf": 99}})").ok());
+  auto config = ResolveDaemonConfig(bad.string(), nullptr);
+  ASSERT_FALSE(config.ok());
+  EXPECT_EQ(config.status().message(), bad.string() + ": clip.crf: 99 is not in [0, 51]");
+
+  const auto broken = dir() / "broken.json";
+  ASSERT_TRUE(WriteFileAtomically(broken, R"({"clip": )").ok());
+  EXPECT_THAT(ResolveDaemonConfig("", broken.c_str()).status().message(),
+              HasSubstr("$PARALLAX_CONFIG: " + broken.string() + ": malformed JSON at byte"));
+
+  auto missing = ResolveDaemonConfig((dir() / "absent.json").string(), nullptr);
+  EXPECT_EQ(missing.status().code(), StatusCode::kNotFound);
+  EXPECT_THAT(missing.status().message(), HasSubstr("absent.json"));
+}
+
+}  // namespace
+}  // namespace px::device

@@ -1,0 +1,73 @@
+#include "device/control_protocol.h"
+
+#include <algorithm>
+#include <nlohmann/json.hpp>
+
+#include "pipeline/core/json_fields.h"
+
+namespace px::device {
+
+std::string_view ControlCommandName(ControlCommand command) {
+  switch (command) {
+    case ControlCommand::kCapture:
+      return "capture";
+    case ControlCommand::kStatus:
+      return "status";
+    case ControlCommand::kList:
+      return "list";
+    case ControlCommand::kWait:
+      return "wait";
+    case ControlCommand::kQuit:
+      return "quit";
+  }
+  return "unknown";
+}
+
+StatusOr<ControlRequest> ParseControlRequest(std::string_view line) {
+  if (line.size() > kMaxControlLineBytes) {
+    return InvalidArgumentError("request of " + std::to_string(line.size()) + " bytes is longer than " +
+                                std::to_string(kMaxControlLineBytes));
+  }
+  PX_ASSIGN_OR_RETURN(nlohmann::json j, json::Parse(std::string(line), "request"));
+  if (!j.is_object()) return InvalidArgumentError(std::string("request: want an object, got ") + j.type_name());
+  PX_ASSIGN_OR_RETURN(std::string name, json::GetString(j, "cmd", ""));
+  ControlRequest request;
+  bool found = false;
+  for (ControlCommand command : {ControlCommand::kCapture,
+                                 ControlCommand::kStatus,
+                                 ControlCommand::kList,
+                                 ControlCommand::kWait,
+                                 ControlCommand::kQuit}) {
+    if (ControlCommandName(command) == name) {
+      request.command = command;
+      found = true;
+    }
+  }
+  if (!found) return InvalidArgumentError("cmd: '" + name + "' is not one of capture, status, list, wait, quit");
+
+  std::vector<std::string> allowed = {"cmd"};
+  if (request.command == ControlCommand::kWait) {
+    if (!j.contains("job")) return InvalidArgumentError("job: missing (wait needs a job id)");
+    PX_ASSIGN_OR_RETURN(request.job, json::GetString(j, "job", ""));
+    allowed.push_back("job");
+  }
+  if (request.command == ControlCommand::kQuit) {
+    PX_ASSIGN_OR_RETURN(request.drain, json::GetBoolOr(j, "drain", "", false));
+    allowed.push_back("drain");
+  }
+  for (const auto& [key, value] : j.items()) {
+    if (std::find(allowed.begin(), allowed.end(), key) == allowed.end()) {
+      return InvalidArgumentError(name + ": unknown field '" + key + "'");
+    }
+  }
+  return request;
+}
+
+std::string ControlErrorReply(const Status& status) {
+  nlohmann::json reply = {
+      {"ok", false}, {"error", status.message()}, {"code", std::string(StatusCodeName(status.code()))}};
+  // Replace invalid UTF-8 (a garbled request echoed in the message) instead of throwing.
+  return reply.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
+}
+
+}  // namespace px::device

@@ -1,0 +1,53 @@
+#include "device/control_protocol.h"
+
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include <nlohmann/json.hpp>
+
+namespace px::device {
+namespace {
+
+using ::testing::HasSubstr;
+
+TEST(ControlProtocolTest, ParsesEveryCommand) {
+  EXPECT_EQ(ParseControlRequest(R"({"cmd":"capture"})")->command, ControlCommand::kCapture);
+  EXPECT_EQ(ParseControlRequest(R"({"cmd":"status"})")->command, ControlCommand::kStatus);
+  EXPECT_EQ(ParseControlRequest(R"( {"cmd" : "list"} )")->command, ControlCommand::kList);
+  auto wait = ParseControlRequest(R"({"cmd":"wait","job":"000003"})");
+  ASSERT_TRUE(wait.ok());
+  EXPECT_EQ(wait->command, ControlCommand::kWait);
+  EXPECT_EQ(wait->job, "000003");
+  auto quit = ParseControlRequest(R"({"cmd":"quit","drain":true})");
+  ASSERT_TRUE(quit.ok());
+  EXPECT_TRUE(quit->drain);
+  EXPECT_FALSE(ParseControlRequest(R"({"cmd":"quit"})")->drain);
+}
+
+TEST(ControlProtocolTest, ErrorsSayWhatIsWrong) {
+  EXPECT_THAT(ParseControlRequest("{\"cmd\":").status().message(), HasSubstr("request: malformed JSON at byte"));
+  EXPECT_THAT(ParseControlRequest("capture").status().message(), HasSubstr("malformed JSON"));
+  EXPECT_EQ(ParseControlRequest("[1]").status().message(), "request: want an object, got array");
+  EXPECT_EQ(ParseControlRequest("{}").status().message(), "cmd: missing");
+  EXPECT_EQ(ParseControlRequest(R"({"cmd":7})").status().message(), "cmd: want a string, got number");
+  EXPECT_EQ(ParseControlRequest(R"({"cmd":"fly"})").status().message(),
+            "cmd: 'fly' is not one of capture, status, list, wait, quit");
+  EXPECT_EQ(ParseControlRequest(R"({"cmd":"wait"})").status().message(), "job: missing (wait needs a job id)");
+  EXPECT_EQ(ParseControlRequest(R"({"cmd":"capture","jbo":1})").status().message(), "capture: unknown field 'jbo'");
+  EXPECT_EQ(ParseControlRequest(R"({"cmd":"quit","drain":"yes"})").status().message(),
+            "drain: want true or false, got string");
+  EXPECT_THAT(ParseControlRequest(std::string(kMaxControlLineBytes + 1, ' ')).status().message(),
+              HasSubstr("is longer than"));
+}
+
+TEST(ControlProtocolTest, ErrorReplyIsOneJsonLine) {
+  const std::string reply = ControlErrorReply(InvalidArgumentError("cmd: missing\nsecond line \xff"));
+  EXPECT_EQ(reply.find('\n'), std::string::npos);
+  auto j = nlohmann::json::parse(reply);
+  EXPECT_EQ(j["ok"], false);
+  EXPECT_EQ(j["code"], "INVALID_ARGUMENT");
+  EXPECT_THAT(j["error"].get<std::string>(), HasSubstr("cmd: missing"));
+}
+
+}  // namespace
+}  // namespace px::device

@@ -1,0 +1,568 @@
+#include "device/daemon.h"
+
+#include <exception>
+#include <system_error>
+
+#include "device/control_protocol.h"
+#include "device/storage/durable_file.h"
+#include "pipeline/core/log.h"
+#include "sim/replay/recording.h"
+
+namespace px::device {
+namespace {
+
+namespace fs = std::filesystem;
+
+double MillisecondsSince(std::chrono::steady_clock::time_point start) {
+  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+}
+
+// One reply line; invalid UTF-8 (from a file name, say) is replaced rather than thrown.
+std::string Dump(const nlohmann::json& j) { return j.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace); }
+
+std::vector<std::string> NamesIn(const fs::path& dir) {
+  std::vector<std::string> names;
+  std::error_code ec;
+  for (fs::directory_iterator it(dir, ec), end; !ec && it != end; it.increment(ec)) {
+    names.push_back(it->path().stem().string());
+  }
+  return names;
+}
+
+}  // namespace
+
+Status DaemonOptions::Validate() const {
+  PX_RETURN_IF_ERROR(storage.Validate());
+  if (capture_timeout.count() <= 0) {
+    return InvalidArgumentError("capture_timeout: " + std::to_string(capture_timeout.count()) + " ms is not positive");
+  }
+  if (max_attempts < 1) return InvalidArgumentError("max_attempts: " + std::to_string(max_attempts) + " is below 1");
+  return OkStatus();
+}
+
+Daemon::Daemon(DaemonOptions options, std::unique_ptr<FrameSource> source, JobRunner runner)
+    : options_(std::move(options)),
+      layout_(options_.storage.root),
+      source_(std::move(source)),
+      runner_(std::move(runner)) {
+  PX_CHECK(source_ != nullptr) << "Daemon needs a FrameSource";
+  PX_CHECK(runner_ != nullptr) << "Daemon needs a JobRunner";
+}
+
+Daemon::~Daemon() {
+  bool running;
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    running = started_ && !waited_;
+  }
+  if (running) {
+    RequestStop(false);
+    Wait();
+  }
+}
+
+void Daemon::SetClipListener(std::function<void(const fs::path& clip)> listener) {
+  clip_listener_ = std::move(listener);
+}
+
+Status Daemon::Start() {
+  auto log = Logger("device");
+  PX_RETURN_IF_ERROR(options_.Validate());
+  PX_CHECK(!started_) << "Daemon::Start called twice";
+  PX_RETURN_IF_ERROR(layout_.Prepare());
+  PX_ASSIGN_OR_RETURN(journal_, JobJournal::Open(layout_.JobsDir()));
+  // Ids continue after any capture or clip whose journal record was lost.
+  taken_ids_ = NamesIn(layout_.CapturesDir());
+  for (std::string& name : NamesIn(layout_.ClipsDir())) taken_ids_.push_back(std::move(name));
+  Recover();
+  const size_t resumed = process_queue_.size();  // before the worker starts taking them
+
+  if (Status configured = EnsureConfigured(); !configured.ok()) {
+    log->error("{}; the daemon runs on and each press retries (and fails its job until the source answers)",
+               configured.ToString());
+  }
+
+  if (!options_.control_socket.empty() || options_.trigger_fd >= 0) {
+    ControlServer::Options server_options;
+    server_options.socket_path = options_.control_socket;
+    server_options.trigger_fd = options_.trigger_fd;
+    ControlServer::Handlers handlers;
+    handlers.on_request = [this](const std::string& line, ControlServer::Respond respond) {
+      HandleRequest(line, std::move(respond));
+    };
+    handlers.on_trigger = [this, log](const std::string&) {
+      auto id = Press();
+      if (!id.ok()) log->error("press from the trigger input refused: {}", id.status().ToString());
+    };
+    handlers.on_trigger_eof = [this, log] {
+      log->info("trigger input closed; stopping once the queue is empty");
+      std::lock_guard<std::mutex> lock(mutex_);
+      trigger_open_ = false;
+      if (!stopping_) {
+        stopping_ = true;
+        drain_ = true;
+      }
+      changed_.notify_all();
+    };
+    PX_ASSIGN_OR_RETURN(server_, ControlServer::Open(server_options, std::move(handlers)));
+  }
+
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    started_ = true;
+    trigger_open_ = options_.trigger_fd >= 0;
+  }
+  capture_thread_ = std::thread([this] { CaptureLoop(); });
+  process_thread_ = std::thread([this] { ProcessLoop(); });
+  if (server_) server_->Start();
+
+  std::lock_guard<std::mutex> lock(mutex_);
+  log->info("ready: storage {}, control socket {}, trigger {}, source {}, {} job(s) to resume",
+            layout_.root().string(),
+            options_.control_socket.empty() ? "none" : options_.control_socket.string(),
+            options_.trigger_fd >= 0 ? "fd " + std::to_string(options_.trigger_fd) : "none",
+            source_model_.empty() ? std::string(source_->Name()) + " (not configured)" : source_model_,
+            resumed);
+  OnProgressLocked();
+  return OkStatus();
+}
+
+void Daemon::Recover() {
+  auto log = Logger("device");
+  for (JobRecord record : journal_->List()) {
+    switch (record.state) {
+      case JobState::kDone:
+      case JobState::kFailed:
+        break;
+      case JobState::kCapturing: {
+        std::error_code ec;
+        // WriteRecording writes manifest.json last: with it the capture is complete.
+        if (fs::exists(layout_.CaptureDir(record.id) / "manifest.json", ec)) {
+          log->warn("job {}: the capture was saved but not journaled before the daemon stopped; resuming", record.id);
+          record.state = JobState::kSaved;
+          record.capture_dir = layout_.CaptureDir(record.id).string();
+          record.updated_at = NowIso8601Utc();
+          Record(record);
+          process_queue_.push_back(record.id);
+        } else {
+          FailJob(record, UnavailableError("the daemon stopped before the capture was saved"), "capture");
+        }
+        break;
+      }
+      case JobState::kProcessing:
+        if (record.attempts >= options_.max_attempts) {
+          FailJob(record,
+                  InternalError("gave up after " + std::to_string(record.attempts) +
+                                " processing attempts; the daemon stopped during each (capture kept at " +
+                                record.capture_dir + ")"),
+                  "processing");
+          break;
+        }
+        log->warn("job {}: processing was interrupted (attempt {} of {}); resuming",
+                  record.id,
+                  record.attempts,
+                  options_.max_attempts);
+        record.state = JobState::kSaved;
+        record.updated_at = NowIso8601Utc();
+        Record(record);
+        process_queue_.push_back(record.id);
+        break;
+      case JobState::kSaved:
+        log->info("job {}: resuming saved capture", record.id);
+        process_queue_.push_back(record.id);
+        break;
+    }
+  }
+}
+
+StatusOr<std::string> Daemon::Press() {
+  auto log = Logger("device");
+  std::lock_guard<std::mutex> lock(mutex_);
+  if (!started_) return FailedPreconditionError("daemon not started; press ignored");
+  if (stopping_) return FailedPreconditionError("daemon is shutting down; press ignored");
+  JobRecord record;
+  record.id = journal_->NewId(taken_ids_);
+  taken_ids_.clear();
+  record.state = JobState::kCapturing;
+  record.created_at = NowIso8601Utc();
+  record.updated_at = record.created_at;
+  // Journaled before it is acknowledged: an acknowledged press is never silently lost.
+  Status journaled = journal_->Put(record);
+  if (!journaled.ok()) {
+    log->error("press refused: cannot journal job {}: {}", record.id, journaled.ToString());
+    return journaled;
+  }
+  capture_queue_.push_back(record.id);
+  log->info("job {}: pressed ({} waiting for capture, {} for processing)",
+            record.id,
+            capture_queue_.size(),
+            process_queue_.size());
+  OnProgressLocked();
+  return record.id;
+}
+
+void Daemon::RequestStop(bool drain) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  if (!stopping_) {
+    stopping_ = true;
+    drain_ = drain;
+    Logger("device")->info("stopping {}", drain ? "once the queue is empty" : "after the current step");
+  } else if (!drain && drain_) {
+    drain_ = false;
+    Logger("device")->info("stopping after the current step");
+  }
+  changed_.notify_all();
+}
+
+void Daemon::Wait() {
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    if (!started_ || waited_) return;
+  }
+  if (capture_thread_.joinable()) capture_thread_.join();
+  if (process_thread_.joinable()) process_thread_.join();
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    for (auto& [id, respond] : waiters_) {
+      respond(ControlErrorReply(
+          UnavailableError("the daemon stopped before job " + id + " finished; it resumes at the next start")));
+    }
+    waiters_.clear();
+  }
+  if (server_) {
+    server_->Stop();
+    server_.reset();
+  }
+  source_->Stop();
+  int left = 0;
+  for (const JobRecord& record : journal_->List()) left += record.state == JobState::kSaved ? 1 : 0;
+  std::lock_guard<std::mutex> lock(mutex_);
+  waited_ = true;
+  Logger("device")->info("stopped ({} saved job(s) left for the next start)", left);
+}
+
+void Daemon::WaitUntilIdle() {
+  std::unique_lock<std::mutex> lock(mutex_);
+  changed_.wait(lock, [this] { return IdleLocked() || (capture_done_ && process_done_); });
+}
+
+bool Daemon::IdleLocked() const {
+  return capture_queue_.empty() && process_queue_.empty() && capturing_id_.empty() && processing_id_.empty();
+}
+
+void Daemon::OnProgressLocked() {
+  if (options_.exit_when_idle && started_ && !trigger_open_ && !stopping_ && IdleLocked()) {
+    Logger("device")->info("idle; exiting as asked (--exit-when-idle)");
+    stopping_ = true;
+    drain_ = true;
+  }
+  changed_.notify_all();
+}
+
+void Daemon::AnswerWaitersLocked(const JobRecord& record) {
+  auto range = waiters_.equal_range(record.id);
+  for (auto it = range.first; it != range.second; ++it) {
+    it->second(Dump({{"ok", true}, {"job", JobRecordToJson(record)}}));
+  }
+  waiters_.erase(range.first, range.second);
+}
+
+void Daemon::Record(const JobRecord& record) {
+  Status status = journal_->Put(record);
+  if (!status.ok()) {
+    Logger("device")->error(
+        "job {}: journal not updated to '{}': {}", record.id, JobStateName(record.state), status.ToString());
+  }
+}
+
+JobRecord Daemon::FailJob(JobRecord record, const Status& status, const std::string& during) {
+  record.state = JobState::kFailed;
+  record.error = status.ToString();
+  record.updated_at = NowIso8601Utc();
+  Record(record);
+  Logger("device")->error("job {}: {} failed: {}{}",
+                          record.id,
+                          during,
+                          record.error,
+                          record.capture_dir.empty() ? "" : " (raw capture kept at " + record.capture_dir + ")");
+  return record;
+}
+
+Status Daemon::EnsureConfigured() {
+  if (configured_) return OkStatus();
+  auto log = Logger("device");
+  const auto start = std::chrono::steady_clock::now();
+  auto result = source_->Configure(options_.wanted_source.value_or(SourceConfig{}), &granted_);
+  if (!result.ok()) return result.status().WithContext("configure source '" + std::string(source_->Name()) + "'");
+  if (*result == ConfigureResult::kAdjusted && options_.wanted_source) {
+    log->warn("source {} adjusted the configuration: wanted {}, granted {}",
+              source_->Name(),
+              DescribeConfig(*options_.wanted_source),
+              DescribeConfig(granted_));
+  }
+  description_ = source_->Describe();
+  configured_ = true;
+  log->info(
+      "source {} configured: {} in {:.0f} ms", description_.model, DescribeConfig(granted_), MillisecondsSince(start));
+  std::lock_guard<std::mutex> lock(mutex_);
+  source_model_ = description_.model;
+  return OkStatus();
+}
+
+void Daemon::CaptureLoop() {
+  while (true) {
+    std::string id;
+    {
+      std::unique_lock<std::mutex> lock(mutex_);
+      changed_.wait(lock, [this] { return !capture_queue_.empty() || stopping_; });
+      // Acknowledged presses are captured even while stopping: the moment cannot be retaken.
+      if (capture_queue_.empty()) break;
+      id = capture_queue_.front();
+      capture_queue_.pop_front();
+      capturing_id_ = id;
+    }
+    std::optional<JobRecord> finished = CaptureJob(id);
+    std::lock_guard<std::mutex> lock(mutex_);
+    capturing_id_.clear();
+    if (finished) AnswerWaitersLocked(*finished);
+    OnProgressLocked();
+  }
+  std::lock_guard<std::mutex> lock(mutex_);
+  capture_done_ = true;
+  changed_.notify_all();
+}
+
+std::optional<JobRecord> Daemon::CaptureJob(const std::string& id) {
+  auto log = Logger("device");
+  std::optional<JobRecord> found = journal_->Get(id);
+  PX_CHECK(found.has_value()) << "job " << id << " was queued without a journal record";
+  JobRecord record = *found;
+
+  if (Status space = CheckFreeSpace(layout_.root(), options_.storage.min_free_bytes); !space.ok()) {
+    return FailJob(record, space, "capture");
+  }
+  if (Status configured = EnsureConfigured(); !configured.ok()) {
+    return FailJob(record, configured, "capture");
+  }
+  const auto capture_start = std::chrono::steady_clock::now();
+  StatusOr<FrameSet> frames = source_->Next(options_.capture_timeout);
+  record.capture_ms = MillisecondsSince(capture_start);
+  if (!frames.ok()) {
+    // A camera that went away must be configured again before the next capture.
+    if (frames.status().code() == StatusCode::kUnavailable ||
+        frames.status().code() == StatusCode::kFailedPrecondition) {
+      configured_ = false;
+    }
+    return FailJob(record, frames.status().WithContext("source " + description_.model), "capture");
+  }
+  const Status usable = CheckFrameSet(granted_, &frames.value());
+  log->info("job {}: captured {} frame(s), {} usable, {} in {:.0f} ms",
+            id,
+            frames->frames.size(),
+            frames->NumUsableFrames(),
+            DescribeConfig(granted_),
+            record.capture_ms);
+
+  // The raw capture goes to disk before anything else happens to it, even when parts are bad.
+  Recording recording;
+  recording.source = description_;
+  recording.frames = std::move(frames).value();
+  recording.created_by = options_.created_by;
+  const fs::path capture_dir = layout_.CaptureDir(id);
+  const auto save_start = std::chrono::steady_clock::now();
+  if (Status saved = WriteRecording(capture_dir, recording); !saved.ok()) {
+    return FailJob(record, saved.WithContext("save capture"), "capture");
+  }
+  record.save_ms = MillisecondsSince(save_start);
+  record.capture_dir = capture_dir.string();
+  log->info("job {}: saved capture to {} in {:.0f} ms", id, record.capture_dir, record.save_ms);
+  if (!usable.ok()) {
+    return FailJob(record, usable.WithContext("no usable frame in the capture"), "capture");
+  }
+  const int bad = static_cast<int>(recording.frames.frames.size()) - recording.frames.NumUsableFrames();
+  if (bad > 0) {
+    record.note = std::to_string(bad) + " of " + std::to_string(recording.frames.frames.size()) + " frames unusable";
+    log->warn("job {}: {}; processing the rest", id, record.note);
+  }
+  record.state = JobState::kSaved;
+  record.updated_at = NowIso8601Utc();
+  Record(record);
+  std::lock_guard<std::mutex> lock(mutex_);
+  process_queue_.push_back(id);
+  OnProgressLocked();
+  return std::nullopt;
+}
+
+void Daemon::ProcessLoop() {
+  while (true) {
+    std::string id;
+    {
+      std::unique_lock<std::mutex> lock(mutex_);
+      changed_.wait(
+          lock, [this] { return (stopping_ && !drain_) || !process_queue_.empty() || (stopping_ && capture_done_); });
+      if (stopping_ && !drain_) break;
+      if (process_queue_.empty()) break;  // stopping, captures finished, nothing left
+      id = process_queue_.front();
+      process_queue_.pop_front();
+      processing_id_ = id;
+      processing_stage_.clear();
+      processing_fraction_ = 0;
+    }
+    std::optional<JobRecord> finished = ProcessJob(id);
+    std::lock_guard<std::mutex> lock(mutex_);
+    processing_id_.clear();
+    if (finished) AnswerWaitersLocked(*finished);
+    OnProgressLocked();
+  }
+  std::lock_guard<std::mutex> lock(mutex_);
+  process_done_ = true;
+  changed_.notify_all();
+}
+
+std::optional<JobRecord> Daemon::ProcessJob(const std::string& id) {
+  auto log = Logger("device");
+  std::optional<JobRecord> found = journal_->Get(id);
+  PX_CHECK(found.has_value()) << "job " << id << " was queued without a journal record";
+  JobRecord record = *found;
+  record.state = JobState::kProcessing;
+  record.attempts += 1;
+  record.capture_dir = layout_.CaptureDir(id).string();
+  record.updated_at = NowIso8601Utc();
+  Record(record);
+
+  JobContext context;
+  context.job_id = id;
+  context.capture_dir = layout_.CaptureDir(id);
+  context.clip_path = layout_.ClipPath(id);
+  context.progress = [this](const std::string& stage, double fraction) {
+    std::lock_guard<std::mutex> lock(mutex_);
+    processing_stage_ = stage;
+    processing_fraction_ = fraction;
+    return !(stopping_ && !drain_);
+  };
+  const auto start = std::chrono::steady_clock::now();
+  StatusOr<JobOutcome> outcome = InternalError("job runner did not return");
+  try {
+    outcome = runner_(context);
+  } catch (const std::exception& e) {  // a runner must not throw; keep the daemon up if one does
+    outcome = InternalError(std::string("job runner threw: ") + e.what());
+  }
+  record.process_ms = MillisecondsSince(start);
+  record.updated_at = NowIso8601Utc();
+
+  if (outcome.ok()) {
+    record.state = JobState::kDone;
+    record.clip_path = context.clip_path.string();
+    record.note = outcome->note;
+    record.error.clear();
+    Record(record);
+    log->info("job {}: clip {} ready in {:.1f} s ({})", id, record.clip_path, record.process_ms / 1000.0, record.note);
+    if (clip_listener_) clip_listener_(context.clip_path);
+    return record;
+  }
+  bool shutting_down;
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    shutting_down = stopping_ && !drain_;
+  }
+  if (outcome.status().code() == StatusCode::kCancelled && shutting_down) {
+    // Not the job's fault: back to saved, and the attempt does not count.
+    record.state = JobState::kSaved;
+    record.attempts -= 1;
+    record.note = "interrupted by shutdown; resumes at the next start";
+    Record(record);
+    log->warn("job {}: processing interrupted by shutdown after {:.1f} s; it resumes at the next start",
+              id,
+              record.process_ms / 1000.0);
+    return std::nullopt;
+  }
+  return FailJob(record, outcome.status(), "processing");
+}
+
+void Daemon::HandleRequest(const std::string& line, ControlServer::Respond respond) {
+  auto log = Logger("device");
+  StatusOr<ControlRequest> request = ParseControlRequest(line);
+  if (!request.ok()) {
+    log->warn("control: bad request: {}", request.status().message());
+    respond(ControlErrorReply(request.status()));
+    return;
+  }
+  switch (request->command) {
+    case ControlCommand::kCapture: {
+      StatusOr<std::string> id = Press();
+      respond(id.ok() ? Dump({{"ok", true}, {"job", *id}}) : ControlErrorReply(id.status()));
+      return;
+    }
+    case ControlCommand::kStatus:
+      respond(Dump(StatusJson()));
+      return;
+    case ControlCommand::kList:
+      respond(Dump(ListJson()));
+      return;
+    case ControlCommand::kWait: {
+      std::lock_guard<std::mutex> lock(mutex_);
+      std::optional<JobRecord> record = journal_->Get(request->job);
+      if (!record) {
+        respond(ControlErrorReply(NotFoundError("job '" + request->job + "': no such job")));
+      } else if (IsFinal(record->state)) {
+        respond(Dump({{"ok", true}, {"job", JobRecordToJson(*record)}}));
+      } else if (process_done_) {
+        respond(ControlErrorReply(
+            UnavailableError("the daemon is stopping; job " + request->job + " resumes at the next start")));
+      } else {
+        waiters_.emplace(request->job, std::move(respond));
+      }
+      return;
+    }
+    case ControlCommand::kQuit:
+      respond(Dump({{"ok", true}, {"stopping", true}, {"drain", request->drain}}));
+      RequestStop(request->drain);
+      return;
+  }
+}
+
+nlohmann::json Daemon::StatusJson() const {
+  std::vector<JobRecord> records = journal_->List();
+  std::lock_guard<std::mutex> lock(mutex_);
+  nlohmann::json counts = nlohmann::json::object();
+  for (JobState state :
+       {JobState::kCapturing, JobState::kSaved, JobState::kProcessing, JobState::kDone, JobState::kFailed}) {
+    counts[std::string(JobStateName(state))] = 0;
+  }
+  for (const JobRecord& record : records) {
+    counts[std::string(JobStateName(record.state))] = counts[std::string(JobStateName(record.state))].get<int>() + 1;
+  }
+  std::string state = "idle";
+  if (!capturing_id_.empty()) {
+    state = "capturing";
+  } else if (!processing_id_.empty()) {
+    state = "processing";
+  }
+  nlohmann::json j = {
+      {"ok", true},
+      {"state", state},
+      {"stopping", stopping_},
+      {"root", layout_.root().string()},
+      {"source", source_model_},
+      {"queue", {{"capture", capture_queue_.size()}, {"process", process_queue_.size()}}},
+      {"capturing", capturing_id_.empty() ? nlohmann::json(nullptr) : nlohmann::json(capturing_id_)},
+      {"processing",
+       processing_id_.empty()
+           ? nlohmann::json(nullptr)
+           : nlohmann::json(
+                 {{"job", processing_id_}, {"stage", processing_stage_}, {"progress", processing_fraction_}})},
+      {"jobs", counts},
+      {"last_job", records.empty() ? nlohmann::json(nullptr) : JobRecordToJson(records.back())},
+  };
+  return j;
+}
+
+nlohmann::json Daemon::ListJson() const {
+  nlohmann::json jobs = nlohmann::json::array();
+  for (const JobRecord& record : journal_->List()) jobs.push_back(JobRecordToJson(record));
+  return {{"ok", true}, {"jobs", jobs}};
+}
+
+std::optional<JobRecord> Daemon::Job(const std::string& id) const { return journal_->Get(id); }
+
+}  // namespace px::device

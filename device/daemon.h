@@ -1,0 +1,151 @@
+// The daemon: each press becomes a job that moves capturing -> saved -> processing -> done|failed
+// (storage/job_journal.h). The raw capture is written durably as a recording BEFORE any
+// processing, so a crash, a full disk or a pipeline failure never loses the shot. Presses are
+// queued and never lost; a worker thread makes clips one at a time while presses keep coming.
+// On start, jobs the journal shows as saved or processing are resumed (crash recovery).
+#pragma once
+
+#include <chrono>
+#include <condition_variable>
+#include <deque>
+#include <filesystem>
+#include <functional>
+#include <map>
+#include <memory>
+#include <mutex>
+#include <nlohmann/json.hpp>
+#include <optional>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "device/control_server.h"
+#include "device/storage/job_journal.h"
+#include "device/storage/storage_layout.h"
+#include "drivers/source/frame_source.h"
+
+namespace px::device {
+
+struct DaemonOptions {
+  StorageOptions storage;
+  std::filesystem::path control_socket;  // empty: no socket
+  int trigger_fd = -1;                   // each line on this fd is a press (stdin: 0); EOF drains and stops
+  // Stop once nothing is queued or running (after resuming leftover jobs). With a trigger fd,
+  // only after its end of file: an open trigger means more presses may come.
+  bool exit_when_idle = false;
+  std::chrono::milliseconds capture_timeout{10000};  // one FrameSource::Next, > 0
+  // What FrameSource::Configure asks for; nullopt: the source's native configuration.
+  std::optional<SourceConfig> wanted_source;
+  std::string created_by = "parallaxd";  // written into each recording
+  int max_attempts = 3;  // processing attempts per job before giving up (a job that kills the daemon), >= 1
+  Status Validate() const;
+};
+
+// What the job runner gets: where the capture is and where the clip must appear.
+struct JobContext {
+  std::string job_id;
+  std::filesystem::path capture_dir;  // a complete recording
+  std::filesystem::path clip_path;    // write atomically; nothing there on failure
+  // stage: short name; fraction: 0..1 within it. Returns false when the daemon wants the job to
+  // stop (shutdown): the runner should return CANCELLED soon.
+  std::function<bool(const std::string& stage, double fraction)> progress;
+};
+
+struct JobOutcome {
+  std::string note;  // one line for the log and the journal: "90 frames, 9 views, 1.2 MB"
+};
+
+// Turns a saved capture into a clip. The daemon uses RunClipJob (clip_job.h); tests may pass a
+// simpler real job.
+using JobRunner = std::function<StatusOr<JobOutcome>(const JobContext&)>;
+
+class Daemon {
+ public:
+  // `source` may fail to configure at Start: the daemon still starts (status, recovery) and
+  // retries at each press, failing that press's job with the reason.
+  Daemon(DaemonOptions options, std::unique_ptr<FrameSource> source, JobRunner runner);
+  ~Daemon();  // RequestStop(false) and Wait() if still running
+
+  // Prepares storage, opens the journal, resumes leftover jobs, configures the source, binds the
+  // control socket and starts the threads. Fails on bad options, unusable storage or socket.
+  Status Start();
+
+  // One button press: a new job id, journaled as capturing, queued for capture.
+  // FAILED_PRECONDITION while shutting down; the journal's write error otherwise.
+  StatusOr<std::string> Press();
+
+  // Stops accepting presses. Presses already acknowledged are still captured and saved.
+  // drain=true: every queued job is processed first. drain=false: the job being processed is
+  // cancelled and, like the queued ones, stays saved for the next start. Thread-safe.
+  void RequestStop(bool drain);
+
+  // Blocks until the daemon has stopped (after RequestStop, trigger EOF, "quit" or
+  // exit_when_idle), then closes the control socket and the source.
+  void Wait();
+
+  // Blocks until nothing is queued, capturing or processing (for tests and tools).
+  void WaitUntilIdle();
+
+  // Called (on the worker thread) with each finished clip's absolute path. Set before Start.
+  void SetClipListener(std::function<void(const std::filesystem::path& clip)> listener);
+
+  nlohmann::json StatusJson() const;  // the reply to {"cmd":"status"}
+  nlohmann::json ListJson() const;    // the reply to {"cmd":"list"}
+  std::optional<JobRecord> Job(const std::string& id) const;
+  const StorageLayout& layout() const { return layout_; }
+
+ private:
+  void HandleRequest(const std::string& line, ControlServer::Respond respond);
+  void Recover();
+  void CaptureLoop();
+  void ProcessLoop();
+  // Each returns the job's record when it reached done or failed (to answer "wait"s once the
+  // job no longer shows as current), nullopt when it moved on to another queue.
+  std::optional<JobRecord> CaptureJob(const std::string& id);
+  std::optional<JobRecord> ProcessJob(const std::string& id);
+  Status EnsureConfigured();
+  // Writes the record; logs (never throws away) a journal write failure.
+  void Record(const JobRecord& record);
+  // Journals and logs the failure; returns the failed record.
+  JobRecord FailJob(JobRecord record, const Status& status, const std::string& during);
+  // Call with mutex_ held after any change to queues or current jobs.
+  void OnProgressLocked();
+  bool IdleLocked() const;
+  void AnswerWaitersLocked(const JobRecord& record);
+
+  DaemonOptions options_;
+  StorageLayout layout_;
+  std::unique_ptr<FrameSource> source_;
+  JobRunner runner_;
+  std::function<void(const std::filesystem::path&)> clip_listener_;
+  std::unique_ptr<JobJournal> journal_;
+  std::unique_ptr<ControlServer> server_;
+
+  // Touched by the capture thread only (and Start before it runs).
+  bool configured_ = false;
+  SourceConfig granted_;
+  SourceDescription description_;
+
+  mutable std::mutex mutex_;
+  std::condition_variable changed_;
+  std::deque<std::string> capture_queue_;
+  std::deque<std::string> process_queue_;
+  std::string capturing_id_;
+  std::string processing_id_;
+  std::string processing_stage_;
+  double processing_fraction_ = 0;
+  std::string source_model_;
+  bool started_ = false;
+  bool stopping_ = false;
+  bool drain_ = true;
+  bool capture_done_ = false;  // the capture thread has exited
+  bool process_done_ = false;  // the processing thread has exited
+  bool trigger_open_ = false;
+  bool waited_ = false;
+  std::vector<std::string> taken_ids_;                          // names under captures/ and clips/, for the first NewId
+  std::multimap<std::string, ControlServer::Respond> waiters_;  // job id -> "wait" replies
+  std::thread capture_thread_;
+  std::thread process_thread_;
+};
+
+}  // namespace px::device

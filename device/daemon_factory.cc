@@ -1,0 +1,68 @@
+#include "device/daemon_factory.h"
+
+#include <cstdio>
+
+#include "device/source_registry.h"
+#include "pipeline/core/log.h"
+#include "pipeline/direct/direct_options.h"
+
+namespace px::device {
+
+StatusOr<ClipJobOptions> ClipJobOptionsFromConfig(const DaemonConfig& config) {
+  if (!IsKnownMove(config.clip.move)) {
+    return InvalidArgumentError("clip.move: '" + config.clip.move + "' is not a known camera move");
+  }
+  ClipJobOptions options;
+  options.pipeline.direct.move = config.clip.move;
+  options.pipeline.direct.duration_s = config.clip.duration_s;
+  options.pipeline.direct.fps = config.clip.fps;
+  options.pipeline.num_threads = config.clip.num_threads;
+  options.mp4.fps = config.clip.fps;
+  options.mp4.crf = config.clip.crf;
+  options.mp4.preset = config.clip.preset;
+  if (Status valid = options.Validate(); !valid.ok()) return valid.WithContext("clip");
+  return options;
+}
+
+DaemonOptions DaemonOptionsFromConfig(const DaemonConfig& config, const DaemonRunFlags& flags) {
+  DaemonOptions options;
+  options.storage = config.storage;
+  options.control_socket = config.control_socket;
+  options.trigger_fd = flags.stdin_trigger ? 0 : -1;
+  options.exit_when_idle = flags.exit_when_idle;
+  options.capture_timeout = std::chrono::milliseconds(config.source.timeout_ms);
+  options.created_by = "parallaxd " PX_VERSION_STRING;
+  return options;
+}
+
+JobRunner MakeClipJobRunner(const ClipJobOptions& options) {
+  return [options](const JobContext& context) -> StatusOr<JobOutcome> {
+    PX_ASSIGN_OR_RETURN(ClipJobReport report,
+                        RunClipJob(context.capture_dir, context.clip_path, options, context.progress));
+    for (const std::string& warning : report.pipeline.warnings) {
+      Logger("device")->warn("job {}: {}", context.job_id, warning);
+    }
+    char note[160];
+    std::snprintf(note,
+                  sizeof(note),
+                  "%d frames %dx%d, %d views, %.2f MB%s",
+                  report.frames_written,
+                  report.width,
+                  report.height,
+                  report.pipeline.num_views,
+                  static_cast<double>(report.clip_bytes) / 1e6,
+                  report.pipeline.warnings.empty() ? "" : ", with warnings");
+    return JobOutcome{note};
+  };
+}
+
+StatusOr<std::unique_ptr<Daemon>> BuildDaemon(const DaemonConfig& config, const DaemonRunFlags& flags) {
+  PX_RETURN_IF_ERROR(config.Validate());
+  PX_ASSIGN_OR_RETURN(ClipJobOptions clip_options, ClipJobOptionsFromConfig(config));
+  PX_ASSIGN_OR_RETURN(OpenedSource opened, OpenSource(config.source));
+  DaemonOptions options = DaemonOptionsFromConfig(config, flags);
+  options.wanted_source = opened.wanted;
+  return std::make_unique<Daemon>(std::move(options), std::move(opened.source), MakeClipJobRunner(clip_options));
+}
+
+}  // namespace px::device

@@ -1,0 +1,31 @@
+// Builds the daemon a DaemonConfig describes: the source from the registry, the clip job from
+// the clip settings. parallaxd's main() is flags + this + Run.
+#pragma once
+
+#include <memory>
+
+#include "device/clip_job.h"
+#include "device/config.h"
+#include "device/daemon.h"
+
+namespace px::device {
+
+struct DaemonRunFlags {
+  bool stdin_trigger = false;   // each line on stdin is a press; EOF drains and stops
+  bool exit_when_idle = false;  // stop once nothing is queued (see DaemonOptions)
+};
+
+// The pipeline and encoder options for the config's clip settings. Errors name the field
+// ("clip.move: 'spin' is not a known move").
+StatusOr<ClipJobOptions> ClipJobOptionsFromConfig(const DaemonConfig& config);
+
+// The daemon's options for a config (storage, socket, timeout) and the run flags.
+DaemonOptions DaemonOptionsFromConfig(const DaemonConfig& config, const DaemonRunFlags& flags);
+
+// A JobRunner that runs RunClipJob and logs the pipeline's warnings.
+JobRunner MakeClipJobRunner(const ClipJobOptions& options);
+
+// Opens the configured source and assembles the daemon (not started).
+StatusOr<std::unique_ptr<Daemon>> BuildDaemon(const DaemonConfig& config, const DaemonRunFlags& flags);
+
+}  // namespace px::device

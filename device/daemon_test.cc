@@ -1,0 +1,357 @@
+// The daemon's state machine, driven through its real control socket and trigger input, with a
+// small deterministic source and a simple but real job (decode the saved recording, write its
+// first frame as a PNG). The full pipeline runs in daemon_integration_test.cc.
+#include "device/daemon.h"
+
+#include <fcntl.h>
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+#include <sys/socket.h>
+#include <sys/un.h>
+#include <unistd.h>
+
+#include <atomic>
+#include <future>
+#include <opencv2/imgcodecs.hpp>
+
+#include "device/control_client.h"
+#include "device/control_protocol.h"
+#include "device/storage/durable_file.h"
+#include "device/temp_dir_for_test.h"
+#include "sim/replay/recording.h"
+
+namespace px::device {
+namespace {
+
+namespace fs = std::filesystem;
+using ::testing::HasSubstr;
+
+constexpr int kWidth = 64;
+constexpr int kHeight = 48;
+
+// A 64x48 BGR sensor whose frame k is a gradient offset by k; `fail_next` makes the next
+// captures fail as a vanished camera does.
+class GradientSource final : public FrameSource {
+ public:
+  std::string_view Name() const override { return "gradient"; }
+  SourceDescription Describe() const override { return {"test:gradient", FrameSetKind::kLatticeFrame, std::nullopt}; }
+  StatusOr<ConfigureResult> Configure(const SourceConfig& wanted, SourceConfig* granted) override {
+    *granted = {PixelFormat::kBgr888, kWidth, kHeight, 1};
+    configures++;
+    return wanted == *granted ? ConfigureResult::kValid : ConfigureResult::kAdjusted;
+  }
+  StatusOr<FrameSet> Next(std::chrono::milliseconds) override {
+    if (fail_next > 0) {
+      fail_next--;
+      return UnavailableError("sensor disconnected");
+    }
+    cv::Mat bgr(kHeight, kWidth, CV_8UC3);
+    for (int y = 0; y < kHeight; ++y) {
+      for (int x = 0; x < kWidth; ++x) bgr.at<cv::Vec3b>(y, x) = cv::Vec3b(x * 4, y * 5, (x + y + count) % 256);
+    }
+    FrameSet set;
+    set.capture_id = ++count;
+    Frame frame;
+    frame.image = FromBgr(bgr, PixelFormat::kBgr888).value();
+    frame.sequence = count;
+    frame.timestamp_ns = count * 1'000'000;
+    set.frames.push_back(std::move(frame));
+    return set;
+  }
+  void Stop() override {}
+
+  std::atomic<int> fail_next{0};
+  std::atomic<int> configures{0};
+  uint64_t count = 0;
+};
+
+// The simple real job: decode the recording and write its first frame, as PNG, where the clip goes.
+StatusOr<JobOutcome> PngJob(const JobContext& context) {
+  PX_ASSIGN_OR_RETURN(Recording recording, ReadRecording(context.capture_dir));
+  PX_ASSIGN_OR_RETURN(cv::Mat bgr, ToBgr(recording.frames.frames.at(0).image));
+  std::vector<uint8_t> png;
+  if (!cv::imencode(".png", bgr, png)) return InternalError("png encode failed");
+  PX_RETURN_IF_ERROR(WriteFileAtomically(context.clip_path, std::string(png.begin(), png.end())));
+  return JobOutcome{std::to_string(png.size()) + " bytes"};
+}
+
+class DaemonTest : public TempDirTest {
+ protected:
+  DaemonOptions Options() {
+    DaemonOptions options;
+    options.storage.root = dir() / "store";
+    options.storage.min_free_bytes = 0;
+    options.control_socket = dir() / "ctl.sock";
+    options.wanted_source = SourceConfig{PixelFormat::kBgr888, kWidth, kHeight, 1};
+    options.created_by = "daemon_test";
+    return options;
+  }
+  std::unique_ptr<Daemon> StartDaemon(DaemonOptions options, JobRunner runner = PngJob) {
+    auto source = std::make_unique<GradientSource>();
+    source_ = source.get();
+    auto daemon = std::make_unique<Daemon>(std::move(options), std::move(source), std::move(runner));
+    daemon->SetClipListener([this](const fs::path& clip) {
+      std::lock_guard<std::mutex> lock(clips_mutex_);
+      clips_.push_back(clip);
+    });
+    Status started = daemon->Start();
+    EXPECT_TRUE(started.ok()) << started.ToString();
+    return daemon;
+  }
+  nlohmann::json Call(const std::string& request) {
+    auto client = ControlClient::Connect(dir() / "ctl.sock");
+    EXPECT_TRUE(client.ok()) << client.status().ToString();
+    if (!client.ok()) return nullptr;
+    auto reply = (*client)->Call(request);
+    EXPECT_TRUE(reply.ok()) << reply.status().ToString();
+    return reply.ok() ? nlohmann::json::parse(*reply) : nlohmann::json(nullptr);
+  }
+  std::vector<fs::path> Clips() {
+    std::lock_guard<std::mutex> lock(clips_mutex_);
+    return clips_;
+  }
+
+  GradientSource* source_ = nullptr;
+  std::mutex clips_mutex_;
+  std::vector<fs::path> clips_;
+};
+
+TEST_F(DaemonTest, PressThroughSocketSavesCaptureThenMakesClip) {
+  auto daemon = StartDaemon(Options());
+  nlohmann::json reply = Call(R"({"cmd":"capture"})");
+  ASSERT_EQ(reply["ok"], true) << reply.dump();
+  const std::string id = reply["job"];
+  EXPECT_EQ(id, "000001");
+
+  nlohmann::json waited = Call(R"({"cmd":"wait","job":")" + id + R"("})");
+  ASSERT_EQ(waited["ok"], true) << waited.dump();
+  EXPECT_EQ(waited["job"]["state"], "done");
+
+  // The raw capture is a valid recording holding what the source delivered.
+  auto recording = ReadRecording(daemon->layout().CaptureDir(id));
+  ASSERT_TRUE(recording.ok()) << recording.status().ToString();
+  EXPECT_EQ(recording->frames.frames.size(), 1u);
+  EXPECT_EQ(recording->source.model, "test:gradient");
+  EXPECT_EQ(recording->created_by, "daemon_test");
+  // The "clip" is that frame, and it was announced with its absolute path.
+  const fs::path clip = daemon->layout().ClipPath(id);
+  cv::Mat png = cv::imread(clip.string(), cv::IMREAD_COLOR);
+  ASSERT_FALSE(png.empty());
+  EXPECT_EQ(cv::norm(png, ToBgr(recording->frames.frames[0].image).value(), cv::NORM_INF), 0);
+  EXPECT_EQ(Clips(), std::vector<fs::path>{clip});
+  EXPECT_TRUE(clip.is_absolute());
+
+  nlohmann::json status = Call(R"({"cmd":"status"})");
+  EXPECT_EQ(status["state"], "idle");
+  EXPECT_EQ(status["jobs"]["done"], 1);
+  EXPECT_EQ(status["last_job"]["id"], id);
+  EXPECT_EQ(status["last_job"]["state"], "done");
+  EXPECT_EQ(status["last_job"]["clip_path"], clip.string());
+  EXPECT_EQ(status["source"], "test:gradient");
+  nlohmann::json list = Call(R"({"cmd":"list"})");
+  ASSERT_EQ(list["jobs"].size(), 1u);
+  EXPECT_EQ(list["jobs"][0]["capture_dir"], daemon->layout().CaptureDir(id).string());
+  EXPECT_EQ(list["jobs"][0]["attempts"], 1);
+}
+
+TEST_F(DaemonTest, MalformedRequestsGetErrorsAndTheDaemonStaysUp) {
+  auto daemon = StartDaemon(Options());
+  auto client = ControlClient::Connect(dir() / "ctl.sock").value();
+  for (const std::string& bad : {std::string("this is not json"),
+                                 std::string(R"({"cmd":"fly"})"),
+                                 std::string(R"({"cmd":"wait","job":"999999"})"),
+                                 std::string("{\"cmd\":")}) {
+    auto reply = client->Call(bad);
+    ASSERT_TRUE(reply.ok()) << reply.status().ToString();
+    nlohmann::json j = nlohmann::json::parse(*reply);
+    EXPECT_EQ(j["ok"], false) << bad;
+    EXPECT_FALSE(j["error"].get<std::string>().empty());
+  }
+  EXPECT_THAT(client->Call(R"({"cmd":"wait","job":"999999"})").value(), HasSubstr("no such job"));
+  // Blank lines are ignored; two requests in one write are answered in order.
+  ASSERT_TRUE(client->SendRaw("\n  \n{\"cmd\":\"status\"}\n{\"cmd\":\"list\"}\n").ok());
+  EXPECT_THAT(client->ReadLine(std::chrono::seconds(10)).value(), HasSubstr("\"state\":"));
+  EXPECT_THAT(client->ReadLine(std::chrono::seconds(10)).value(), HasSubstr("\"jobs\":[]"));
+  // A line longer than the limit is refused and that connection dropped; others still work.
+  ASSERT_TRUE(client->SendRaw(std::string(kMaxControlLineBytes + 10, 'x')).ok());
+  EXPECT_THAT(client->ReadLine(std::chrono::seconds(10)).value(), HasSubstr("longer than"));
+  EXPECT_EQ(Call(R"({"cmd":"capture"})")["ok"], true);
+  daemon->WaitUntilIdle();
+  EXPECT_EQ(Call(R"({"cmd":"status"})")["jobs"]["done"], 1);
+}
+
+TEST_F(DaemonTest, CameraFailureFailsOnlyThatJob) {
+  auto daemon = StartDaemon(Options());
+  source_->fail_next = 1;
+  const std::string bad = Call(R"({"cmd":"capture"})")["job"];
+  const std::string good = Call(R"({"cmd":"capture"})")["job"];
+  nlohmann::json failed = Call(R"({"cmd":"wait","job":")" + bad + R"("})");
+  EXPECT_EQ(failed["job"]["state"], "failed");
+  EXPECT_THAT(failed["job"]["error"].get<std::string>(), HasSubstr("sensor disconnected"));
+  EXPECT_FALSE(fs::exists(daemon->layout().CaptureDir(bad)));
+  EXPECT_EQ(Call(R"({"cmd":"wait","job":")" + good + R"("})")["job"]["state"], "done");
+  // The camera was configured again after it vanished.
+  EXPECT_EQ(source_->configures.load(), 2);
+}
+
+TEST_F(DaemonTest, FailedProcessingKeepsTheRawCapture) {
+  auto daemon = StartDaemon(
+      Options(), [](const JobContext&) -> StatusOr<JobOutcome> { return DataLossError("depth: no plane found"); });
+  const std::string id = Call(R"({"cmd":"capture"})")["job"];
+  nlohmann::json job = Call(R"({"cmd":"wait","job":")" + id + R"("})")["job"];
+  EXPECT_EQ(job["state"], "failed");
+  EXPECT_EQ(job["error"], "DATA_LOSS: depth: no plane found");
+  EXPECT_TRUE(ReadRecording(daemon->layout().CaptureDir(id)).ok());
+  EXPECT_FALSE(fs::exists(daemon->layout().ClipPath(id)));
+  EXPECT_TRUE(Clips().empty());
+}
+
+TEST_F(DaemonTest, PressesWhileProcessingAreQueuedNotLost) {
+  std::promise<void> release;
+  std::shared_future<void> released = release.get_future().share();
+  std::promise<void> first_started;
+  std::atomic<int> runs{0};
+  auto daemon = StartDaemon(Options(), [&](const JobContext& context) {
+    if (runs++ == 0) {
+      first_started.set_value();
+      released.wait();  // hold the worker on the first job while more presses arrive
+    }
+    return PngJob(context);
+  });
+  std::vector<std::string> ids = {Call(R"({"cmd":"capture"})")["job"]};
+  first_started.get_future().wait();
+  for (int i = 0; i < 4; ++i) ids.push_back(Call(R"({"cmd":"capture"})")["job"]);
+  nlohmann::json status = Call(R"({"cmd":"status"})");
+  EXPECT_EQ(status["processing"]["job"], ids[0]);
+  release.set_value();
+  daemon->WaitUntilIdle();
+  for (const std::string& id : ids) {
+    EXPECT_EQ(daemon->Job(id)->state, JobState::kDone) << id;
+    EXPECT_TRUE(fs::exists(daemon->layout().ClipPath(id))) << id;
+  }
+  EXPECT_EQ(Clips().size(), 5u);
+}
+
+TEST_F(DaemonTest, StdinTriggerPressesPerLineAndStopsAfterDrainingAtEof) {
+  int fds[2];
+  ASSERT_EQ(::pipe(fds), 0);
+  DaemonOptions options = Options();
+  options.control_socket.clear();
+  options.trigger_fd = fds[0];
+  auto daemon = StartDaemon(options);
+  ASSERT_EQ(::write(fds[1], "\n\nlast line without newline", 28), 28);
+  ::close(fds[1]);
+  daemon->Wait();  // returns only because EOF stopped it after the queue drained
+  ::close(fds[0]);
+  EXPECT_EQ(Clips().size(), 3u);
+  for (const std::string id : {"000001", "000002", "000003"}) EXPECT_EQ(daemon->Job(id)->state, JobState::kDone);
+}
+
+TEST_F(DaemonTest, QuitStopsAndShutdownCancelsTheRunningJobWhichResumesNextStart) {
+  std::promise<void> started;
+  auto daemon = StartDaemon(Options(), [&](const JobContext& context) -> StatusOr<JobOutcome> {
+    context.progress("render", 0.0);
+    started.set_value();
+    // Spin (no sleep) until the daemon asks us to stop, as a pipeline stage would between steps.
+    while (context.progress("render", 0.5)) std::this_thread::yield();
+    return CancelledError("cancelled at render");
+  });
+  const std::string id = Call(R"({"cmd":"capture"})")["job"];
+  started.get_future().wait();
+  EXPECT_EQ(Call(R"({"cmd":"status"})")["processing"]["stage"], "render");
+  EXPECT_EQ(Call(R"({"cmd":"quit"})")["ok"], true);
+  daemon->Wait();
+  EXPECT_FALSE(fs::exists(dir() / "ctl.sock"));
+  EXPECT_EQ(daemon->Job(id)->state, JobState::kSaved);
+  EXPECT_EQ(daemon->Job(id)->attempts, 0);
+  daemon.reset();
+
+  // The next start resumes it, and with exit_when_idle stops once it is done.
+  DaemonOptions options = Options();
+  options.exit_when_idle = true;
+  auto again = StartDaemon(options);
+  again->Wait();
+  EXPECT_EQ(again->Job(id)->state, JobState::kDone);
+  EXPECT_EQ(again->Job(id)->attempts, 1);
+  EXPECT_EQ(Clips().size(), 1u);
+}
+
+TEST_F(DaemonTest, RecoveryResumesSavedAndInterruptedJobsAndFailsLostCaptures) {
+  DaemonOptions options = Options();
+  StorageLayout layout(options.storage.root);
+  ASSERT_TRUE(layout.Prepare().ok());
+  auto journal = JobJournal::Open(layout.JobsDir()).value();
+  GradientSource source;
+  SourceConfig granted;
+  ASSERT_TRUE(source.Configure({}, &granted).ok());
+  auto save = [&](const std::string& id, JobState state, int attempts) {
+    Recording recording{source.Describe(), source.Next(std::chrono::seconds(1)).value(), "crashed daemon"};
+    ASSERT_TRUE(WriteRecording(layout.CaptureDir(id), recording).ok());
+    JobRecord record;
+    record.id = id;
+    record.state = state;
+    record.attempts = attempts;
+    record.capture_dir = layout.CaptureDir(id).string();
+    ASSERT_TRUE(journal->Put(record).ok());
+  };
+  save("000001", JobState::kSaved, 0);       // saved, never processed
+  save("000002", JobState::kProcessing, 1);  // the daemon died while processing
+  save("000003", JobState::kCapturing, 0);   // saved but the journal update was lost
+  save("000004", JobState::kProcessing, 3);  // died during processing three times: give up
+  JobRecord lost;                            // pressed, never captured
+  lost.id = "000005";
+  lost.state = JobState::kCapturing;
+  ASSERT_TRUE(journal->Put(lost).ok());
+  journal.reset();
+
+  options.exit_when_idle = true;
+  auto daemon = StartDaemon(options);
+  daemon->Wait();
+  EXPECT_EQ(daemon->Job("000001")->state, JobState::kDone);
+  EXPECT_EQ(daemon->Job("000002")->state, JobState::kDone);
+  EXPECT_EQ(daemon->Job("000002")->attempts, 2);
+  EXPECT_EQ(daemon->Job("000003")->state, JobState::kDone);
+  EXPECT_EQ(daemon->Job("000004")->state, JobState::kFailed);
+  EXPECT_THAT(daemon->Job("000004")->error, HasSubstr("gave up after 3 processing attempts"));
+  EXPECT_EQ(daemon->Job("000005")->state, JobState::kFailed);
+  EXPECT_THAT(daemon->Job("000005")->error, HasSubstr("before the capture was saved"));
+  EXPECT_EQ(Clips().size(), 3u);
+}
+
+TEST_F(DaemonTest, FullDiskFailsThePressWithTheFreeSpaceMessage) {
+  DaemonOptions options = Options();
+  options.storage.min_free_bytes = 1ull << 62;  // more than any disk holds
+  auto daemon = StartDaemon(options);
+  const std::string id = Call(R"({"cmd":"capture"})")["job"];
+  nlohmann::json job = Call(R"({"cmd":"wait","job":")" + id + R"("})")["job"];
+  EXPECT_EQ(job["state"], "failed");
+  EXPECT_THAT(job["error"].get<std::string>(),
+              testing::MatchesRegex("RESOURCE_EXHAUSTED: disk full: [0-9]+ MB free under .*/store, need [0-9]+ MB"));
+  EXPECT_EQ(Call(R"({"cmd":"status"})")["ok"], true);
+}
+
+TEST_F(DaemonTest, StaleSocketFromACrashedDaemonIsReplaced) {
+  // A bound socket whose process has gone: the file stays, nobody listens.
+  int fd = ::socket(AF_UNIX, SOCK_STREAM, 0);
+  sockaddr_un address{};
+  address.sun_family = AF_UNIX;
+  std::snprintf(address.sun_path, sizeof(address.sun_path), "%s", (dir() / "ctl.sock").c_str());
+  ASSERT_EQ(::bind(fd, reinterpret_cast<sockaddr*>(&address), sizeof(address)), 0);
+  ::close(fd);
+  ASSERT_TRUE(fs::exists(dir() / "ctl.sock"));
+  auto daemon = StartDaemon(Options());
+  EXPECT_EQ(Call(R"({"cmd":"status"})")["ok"], true);
+}
+
+TEST_F(DaemonTest, SecondDaemonOnTheSameSocketIsRefused) {
+  auto daemon = StartDaemon(Options());
+  DaemonOptions options = Options();
+  options.storage.root = dir() / "other";
+  Daemon second(options, std::make_unique<GradientSource>(), PngJob);
+  Status status = second.Start();
+  EXPECT_EQ(status.code(), StatusCode::kAlreadyExists) << status.ToString();
+  EXPECT_EQ(Call(R"({"cmd":"status"})")["ok"], true);
+}
+
+}  // namespace
+}  // namespace px::device

@@ -1,0 +1,99 @@
+// parallaxd: the capture daemon. Parses flags and the config, builds the daemon, runs it until
+// "quit", SIGINT/SIGTERM, or (with --stdin-trigger) the end of stdin. Logs go to stderr; stdout
+// carries one `clip: <absolute path>` line per finished clip, for scripts.
+#include <pthread.h>
+#include <signal.h>
+
+#include <CLI/CLI.hpp>
+#include <cstdlib>
+#include <iostream>
+#include <mutex>
+#include <nlohmann/json.hpp>
+#include <thread>
+
+#include "device/config.h"
+#include "device/daemon_factory.h"
+#include "pipeline/core/log.h"
+
+namespace {
+
+using px::device::DaemonConfig;
+
+int Fail(const px::Status& status) {
+  std::cerr << "parallaxd: " << status.ToString() << "\n";
+  return status.code() == px::StatusCode::kInvalidArgument ? 2 : 1;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app{"parallaxd: turns each button press into a capture and a 3D pan & scan clip"};
+  std::string config_path;
+  bool print_config = false;
+  px::device::DaemonRunFlags flags;
+  std::string root;
+  std::string socket;
+  std::string log_levels;
+  app.add_option("--config", config_path, "config file (JSON); else $PARALLAX_CONFIG; else built-in defaults");
+  app.add_flag("--print-config", print_config, "print the effective config as JSON and exit");
+  app.add_flag("--stdin-trigger",
+               flags.stdin_trigger,
+               "each line on stdin is a button press; end of input stops after the queue drains");
+  app.add_flag("--exit-when-idle",
+               flags.exit_when_idle,
+               "exit once nothing is queued (after resuming leftover jobs; with --stdin-trigger, after EOF)");
+  auto* root_option = app.add_option("--root", root, "override storage.root");
+  auto* socket_option = app.add_option("--socket", socket, "override control.socket (\"\" disables the socket)");
+  auto* log_option = app.add_option("--log", log_levels, "override log.levels, e.g. info or info,device=debug");
+  CLI11_PARSE(app, argc, argv);
+
+  auto resolved = px::device::ResolveDaemonConfig(config_path, std::getenv("PARALLAX_CONFIG"));
+  if (!resolved.ok()) return Fail(resolved.status());
+  DaemonConfig config = resolved->config;
+  // Command-line overrides apply last.
+  if (root_option->count() > 0) config.storage.root = root;
+  if (socket_option->count() > 0) config.control_socket = socket;
+  if (log_option->count() > 0) config.log_levels = log_levels;
+  if (px::Status valid = config.Validate(); !valid.ok()) return Fail(valid);
+  if (print_config) {
+    std::cout << px::device::DaemonConfigToJson(config).dump(2) << std::endl;
+    return 0;
+  }
+  if (px::Status levels = px::SetLogLevels(config.log_levels); !levels.ok()) {
+    return Fail(levels.WithContext("log.levels"));
+  }
+  px::Logger("device")->info("config from {}", resolved->origin);
+
+  // Signals are taken by one thread with sigwait; every other thread inherits the blocked mask.
+  sigset_t signals;
+  sigemptyset(&signals);
+  sigaddset(&signals, SIGINT);
+  sigaddset(&signals, SIGTERM);
+  pthread_sigmask(SIG_BLOCK, &signals, nullptr);
+
+  auto daemon = px::device::BuildDaemon(config, flags);
+  if (!daemon.ok()) return Fail(daemon.status());
+  std::mutex stdout_mutex;
+  (*daemon)->SetClipListener([&stdout_mutex](const std::filesystem::path& clip) {
+    std::lock_guard<std::mutex> lock(stdout_mutex);
+    std::cout << "clip: " << clip.string() << std::endl;
+  });
+  if (px::Status started = (*daemon)->Start(); !started.ok()) return Fail(started);
+
+  std::atomic<bool> finished{false};
+  std::thread signal_thread([&] {
+    while (true) {
+      int signal = 0;
+      if (sigwait(&signals, &signal) != 0) continue;
+      if (finished.load()) return;
+      px::Logger("device")->info("signal {}: stopping after the current step; saved jobs resume at the next start",
+                                 signal == SIGINT ? "SIGINT" : "SIGTERM");
+      (*daemon)->RequestStop(/*drain=*/false);
+    }
+  });
+  (*daemon)->Wait();
+  finished = true;
+  pthread_kill(signal_thread.native_handle(), SIGTERM);  // wakes the sigwait so the thread ends
+  signal_thread.join();
+  return 0;
+}

@@ -1,0 +1,191 @@
+#include "device/storage/durable_file.h"
+
+#include <fcntl.h>
+#include <signal.h>
+#include <sys/stat.h>
+#include <sys/statvfs.h>
+#include <unistd.h>
+
+#include <atomic>
+#include <cerrno>
+#include <cstring>
+#include <system_error>
+
+namespace px::device {
+namespace {
+
+namespace fs = std::filesystem;
+
+constexpr uint64_t kBytesPerMb = 1000 * 1000;
+constexpr std::string_view kTempMarker = ".tmp-";
+
+// Closes an fd on scope exit unless released.
+class FdCloser {
+ public:
+  explicit FdCloser(int fd) : fd_(fd) {}
+  ~FdCloser() {
+    if (fd_ >= 0) ::close(fd_);
+  }
+  FdCloser(const FdCloser&) = delete;
+  FdCloser& operator=(const FdCloser&) = delete;
+  // Closes now and reports the error (close can report a deferred write error on NFS).
+  int Close() {
+    int rc = ::close(fd_);
+    fd_ = -1;
+    return rc == 0 ? 0 : errno;
+  }
+
+ private:
+  int fd_;
+};
+
+fs::path ParentOrDot(const fs::path& path) {
+  fs::path parent = path.parent_path();
+  return parent.empty() ? fs::path(".") : parent;
+}
+
+Status WriteAll(int fd, std::string_view bytes, const fs::path& path, const fs::path& target) {
+  size_t written = 0;
+  while (written < bytes.size()) {
+    ssize_t n = ::write(fd, bytes.data() + written, bytes.size() - written);
+    if (n < 0) {
+      if (errno == EINTR) continue;
+      return ErrnoToStatus(errno, "write", target.empty() ? path : target, bytes.size());
+    }
+    written += static_cast<size_t>(n);
+  }
+  return OkStatus();
+}
+
+}  // namespace
+
+Status DiskFullError(const fs::path& dir, uint64_t free_bytes, uint64_t need_bytes) {
+  // Free rounds down and need rounds up, so the message never reads "12 MB free, need 12 MB".
+  const uint64_t free_mb = free_bytes / kBytesPerMb;
+  const uint64_t need_mb = (need_bytes + kBytesPerMb - 1) / kBytesPerMb;
+  return ResourceExhaustedError("disk full: " + std::to_string(free_mb) + " MB free under " + dir.string() + ", need " +
+                                std::to_string(need_mb) + " MB");
+}
+
+StatusOr<uint64_t> FreeBytes(const fs::path& path) {
+  struct statvfs info {};
+  if (::statvfs(path.c_str(), &info) != 0) {
+    return ErrnoToStatus(errno, "statvfs", path);
+  }
+  return static_cast<uint64_t>(info.f_bavail) * static_cast<uint64_t>(info.f_frsize);
+}
+
+Status CheckFreeSpace(const fs::path& dir, uint64_t need_bytes) {
+  PX_ASSIGN_OR_RETURN(uint64_t free_bytes, FreeBytes(dir));
+  if (free_bytes < need_bytes) return DiskFullError(dir, free_bytes, need_bytes);
+  return OkStatus();
+}
+
+Status ErrnoToStatus(int err, std::string_view what, const fs::path& path, uint64_t need_bytes) {
+  const std::string context = std::string(what) + " " + path.string() + ": " + std::strerror(err);
+  switch (err) {
+    case ENOSPC:
+    case EDQUOT: {
+      const fs::path dir = ParentOrDot(path);
+      auto free_bytes = FreeBytes(dir);
+      // need_bytes is only what this write wanted; say at least 1 byte so the message is honest.
+      return DiskFullError(dir, free_bytes.ok() ? *free_bytes : 0, need_bytes == 0 ? 1 : need_bytes)
+          .WithContext(std::string(what) + " " + path.string());
+    }
+    case ENOENT:
+      return NotFoundError(context);
+    case EACCES:
+    case EPERM:
+    case EROFS:
+      return FailedPreconditionError(context);
+    case EIO:
+      return DataLossError(context);
+    default:
+      return InternalError(context);
+  }
+}
+
+fs::path TemporaryPathFor(const fs::path& path) {
+  static std::atomic<uint64_t> counter{0};
+  const std::string name = "." + path.stem().string() + std::string(kTempMarker) + std::to_string(::getpid()) + "-" +
+                           std::to_string(counter.fetch_add(1)) + path.extension().string();
+  return path.parent_path() / name;
+}
+
+bool IsTemporaryName(const std::string& filename) {
+  return filename.size() > 1 && filename[0] == '.' && filename.find(kTempMarker) != std::string::npos;
+}
+
+int RemoveStaleTemporaries(const fs::path& dir) {
+  std::error_code ec;
+  int removed = 0;
+  for (fs::directory_iterator it(dir, ec), end; !ec && it != end; it.increment(ec)) {
+    const std::string name = it->path().filename().string();
+    if (!IsTemporaryName(name)) continue;
+    // Leave temporaries of live processes alone (a CLI run writing beside the daemon).
+    const size_t pid_at = name.find(kTempMarker) + kTempMarker.size();
+    const pid_t pid = static_cast<pid_t>(std::strtol(name.c_str() + pid_at, nullptr, 10));
+    if (pid > 0 && pid != ::getpid() && ::kill(pid, 0) == 0) continue;
+    std::error_code remove_ec;
+    if (fs::remove_all(it->path(), remove_ec) > 0) ++removed;
+  }
+  return removed;
+}
+
+Status FsyncDir(const fs::path& dir) {
+  int fd = ::open(dir.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
+  if (fd < 0) return ErrnoToStatus(errno, "open folder", dir);
+  FdCloser closer(fd);
+  if (::fsync(fd) != 0) return ErrnoToStatus(errno, "fsync folder", dir);
+  return OkStatus();
+}
+
+Status FsyncFile(const fs::path& path) {
+  int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
+  if (fd < 0) return ErrnoToStatus(errno, "open", path);
+  FdCloser closer(fd);
+  if (::fsync(fd) != 0) return ErrnoToStatus(errno, "fsync", path);
+  return OkStatus();
+}
+
+Status RenameDurably(const fs::path& from, const fs::path& to) {
+  if (::rename(from.c_str(), to.c_str()) != 0) {
+    return ErrnoToStatus(errno, "rename " + from.string() + " to", to);
+  }
+  return FsyncDir(ParentOrDot(to));
+}
+
+Status WriteFileAtomically(const fs::path& path, std::string_view bytes) {
+  const fs::path temp = TemporaryPathFor(path);
+  int fd = ::open(temp.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0644);
+  if (fd < 0) return ErrnoToStatus(errno, "create", temp, bytes.size());
+  FdCloser closer(fd);
+  Status status = WriteAll(fd, bytes, temp, path);
+  if (status.ok() && ::fsync(fd) != 0) status = ErrnoToStatus(errno, "fsync", temp, bytes.size());
+  if (status.ok()) {
+    if (int err = closer.Close(); err != 0) status = ErrnoToStatus(err, "close", temp, bytes.size());
+  }
+  if (status.ok()) status = RenameDurably(temp, path);
+  if (!status.ok()) ::unlink(temp.c_str());
+  return status;
+}
+
+StatusOr<std::string> ReadFileToString(const fs::path& path) {
+  int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
+  if (fd < 0) return ErrnoToStatus(errno, "open", path);
+  FdCloser closer(fd);
+  std::string contents;
+  char buffer[65536];
+  while (true) {
+    ssize_t n = ::read(fd, buffer, sizeof(buffer));
+    if (n < 0) {
+      if (errno == EINTR) continue;
+      return ErrnoToStatus(errno, "read", path);
+    }
+    if (n == 0) break;
+    contents.append(buffer, static_cast<size_t>(n));
+  }
+  return contents;
+}
+
+}  // namespace px::device

@@ -1,0 +1,59 @@
+#include "device/storage/storage_layout.h"
+
+#include <system_error>
+
+#include "device/storage/durable_file.h"
+#include "pipeline/core/log.h"
+
+namespace px::device {
+namespace {
+
+namespace fs = std::filesystem;
+
+// Creates `dir` and any missing parents, fsyncing each new entry into its parent.
+Status CreateDirDurably(const fs::path& dir) {
+  std::error_code ec;
+  if (fs::is_directory(dir, ec)) return OkStatus();
+  if (fs::exists(dir, ec)) return FailedPreconditionError(dir.string() + ": exists and is not a folder");
+  if (dir.has_parent_path() && dir.parent_path() != dir) PX_RETURN_IF_ERROR(CreateDirDurably(dir.parent_path()));
+  if (!fs::create_directory(dir, ec) && ec) {
+    return ErrnoToStatus(ec.value(), "create folder", dir);
+  }
+  return FsyncDir(dir.parent_path());
+}
+
+}  // namespace
+
+Status StorageOptions::Validate() const {
+  if (root.empty()) return InvalidArgumentError("storage.root: empty");
+  return OkStatus();
+}
+
+StorageLayout::StorageLayout(const fs::path& root) {
+  std::error_code ec;
+  fs::path absolute = fs::absolute(root, ec);
+  root_ = (ec ? root : absolute).lexically_normal();
+  // "a/b/" normalises to "a/b/"; drop the trailing separator so paths join cleanly.
+  if (!root_.has_filename() && root_.has_parent_path() && root_ != root_.root_path()) root_ = root_.parent_path();
+}
+
+Status StorageLayout::Prepare() const {
+  for (const fs::path& dir : {root_, CapturesDir(), ClipsDir(), JobsDir()}) {
+    PX_RETURN_IF_ERROR(CreateDirDurably(dir));
+  }
+  int removed = 0;
+  for (const fs::path& dir : {CapturesDir(), ClipsDir(), JobsDir()}) removed += RemoveStaleTemporaries(dir);
+  if (removed > 0) {
+    Logger("device")->warn(
+        "removed {} unfinished temporary file(s) under {} left by an interrupted write", removed, root_.string());
+  }
+  return OkStatus();
+}
+
+fs::path ClipReportPathFor(const fs::path& clip_path) {
+  fs::path report = clip_path;
+  report.replace_extension(".json");
+  return report;
+}
+
+}  // namespace px::device

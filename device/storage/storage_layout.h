@@ -1,0 +1,47 @@
+// Where the daemon keeps its files, all under one root:
+//   <root>/captures/<id>/   the raw capture as a recording (sim/replay/FORMAT.md), written first
+//   <root>/clips/<id>.mp4   the finished clip
+//   <root>/clips/<id>.json  the camera path and the pipeline report for that clip
+//   <root>/jobs/<id>.json   the journal: one record per job (job_journal.h)
+#pragma once
+
+#include <cstdint>
+#include <filesystem>
+#include <string>
+
+#include "pipeline/core/status.h"
+
+namespace px::device {
+
+struct StorageOptions {
+  std::filesystem::path root = "/var/lib/parallax";  // absolute or relative to the working folder
+  uint64_t min_free_bytes = 200ull * 1000 * 1000;    // refuse a capture with less free under root; >= 0
+  Status Validate() const;
+};
+
+class StorageLayout {
+ public:
+  // `root` is made absolute (so logged and announced paths are absolute).
+  explicit StorageLayout(const std::filesystem::path& root);
+
+  const std::filesystem::path& root() const { return root_; }
+  std::filesystem::path CapturesDir() const { return root_ / "captures"; }
+  std::filesystem::path ClipsDir() const { return root_ / "clips"; }
+  std::filesystem::path JobsDir() const { return root_ / "jobs"; }
+
+  std::filesystem::path CaptureDir(const std::string& job_id) const { return CapturesDir() / job_id; }
+  std::filesystem::path ClipPath(const std::string& job_id) const { return ClipsDir() / (job_id + ".mp4"); }
+  std::filesystem::path JobRecordPath(const std::string& job_id) const { return JobsDir() / (job_id + ".json"); }
+
+  // Creates the folders (fsyncing each new one into its parent) and removes temporaries that a
+  // crashed writer left behind. Errors name the folder.
+  Status Prepare() const;
+
+ private:
+  std::filesystem::path root_;
+};
+
+// The report that goes beside a clip: clips/<id>.mp4 -> clips/<id>.json.
+std::filesystem::path ClipReportPathFor(const std::filesystem::path& clip_path);
+
+}  // namespace px::device

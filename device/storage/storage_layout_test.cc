@@ -1,0 +1,57 @@
+#include "device/storage/storage_layout.h"
+
+#include <gtest/gtest.h>
+
+#include "device/storage/durable_file.h"
+#include "device/temp_dir_for_test.h"
+
+namespace px::device {
+namespace {
+
+namespace fs = std::filesystem;
+using StorageLayoutTest = TempDirTest;
+
+TEST_F(StorageLayoutTest, PathsFollowTheDocumentedLayout) {
+  StorageLayout layout(dir() / "root/");
+  EXPECT_EQ(layout.root(), dir() / "root");
+  EXPECT_EQ(layout.CaptureDir("000007"), dir() / "root/captures/000007");
+  EXPECT_EQ(layout.ClipPath("000007"), dir() / "root/clips/000007.mp4");
+  EXPECT_EQ(ClipReportPathFor(layout.ClipPath("000007")), dir() / "root/clips/000007.json");
+  EXPECT_EQ(layout.JobRecordPath("000007"), dir() / "root/jobs/000007.json");
+}
+
+TEST_F(StorageLayoutTest, RelativeRootBecomesAbsolute) {
+  StorageLayout layout("some/where");
+  EXPECT_TRUE(layout.root().is_absolute());
+  EXPECT_EQ(layout.root(), (fs::current_path() / "some/where").lexically_normal());
+}
+
+TEST_F(StorageLayoutTest, PrepareCreatesFoldersAndClearsStaleTemporaries) {
+  StorageLayout layout(dir() / "a/b/root");
+  ASSERT_TRUE(layout.Prepare().ok());
+  EXPECT_TRUE(fs::is_directory(layout.CapturesDir()));
+  EXPECT_TRUE(fs::is_directory(layout.ClipsDir()));
+  EXPECT_TRUE(fs::is_directory(layout.JobsDir()));
+  const fs::path stale = layout.ClipsDir() / ".000001.tmp-99999999-3.mp4";
+  ASSERT_TRUE(WriteFileAtomically(stale, "half a clip").ok());
+  ASSERT_TRUE(WriteFileAtomically(layout.ClipPath("000002"), "a clip").ok());
+  ASSERT_TRUE(layout.Prepare().ok());  // idempotent
+  EXPECT_FALSE(fs::exists(stale));
+  EXPECT_TRUE(fs::exists(layout.ClipPath("000002")));
+}
+
+TEST_F(StorageLayoutTest, PrepareFailsWhenRootIsAFile) {
+  ASSERT_TRUE(WriteFileAtomically(dir() / "file", "x").ok());
+  Status status = StorageLayout(dir() / "file").Prepare();
+  EXPECT_EQ(status.code(), StatusCode::kFailedPrecondition) << status.ToString();
+  EXPECT_NE(status.message().find((dir() / "file").string()), std::string::npos) << status.message();
+}
+
+TEST(StorageOptionsTest, EmptyRootIsRejectedNamingTheField) {
+  StorageOptions options;
+  options.root = "";
+  EXPECT_EQ(options.Validate().message(), "storage.root: empty");
+}
+
+}  // namespace
+}  // namespace px::device

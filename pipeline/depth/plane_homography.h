@@ -1,0 +1,28 @@
+// Geometry of the plane sweep: which views to match against, and the homography a
+// fronto-parallel plane in the reference camera induces between two views.
+#pragma once
+
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "pipeline/core/camera_model.h"
+#include "pipeline/core/rigid3.h"
+#include "pipeline/core/view.h"
+
+namespace px::depth {
+
+// Maps reference pixels to source pixels (homogeneous, x_src ~ H x_ref) for the plane z = depth_m
+// in the reference camera. With src_from_ref = (R, t) and n = (0, 0, 1), a point X on the plane has
+// n.X / depth_m = 1, so X_src = R X + t = (R + t n^T / depth_m) X and
+//   H = K_src (R + t n^T / depth_m) K_ref^-1.
+// (The textbook "R - t n^T / d" writes the plane as n.X + d = 0.) Both cameras must be pinhole
+// (undistorted); their pixel grids are whatever `ref` and `src` describe (e.g. working scale).
+Eigen::Matrix3d PlaneHomography(const CameraModel& ref, const Rigid3& ref_from_world, const CameraModel& src,
+                                const Rigid3& src_from_world, double depth_m);
+
+// Indices of up to `count` other views nearest to views[reference] by camera-centre distance,
+// nearest first (ties by index). Views at the same centre are skipped: they see no parallax.
+std::vector<int> NearestNeighbourViews(const std::vector<View>& views, int reference, int count);
+
+}  // namespace px::depth

@@ -1,0 +1,264 @@
+#include "pipeline/run/pipeline.h"
+
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <sstream>
+
+#include <opencv2/imgproc.hpp>
+
+#include "pipeline/calib/make_views.h"
+#include "pipeline/core/log.h"
+#include "pipeline/core/pixel_format.h"
+#include "pipeline/depth/plane_sweep.h"
+#include "pipeline/direct/plan_camera_path.h"
+#include "pipeline/lattice/split_lattice.h"
+#include "pipeline/render/novel_view_renderer.h"
+
+namespace px {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double MsSince(Clock::time_point start) {
+  return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
+}
+
+// A tile whose grey levels vary less than this (standard deviation, 8-bit levels) shows no
+// scene: a covered, dead or unlit lens. Sensor noise alone exceeds it on any real image.
+constexpr double kBlankTileStddev = 1.0;
+// Depth that the plane sweep is sure of on less than this fraction of pixels makes a poor clip.
+constexpr double kLowConfidentDepthFraction = 0.3;
+// Holes inpainted over more than this fraction of a frame, on average, show.
+constexpr double kHighHoleRatio = 0.05;
+
+std::string FrameName(const FrameSet& capture, size_t index) {
+  const Frame& frame = capture.frames[index];
+  return "capture " + std::to_string(capture.capture_id) + " frame " + std::to_string(index) + " (sequence " +
+         std::to_string(frame.sequence) + ")";
+}
+
+// The error for a lattice frame that cannot be used, by what went wrong with it.
+Status UnusableFrameError(const FrameSet& capture, size_t index) {
+  const Frame& frame = capture.frames[index];
+  std::string message = FrameName(capture, index) + " is " + std::string(FrameStatusName(frame.status));
+  if (!frame.status_detail.empty()) message += ": " + frame.status_detail;
+  switch (frame.status) {
+    case FrameStatus::kCorrupt:
+      return DataLossError(message);
+    case FrameStatus::kDropped:
+      return UnavailableError(message);
+    case FrameStatus::kWrongFormat:
+      return InvalidArgumentError(message);
+    case FrameStatus::kOk:
+      break;
+  }
+  return InternalError(message);
+}
+
+// Splits the lattice frame and makes the views, timing both stages.
+StatusOr<std::vector<View>> LatticeViews(const FrameSet& capture, const RigCalibration& rig,
+                                         const CalibOptions& calib, std::vector<std::string>* warnings,
+                                         std::vector<StageTiming>* timings) {
+  if (capture.kind == FrameSetKind::kImageSet) {
+    return UnimplementedError("capture " + std::to_string(capture.capture_id) + ": an image set of " +
+                              std::to_string(capture.frames.size()) +
+                              " images needs per-shot calibration (structure from motion); hand-held mode comes "
+                              "with calibration");
+  }
+  if (capture.frames.empty()) {
+    return InvalidArgumentError("capture " + std::to_string(capture.capture_id) + " holds no frames");
+  }
+  PX_RETURN_IF_ERROR(rig.Validate().WithContext("rig calibration '" + rig.rig_name + "'"));
+  if (rig.lattice.rows == 0) {
+    return FailedPreconditionError("rig calibration '" + rig.rig_name + "' has no lattice layout for a lattice frame");
+  }
+
+  const Clock::time_point lattice_start = Clock::now();
+  size_t chosen = capture.frames.size();
+  for (size_t i = 0; i < capture.frames.size(); ++i) {
+    if (capture.frames[i].status == FrameStatus::kOk) {
+      chosen = i;
+      break;
+    }
+  }
+  if (chosen == capture.frames.size()) return UnusableFrameError(capture, 0);
+  for (size_t i = 0; i < capture.frames.size(); ++i) {
+    if (i == chosen) continue;
+    warnings->push_back(FrameName(capture, i) + " skipped: a lattice capture needs one frame, used frame " +
+                        std::to_string(chosen) +
+                        (capture.frames[i].status == FrameStatus::kOk
+                             ? ""
+                             : std::string(" (this one is ") + std::string(FrameStatusName(capture.frames[i].status)) +
+                                   ")"));
+  }
+  StatusOr<cv::Mat> sensor = ToBgr(capture.frames[chosen].image);
+  if (!sensor.ok()) return sensor.status().WithContext(FrameName(capture, chosen));
+  StatusOr<std::vector<cv::Mat>> tiles = SplitLattice(*sensor, rig.lattice);
+  if (!tiles.ok()) return tiles.status().WithContext(FrameName(capture, chosen));
+  timings->push_back({"lattice", MsSince(lattice_start)});
+
+  const Clock::time_point calib_start = Clock::now();
+  PX_ASSIGN_OR_RETURN(std::vector<View> views, MakeViews(*tiles, rig, calib));
+  // Drop blank views: they match nothing and would only add wrong depth and colour.
+  std::vector<View> usable;
+  std::vector<std::string> blank;
+  for (View& view : views) {
+    cv::Mat grey;
+    cv::cvtColor(view.image, grey, cv::COLOR_BGR2GRAY);
+    cv::Scalar mean, stddev;
+    cv::meanStdDev(grey, mean, stddev);
+    if (stddev[0] < kBlankTileStddev) {
+      char text[160];
+      std::snprintf(text, sizeof(text), "view %d is blank (grey mean %.1f, stddev %.2f): lens covered or dead",
+                    view.id.value, mean[0], stddev[0]);
+      blank.push_back(text);
+    } else {
+      usable.push_back(std::move(view));
+    }
+  }
+  if (usable.size() < 2) {
+    return FailedPreconditionError(FrameName(capture, chosen) + ": only " + std::to_string(usable.size()) + " of " +
+                                   std::to_string(rig.NumViews()) + " views show the scene" +
+                                   (blank.empty() ? "" : "; " + blank.front()));
+  }
+  for (std::string& text : blank) warnings->push_back(std::move(text) + "; dropped");
+  timings->push_back({"calib", MsSince(calib_start)});
+  return usable;
+}
+
+// Sets OpenCV's worker count for the run and restores it after.
+class ThreadCountScope {
+ public:
+  explicit ThreadCountScope(int num_threads) : previous_(cv::getNumThreads()) {
+    if (num_threads > 0) cv::setNumThreads(num_threads);
+  }
+  ~ThreadCountScope() { cv::setNumThreads(previous_); }
+  ThreadCountScope(const ThreadCountScope&) = delete;
+  ThreadCountScope& operator=(const ThreadCountScope&) = delete;
+
+ private:
+  int previous_;
+};
+
+}  // namespace
+
+Status PipelineOptions::Validate() const {
+  PX_RETURN_IF_ERROR(calib.Validate());
+  PX_RETURN_IF_ERROR(depth.Validate());
+  PX_RETURN_IF_ERROR(direct.Validate());
+  PX_RETURN_IF_ERROR(render.Validate());
+  if (num_threads < 0 || num_threads > 256) {
+    return InvalidArgumentError("pipeline.num_threads: " + std::to_string(num_threads) + " is outside [0, 256]");
+  }
+  return OkStatus();
+}
+
+StatusOr<std::vector<View>> MakeViewsFromCapture(const FrameSet& capture, const RigCalibration& rig,
+                                                 std::vector<std::string>* warnings, const CalibOptions& calib) {
+  std::vector<std::string> ignored;
+  std::vector<StageTiming> timings;
+  PX_RETURN_IF_ERROR(calib.Validate());
+  return LatticeViews(capture, rig, calib, warnings != nullptr ? warnings : &ignored, &timings);
+}
+
+StatusOr<PipelineReport> RunPipeline(const FrameSet& capture, const RigCalibration& rig,
+                                     const PipelineOptions& options, FrameSink* sink,
+                                     const ProgressCallback& progress) {
+  PX_RETURN_IF_ERROR(options.Validate());
+  if (sink == nullptr) return InvalidArgumentError("pipeline: no frame sink");
+  const auto log = Logger("pipeline");
+  const ThreadCountScope threads(options.num_threads);
+  const auto report_progress = [&](const char* stage, double fraction) -> Status {
+    if (progress && !progress(stage, fraction)) return CancelledError(std::string("pipeline cancelled during ") + stage);
+    return OkStatus();
+  };
+  PipelineReport report;
+
+  // Stages 1 and 2: lattice and calibrated views.
+  PX_RETURN_IF_ERROR(report_progress("lattice", 0));
+  PX_ASSIGN_OR_RETURN(std::vector<View> views, LatticeViews(capture, rig, options.calib, &report.warnings,
+                                                            &report.timings));
+  report.num_views = static_cast<int>(views.size());
+  log->info("lattice: {} views of {}x{} in {:.0f} ms, calib in {:.0f} ms", views.size(), views.front().camera.width,
+            views.front().camera.height, report.timings[0].ms, report.timings[1].ms);
+  PX_RETURN_IF_ERROR(report_progress("calib", 1));
+
+  // Stage 3: depth.
+  Clock::time_point start = Clock::now();
+  DepthOptions depth_options = options.depth.WithDefaultDepthRange(rig.nominal_depth_min_m, rig.nominal_depth_max_m);
+  if (depth_options.num_threads == 0) depth_options.num_threads = options.num_threads;
+  bool cancelled = false;
+  StatusOr<std::vector<DepthMap>> depths = ComputeDepth(views, depth_options, [&](double fraction) {
+    cancelled = !report_progress("depth", fraction).ok();
+    return !cancelled;
+  });
+  if (cancelled) return CancelledError("pipeline cancelled during depth");
+  if (!depths.ok()) return depths.status().WithContext("depth");
+  report.timings.push_back({"depth", MsSince(start)});
+  {
+    double confident = 0, total = 0;
+    for (const DepthMap& map : *depths) {
+      confident += cv::countNonZero(map.confidence > 0.5);
+      total += static_cast<double>(map.confidence.total());
+    }
+    const double fraction = total > 0 ? confident / total : 0;
+    log->info("depth: {} maps, {:.0f} to {:.2f} m, {:.0f}% confident, in {:.0f} ms", depths->size(),
+              depth_options.min_depth_m, depth_options.max_depth_m, 100 * fraction, report.timings.back().ms);
+    if (fraction < kLowConfidentDepthFraction) {
+      char text[160];
+      std::snprintf(text, sizeof(text),
+                    "depth: only %.0f%% of pixels have confident depth (textureless or blurred scene?)",
+                    100 * fraction);
+      report.warnings.push_back(text);
+      log->warn("{}", text);
+    }
+  }
+
+  // Stage 4: the camera path.
+  PX_RETURN_IF_ERROR(report_progress("direct", 0));
+  start = Clock::now();
+  StatusOr<CameraPath> path = PlanCameraPath(views, *depths, options.direct);
+  if (!path.ok()) return path.status().WithContext("direct");
+  report.path = *path;
+  report.timings.push_back({"direct", MsSince(start)});
+  log->info("direct: {} ({}), {} frames, in {:.1f} ms", report.path.move, report.path.reason,
+            report.path.NumFrames(), report.timings.back().ms);
+
+  // Stage 5: render every frame and hand it on.
+  start = Clock::now();
+  PX_ASSIGN_OR_RETURN(std::unique_ptr<NovelViewRenderer> renderer,
+                      NovelViewRenderer::Create(views, *depths, options.render));
+  const int num_frames = report.path.NumFrames();
+  double sink_ms = 0, hole_sum = 0;
+  PX_RETURN_IF_ERROR(report_progress("render", 0));
+  for (int i = 0; i < num_frames; ++i) {
+    const double t = report.path.FrameTime(i);
+    StatusOr<RenderResult> frame = renderer->Render(report.path.CameraAt(t), report.path.PoseAt(t));
+    if (!frame.ok()) return frame.status().WithContext("render frame " + std::to_string(i));
+    hole_sum += frame->hole_ratio;
+    const Clock::time_point sink_start = Clock::now();
+    const Status consumed = sink->Consume(i, frame->bgr);
+    sink_ms += MsSince(sink_start);
+    if (!consumed.ok()) return consumed.WithContext("frame sink, frame " + std::to_string(i));
+    report.frames_rendered = i + 1;
+    PX_RETURN_IF_ERROR(report_progress("render", static_cast<double>(i + 1) / num_frames));
+  }
+  report.mean_hole_ratio = hole_sum / num_frames;
+  report.timings.push_back({"render", MsSince(start) - sink_ms});
+  report.timings.push_back({"encode", sink_ms});
+  log->info("render: {} frames of {}x{}, {:.1f} ms each, {:.2f}% holes on average; sink {:.0f} ms", num_frames,
+            report.path.width, report.path.height, report.timings[report.timings.size() - 2].ms / num_frames,
+            100 * report.mean_hole_ratio, sink_ms);
+  if (report.mean_hole_ratio > kHighHoleRatio) {
+    char text[160];
+    std::snprintf(text, sizeof(text), "render: %.1f%% of each frame on average was inpainted (no source saw it)",
+                  100 * report.mean_hole_ratio);
+    report.warnings.push_back(text);
+    log->warn("{}", text);
+  }
+  return report;
+}
+
+}  // namespace px

@@ -1,0 +1,71 @@
+// The capture-to-clip pipeline, stage by stage: split the lattice, make calibrated views,
+// compute depth, choose a camera path, render each frame, hand frames to a sink. Pure
+// computation: frames in, rendered frames out, plus a report of what each stage did.
+#pragma once
+
+#include <functional>
+#include <string>
+#include <vector>
+
+#include <opencv2/core.hpp>
+
+#include "pipeline/calib/calib_options.h"
+#include "pipeline/core/frame_set.h"
+#include "pipeline/core/rig_calibration.h"
+#include "pipeline/core/view.h"
+#include "pipeline/depth/depth_options.h"
+#include "pipeline/direct/camera_path.h"
+#include "pipeline/render/render_options.h"
+
+namespace px {
+
+struct PipelineOptions {
+  CalibOptions calib;     // undistortion
+  DepthOptions depth;     // depth range 0 = the rig's nominal range
+  DirectOptions direct;   // move, duration, fps
+  RenderOptions render;
+  int num_threads = 0;    // 0 = all cores
+  Status Validate() const;
+};
+
+// Receives rendered frames in order (the clip encoder, a PNG writer, a test).
+class FrameSink {
+ public:
+  virtual ~FrameSink() = default;
+  virtual Status Consume(int index, const cv::Mat& bgr) = 0;
+};
+
+struct StageTiming {
+  std::string stage;   // "lattice", "calib", "depth", "direct", "render", "encode"
+  double ms = 0;
+};
+
+struct PipelineReport {
+  int num_views = 0;            // usable views after splitting and checks
+  std::vector<std::string> warnings;  // degraded results, for the log and the clip's JSON
+  std::vector<StageTiming> timings;
+  CameraPath path;              // the path rendered
+  int frames_rendered = 0;
+  double mean_hole_ratio = 0;   // fraction of pixels no source covered, before filling
+};
+
+// stage: a short name; fraction: 0..1 within that stage. Return false to cancel.
+using ProgressCallback = std::function<bool(const std::string& stage, double fraction)>;
+
+// Builds calibrated, undistorted views from a capture and its rig calibration. A lattice capture
+// uses its first frame whose status is ok (others are named in `warnings`) and fails, naming the
+// frame, when none is; views whose tile is blank (a covered or dead lens) are dropped with a
+// warning while at least two remain. Image sets (hand-held) fail with UNIMPLEMENTED for now.
+StatusOr<std::vector<View>> MakeViewsFromCapture(const FrameSet& capture, const RigCalibration& rig,
+                                                 std::vector<std::string>* warnings,
+                                                 const CalibOptions& calib = {});
+
+// Runs every stage and hands each rendered frame to `sink` in order. Timings: "lattice",
+// "calib", "depth", "direct", "render" (rendering only) and "encode" (time inside the sink).
+// progress is called at each stage's start and end and after each rendered frame; returning
+// false stops the run with CANCELLED.
+StatusOr<PipelineReport> RunPipeline(const FrameSet& capture, const RigCalibration& rig,
+                                     const PipelineOptions& options, FrameSink* sink,
+                                     const ProgressCallback& progress = {});
+
+}  // namespace px

@@ -1,0 +1,256 @@
+#include "sim/replay/recording.h"
+
+#include <chrono>
+#include <string>
+#include <system_error>
+#include <utility>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "pipeline/core/json_fields.h"
+#include "pipeline/core/log.h"
+#include "sim/replay/durable_file.h"
+#include "sim/replay/frame_file.h"
+#include "sim/replay/recording_manifest.h"
+#include "sim/replay/sha256.h"
+
+namespace px {
+namespace {
+
+namespace fs = std::filesystem;
+using replay::FrameEntry;
+using replay::Manifest;
+
+// A manifest holds metadata only; anything this large is not one of ours.
+constexpr uint64_t kMaxManifestBytes = 64ull << 20;
+// A frame file: 2 GiB is far beyond any sensor frame (50 MP x 3 bytes = 150 MB).
+constexpr uint64_t kMaxFrameFileBytes = 2ull << 30;
+
+double MillisecondsSince(std::chrono::steady_clock::time_point start) {
+  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+}
+
+// Removes what a failed write left, unless the write committed. Best effort: the manifest is
+// written last, so whatever stays behind is never mistaken for a recording.
+class WriteCleanup {
+ public:
+  explicit WriteCleanup(fs::path dir) : dir_(std::move(dir)) {}
+  ~WriteCleanup() {
+    if (committed_) return;
+    std::error_code ec;
+    for (const fs::path& file : files_) {
+      fs::remove(file, ec);
+      fs::remove(replay::TemporaryPathFor(file), ec);
+    }
+    if (created_dir_) fs::remove(dir_, ec);  // only removes it when empty
+  }
+  WriteCleanup(const WriteCleanup&) = delete;
+  WriteCleanup& operator=(const WriteCleanup&) = delete;
+
+  void AddFile(const fs::path& file) { files_.push_back(file); }
+  void SetCreatedDir() { created_dir_ = true; }
+  void Commit() { committed_ = true; }
+
+ private:
+  fs::path dir_;
+  std::vector<fs::path> files_;
+  bool created_dir_ = false;
+  bool committed_ = false;
+};
+
+// The folder must be new or empty; creates it (and its parents) when absent.
+Status PrepareFolder(const fs::path& dir, WriteCleanup* cleanup) {
+  std::error_code ec;
+  const fs::file_status status = fs::status(dir, ec);
+  if (fs::exists(status)) {
+    if (!fs::is_directory(status)) {
+      return Status(StatusCode::kAlreadyExists, dir.string() + ": exists and is not a folder");
+    }
+    const bool empty = fs::is_empty(dir, ec);
+    if (ec) return replay::FileError(ec.value(), dir, "listing");
+    if (!empty) {
+      return Status(StatusCode::kAlreadyExists,
+                    dir.string() + ": folder is not empty; a recording needs a new or empty folder");
+    }
+    return OkStatus();
+  }
+  fs::create_directories(dir, ec);
+  if (ec) return replay::FileError(ec.value(), dir, "creating folder");
+  cleanup->SetCreatedDir();
+  return OkStatus();
+}
+
+// The manifest's view of the recording, before any file is written (sizes and checksums of
+// PNG files are filled in as they are encoded).
+StatusOr<Manifest> PlanManifest(const Recording& recording) {
+  if (recording.frames.kind != recording.source.kind) {
+    return InvalidArgumentError("frames.kind " + std::string(FrameSetKindName(recording.frames.kind)) +
+                                " differs from source.kind " +
+                                std::string(FrameSetKindName(recording.source.kind)));
+  }
+  Manifest manifest;
+  manifest.created_by = recording.created_by;
+  manifest.created_at = recording.created_at.empty() ? replay::UtcNowIso8601() : recording.created_at;
+  if (!replay::IsUtcIso8601(manifest.created_at)) {
+    return InvalidArgumentError("created_at: '" + manifest.created_at + "' is not UTC ISO 8601 (YYYY-MM-DDTHH:MM:SSZ)");
+  }
+  manifest.source = recording.source;
+  manifest.capture_id = recording.frames.capture_id;
+  for (size_t i = 0; i < recording.frames.frames.size(); ++i) {
+    const Frame& frame = recording.frames.frames[i];
+    if (frame.status == FrameStatus::kOk) {
+      if (Status valid = frame.image.Validate(); !valid.ok()) {
+        return InvalidArgumentError("frames[" + std::to_string(i) + "]: status ok but " + valid.message());
+      }
+    }
+    FrameEntry entry;
+    entry.pixel_format = frame.image.format;
+    entry.width = frame.image.width;
+    entry.height = frame.image.height;
+    entry.sequence = frame.sequence;
+    entry.timestamp_ns = frame.timestamp_ns;
+    entry.status = frame.status;
+    entry.status_detail = frame.status_detail;
+    if (!frame.image.bytes.empty()) {
+      const replay::FrameFileType type = replay::ChooseFrameFileType(frame.image);
+      entry.file = replay::FrameFileName(i, replay::FrameFileExtension(type));
+      entry.sha256 = std::string(64, '0');  // placeholder until the file is encoded
+      entry.bytes = type == replay::FrameFileType::kRaw ? frame.image.bytes.size() : 0;
+    }
+    manifest.frames.push_back(std::move(entry));
+  }
+  // The reader's own rules: a writer never leaves what the reader would reject.
+  PX_RETURN_IF_ERROR(replay::ValidateManifest(manifest));
+  return manifest;
+}
+
+// Reads, checks and decodes frame file `index`; errors name the file and the manifest field.
+StatusOr<std::vector<uint8_t>> LoadFrameFile(const fs::path& dir, const FrameEntry& entry, size_t index) {
+  const fs::path path = dir / *entry.file;
+  const std::string field = "manifest.json frames[" + std::to_string(index) + "]";
+  StatusOr<std::vector<uint8_t>> file = replay::ReadWholeFile(path, kMaxFrameFileBytes);
+  if (!file.ok()) {
+    if (file.status().code() == StatusCode::kNotFound) {
+      return DataLossError(path.string() + ": missing (" + field + ".file)");
+    }
+    return file.status().WithContext(field);
+  }
+  if (file->size() != entry.bytes) {
+    return DataLossError(path.string() + ": " + (file->size() < entry.bytes ? "truncated: " : "") + "has " +
+                         std::to_string(file->size()) + " bytes, " + field + ".bytes says " +
+                         std::to_string(entry.bytes));
+  }
+  const std::string sha256 = replay::Sha256Hex(*file);
+  if (sha256 != *entry.sha256) {
+    return DataLossError(path.string() + ": garbled: SHA-256 is " + sha256 + ", " + field + ".sha256 says " +
+                         *entry.sha256);
+  }
+  PX_ASSIGN_OR_RETURN(replay::FrameFileType type, replay::FrameFileTypeOf(*entry.file));
+  if (type == replay::FrameFileType::kRaw) return std::move(file).value();
+  StatusOr<std::vector<uint8_t>> decoded =
+      replay::DecodePngFrame(*file, entry.pixel_format, entry.width, entry.height);
+  if (!decoded.ok()) {
+    return Status(decoded.status().code(), path.string() + ": " + decoded.status().message() + " (" + field + ")");
+  }
+  return decoded;
+}
+
+}  // namespace
+
+Status WriteRecording(const fs::path& dir, const Recording& recording) { return WriteRecording(dir, recording, {}); }
+
+Status WriteRecording(const fs::path& dir, const Recording& recording, const BeforeCommitHook& before_commit) {
+  const auto start = std::chrono::steady_clock::now();
+  StatusOr<Manifest> planned = PlanManifest(recording);
+  if (!planned.ok()) return planned.status().WithContext("recording for " + dir.string());
+  Manifest manifest = std::move(planned).value();
+
+  WriteCleanup cleanup(dir);
+  PX_RETURN_IF_ERROR(PrepareFolder(dir, &cleanup));
+
+  auto commit = [&](const fs::path& path, std::span<const uint8_t> bytes) {
+    cleanup.AddFile(path);
+    std::function<Status()> hook;
+    if (before_commit) hook = [&] { return before_commit(path); };
+    return replay::WriteFileDurably(path, bytes, hook);
+  };
+
+  uint64_t total_bytes = 0;
+  for (size_t i = 0; i < manifest.frames.size(); ++i) {
+    FrameEntry& entry = manifest.frames[i];
+    if (!entry.file) continue;
+    const RawImage& image = recording.frames.frames[i].image;
+    PX_ASSIGN_OR_RETURN(replay::FrameFileType type, replay::FrameFileTypeOf(*entry.file));
+    StatusOr<std::vector<uint8_t>> encoded = replay::EncodeFrameFile(image, type);
+    if (!encoded.ok()) return encoded.status().WithContext((dir / *entry.file).string());
+    entry.bytes = encoded->size();
+    entry.sha256 = replay::Sha256Hex(*encoded);
+    PX_RETURN_IF_ERROR(commit(dir / *entry.file, *encoded));
+    total_bytes += entry.bytes;
+  }
+  // The frames' names must be durable before the manifest that points at them.
+  PX_RETURN_IF_ERROR(replay::SyncDirectory(dir));
+
+  const std::string text = replay::ManifestToJsonText(manifest);
+  const fs::path manifest_path = dir / replay::kManifestFileName;
+  PX_RETURN_IF_ERROR(commit(manifest_path, std::span(reinterpret_cast<const uint8_t*>(text.data()), text.size())));
+  PX_RETURN_IF_ERROR(replay::SyncDirectory(dir));
+  const fs::path parent = dir.has_parent_path() ? dir.parent_path() : fs::path(".");
+  PX_RETURN_IF_ERROR(replay::SyncDirectory(parent));
+  cleanup.Commit();
+
+  Logger("replay")->info("wrote recording {} ({} frames, {:.1f} MB) in {:.0f} ms", dir.string(),
+                         manifest.frames.size(), static_cast<double>(total_bytes + text.size()) / 1e6,
+                         MillisecondsSince(start));
+  return OkStatus();
+}
+
+StatusOr<Recording> ReadRecording(const fs::path& dir) {
+  const auto start = std::chrono::steady_clock::now();
+  std::error_code ec;
+  if (!fs::is_directory(dir, ec)) return NotFoundError(dir.string() + ": no such recording folder");
+  const fs::path manifest_path = dir / replay::kManifestFileName;
+  StatusOr<std::vector<uint8_t>> text = replay::ReadWholeFile(manifest_path, kMaxManifestBytes);
+  if (!text.ok()) {
+    if (text.status().code() == StatusCode::kNotFound) {
+      return NotFoundError(manifest_path.string() + ": missing; not a recording, or its write did not finish");
+    }
+    return text.status();
+  }
+  PX_ASSIGN_OR_RETURN(nlohmann::json j,
+                      json::Parse(std::string(text->begin(), text->end()), manifest_path.string()));
+  StatusOr<Manifest> parsed = replay::ManifestFromJson(j);
+  if (!parsed.ok()) return parsed.status().WithContext(manifest_path.string());
+  const Manifest& manifest = *parsed;
+
+  Recording recording;
+  recording.source = manifest.source;
+  recording.created_by = manifest.created_by;
+  recording.created_at = manifest.created_at;
+  recording.frames.kind = manifest.source.kind;
+  recording.frames.capture_id = manifest.capture_id;
+  uint64_t total_bytes = text->size();
+  for (size_t i = 0; i < manifest.frames.size(); ++i) {
+    const FrameEntry& entry = manifest.frames[i];
+    Frame frame;
+    frame.image.format = entry.pixel_format;
+    frame.image.width = entry.width;
+    frame.image.height = entry.height;
+    frame.sequence = entry.sequence;
+    frame.timestamp_ns = entry.timestamp_ns;
+    frame.status = entry.status;
+    frame.status_detail = entry.status_detail;
+    if (entry.file) {
+      PX_ASSIGN_OR_RETURN(frame.image.bytes, LoadFrameFile(dir, entry, i));
+      total_bytes += entry.bytes;
+    }
+    recording.frames.frames.push_back(std::move(frame));
+  }
+  Logger("replay")->debug("read recording {} ({} frames, {:.1f} MB) in {:.0f} ms", dir.string(),
+                          recording.frames.frames.size(), static_cast<double>(total_bytes) / 1e6,
+                          MillisecondsSince(start));
+  return recording;
+}
+
+}  // namespace px

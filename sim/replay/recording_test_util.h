@@ -1,0 +1,46 @@
+// Shared helpers for the sim/replay tests: a scratch folder per test, generated test images
+// (gradients plus seeded noise, through px::FromBgr) and small recordings built from them.
+#pragma once
+
+#include <cstdint>
+#include <filesystem>
+#include <string>
+
+#include <opencv2/core.hpp>
+
+#include "sim/replay/recording.h"
+
+namespace px::replay::testing {
+
+// A fresh folder under $TMPDIR (or /tmp), removed with everything in it afterwards.
+class ScratchDir {
+ public:
+  ScratchDir();
+  ~ScratchDir();
+  ScratchDir(const ScratchDir&) = delete;
+  ScratchDir& operator=(const ScratchDir&) = delete;
+  const std::filesystem::path& path() const { return path_; }
+
+ private:
+  std::filesystem::path path_;
+};
+
+// Horizontal, vertical and diagonal gradients in B, G, R plus uniform noise of +-20 from `seed`.
+cv::Mat GradientNoiseBgr(int width, int height, uint64_t seed);
+// The same picture as a sensor of `format` would deliver it.
+RawImage TestImage(PixelFormat format, int width, int height, uint64_t seed);
+
+// A 3x3 lattice of 40x30 tiles with 4 px gaps: a 136x106 sensor (even, so every format fits).
+RigCalibration SmallPop9Rig();
+// One lattice frame of `format` with SmallPop9Rig, fixed metadata (capture 41, sequence 1000+seed).
+Recording LatticeRecording(PixelFormat format, uint64_t seed = 1);
+// `num_frames` images of 64x48 in `format`, each with its own lens in the rig, sequences 10, 11, ...
+Recording ImageSetRecording(int num_frames, PixelFormat format, uint64_t seed = 1);
+
+// Fails the current test (with the frame index) where the two differ in any field or byte.
+void ExpectSameRecording(const Recording& expected, const Recording& actual);
+
+std::string ReadText(const std::filesystem::path& path);
+void WriteText(const std::filesystem::path& path, const std::string& text);
+
+}  // namespace px::replay::testing

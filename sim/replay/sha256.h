@@ -1,0 +1,15 @@
+// SHA-256 (FIPS 180-4) of a byte buffer, as lowercase hex: the checksum recordings keep for
+// each frame file, so a damaged file is caught before it is decoded.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <span>
+#include <string>
+
+namespace px::replay {
+
+// 64 lowercase hex digits.
+std::string Sha256Hex(std::span<const uint8_t> bytes);
+
+}  // namespace px::replay

@@ -1,0 +1,20 @@
+// A fresh temporary folder per test, removed afterwards (kept when PX_KEEP_TEST_DIRS is set).
+#pragma once
+
+#include <filesystem>
+
+namespace px::testing {
+
+class TempDir {
+ public:
+  TempDir();
+  ~TempDir();
+  TempDir(const TempDir&) = delete;
+  TempDir& operator=(const TempDir&) = delete;
+  const std::filesystem::path& path() const { return path_; }
+
+ private:
+  std::filesystem::path path_;
+};
+
+}  // namespace px::testing
