@@ -5,7 +5,7 @@
 #include <nlohmann/json.hpp>
 #include <system_error>
 
-#include "device/storage/durable_file.h"
+#include "pipeline/core/durable_file.h"
 #include "device/storage/job_journal.h"
 #include "device/storage/storage_layout.h"
 #include "pipeline/core/log.h"

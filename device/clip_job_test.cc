@@ -5,10 +5,10 @@
 
 #include <nlohmann/json.hpp>
 
-#include "device/probe_mp4_for_test.h"
+#include "tests/testing/video_probe.h"
 #include "device/source_registry.h"
-#include "device/storage/durable_file.h"
-#include "device/temp_dir_for_test.h"
+#include "pipeline/core/durable_file.h"
+#include "tests/testing/temp_dir.h"
 #include "pipeline/direct/camera_path.h"
 #include "sim/replay/recording.h"
 #include "sim/synthetic/synthetic_source.h"
@@ -29,7 +29,7 @@ ClipJobOptions SmallClipOptions() {
   return options;
 }
 
-class ClipJobTest : public TempDirTest {
+class ClipJobTest : public px::testing::TempDirTest {
  protected:
   // Captures one frame set from the simulated camera and saves it as a recording.
   fs::path SaveSimRecording(bool with_rig = true) {
@@ -71,12 +71,12 @@ TEST_F(ClipJobTest, MakesAPlayableClipWithItsCameraPathBesideIt) {
   const int want_frames = NumFrames(10, 0.5);
   EXPECT_EQ(report->frames_written, want_frames);
   EXPECT_EQ(report->pipeline.num_views, 9);
-  ProbedVideo video = ProbeVideo(clip);
-  ASSERT_TRUE(video.opened);
-  EXPECT_EQ(video.codec, "h264");
-  EXPECT_EQ(video.frames, want_frames);
-  EXPECT_EQ(video.width, report->width);
-  EXPECT_EQ(video.height, report->height);
+  auto video = px::testing::ProbeVideo(clip);
+  ASSERT_TRUE(video.ok()) << video.status().ToString();
+  EXPECT_EQ(video->codec, "h264");
+  EXPECT_EQ(video->frames_decoded, want_frames);
+  EXPECT_EQ(video->width, report->width);
+  EXPECT_EQ(video->height, report->height);
   EXPECT_EQ(report->clip_bytes, fs::file_size(clip));
 
   auto text = ReadFileToString(dir() / "clips" / "000001.json");

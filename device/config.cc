@@ -4,7 +4,7 @@
 #include <set>
 #include <sstream>
 
-#include "device/storage/durable_file.h"
+#include "pipeline/core/durable_file.h"
 #include "pipeline/core/json_fields.h"
 
 namespace px::device {

@@ -5,14 +5,14 @@
 
 #include <nlohmann/json.hpp>
 
-#include "device/storage/durable_file.h"
-#include "device/temp_dir_for_test.h"
+#include "pipeline/core/durable_file.h"
+#include "tests/testing/temp_dir.h"
 
 namespace px::device {
 namespace {
 
 using ::testing::HasSubstr;
-using ConfigFileTest = TempDirTest;
+using ConfigFileTest = px::testing::TempDirTest;
 
 std::string ErrorOf(const std::string& text) {
   auto config = DaemonConfigFromJson(nlohmann::json::parse(text));

@@ -4,7 +4,7 @@
 #include <system_error>
 
 #include "device/control_protocol.h"
-#include "device/storage/durable_file.h"
+#include "pipeline/core/durable_file.h"
 #include "pipeline/core/log.h"
 #include "sim/replay/recording.h"
 

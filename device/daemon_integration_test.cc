@@ -7,8 +7,8 @@
 
 #include "device/control_client.h"
 #include "device/daemon_factory.h"
-#include "device/probe_mp4_for_test.h"
-#include "device/temp_dir_for_test.h"
+#include "tests/testing/video_probe.h"
+#include "tests/testing/temp_dir.h"
 #include "pipeline/direct/camera_path.h"
 #include "sim/replay/recording.h"
 
@@ -18,7 +18,7 @@ namespace {
 namespace fs = std::filesystem;
 using ::testing::HasSubstr;
 
-using DaemonIntegrationTest = TempDirTest;
+using DaemonIntegrationTest = px::testing::TempDirTest;
 
 // A 3x3 lattice of 160x120 tiles and a 0.5 s clip at 10 fps: the whole job takes seconds.
 DaemonConfig SmallConfig(const fs::path& dir) {
@@ -72,10 +72,10 @@ TEST_F(DaemonIntegrationTest, PressThroughSocketGivesRecordingThenClip) {
   EXPECT_THAT(recording->created_by, HasSubstr("parallaxd"));
 
   const fs::path clip = layout.ClipPath(id);
-  ProbedVideo video = ProbeVideo(clip);
-  ASSERT_TRUE(video.opened) << clip;
-  EXPECT_EQ(video.codec, "h264");
-  EXPECT_EQ(video.frames, NumFrames(10, 0.5));
+  auto video = px::testing::ProbeVideo(clip);
+  ASSERT_TRUE(video.ok()) << clip << ": " << video.status().ToString();
+  EXPECT_EQ(video->codec, "h264");
+  EXPECT_EQ(video->frames_decoded, NumFrames(10, 0.5));
   EXPECT_TRUE(fs::exists(ClipReportPathFor(clip)));
   {
     std::lock_guard<std::mutex> lock(announced_mutex);

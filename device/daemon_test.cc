@@ -16,8 +16,8 @@
 
 #include "device/control_client.h"
 #include "device/control_protocol.h"
-#include "device/storage/durable_file.h"
-#include "device/temp_dir_for_test.h"
+#include "pipeline/core/durable_file.h"
+#include "tests/testing/temp_dir.h"
 #include "sim/replay/recording.h"
 
 namespace px::device {
@@ -75,7 +75,7 @@ StatusOr<JobOutcome> PngJob(const JobContext& context) {
   return JobOutcome{std::to_string(png.size()) + " bytes"};
 }
 
-class DaemonTest : public TempDirTest {
+class DaemonTest : public px::testing::TempDirTest {
  protected:
   DaemonOptions Options() {
     DaemonOptions options;
@@ -326,7 +326,7 @@ TEST_F(DaemonTest, FullDiskFailsThePressWithTheFreeSpaceMessage) {
   nlohmann::json job = Call(R"({"cmd":"wait","job":")" + id + R"("})")["job"];
   EXPECT_EQ(job["state"], "failed");
   EXPECT_THAT(job["error"].get<std::string>(),
-              testing::MatchesRegex("RESOURCE_EXHAUSTED: disk full: [0-9]+ MB free under .*/store, need [0-9]+ MB"));
+              ::testing::MatchesRegex("RESOURCE_EXHAUSTED: disk full: [0-9]+ MB free under .*/store, need [0-9]+ MB"));
   EXPECT_EQ(Call(R"({"cmd":"status"})")["ok"], true);
 }
 

@@ -8,8 +8,8 @@
 #include <nlohmann/json.hpp>
 
 #include "device/config.h"
-#include "device/storage/durable_file.h"
-#include "device/temp_dir_for_test.h"
+#include "pipeline/core/durable_file.h"
+#include "tests/testing/temp_dir.h"
 
 namespace px::device {
 namespace {
@@ -42,7 +42,7 @@ std::string ReadLog(const fs::path& path) {
 
 std::string Parallaxd() { return std::string(PX_BINARY_DIR) + "/parallaxd"; }
 
-using ParallaxdTest = TempDirTest;
+using ParallaxdTest = px::testing::TempDirTest;
 
 TEST_F(ParallaxdTest, PrintConfigShowsEffectiveValuesAndParsesBack) {
   const fs::path config_file = dir() / "c.json";

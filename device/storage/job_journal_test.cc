@@ -5,15 +5,15 @@
 
 #include <nlohmann/json.hpp>
 
-#include "device/storage/durable_file.h"
-#include "device/temp_dir_for_test.h"
+#include "pipeline/core/durable_file.h"
+#include "tests/testing/temp_dir.h"
 
 namespace px::device {
 namespace {
 
 namespace fs = std::filesystem;
 using ::testing::HasSubstr;
-using JobJournalTest = TempDirTest;
+using JobJournalTest = px::testing::TempDirTest;
 
 JobRecord MakeRecord(const std::string& id, JobState state) {
   JobRecord record;

@@ -2,7 +2,7 @@
 
 #include <system_error>
 
-#include "device/storage/durable_file.h"
+#include "pipeline/core/durable_file.h"
 #include "pipeline/core/log.h"
 
 namespace px::device {

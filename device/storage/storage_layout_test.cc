@@ -2,14 +2,14 @@
 
 #include <gtest/gtest.h>
 
-#include "device/storage/durable_file.h"
-#include "device/temp_dir_for_test.h"
+#include "pipeline/core/durable_file.h"
+#include "tests/testing/temp_dir.h"
 
 namespace px::device {
 namespace {
 
 namespace fs = std::filesystem;
-using StorageLayoutTest = TempDirTest;
+using StorageLayoutTest = px::testing::TempDirTest;
 
 TEST_F(StorageLayoutTest, PathsFollowTheDocumentedLayout) {
   StorageLayout layout(dir() / "root/");

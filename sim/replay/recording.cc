@@ -10,7 +10,7 @@
 
 #include "pipeline/core/json_fields.h"
 #include "pipeline/core/log.h"
-#include "sim/replay/durable_file.h"
+#include "pipeline/core/durable_file.h"
 #include "sim/replay/frame_file.h"
 #include "sim/replay/recording_manifest.h"
 #include "sim/replay/sha256.h"
@@ -40,8 +40,7 @@ class WriteCleanup {
     if (committed_) return;
     std::error_code ec;
     for (const fs::path& file : files_) {
-      fs::remove(file, ec);
-      fs::remove(replay::TemporaryPathFor(file), ec);
+      fs::remove(file, ec);  // a failed WriteFileAtomically has already removed its temporary
     }
     if (created_dir_) fs::remove(dir_, ec);  // only removes it when empty
   }
@@ -68,7 +67,7 @@ Status PrepareFolder(const fs::path& dir, WriteCleanup* cleanup) {
       return Status(StatusCode::kAlreadyExists, dir.string() + ": exists and is not a folder");
     }
     const bool empty = fs::is_empty(dir, ec);
-    if (ec) return replay::FileError(ec.value(), dir, "listing");
+    if (ec) return ErrnoToStatus(ec.value(), "list", dir);
     if (!empty) {
       return Status(StatusCode::kAlreadyExists,
                     dir.string() + ": folder is not empty; a recording needs a new or empty folder");
@@ -76,7 +75,7 @@ Status PrepareFolder(const fs::path& dir, WriteCleanup* cleanup) {
     return OkStatus();
   }
   fs::create_directories(dir, ec);
-  if (ec) return replay::FileError(ec.value(), dir, "creating folder");
+  if (ec) return ErrnoToStatus(ec.value(), "create folder", dir);
   cleanup->SetCreatedDir();
   return OkStatus();
 }
@@ -129,7 +128,7 @@ StatusOr<Manifest> PlanManifest(const Recording& recording) {
 StatusOr<std::vector<uint8_t>> LoadFrameFile(const fs::path& dir, const FrameEntry& entry, size_t index) {
   const fs::path path = dir / *entry.file;
   const std::string field = "manifest.json frames[" + std::to_string(index) + "]";
-  StatusOr<std::vector<uint8_t>> file = replay::ReadWholeFile(path, kMaxFrameFileBytes);
+  StatusOr<std::vector<uint8_t>> file = ReadFileBytes(path, kMaxFrameFileBytes);
   if (!file.ok()) {
     if (file.status().code() == StatusCode::kNotFound) {
       return DataLossError(path.string() + ": missing (" + field + ".file)");
@@ -173,7 +172,7 @@ Status WriteRecording(const fs::path& dir, const Recording& recording, const Bef
     cleanup.AddFile(path);
     std::function<Status()> hook;
     if (before_commit) hook = [&] { return before_commit(path); };
-    return replay::WriteFileDurably(path, bytes, hook);
+    return WriteFileAtomically(path, std::string_view(reinterpret_cast<const char*>(bytes.data()), bytes.size()), hook);
   };
 
   uint64_t total_bytes = 0;
@@ -190,14 +189,14 @@ Status WriteRecording(const fs::path& dir, const Recording& recording, const Bef
     total_bytes += entry.bytes;
   }
   // The frames' names must be durable before the manifest that points at them.
-  PX_RETURN_IF_ERROR(replay::SyncDirectory(dir));
+  PX_RETURN_IF_ERROR(FsyncDir(dir));
 
   const std::string text = replay::ManifestToJsonText(manifest);
   const fs::path manifest_path = dir / replay::kManifestFileName;
   PX_RETURN_IF_ERROR(commit(manifest_path, std::span(reinterpret_cast<const uint8_t*>(text.data()), text.size())));
-  PX_RETURN_IF_ERROR(replay::SyncDirectory(dir));
+  PX_RETURN_IF_ERROR(FsyncDir(dir));
   const fs::path parent = dir.has_parent_path() ? dir.parent_path() : fs::path(".");
-  PX_RETURN_IF_ERROR(replay::SyncDirectory(parent));
+  PX_RETURN_IF_ERROR(FsyncDir(parent));
   cleanup.Commit();
 
   Logger("replay")->info("wrote recording {} ({} frames, {:.1f} MB) in {:.0f} ms", dir.string(),
@@ -211,7 +210,7 @@ StatusOr<Recording> ReadRecording(const fs::path& dir) {
   std::error_code ec;
   if (!fs::is_directory(dir, ec)) return NotFoundError(dir.string() + ": no such recording folder");
   const fs::path manifest_path = dir / replay::kManifestFileName;
-  StatusOr<std::vector<uint8_t>> text = replay::ReadWholeFile(manifest_path, kMaxManifestBytes);
+  StatusOr<std::vector<uint8_t>> text = ReadFileBytes(manifest_path, kMaxManifestBytes);
   if (!text.ok()) {
     if (text.status().code() == StatusCode::kNotFound) {
       return NotFoundError(manifest_path.string() + ": missing; not a recording, or its write did not finish");

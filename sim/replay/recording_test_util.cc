@@ -1,7 +1,5 @@
 #include "sim/replay/recording_test_util.h"
 
-#include <stdlib.h>
-
 #include <fstream>
 #include <sstream>
 #include <system_error>
@@ -12,19 +10,6 @@
 #include "pipeline/core/rig_calibration_json.h"
 
 namespace px::replay::testing {
-
-ScratchDir::ScratchDir() {
-  const char* tmp = std::getenv("TMPDIR");
-  std::string pattern = std::string(tmp != nullptr && *tmp != '\0' ? tmp : "/tmp") + "/px_replay_XXXXXX";
-  char* made = ::mkdtemp(pattern.data());
-  if (made == nullptr) ADD_FAILURE() << "mkdtemp " << pattern << " failed";
-  path_ = pattern;
-}
-
-ScratchDir::~ScratchDir() {
-  std::error_code ec;
-  std::filesystem::remove_all(path_, ec);
-}
 
 cv::Mat GradientNoiseBgr(int width, int height, uint64_t seed) {
   cv::Mat bgr(height, width, CV_8UC3);

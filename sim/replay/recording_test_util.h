@@ -9,21 +9,11 @@
 #include <opencv2/core.hpp>
 
 #include "sim/replay/recording.h"
+#include "tests/testing/temp_dir.h"
 
 namespace px::replay::testing {
 
-// A fresh folder under $TMPDIR (or /tmp), removed with everything in it afterwards.
-class ScratchDir {
- public:
-  ScratchDir();
-  ~ScratchDir();
-  ScratchDir(const ScratchDir&) = delete;
-  ScratchDir& operator=(const ScratchDir&) = delete;
-  const std::filesystem::path& path() const { return path_; }
-
- private:
-  std::filesystem::path path_;
-};
+using ScratchDir = px::testing::TempDir;
 
 // Horizontal, vertical and diagonal gradients in B, G, R plus uniform noise of +-20 from `seed`.
 cv::Mat GradientNoiseBgr(int width, int height, uint64_t seed);

@@ -76,8 +76,11 @@ TEST_F(NovelViewTest, DepthAgreesWithGroundTruth) {
   const double bad_ratio = static_cast<double>(bad) / relative_errors.size();
   RecordProperty("median_relative_depth_error", std::to_string(median));
   RecordProperty("bad_5_percent_ratio", std::to_string(bad_ratio));
+  std::printf("centre view depth: median relative error %.4f, %.2f %% of pixels off by more than 5 %%\n", median,
+              100.0 * bad_ratio);
   // A plane sweep with 25 mm baselines resolves depth to about 1 % over 0.8-4 m; errors
-  // concentrate at occlusion edges. Bounds sit above the measured figures (README) with margin.
+  // concentrate at occlusion edges. Measured: median 0.8 %, 11.4 % of pixels off by more than 5 %
+  // (README); the bounds leave room for noise-seed changes, not for a broken sweep.
   EXPECT_LT(median, 0.02);
   EXPECT_LT(bad_ratio, 0.15);
 }
@@ -93,10 +96,15 @@ TEST_F(NovelViewTest, LeftOutInputViewIsRecoveredFromItsNeighbours) {
   RecordProperty("leave_one_out_psnr_db", std::to_string(psnr_vs_input));
   std::printf("leave-one-out centre view: PSNR %.2f dB vs input, %.2f dB vs truth, holes %.4f\n", psnr_vs_input,
               psnr_vs_truth, result->hole_ratio);
+  // What a renderer that ignored depth would score: the nearest neighbour's image as is.
+  const double psnr_without_depth = cv::PSNR((*views_)[kCentre + 1].image, centre.image);
+  std::printf("  (the right neighbour's image unwarped scores %.2f dB)\n", psnr_without_depth);
   // The centre view is surrounded by 8 neighbours, so nearly every pixel is seen by some of
-  // them; what is left is resampling blur and depth error at edges. Measured ~PSNR_MEASURED dB;
-  // 30 dB is where visible ghosting starts on this scene.
+  // them; what is left is resampling blur and depth error at edges. Measured 36.7 dB (README);
+  // below 30 dB ghosting at the still life's depth edges becomes visible, and the unwarped
+  // neighbour scores about 20 dB, so the bound also proves the depth is doing the work.
   EXPECT_GT(psnr_vs_input, 30.0);
+  EXPECT_GT(psnr_vs_input, psnr_without_depth + 6.0);
   EXPECT_LT(result->hole_ratio, 0.01);
 }
 

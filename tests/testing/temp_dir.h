@@ -3,6 +3,8 @@
 
 #include <filesystem>
 
+#include <gtest/gtest.h>
+
 namespace px::testing {
 
 class TempDir {
@@ -15,6 +17,15 @@ class TempDir {
 
  private:
   std::filesystem::path path_;
+};
+
+// A fixture whose dir() is a fresh TempDir for every test.
+class TempDirTest : public ::testing::Test {
+ protected:
+  const std::filesystem::path& dir() const { return temp_.path(); }
+
+ private:
+  TempDir temp_;
 };
 
 }  // namespace px::testing

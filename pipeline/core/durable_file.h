@@ -1,23 +1,31 @@
-// Durable file helpers for the device: a file is either absent, the old version or the new one,
+// Durable file helpers (recordings, clips, the daemon's state): a file is either absent, the old version or the new one,
 // never half-written, even across a power cut (write a temporary beside it, fsync, rename, fsync
 // the folder). A full disk is RESOURCE_EXHAUSTED with a message saying how much is free and needed.
 #pragma once
 
 #include <cstdint>
 #include <filesystem>
+#include <functional>
 #include <string>
 #include <string_view>
+#include <vector>
 
 #include "pipeline/core/status.h"
 
-namespace px::device {
+namespace px {
 
 // Writes `bytes` to `path` atomically: a temporary in the same folder, write, fsync, rename over
 // `path`, fsync the folder. On failure the temporary is removed and `path` is untouched.
-Status WriteFileAtomically(const std::filesystem::path& path, std::string_view bytes);
+// `before_rename`, when set, runs once the temporary is complete (tests use it to stop exactly
+// where a crash would); a non-OK result aborts the write like an I/O error.
+Status WriteFileAtomically(const std::filesystem::path& path, std::string_view bytes,
+                           const std::function<Status()>& before_rename = {});
 
 // Reads a whole file. NOT_FOUND when it is absent.
 StatusOr<std::string> ReadFileToString(const std::filesystem::path& path);
+// Reads a whole regular file of at most `max_bytes`. NOT_FOUND when absent; INVALID_ARGUMENT
+// when it is not a regular file or is larger (a guard against reading a device or a huge file).
+StatusOr<std::vector<uint8_t>> ReadFileBytes(const std::filesystem::path& path, uint64_t max_bytes);
 
 // fsync of a folder, so that a rename or create inside it survives a power cut.
 Status FsyncDir(const std::filesystem::path& dir);
@@ -52,4 +60,4 @@ bool IsTemporaryName(const std::string& filename);
 // Returns how many were removed.
 int RemoveStaleTemporaries(const std::filesystem::path& dir);
 
-}  // namespace px::device
+}  // namespace px

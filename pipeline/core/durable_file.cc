@@ -1,4 +1,4 @@
-#include "device/storage/durable_file.h"
+#include "pipeline/core/durable_file.h"
 
 #include <fcntl.h>
 #include <signal.h>
@@ -11,7 +11,7 @@
 #include <cstring>
 #include <system_error>
 
-namespace px::device {
+namespace px {
 namespace {
 
 namespace fs = std::filesystem;
@@ -85,7 +85,8 @@ Status ErrnoToStatus(int err, std::string_view what, const fs::path& path, uint6
   const std::string context = std::string(what) + " " + path.string() + ": " + std::strerror(err);
   switch (err) {
     case ENOSPC:
-    case EDQUOT: {
+    case EDQUOT:
+    case EFBIG: {
       const fs::path dir = ParentOrDot(path);
       auto free_bytes = FreeBytes(dir);
       // need_bytes is only what this write wanted; say at least 1 byte so the message is honest.
@@ -155,7 +156,7 @@ Status RenameDurably(const fs::path& from, const fs::path& to) {
   return FsyncDir(ParentOrDot(to));
 }
 
-Status WriteFileAtomically(const fs::path& path, std::string_view bytes) {
+Status WriteFileAtomically(const fs::path& path, std::string_view bytes, const std::function<Status()>& before_rename) {
   const fs::path temp = TemporaryPathFor(path);
   int fd = ::open(temp.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0644);
   if (fd < 0) return ErrnoToStatus(errno, "create", temp, bytes.size());
@@ -165,6 +166,7 @@ Status WriteFileAtomically(const fs::path& path, std::string_view bytes) {
   if (status.ok()) {
     if (int err = closer.Close(); err != 0) status = ErrnoToStatus(err, "close", temp, bytes.size());
   }
+  if (status.ok() && before_rename) status = before_rename();
   if (status.ok()) status = RenameDurably(temp, path);
   if (!status.ok()) ::unlink(temp.c_str());
   return status;
@@ -188,4 +190,31 @@ StatusOr<std::string> ReadFileToString(const fs::path& path) {
   return contents;
 }
 
-}  // namespace px::device
+StatusOr<std::vector<uint8_t>> ReadFileBytes(const fs::path& path, uint64_t max_bytes) {
+  int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
+  if (fd < 0) return ErrnoToStatus(errno, "open", path);
+  FdCloser closer(fd);
+  struct stat info {};
+  if (::fstat(fd, &info) != 0) return ErrnoToStatus(errno, "fstat", path);
+  if (!S_ISREG(info.st_mode)) return InvalidArgumentError(path.string() + ": not a regular file");
+  const uint64_t size = static_cast<uint64_t>(info.st_size);
+  if (size > max_bytes) {
+    return InvalidArgumentError(path.string() + ": " + std::to_string(size) + " bytes, more than the " +
+                                std::to_string(max_bytes) + " allowed");
+  }
+  std::vector<uint8_t> bytes(size);
+  size_t done = 0;
+  while (done < bytes.size()) {
+    const ssize_t n = ::read(fd, bytes.data() + done, bytes.size() - done);
+    if (n < 0) {
+      if (errno == EINTR) continue;
+      return ErrnoToStatus(errno, "read", path);
+    }
+    if (n == 0) break;  // shrank while reading
+    done += static_cast<size_t>(n);
+  }
+  bytes.resize(done);
+  return bytes;
+}
+
+}  // namespace px

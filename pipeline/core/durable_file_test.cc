@@ -1,4 +1,4 @@
-#include "device/storage/durable_file.h"
+#include "pipeline/core/durable_file.h"
 
 #include <fcntl.h>
 #include <gmock/gmock.h>
@@ -12,15 +12,15 @@
 #include <set>
 #include <thread>
 
-#include "device/temp_dir_for_test.h"
+#include "tests/testing/temp_dir.h"
 
-namespace px::device {
+namespace px {
 namespace {
 
 namespace fs = std::filesystem;
 using ::testing::HasSubstr;
 using ::testing::MatchesRegex;
-using DurableFileTest = TempDirTest;
+using DurableFileTest = px::testing::TempDirTest;
 
 TEST_F(DurableFileTest, WritesAndReplacesContents) {
   const fs::path path = dir() / "a.json";
@@ -181,4 +181,4 @@ TEST(ErrnoToStatusTest, DevFullWriteReportsDiskFull) {
 }
 
 }  // namespace
-}  // namespace px::device
+}  // namespace px
