@@ -4,6 +4,7 @@
 #include <filesystem>
 #include <fstream>
 #include <memory>
+#include <vector>
 
 #include <nlohmann/json.hpp>
 #include <opencv2/imgcodecs.hpp>
@@ -28,6 +29,9 @@ struct SimArgs {
   double exposure_spread = -1;
   double k1 = 0;
   int supersampling = 0;
+  double baseline_mm = 0;  // 0 = the preset's
+  double focal_px = 0;
+  std::vector<int> tile_size;  // {width, height}; empty = the preset's
   std::string output;
   bool ground_truth = false;
 };
@@ -86,6 +90,13 @@ Status RunSim(const SimArgs& args) {
   if (args.exposure_spread >= 0) options.camera.exposure_spread = args.exposure_spread;
   if (args.supersampling > 0) options.camera.supersampling = args.supersampling;
   options.camera.distortion[0] = args.k1;
+  if (args.baseline_mm > 0) options.camera.baseline_m = args.baseline_mm / 1000.0;
+  if (args.focal_px > 0) options.camera.focal_px = args.focal_px;
+  if (args.tile_size.size() == 2) {
+    options.camera.tile_width = args.tile_size[0];
+    options.camera.tile_height = args.tile_size[1];
+  }
+  PX_RETURN_IF_ERROR(options.camera.Validate());
   options.seed = args.seed;
   PX_ASSIGN_OR_RETURN(options.scene_file, ResolveScenePath(args.scene));
 
@@ -130,6 +141,11 @@ void AddSimCommand(CLI::App& app) {
   sim->add_option("--vignetting", args->vignetting, "Corner fall-off, 0..1 (default: the preset's)");
   sim->add_option("--exposure-spread", args->exposure_spread, "Per-lens gain spread, 0..0.5 (default: the preset's)");
   sim->add_option("--k1", args->k1, "Radial distortion k1 of every lens")->capture_default_str();
+  sim->add_option("--baseline-mm", args->baseline_mm, "Distance between neighbouring lens centres in mm "
+                  "(default: the preset's, 25 for pop9, 12 for integral5x4)");
+  sim->add_option("--focal-px", args->focal_px, "Focal length in tile pixels (default: the preset's)");
+  sim->add_option("--tile", args->tile_size, "Tile size in pixels: --tile 640 480 (default: the preset's)")
+      ->expected(2);
   sim->add_option("--supersampling", args->supersampling, "Rays per pixel side, 1..8 (default: the preset's)");
   sim->add_flag("--ground-truth", args->ground_truth,
                 "Also write ground_truth/: clean views, depth (16-bit PNG, mm), cameras and poses");

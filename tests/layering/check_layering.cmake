@@ -1,0 +1,49 @@
+# Checks that every project #include respects the module layering (run by ctest as
+# layering/includes_test; cmake -DSOURCE_DIR=<root> -P check_layering.cmake):
+#   pipeline/  includes only pipeline/
+#   drivers/   includes only drivers/ and pipeline/core/
+#   sim/       includes only sim/, drivers/source/ (the frame-source interface) and pipeline/core/
+#   device/    may include everything
+# Test sources (*_test.*, *_benchmark.*, *test_util*) may also include tests/ helpers.
+# The CMake link lists enforce the same at link time; this names the offending line.
+cmake_minimum_required(VERSION 3.20)
+if(NOT SOURCE_DIR)
+  message(FATAL_ERROR "usage: cmake -DSOURCE_DIR=<project root> -P check_layering.cmake")
+endif()
+
+set(allowed_pipeline "pipeline/")
+set(allowed_drivers "drivers/;pipeline/core/")
+set(allowed_sim "sim/;drivers/source/;pipeline/core/")
+
+set(violations 0)
+set(checked 0)
+foreach(module pipeline drivers sim)
+  file(GLOB_RECURSE sources RELATIVE "${SOURCE_DIR}" "${SOURCE_DIR}/${module}/*.h" "${SOURCE_DIR}/${module}/*.cc")
+  foreach(source IN LISTS sources)
+    math(EXPR checked "${checked} + 1")
+    set(allowed ${allowed_${module}})
+    if(source MATCHES "(_test|_benchmark|test_util)[^/]*$")
+      list(APPEND allowed "tests/")
+    endif()
+    file(STRINGS "${SOURCE_DIR}/${source}" includes REGEX "^[ \t]*#[ \t]*include[ \t]+\"")
+    foreach(line IN LISTS includes)
+      string(REGEX REPLACE "^[^\"]*\"([^\"]+)\".*$" "\\1" header "${line}")
+      set(ok FALSE)
+      foreach(prefix IN LISTS allowed)
+        string(FIND "${header}" "${prefix}" at)
+        if(at EQUAL 0)
+          set(ok TRUE)
+        endif()
+      endforeach()
+      if(NOT ok)
+        message(SEND_ERROR "${source}: includes \"${header}\"; ${module}/ may include only: ${allowed}")
+        math(EXPR violations "${violations} + 1")
+      endif()
+    endforeach()
+  endforeach()
+endforeach()
+
+if(violations GREATER 0)
+  message(FATAL_ERROR "${violations} include(s) break the module layering")
+endif()
+message(STATUS "layering: ${checked} files of pipeline/, drivers/ and sim/ include only what they may")
