@@ -2,7 +2,7 @@
 #   One module = one target; DEPS is the module's full set of allowed arrows.
 # px_add_test(NAME module/x_test SRCS x_test.cc DEPS ...)
 #   A GoogleTest binary registered with CTest under the given name.
-# px_add_benchmark(NAME SRCS DEPS): built only with -DPX_BUILD_BENCHMARKS=ON.
+# px_add_benchmark(NAME SRCS DEPS): into build/bench/; PX_BUILD_BENCHMARKS (ON by default) turns them off.
 
 set(PX_WARNINGS -Wall -Wextra -Wpedantic -Wshadow=local -Wno-missing-field-initializers)
 if(PX_WERROR)
