@@ -7,6 +7,17 @@ find_package(nlohmann_json 3 REQUIRED)
 find_package(CLI11 REQUIRED)
 find_package(spdlog REQUIRED)
 pkg_check_modules(LIBAV REQUIRED IMPORTED_TARGET libavcodec libavformat libavutil libswscale)
+pkg_check_modules(LIBCAMERA REQUIRED IMPORTED_TARGET libcamera)  # drivers/libcamera (0.0.3 on Debian 12)
+if(NOT TARGET PkgConfig::LIBUSB)
+  pkg_check_modules(LIBUSB REQUIRED IMPORTED_TARGET libusb-1.0)  # drivers/ptp
+endif()
+if(PX_BUILD_TESTS AND NOT TARGET PkgConfig::UMOCKDEV)
+  pkg_check_modules(UMOCKDEV REQUIRED IMPORTED_TARGET umockdev-1.0)  # emulated devices in driver tests
+endif()
+if(PX_BUILD_TESTS)
+  # The LD_PRELOAD library umockdev test processes run under (tests set it via ctest ENVIRONMENT).
+  find_library(PX_UMOCKDEV_PRELOAD NAMES libumockdev-preload.so.0 REQUIRED)
+endif()
 if(PX_BUILD_TESTS)
   find_package(GTest REQUIRED)
 endif()

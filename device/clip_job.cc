@@ -162,6 +162,8 @@ StatusOr<ClipJobReport> RunClipJob(const fs::path& recording_dir,
   report.height = sink.height();
 
   PX_RETURN_IF_ERROR(FsyncFile(temp));
+  // The last point where the job can still stop (or a crash test pause) before the clip appears.
+  if (progress && !progress("encode", 1.0)) return CancelledError("clip job cancelled before the clip was put in place");
   PX_RETURN_IF_ERROR(RenameDurably(temp, report.clip_path));
   remove_temp.Release();
   RemoveOnExit remove_clip(report.clip_path);  // until the report is beside it

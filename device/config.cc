@@ -4,8 +4,10 @@
 #include <set>
 #include <sstream>
 
+#include "device/trigger/key_codes.h"
 #include "pipeline/core/durable_file.h"
 #include "pipeline/core/json_fields.h"
+#include "pipeline/core/pixel_format.h"
 
 namespace px::device {
 namespace {
@@ -70,6 +72,12 @@ class ObjectReader {
     *value = static_cast<uint64_t>(v);
     return OkStatus();
   }
+  // An optional field parsed elsewhere (a list): nullptr when absent.
+  const nlohmann::json* Raw(const std::string& key) {
+    known_.push_back(key);
+    auto it = object_.find(key);
+    return it == object_.end() ? nullptr : &*it;
+  }
   Status Bool(const std::string& key, bool* value) {
     known_.push_back(key);
     PX_ASSIGN_OR_RETURN(*value, json::GetBoolOr(object_, key, path_, *value));
@@ -104,6 +112,74 @@ Status RangeError(const std::string& field, double value, const std::string& ran
   return InvalidArgumentError(field + ": " + FormatNumber(value) + " is not in " + range);
 }
 
+Status ValidateLibcamera(const LibcameraSourceSettings& settings) {
+  if (!ParsePixelFormat(settings.pixel_format)) {
+    return InvalidArgumentError("source.libcamera.pixel_format: '" + settings.pixel_format +
+                                "' is not one of RGB888, BGR888, GRAY8, YUYV, NV12, SRGGB8");
+  }
+  if (settings.width < 0 || settings.width > 16384) {
+    return RangeError("source.libcamera.width", settings.width, "[0, 16384] (0 = the camera's)");
+  }
+  if (settings.height < 0 || settings.height > 16384) {
+    return RangeError("source.libcamera.height", settings.height, "[0, 16384] (0 = the camera's)");
+  }
+  if ((settings.width == 0) != (settings.height == 0)) {
+    return InvalidArgumentError("source.libcamera.width, height: give both or neither");
+  }
+  return OkStatus();
+}
+
+Status ValidateV4l2(const V4l2SourceSettings& settings) {
+  if (settings.device.empty()) return InvalidArgumentError("source.v4l2.device: empty");
+  if (!ParsePixelFormat(settings.pixel_format)) {
+    return InvalidArgumentError("source.v4l2.pixel_format: '" + settings.pixel_format +
+                                "' is not one of RGB888, BGR888, GRAY8, YUYV, NV12, SRGGB8");
+  }
+  if (settings.width < 0 || settings.width > 16384) {
+    return RangeError("source.v4l2.width", settings.width, "[0, 16384] (0 = native)");
+  }
+  if (settings.height < 0 || settings.height > 16384) {
+    return RangeError("source.v4l2.height", settings.height, "[0, 16384] (0 = native)");
+  }
+  if ((settings.width == 0) != (settings.height == 0)) {
+    return InvalidArgumentError("source.v4l2.width, height: give both or neither");
+  }
+  if (settings.exposure < -1) return RangeError("source.v4l2.exposure", settings.exposure, "[-1, ...) (-1 = leave)");
+  if (settings.gain < -1) return RangeError("source.v4l2.gain", settings.gain, "[-1, ...) (-1 = leave)");
+  return OkStatus();
+}
+
+Status ValidatePtp(const PtpSourceSettings& settings) {
+  auto is_usb_id = [](const std::string& id) {
+    return id.size() == 4 && id.find_first_not_of("0123456789abcdefABCDEF") == std::string::npos;
+  };
+  if (!settings.vendor_id.empty() && !is_usb_id(settings.vendor_id)) {
+    return InvalidArgumentError("source.ptp.vendor_id: '" + settings.vendor_id + "' is not 4 hex digits (e.g. 04a9)");
+  }
+  if (!settings.product_id.empty() && !is_usb_id(settings.product_id)) {
+    return InvalidArgumentError("source.ptp.product_id: '" + settings.product_id + "' is not 4 hex digits (e.g. 3218)");
+  }
+  if (settings.vendor_id.empty() && !settings.product_id.empty()) {
+    return InvalidArgumentError("source.ptp.product_id: given without source.ptp.vendor_id");
+  }
+  if (settings.shots < 2 || settings.shots > 15) return RangeError("source.ptp.shots", settings.shots, "[2, 15]");
+  if (settings.timeout_ms <= 0 || settings.timeout_ms > 600000) {
+    return RangeError("source.ptp.timeout_ms", settings.timeout_ms, "(0, 600000]");
+  }
+  return OkStatus();
+}
+
+Status ValidateTrigger(const TriggerSettings& trigger) {
+  if (auto key = ParseKeyCode(trigger.key); !key.ok()) return key.status().WithContext("trigger.key");
+  if (trigger.debounce_ms < 0 || trigger.debounce_ms > 10000) {
+    return RangeError("trigger.debounce_ms", trigger.debounce_ms, "[0, 10000]");
+  }
+  if (trigger.retry_ms < 10 || trigger.retry_ms > 600000) {
+    return RangeError("trigger.retry_ms", trigger.retry_ms, "[10, 600000]");
+  }
+  return OkStatus();
+}
+
 }  // namespace
 
 Status DaemonConfig::Validate() const {
@@ -111,8 +187,9 @@ Status DaemonConfig::Validate() const {
   if (control_socket.string().size() > 107) {
     return InvalidArgumentError("control.socket: '" + control_socket.string() + "' is longer than 107 bytes");
   }
-  if (source.kind != "sim" && source.kind != "replay") {
-    return InvalidArgumentError("source.kind: '" + source.kind + "' is not one of sim, replay");
+  if (source.kind != "sim" && source.kind != "replay" && source.kind != "libcamera" && source.kind != "v4l2" &&
+      source.kind != "ptp") {
+    return InvalidArgumentError("source.kind: '" + source.kind + "' is not one of sim, replay, libcamera, v4l2, ptp");
   }
   if (source.sim.camera != "pop9" && source.sim.camera != "integral5x4") {
     return InvalidArgumentError("source.sim.camera: '" + source.sim.camera + "' is not one of pop9, integral5x4");
@@ -126,6 +203,10 @@ Status DaemonConfig::Validate() const {
   if (source.kind == "replay" && source.replay.path.empty()) {
     return InvalidArgumentError("source.replay.path: empty, but source.kind is replay");
   }
+  PX_RETURN_IF_ERROR(ValidateLibcamera(source.libcamera));
+  PX_RETURN_IF_ERROR(ValidateV4l2(source.v4l2));
+  PX_RETURN_IF_ERROR(ValidatePtp(source.ptp));
+  PX_RETURN_IF_ERROR(ValidateTrigger(trigger));
   if (source.timeout_ms <= 0 || source.timeout_ms > 600000) {
     return RangeError("source.timeout_ms", source.timeout_ms, "(0, 600000]");
   }
@@ -158,6 +239,10 @@ StatusOr<DaemonConfig> DaemonConfigFromJson(const nlohmann::json& j) {
   PX_RETURN_IF_ERROR(storage.Number("min_free_mb", &min_free_mb));
   if (!(min_free_mb >= 0 && min_free_mb < 1e9)) return RangeError("storage.min_free_mb", min_free_mb, "[0, 1e9)");
   config.storage.min_free_bytes = static_cast<uint64_t>(min_free_mb * kBytesPerMb + 0.5);
+  double quota_mb = static_cast<double>(config.storage.quota_bytes) / kBytesPerMb;
+  PX_RETURN_IF_ERROR(storage.Number("quota_mb", &quota_mb));
+  if (!(quota_mb >= 0 && quota_mb < 1e9)) return RangeError("storage.quota_mb", quota_mb, "[0, 1e9) (0 = no quota)");
+  config.storage.quota_bytes = static_cast<uint64_t>(quota_mb * kBytesPerMb + 0.5);
   PX_RETURN_IF_ERROR(storage.CheckNoUnknownFields());
 
   PX_ASSIGN_OR_RETURN(ObjectReader control, root.Child("control"));
@@ -167,6 +252,9 @@ StatusOr<DaemonConfig> DaemonConfigFromJson(const nlohmann::json& j) {
   PX_ASSIGN_OR_RETURN(ObjectReader source, root.Child("source"));
   PX_RETURN_IF_ERROR(source.String("kind", &config.source.kind));
   PX_RETURN_IF_ERROR(source.Int("timeout_ms", &config.source.timeout_ms));
+  if (const nlohmann::json* faults = source.Raw("faults")) {
+    PX_ASSIGN_OR_RETURN(config.source.faults, FaultSpecsFromJson(*faults, "source.faults"));
+  }
   PX_ASSIGN_OR_RETURN(ObjectReader sim, source.Child("sim"));
   PX_RETURN_IF_ERROR(sim.Path("scene", &config.source.sim.scene));
   PX_RETURN_IF_ERROR(sim.String("camera", &config.source.sim.camera));
@@ -178,6 +266,28 @@ StatusOr<DaemonConfig> DaemonConfigFromJson(const nlohmann::json& j) {
   PX_RETURN_IF_ERROR(replay.Path("path", &config.source.replay.path));
   PX_RETURN_IF_ERROR(replay.Bool("loop", &config.source.replay.loop));
   PX_RETURN_IF_ERROR(replay.CheckNoUnknownFields());
+  PX_ASSIGN_OR_RETURN(ObjectReader libcamera, source.Child("libcamera"));
+  PX_RETURN_IF_ERROR(libcamera.String("camera", &config.source.libcamera.camera));
+  PX_RETURN_IF_ERROR(libcamera.String("pixel_format", &config.source.libcamera.pixel_format));
+  PX_RETURN_IF_ERROR(libcamera.Int("width", &config.source.libcamera.width));
+  PX_RETURN_IF_ERROR(libcamera.Int("height", &config.source.libcamera.height));
+  PX_RETURN_IF_ERROR(libcamera.Path("rig_calibration", &config.source.libcamera.rig_calibration));
+  PX_RETURN_IF_ERROR(libcamera.CheckNoUnknownFields());
+  PX_ASSIGN_OR_RETURN(ObjectReader v4l2, source.Child("v4l2"));
+  PX_RETURN_IF_ERROR(v4l2.String("device", &config.source.v4l2.device));
+  PX_RETURN_IF_ERROR(v4l2.String("pixel_format", &config.source.v4l2.pixel_format));
+  PX_RETURN_IF_ERROR(v4l2.Int("width", &config.source.v4l2.width));
+  PX_RETURN_IF_ERROR(v4l2.Int("height", &config.source.v4l2.height));
+  PX_RETURN_IF_ERROR(v4l2.Path("rig_calibration", &config.source.v4l2.rig_calibration));
+  PX_RETURN_IF_ERROR(v4l2.Int("exposure", &config.source.v4l2.exposure));
+  PX_RETURN_IF_ERROR(v4l2.Int("gain", &config.source.v4l2.gain));
+  PX_RETURN_IF_ERROR(v4l2.CheckNoUnknownFields());
+  PX_ASSIGN_OR_RETURN(ObjectReader ptp, source.Child("ptp"));
+  PX_RETURN_IF_ERROR(ptp.String("vendor_id", &config.source.ptp.vendor_id));
+  PX_RETURN_IF_ERROR(ptp.String("product_id", &config.source.ptp.product_id));
+  PX_RETURN_IF_ERROR(ptp.Int("shots", &config.source.ptp.shots));
+  PX_RETURN_IF_ERROR(ptp.Int("timeout_ms", &config.source.ptp.timeout_ms));
+  PX_RETURN_IF_ERROR(ptp.CheckNoUnknownFields());
   PX_RETURN_IF_ERROR(source.CheckNoUnknownFields());
 
   PX_ASSIGN_OR_RETURN(ObjectReader clip, root.Child("clip"));
@@ -188,6 +298,13 @@ StatusOr<DaemonConfig> DaemonConfigFromJson(const nlohmann::json& j) {
   PX_RETURN_IF_ERROR(clip.String("preset", &config.clip.preset));
   PX_RETURN_IF_ERROR(clip.Int("num_threads", &config.clip.num_threads));
   PX_RETURN_IF_ERROR(clip.CheckNoUnknownFields());
+
+  PX_ASSIGN_OR_RETURN(ObjectReader trigger, root.Child("trigger"));
+  PX_RETURN_IF_ERROR(trigger.Path("input_device", &config.trigger.input_device));
+  PX_RETURN_IF_ERROR(trigger.String("key", &config.trigger.key));
+  PX_RETURN_IF_ERROR(trigger.Int("debounce_ms", &config.trigger.debounce_ms));
+  PX_RETURN_IF_ERROR(trigger.Int("retry_ms", &config.trigger.retry_ms));
+  PX_RETURN_IF_ERROR(trigger.CheckNoUnknownFields());
 
   PX_ASSIGN_OR_RETURN(ObjectReader log, root.Child("log"));
   PX_RETURN_IF_ERROR(log.String("levels", &config.log_levels));
@@ -201,11 +318,13 @@ StatusOr<DaemonConfig> DaemonConfigFromJson(const nlohmann::json& j) {
 nlohmann::json DaemonConfigToJson(const DaemonConfig& config) {
   nlohmann::json j;
   j["storage"] = {{"root", config.storage.root.string()},
-                  {"min_free_mb", static_cast<double>(config.storage.min_free_bytes) / kBytesPerMb}};
+                  {"min_free_mb", static_cast<double>(config.storage.min_free_bytes) / kBytesPerMb},
+                  {"quota_mb", static_cast<double>(config.storage.quota_bytes) / kBytesPerMb}};
   j["control"] = {{"socket", config.control_socket.string()}};
   j["source"] = {
       {"kind", config.source.kind},
       {"timeout_ms", config.source.timeout_ms},
+      {"faults", FaultSpecsToJson(config.source.faults)},
       {"sim",
        {{"scene", config.source.sim.scene.string()},
         {"camera", config.source.sim.camera},
@@ -213,6 +332,25 @@ nlohmann::json DaemonConfigToJson(const DaemonConfig& config) {
         {"tile_height", config.source.sim.tile_height},
         {"seed", config.source.sim.seed}}},
       {"replay", {{"path", config.source.replay.path.string()}, {"loop", config.source.replay.loop}}},
+      {"libcamera",
+       {{"camera", config.source.libcamera.camera},
+        {"pixel_format", config.source.libcamera.pixel_format},
+        {"width", config.source.libcamera.width},
+        {"height", config.source.libcamera.height},
+        {"rig_calibration", config.source.libcamera.rig_calibration.string()}}},
+      {"v4l2",
+       {{"device", config.source.v4l2.device},
+        {"pixel_format", config.source.v4l2.pixel_format},
+        {"width", config.source.v4l2.width},
+        {"height", config.source.v4l2.height},
+        {"rig_calibration", config.source.v4l2.rig_calibration.string()},
+        {"exposure", config.source.v4l2.exposure},
+        {"gain", config.source.v4l2.gain}}},
+      {"ptp",
+       {{"vendor_id", config.source.ptp.vendor_id},
+        {"product_id", config.source.ptp.product_id},
+        {"shots", config.source.ptp.shots},
+        {"timeout_ms", config.source.ptp.timeout_ms}}},
   };
   j["clip"] = {{"move", config.clip.move},
                {"duration_s", config.clip.duration_s},
@@ -220,6 +358,10 @@ nlohmann::json DaemonConfigToJson(const DaemonConfig& config) {
                {"crf", config.clip.crf},
                {"preset", config.clip.preset},
                {"num_threads", config.clip.num_threads}};
+  j["trigger"] = {{"input_device", config.trigger.input_device.string()},
+                  {"key", config.trigger.key},
+                  {"debounce_ms", config.trigger.debounce_ms},
+                  {"retry_ms", config.trigger.retry_ms}};
   j["log"] = {{"levels", config.log_levels}};
   return j;
 }

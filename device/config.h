@@ -10,6 +10,7 @@
 
 #include "device/storage/storage_layout.h"
 #include "pipeline/core/status.h"
+#include "sim/faults/fault_spec.h"
 
 namespace px::device {
 
@@ -28,11 +29,45 @@ struct ReplaySourceSettings {
   bool loop = true;            // start again after the last recording
 };
 
+// A camera libcamera lists (drivers/libcamera).
+struct LibcameraSourceSettings {
+  std::string camera;                     // libcamera's camera id; "" = the first camera listed
+  std::string pixel_format = "RGB888";    // px pixel format name (pipeline/core/pixel_format.h)
+  int width = 0;                          // 0 = the camera's default still size
+  int height = 0;
+  std::filesystem::path rig_calibration;  // RigCalibration JSON of the lens lattice; "" = none
+};
+
+// A V4L2 camera node (drivers/v4l2).
+struct V4l2SourceSettings {
+  std::string device = "/dev/video0";
+  std::string pixel_format = "RGB888";    // px pixel format name; the driver converts or adjusts
+  int width = 0;                          // 0 = native: the rig calibration's sensor size, else the largest offered
+  int height = 0;
+  std::filesystem::path rig_calibration;  // RigCalibration JSON of the lens lattice; "" = none
+  int exposure = -1;                      // V4L2_CID_EXPOSURE_ABSOLUTE (100 us units, sets manual exposure); -1 = leave
+  int gain = -1;                          // V4L2_CID_GAIN (device units); -1 = leave
+};
+
+// A still camera tethered over USB and driven by PTP (drivers/ptp): one press = `shots` captures.
+struct PtpSourceSettings {
+  std::string vendor_id;   // USB vendor id, 4 hex digits ("04a9"); "" = the first PTP camera found
+  std::string product_id;  // USB product id, 4 hex digits; "" = any product of vendor_id
+  int shots = 5;           // captures per frame set (hand-held light field), [2, 15]
+  int timeout_ms = 10000;  // one shot: InitiateCapture until the camera reports the new object, (0, 600000]
+};
+
 struct SourceSettings {
-  std::string kind = "sim";  // "sim" or "replay"
+  std::string kind = "sim";  // "sim", "replay", "libcamera", "v4l2" or "ptp"
   SimSourceSettings sim;
   ReplaySourceSettings replay;
+  LibcameraSourceSettings libcamera;
+  V4l2SourceSettings v4l2;
+  PtpSourceSettings ptp;
   int timeout_ms = 10000;  // how long one capture may take before it fails, (0, 600000]
+  // Injected camera failures around whichever source is configured (sim/faults; for tests and
+  // demos of the daemon's recovery). JSON: source.faults, a list of fault objects; [] = none.
+  std::vector<FaultSpec> faults;
 };
 
 // What the clip looks like (pipeline/direct, pipeline/clip).
@@ -45,11 +80,20 @@ struct ClipSettings {
   int num_threads = 0;              // pipeline threads, 0 = all cores
 };
 
+// The one-button trigger on a Linux input device (device/trigger/input_trigger.h).
+struct TriggerSettings {
+  std::filesystem::path input_device;  // evdev node, e.g. /dev/input/event0; "" = none
+  std::string key = "KEY_CAMERA";      // key name (KEY_CAMERA, KEY_ENTER, BTN_0, ...) or code number
+  int debounce_ms = 50;                // presses closer than this to the last one are bounce, [0, 10000]
+  int retry_ms = 2000;                 // reopen interval while the device is missing, [10, 600000]
+};
+
 struct DaemonConfig {
-  StorageOptions storage;                                               // JSON: storage.root, storage.min_free_mb
+  StorageOptions storage;  // JSON: storage.root, storage.min_free_mb, storage.quota_mb
   std::filesystem::path control_socket = "/run/parallax/control.sock";  // JSON: control.socket; "" = no socket
   SourceSettings source;
   ClipSettings clip;
+  TriggerSettings trigger;
   std::string log_levels = "info";  // JSON: log.levels, e.g. "info" or "info,depth=debug"
 
   // Checks ranges and names; errors name the JSON field ("clip.fps: 0 is not in (0, 240]").

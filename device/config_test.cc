@@ -67,7 +67,7 @@ TEST(DaemonConfigTest, ErrorsNameTheField) {
   EXPECT_EQ(ErrorOf(R"({"clip": {"crf": 60}})"), "clip.crf: 60 is not in [0, 51]");
   EXPECT_EQ(ErrorOf(R"({"clip": {"duration_s": -1}})"), "clip.duration_s: -1 is not in (0, 60]");
   EXPECT_THAT(ErrorOf(R"({"clip": {"preset": "warp"}})"), HasSubstr("clip.preset: 'warp' is not one of"));
-  EXPECT_EQ(ErrorOf(R"({"source": {"kind": "webcam"}})"), "source.kind: 'webcam' is not one of sim, replay");
+  EXPECT_THAT(ErrorOf(R"({"source": {"kind": "webcam"}})"), HasSubstr("source.kind: 'webcam' is not one of sim, replay"));
   EXPECT_EQ(ErrorOf(R"({"source": {"sim": {"camera": "pop4"}}})"),
             "source.sim.camera: 'pop4' is not one of pop9, integral5x4");
   EXPECT_EQ(ErrorOf(R"({"source": {"kind": "replay"}})"), "source.replay.path: empty, but source.kind is replay");
@@ -76,6 +76,69 @@ TEST(DaemonConfigTest, ErrorsNameTheField) {
   EXPECT_EQ(ErrorOf(R"({"storage": {"root": ""}})"), "storage.root: empty");
   EXPECT_EQ(ErrorOf(R"({"storage": {"min_free_mb": -1}})"), "storage.min_free_mb: -1 is not in [0, 1e9)");
   EXPECT_EQ(ErrorOf(R"([1, 2])"), "config: want an object, got array");
+}
+
+TEST(DaemonConfigTest, ReadsAndChecksTheV4l2Source) {
+  auto config = DaemonConfigFromJson(nlohmann::json::parse(R"({"source": {"kind": "v4l2",
+    "v4l2": {"device": "/dev/video2", "pixel_format": "YUYV", "width": 504, "height": 384,
+             "rig_calibration": "/etc/parallax/rig.json", "exposure": 300, "gain": 16}}})"));
+  ASSERT_TRUE(config.ok()) << config.status().ToString();
+  EXPECT_EQ(config->source.kind, "v4l2");
+  EXPECT_EQ(config->source.v4l2.device, "/dev/video2");
+  EXPECT_EQ(config->source.v4l2.pixel_format, "YUYV");
+  EXPECT_EQ(config->source.v4l2.width, 504);
+  EXPECT_EQ(config->source.v4l2.height, 384);
+  EXPECT_EQ(config->source.v4l2.rig_calibration, "/etc/parallax/rig.json");
+  EXPECT_EQ(config->source.v4l2.exposure, 300);
+  EXPECT_EQ(config->source.v4l2.gain, 16);
+  // Defaults: /dev/video0, RGB888, native size, controls left alone.
+  const V4l2SourceSettings defaults = DaemonConfig().source.v4l2;
+  EXPECT_EQ(defaults.device, "/dev/video0");
+  EXPECT_EQ(defaults.exposure, -1);
+  EXPECT_EQ(defaults.gain, -1);
+  const nlohmann::json printed = DaemonConfigToJson(*config);
+  EXPECT_EQ(printed["source"]["v4l2"]["exposure"], 300);
+  EXPECT_EQ(DaemonConfigToJson(DaemonConfigFromJson(printed).value()), printed);
+
+  EXPECT_EQ(ErrorOf(R"({"source": {"v4l2": {"pixel_format": "MJPG"}}})"),
+            "source.v4l2.pixel_format: 'MJPG' is not one of RGB888, BGR888, GRAY8, YUYV, NV12, SRGGB8");
+  EXPECT_EQ(ErrorOf(R"({"source": {"v4l2": {"width": 640}}})"), "source.v4l2.width, height: give both or neither");
+  EXPECT_EQ(ErrorOf(R"({"source": {"v4l2": {"exposure": -5}}})"), "source.v4l2.exposure: -5 is not in [-1, ...) (-1 = leave)");
+  EXPECT_EQ(ErrorOf(R"({"source": {"v4l2": {"device": ""}}})"), "source.v4l2.device: empty");
+  EXPECT_THAT(ErrorOf(R"({"source": {"v4l2": {"fps": 30}}})"),
+              HasSubstr("source.v4l2.fps: unknown field (known: device, pixel_format, width, height, rig_calibration, "
+                        "exposure, gain)"));
+}
+
+TEST(DaemonConfigTest, ReadsAndChecksThePtpSource) {
+  auto config = DaemonConfigFromJson(nlohmann::json::parse(R"({"source": {"kind": "ptp",
+    "ptp": {"vendor_id": "04a9", "product_id": "3218", "shots": 9, "timeout_ms": 4000}}})"));
+  ASSERT_TRUE(config.ok()) << config.status().ToString();
+  EXPECT_EQ(config->source.kind, "ptp");
+  EXPECT_EQ(config->source.ptp.vendor_id, "04a9");
+  EXPECT_EQ(config->source.ptp.product_id, "3218");
+  EXPECT_EQ(config->source.ptp.shots, 9);
+  EXPECT_EQ(config->source.ptp.timeout_ms, 4000);
+  // Defaults: the first PTP camera, 5 shots, 10 s per shot.
+  const PtpSourceSettings defaults = DaemonConfig().source.ptp;
+  EXPECT_EQ(defaults.vendor_id, "");
+  EXPECT_EQ(defaults.shots, 5);
+  EXPECT_EQ(defaults.timeout_ms, 10000);
+  const nlohmann::json printed = DaemonConfigToJson(*config);
+  EXPECT_EQ(printed["source"]["ptp"]["shots"], 9);
+  EXPECT_EQ(DaemonConfigToJson(DaemonConfigFromJson(printed).value()), printed);
+
+  EXPECT_EQ(ErrorOf(R"({"source": {"ptp": {"shots": 1}}})"), "source.ptp.shots: 1 is not in [2, 15]");
+  EXPECT_EQ(ErrorOf(R"({"source": {"ptp": {"shots": 16}}})"), "source.ptp.shots: 16 is not in [2, 15]");
+  EXPECT_EQ(ErrorOf(R"({"source": {"ptp": {"timeout_ms": 0}}})"), "source.ptp.timeout_ms: 0 is not in (0, 600000]");
+  EXPECT_EQ(ErrorOf(R"({"source": {"ptp": {"vendor_id": "canon"}}})"),
+            "source.ptp.vendor_id: 'canon' is not 4 hex digits (e.g. 04a9)");
+  EXPECT_EQ(ErrorOf(R"({"source": {"ptp": {"vendor_id": "04a9", "product_id": "32"}}})"),
+            "source.ptp.product_id: '32' is not 4 hex digits (e.g. 3218)");
+  EXPECT_EQ(ErrorOf(R"({"source": {"ptp": {"product_id": "3218"}}})"),
+            "source.ptp.product_id: given without source.ptp.vendor_id");
+  EXPECT_THAT(ErrorOf(R"({"source": {"ptp": {"shot": 3}}})"),
+              HasSubstr("source.ptp.shot: unknown field (known: vendor_id, product_id, shots, timeout_ms)"));
 }
 
 TEST(DaemonConfigTest, UnknownFieldsAreErrorsListingTheKnownOnes) {

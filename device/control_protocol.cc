@@ -19,6 +19,12 @@ std::string_view ControlCommandName(ControlCommand command) {
       return "wait";
     case ControlCommand::kQuit:
       return "quit";
+    case ControlCommand::kFetch:
+      return "fetch";
+    case ControlCommand::kSetMove:
+      return "set_move";
+    case ControlCommand::kCancel:
+      return "cancel";
   }
   return "unknown";
 }
@@ -37,19 +43,35 @@ StatusOr<ControlRequest> ParseControlRequest(std::string_view line) {
                                  ControlCommand::kStatus,
                                  ControlCommand::kList,
                                  ControlCommand::kWait,
-                                 ControlCommand::kQuit}) {
+                                 ControlCommand::kQuit,
+                                 ControlCommand::kFetch,
+                                 ControlCommand::kSetMove,
+                                 ControlCommand::kCancel}) {
     if (ControlCommandName(command) == name) {
       request.command = command;
       found = true;
     }
   }
-  if (!found) return InvalidArgumentError("cmd: '" + name + "' is not one of capture, status, list, wait, quit");
+  if (!found) {
+    return InvalidArgumentError("cmd: '" + name +
+                                "' is not one of capture, status, list, wait, quit, fetch, set_move, cancel");
+  }
 
   std::vector<std::string> allowed = {"cmd"};
-  if (request.command == ControlCommand::kWait) {
-    if (!j.contains("job")) return InvalidArgumentError("job: missing (wait needs a job id)");
+  if (request.command == ControlCommand::kWait || request.command == ControlCommand::kFetch ||
+      request.command == ControlCommand::kCancel) {
+    if (!j.contains("job")) return InvalidArgumentError("job: missing (" + name + " needs a job id)");
     PX_ASSIGN_OR_RETURN(request.job, json::GetString(j, "job", ""));
     allowed.push_back("job");
+  }
+  if (request.command == ControlCommand::kFetch) {
+    PX_ASSIGN_OR_RETURN(request.inline_bytes, json::GetBoolOr(j, "inline", "", false));
+    allowed.push_back("inline");
+  }
+  if (request.command == ControlCommand::kSetMove) {
+    if (!j.contains("move")) return InvalidArgumentError("move: missing (set_move needs a camera move)");
+    PX_ASSIGN_OR_RETURN(request.move, json::GetString(j, "move", ""));
+    allowed.push_back("move");
   }
   if (request.command == ControlCommand::kQuit) {
     PX_ASSIGN_OR_RETURN(request.drain, json::GetBoolOr(j, "drain", "", false));

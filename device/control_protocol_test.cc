@@ -22,6 +22,20 @@ TEST(ControlProtocolTest, ParsesEveryCommand) {
   ASSERT_TRUE(quit.ok());
   EXPECT_TRUE(quit->drain);
   EXPECT_FALSE(ParseControlRequest(R"({"cmd":"quit"})")->drain);
+  auto fetch = ParseControlRequest(R"({"cmd":"fetch","job":"000004","inline":true})");
+  ASSERT_TRUE(fetch.ok()) << fetch.status().ToString();
+  EXPECT_EQ(fetch->command, ControlCommand::kFetch);
+  EXPECT_EQ(fetch->job, "000004");
+  EXPECT_TRUE(fetch->inline_bytes);
+  EXPECT_FALSE(ParseControlRequest(R"({"cmd":"fetch","job":"000004"})")->inline_bytes);
+  auto move = ParseControlRequest(R"({"cmd":"set_move","move":"establishing_dolly"})");
+  ASSERT_TRUE(move.ok());
+  EXPECT_EQ(move->command, ControlCommand::kSetMove);
+  EXPECT_EQ(move->move, "establishing_dolly");
+  auto cancel = ParseControlRequest(R"({"cmd":"cancel","job":"000002"})");
+  ASSERT_TRUE(cancel.ok());
+  EXPECT_EQ(cancel->command, ControlCommand::kCancel);
+  EXPECT_EQ(cancel->job, "000002");
 }
 
 TEST(ControlProtocolTest, ErrorsSayWhatIsWrong) {
@@ -31,7 +45,15 @@ TEST(ControlProtocolTest, ErrorsSayWhatIsWrong) {
   EXPECT_EQ(ParseControlRequest("{}").status().message(), "cmd: missing");
   EXPECT_EQ(ParseControlRequest(R"({"cmd":7})").status().message(), "cmd: want a string, got number");
   EXPECT_EQ(ParseControlRequest(R"({"cmd":"fly"})").status().message(),
-            "cmd: 'fly' is not one of capture, status, list, wait, quit");
+            "cmd: 'fly' is not one of capture, status, list, wait, quit, fetch, set_move, cancel");
+  EXPECT_EQ(ParseControlRequest(R"({"cmd":"fetch"})").status().message(), "job: missing (fetch needs a job id)");
+  EXPECT_EQ(ParseControlRequest(R"({"cmd":"cancel"})").status().message(), "job: missing (cancel needs a job id)");
+  EXPECT_EQ(ParseControlRequest(R"({"cmd":"set_move"})").status().message(),
+            "move: missing (set_move needs a camera move)");
+  EXPECT_EQ(ParseControlRequest(R"({"cmd":"fetch","job":"1","inline":1})").status().message(),
+            "inline: want true or false, got number");
+  EXPECT_EQ(ParseControlRequest(R"({"cmd":"cancel","job":"1","inline":true})").status().message(),
+            "cancel: unknown field 'inline'");
   EXPECT_EQ(ParseControlRequest(R"({"cmd":"wait"})").status().message(), "job: missing (wait needs a job id)");
   EXPECT_EQ(ParseControlRequest(R"({"cmd":"capture","jbo":1})").status().message(), "capture: unknown field 'jbo'");
   EXPECT_EQ(ParseControlRequest(R"({"cmd":"quit","drain":"yes"})").status().message(),

@@ -7,7 +7,10 @@
 #include <sys/un.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cerrno>
+#include <chrono>
+#include <cstdint>
 #include <cstring>
 #include <deque>
 #include <map>
@@ -261,6 +264,21 @@ void ControlServer::Loop() {
     if (listen_fd_ >= 0) fds.push_back({listen_fd_, POLLIN, 0});
     const size_t trigger_index = fds.size();
     if (trigger_open) fds.push_back({options_.trigger_fd, POLLIN, 0});
+    // Loop inputs: their fds, and the nearest deadline as poll's timeout.
+    std::vector<size_t> input_index(options_.inputs.size(), SIZE_MAX);
+    int timeout_ms = -1;
+    const auto before_poll = std::chrono::steady_clock::now();
+    for (size_t i = 0; i < options_.inputs.size(); ++i) {
+      if (int fd = options_.inputs[i]->PollFd(); fd >= 0) {
+        input_index[i] = fds.size();
+        fds.push_back({fd, POLLIN, 0});
+      }
+      if (auto deadline = options_.inputs[i]->Deadline()) {
+        const auto wait = std::chrono::ceil<std::chrono::milliseconds>(*deadline - before_poll).count();
+        const int wait_ms = static_cast<int>(std::clamp<int64_t>(wait, 0, INT32_MAX));
+        timeout_ms = timeout_ms < 0 ? wait_ms : std::min(timeout_ms, wait_ms);
+      }
+    }
     const size_t first_connection = fds.size();
     std::vector<uint64_t> ids;
     for (auto& [id, c] : connections) {
@@ -272,7 +290,7 @@ void ControlServer::Loop() {
       fds.push_back({c.fd, events, 0});
       ids.push_back(id);
     }
-    if (::poll(fds.data(), fds.size(), -1) < 0) {
+    if (::poll(fds.data(), fds.size(), timeout_ms) < 0) {
       if (errno == EINTR) continue;
       log->error("control loop: poll failed: {}; control interface stopped", std::strerror(errno));
       break;
@@ -306,6 +324,15 @@ void ControlServer::Loop() {
         trigger_open = false;
         handlers_.on_trigger_eof();
       }
+    }
+    const auto after_poll = std::chrono::steady_clock::now();
+    for (size_t i = 0; i < options_.inputs.size(); ++i) {
+      LoopInput& input = *options_.inputs[i];
+      const short revents = input_index[i] == SIZE_MAX ? 0 : fds[input_index[i]].revents;
+      const auto deadline = input.Deadline();
+      if (revents == 0 && !(deadline && after_poll >= *deadline)) continue;
+      const int presses = input.Service(after_poll, revents);
+      for (int k = 0; k < presses; ++k) handlers_.on_trigger(input.Describe());
     }
     for (size_t i = 0; i < ids.size(); ++i) {
       const pollfd& p = fds[first_connection + i];

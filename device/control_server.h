@@ -10,7 +10,9 @@
 #include <mutex>
 #include <string>
 #include <thread>
+#include <vector>
 
+#include "device/loop_input.h"
 #include "pipeline/core/status.h"
 
 namespace px::device {
@@ -27,10 +29,13 @@ class ControlServer {
   struct Options {
     std::filesystem::path socket_path;  // empty: no socket
     int trigger_fd = -1;                // each line read is a press; -1: none. Not closed by us.
+    // Served on the loop thread too (input-device buttons, the systemd watchdog); each press
+    // they report goes to on_trigger with the input's description as the line.
+    std::vector<std::shared_ptr<LoopInput>> inputs;
   };
   struct Handlers {
     RequestHandler on_request;  // a request line from the socket
-    TriggerHandler on_trigger;  // a line from trigger_fd
+    TriggerHandler on_trigger;  // a line from trigger_fd, or a press from one of `inputs`
     EofHandler on_trigger_eof;  // trigger_fd reached end of file (or failed)
   };
 

@@ -1,9 +1,14 @@
 #include "device/daemon.h"
 
+#include <algorithm>
 #include <exception>
 #include <system_error>
 
+#include "device/clip_fetch.h"
 #include "device/control_protocol.h"
+#include "device/storage/storage_quota.h"
+#include "device/test_pause.h"
+#include "pipeline/direct/direct_options.h"
 #include "pipeline/core/durable_file.h"
 #include "pipeline/core/log.h"
 #include "sim/replay/recording.h"
@@ -65,6 +70,10 @@ void Daemon::SetClipListener(std::function<void(const fs::path& clip)> listener)
   clip_listener_ = std::move(listener);
 }
 
+void Daemon::SetStateListener(std::function<void(const std::string& state, bool stopping)> listener) {
+  state_listener_ = std::move(listener);
+}
+
 Status Daemon::Start() {
   auto log = Logger("device");
   PX_RETURN_IF_ERROR(options_.Validate());
@@ -82,10 +91,11 @@ Status Daemon::Start() {
                configured.ToString());
   }
 
-  if (!options_.control_socket.empty() || options_.trigger_fd >= 0) {
+  if (!options_.control_socket.empty() || options_.trigger_fd >= 0 || !options_.loop_inputs.empty()) {
     ControlServer::Options server_options;
     server_options.socket_path = options_.control_socket;
     server_options.trigger_fd = options_.trigger_fd;
+    server_options.inputs = options_.loop_inputs;
     ControlServer::Handlers handlers;
     handlers.on_request = [this](const std::string& line, ControlServer::Respond respond) {
       HandleRequest(line, std::move(respond));
@@ -145,7 +155,15 @@ void Daemon::Recover() {
           Record(record);
           process_queue_.push_back(record.id);
         } else {
-          FailJob(record, UnavailableError("the daemon stopped before the capture was saved"), "capture");
+          // A folder without manifest.json is an unfinished write (WriteRecording removes those
+          // itself when it fails); remove it as that would have.
+          std::error_code removed;
+          const bool partial = fs::remove_all(layout_.CaptureDir(record.id), removed) > 0;
+          FailJob(record,
+                  UnavailableError(partial ? "the daemon stopped while the capture was being written; the "
+                                             "unfinished recording was removed"
+                                           : "the daemon stopped before the capture was saved"),
+                  "capture");
         }
         break;
       }
@@ -184,6 +202,7 @@ StatusOr<std::string> Daemon::Press() {
   record.id = journal_->NewId(taken_ids_);
   taken_ids_.clear();
   record.state = JobState::kCapturing;
+  record.move = move_;
   record.created_at = NowIso8601Utc();
   record.updated_at = record.created_at;
   // Journaled before it is acknowledged: an acknowledged press is never silently lost.
@@ -211,7 +230,7 @@ void Daemon::RequestStop(bool drain) {
     drain_ = false;
     Logger("device")->info("stopping after the current step");
   }
-  changed_.notify_all();
+  OnProgressLocked();  // tells the state listener; wakes the threads
 }
 
 void Daemon::Wait() {
@@ -250,11 +269,26 @@ bool Daemon::IdleLocked() const {
   return capture_queue_.empty() && process_queue_.empty() && capturing_id_.empty() && processing_id_.empty();
 }
 
+// Queued work counts: a saved capture waiting for the worker is "processing", never "idle".
+std::string Daemon::StateNameLocked() const {
+  if (!capturing_id_.empty() || !capture_queue_.empty()) return "capturing";
+  if (!processing_id_.empty() || !process_queue_.empty()) return "processing";
+  return "idle";
+}
+
 void Daemon::OnProgressLocked() {
   if (options_.exit_when_idle && started_ && !trigger_open_ && !stopping_ && IdleLocked()) {
     Logger("device")->info("idle; exiting as asked (--exit-when-idle)");
     stopping_ = true;
     drain_ = true;
+  }
+  if (state_listener_) {
+    const std::string state = StateNameLocked();
+    if (state != reported_state_ || stopping_ != reported_stopping_) {
+      reported_state_ = state;
+      reported_stopping_ = stopping_;
+      state_listener_(state, stopping_);
+    }
   }
   changed_.notify_all();
 }
@@ -338,8 +372,9 @@ std::optional<JobRecord> Daemon::CaptureJob(const std::string& id) {
   PX_CHECK(found.has_value()) << "job " << id << " was queued without a journal record";
   JobRecord record = *found;
 
-  if (Status space = CheckFreeSpace(layout_.root(), options_.storage.min_free_bytes); !space.ok()) {
-    return FailJob(record, space, "capture");
+  // Evicts the oldest finished clips when the quota or the free-space floor asks (storage_quota.h).
+  if (auto room = MakeRoomForCapture(layout_, options_.storage, journal_.get()); !room.ok()) {
+    return FailJob(record, room.status(), "capture");
   }
   if (Status configured = EnsureConfigured(); !configured.ok()) {
     return FailJob(record, configured, "capture");
@@ -356,6 +391,7 @@ std::optional<JobRecord> Daemon::CaptureJob(const std::string& id) {
     return FailJob(record, frames.status().WithContext("source " + description_.model), "capture");
   }
   const Status usable = CheckFrameSet(granted_, &frames.value());
+  PauseHereIfAsked("capture");
   log->info("job {}: captured {} frame(s), {} usable, {} in {:.0f} ms",
             id,
             frames->frames.size(),
@@ -370,23 +406,28 @@ std::optional<JobRecord> Daemon::CaptureJob(const std::string& id) {
   recording.created_by = options_.created_by;
   const fs::path capture_dir = layout_.CaptureDir(id);
   const auto save_start = std::chrono::steady_clock::now();
-  if (Status saved = WriteRecording(capture_dir, recording); !saved.ok()) {
+  auto pause_before_manifest = [](const fs::path& path) {
+    if (path.filename() == "manifest.json") PauseHereIfAsked("writing_capture");
+    return OkStatus();
+  };
+  if (Status saved = WriteRecording(capture_dir, recording, pause_before_manifest); !saved.ok()) {
     return FailJob(record, saved.WithContext("save capture"), "capture");
   }
   record.save_ms = MillisecondsSince(save_start);
   record.capture_dir = capture_dir.string();
   log->info("job {}: saved capture to {} in {:.0f} ms", id, record.capture_dir, record.save_ms);
-  if (!usable.ok()) {
-    return FailJob(record, usable.WithContext("no usable frame in the capture"), "capture");
-  }
   const int bad = static_cast<int>(recording.frames.frames.size()) - recording.frames.NumUsableFrames();
   if (bad > 0) {
-    record.note = std::to_string(bad) + " of " + std::to_string(recording.frames.frames.size()) + " frames unusable";
-    log->warn("job {}: {}; processing the rest", id, record.note);
+    // Even with no frame as configured, the pipeline may honestly use part of one (the whole
+    // tiles of a truncated frame, a frame in another format); if not, it fails naming the frame.
+    record.note = std::to_string(bad) + " of " + std::to_string(recording.frames.frames.size()) +
+                  " frames unusable" + (usable.ok() ? "" : " (" + usable.message() + ")");
+    log->warn("job {}: {}; processing what can be used", id, record.note);
   }
   record.state = JobState::kSaved;
   record.updated_at = NowIso8601Utc();
   Record(record);
+  PauseHereIfAsked("saved");
   std::lock_guard<std::mutex> lock(mutex_);
   process_queue_.push_back(id);
   OnProgressLocked();
@@ -407,6 +448,7 @@ void Daemon::ProcessLoop() {
       processing_id_ = id;
       processing_stage_.clear();
       processing_fraction_ = 0;
+      OnProgressLocked();
     }
     std::optional<JobRecord> finished = ProcessJob(id);
     std::lock_guard<std::mutex> lock(mutex_);
@@ -434,11 +476,13 @@ std::optional<JobRecord> Daemon::ProcessJob(const std::string& id) {
   context.job_id = id;
   context.capture_dir = layout_.CaptureDir(id);
   context.clip_path = layout_.ClipPath(id);
-  context.progress = [this](const std::string& stage, double fraction) {
+  context.move = record.move;
+  context.progress = [this, id](const std::string& stage, double fraction) {
+    if (fraction > 0) PauseHereIfAsked(stage);
     std::lock_guard<std::mutex> lock(mutex_);
     processing_stage_ = stage;
     processing_fraction_ = fraction;
-    return !(stopping_ && !drain_);
+    return !(stopping_ && !drain_) && cancel_id_ != id;
   };
   const auto start = std::chrono::steady_clock::now();
   StatusOr<JobOutcome> outcome = InternalError("job runner did not return");
@@ -449,8 +493,23 @@ std::optional<JobRecord> Daemon::ProcessJob(const std::string& id) {
   }
   record.process_ms = MillisecondsSince(start);
   record.updated_at = NowIso8601Utc();
+  std::string cancelled_during;
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    if (cancel_id_ == id) {
+      cancel_id_.clear();
+      cancelled_during = processing_stage_.empty() ? "start" : processing_stage_;
+    }
+  }
+  if (!cancelled_during.empty() && !outcome.ok()) {
+    return FailJob(record,
+                   CancelledError("cancelled by request during " + cancelled_during + "; raw capture kept at " +
+                                  record.capture_dir),
+                   "processing");
+  }
 
   if (outcome.ok()) {
+    PauseHereIfAsked("clip_written");
     record.state = JobState::kDone;
     record.clip_path = context.clip_path.string();
     record.note = outcome->note;
@@ -518,6 +577,15 @@ void Daemon::HandleRequest(const std::string& line, ControlServer::Respond respo
       respond(Dump({{"ok", true}, {"stopping", true}, {"drain", request->drain}}));
       RequestStop(request->drain);
       return;
+    case ControlCommand::kFetch:
+      respond(FetchReply(request->job, request->inline_bytes));
+      return;
+    case ControlCommand::kSetMove:
+      respond(SetMove(request->move));
+      return;
+    case ControlCommand::kCancel:
+      respond(Cancel(request->job));
+      return;
   }
 }
 
@@ -532,15 +600,9 @@ nlohmann::json Daemon::StatusJson() const {
   for (const JobRecord& record : records) {
     counts[std::string(JobStateName(record.state))] = counts[std::string(JobStateName(record.state))].get<int>() + 1;
   }
-  std::string state = "idle";
-  if (!capturing_id_.empty()) {
-    state = "capturing";
-  } else if (!processing_id_.empty()) {
-    state = "processing";
-  }
   nlohmann::json j = {
       {"ok", true},
-      {"state", state},
+      {"state", StateNameLocked()},
       {"stopping", stopping_},
       {"root", layout_.root().string()},
       {"source", source_model_},
@@ -553,7 +615,12 @@ nlohmann::json Daemon::StatusJson() const {
                  {{"job", processing_id_}, {"stage", processing_stage_}, {"progress", processing_fraction_}})},
       {"jobs", counts},
       {"last_job", records.empty() ? nlohmann::json(nullptr) : JobRecordToJson(records.back())},
+      {"move", move_.empty() ? nlohmann::json(nullptr) : nlohmann::json(move_)},
   };
+  // Free space, quota and whether a capture would be refused now (disk full).
+  StatusOr<StorageUsage> usage = MeasureStorage(layout_, options_.storage, *journal_);
+  j["storage"] = usage.ok() ? StorageUsageToJson(*usage, options_.storage)
+                            : nlohmann::json({{"full", true}, {"reason", usage.status().ToString()}});
   return j;
 }
 
@@ -564,5 +631,50 @@ nlohmann::json Daemon::ListJson() const {
 }
 
 std::optional<JobRecord> Daemon::Job(const std::string& id) const { return journal_->Get(id); }
+
+std::string Daemon::FetchReply(const std::string& id, bool inline_bytes) const {
+  StatusOr<nlohmann::json> reply = FetchClipReply(id, journal_->Get(id), inline_bytes);
+  return reply.ok() ? Dump(*reply) : ControlErrorReply(reply.status());
+}
+
+std::string Daemon::SetMove(const std::string& move) {
+  DirectOptions direct;
+  direct.move = move;
+  if (Status valid = direct.Validate(); !valid.ok()) return ControlErrorReply(valid);
+  std::lock_guard<std::mutex> lock(mutex_);
+  move_ = move;
+  Logger("device")->info("camera move for the next presses: {}", move);
+  return Dump({{"ok", true}, {"move", move}});
+}
+
+std::string Daemon::Cancel(const std::string& id) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  std::optional<JobRecord> record = journal_->Get(id);
+  if (!record) return ControlErrorReply(NotFoundError("job '" + id + "': no such job"));
+  const std::string was(JobStateName(record->state));
+  auto take_from = [&](std::deque<std::string>* queue) {
+    auto it = std::find(queue->begin(), queue->end(), id);
+    if (it == queue->end()) return false;
+    queue->erase(it);
+    return true;
+  };
+  if (take_from(&capture_queue_)) {
+    AnswerWaitersLocked(FailJob(*record, CancelledError("cancelled by request before the capture"), "capture"));
+  } else if (take_from(&process_queue_)) {
+    AnswerWaitersLocked(FailJob(
+        *record, CancelledError("cancelled by request before processing; raw capture kept at " + record->capture_dir),
+        "processing"));
+  } else if (id == processing_id_) {
+    cancel_id_ = id;  // the progress callback stops the pipeline; ProcessJob fails the job
+    Logger("device")->info("job {}: cancelling the running clip", id);
+  } else if (id == capturing_id_) {
+    return ControlErrorReply(
+        FailedPreconditionError("job " + id + " is being captured right now; cancel it once it is saved"));
+  } else {
+    return ControlErrorReply(FailedPreconditionError("job " + id + " is " + was + "; nothing to cancel"));
+  }
+  OnProgressLocked();
+  return Dump({{"ok", true}, {"job", id}, {"was", was}});
+}
 
 }  // namespace px::device

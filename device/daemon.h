@@ -20,6 +20,7 @@
 #include <vector>
 
 #include "device/control_server.h"
+#include "device/loop_input.h"
 #include "device/storage/job_journal.h"
 #include "device/storage/storage_layout.h"
 #include "drivers/source/frame_source.h"
@@ -36,6 +37,9 @@ struct DaemonOptions {
   std::chrono::milliseconds capture_timeout{10000};  // one FrameSource::Next, > 0
   // What FrameSource::Configure asks for; nullopt: the source's native configuration.
   std::optional<SourceConfig> wanted_source;
+  // More inputs for the control loop (an input-device button, the systemd watchdog); the loop
+  // runs when there is a socket, a trigger fd or any of these.
+  std::vector<std::shared_ptr<LoopInput>> loop_inputs;
   std::string created_by = "parallaxd";  // written into each recording
   int max_attempts = 3;  // processing attempts per job before giving up (a job that kills the daemon), >= 1
   Status Validate() const;
@@ -47,8 +51,9 @@ struct JobContext {
   std::filesystem::path capture_dir;  // a complete recording
   std::filesystem::path clip_path;    // write atomically; nothing there on failure
   // stage: short name; fraction: 0..1 within it. Returns false when the daemon wants the job to
-  // stop (shutdown): the runner should return CANCELLED soon.
+  // stop (shutdown, or a "cancel"): the runner should return CANCELLED soon.
   std::function<bool(const std::string& stage, double fraction)> progress;
+  std::string move;  // the camera move asked for at the press ("set_move"); "" = the runner's own
 };
 
 struct JobOutcome {
@@ -88,6 +93,10 @@ class Daemon {
 
   // Called (on the worker thread) with each finished clip's absolute path. Set before Start.
   void SetClipListener(std::function<void(const std::filesystem::path& clip)> listener);
+  // Called whenever the daemon's state ("idle", "capturing", "processing") or its stopping flag
+  // changes, with the daemon's lock held: the listener must not call back into the daemon.
+  // Set before Start. (systemd STATUS= and STOPPING=1.)
+  void SetStateListener(std::function<void(const std::string& state, bool stopping)> listener);
 
   nlohmann::json StatusJson() const;  // the reply to {"cmd":"status"}
   nlohmann::json ListJson() const;    // the reply to {"cmd":"list"}
@@ -110,14 +119,22 @@ class Daemon {
   JobRecord FailJob(JobRecord record, const Status& status, const std::string& during);
   // Call with mutex_ held after any change to queues or current jobs.
   void OnProgressLocked();
+  std::string StateNameLocked() const;
   bool IdleLocked() const;
   void AnswerWaitersLocked(const JobRecord& record);
+  // The control commands "fetch", "set_move" and "cancel": the reply line.
+  std::string FetchReply(const std::string& id, bool inline_bytes) const;
+  std::string SetMove(const std::string& move);
+  std::string Cancel(const std::string& id);
 
   DaemonOptions options_;
   StorageLayout layout_;
   std::unique_ptr<FrameSource> source_;
   JobRunner runner_;
   std::function<void(const std::filesystem::path&)> clip_listener_;
+  std::function<void(const std::string&, bool)> state_listener_;
+  std::string reported_state_;  // the last state given to state_listener_ (guarded by mutex_)
+  bool reported_stopping_ = false;
   std::unique_ptr<JobJournal> journal_;
   std::unique_ptr<ControlServer> server_;
 
@@ -133,6 +150,8 @@ class Daemon {
   std::string capturing_id_;
   std::string processing_id_;
   std::string processing_stage_;
+  std::string cancel_id_;  // the job being processed that a "cancel" asked to stop
+  std::string move_;       // from "set_move", for jobs pressed after it; "" = the config's
   double processing_fraction_ = 0;
   std::string source_model_;
   bool started_ = false;

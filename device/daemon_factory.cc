@@ -3,6 +3,8 @@
 #include <cstdio>
 
 #include "device/source_registry.h"
+#include "device/trigger/input_trigger.h"
+#include "device/trigger/key_codes.h"
 #include "pipeline/core/log.h"
 #include "pipeline/direct/direct_options.h"
 
@@ -32,13 +34,24 @@ DaemonOptions DaemonOptionsFromConfig(const DaemonConfig& config, const DaemonRu
   options.exit_when_idle = flags.exit_when_idle;
   options.capture_timeout = std::chrono::milliseconds(config.source.timeout_ms);
   options.created_by = "parallaxd " PX_VERSION_STRING;
+  options.loop_inputs = flags.loop_inputs;
+  if (!config.trigger.input_device.empty()) {
+    InputTriggerOptions trigger;
+    trigger.device = config.trigger.input_device;
+    trigger.key_code = ParseKeyCode(config.trigger.key).value();  // DaemonConfig::Validate checked it
+    trigger.debounce = std::chrono::milliseconds(config.trigger.debounce_ms);
+    trigger.retry = std::chrono::milliseconds(config.trigger.retry_ms);
+    options.loop_inputs.push_back(std::make_shared<InputTrigger>(trigger));
+  }
   return options;
 }
 
 JobRunner MakeClipJobRunner(const ClipJobOptions& options) {
   return [options](const JobContext& context) -> StatusOr<JobOutcome> {
+    ClipJobOptions job_options = options;
+    if (!context.move.empty()) job_options.pipeline.direct.move = context.move;  // set_move
     PX_ASSIGN_OR_RETURN(ClipJobReport report,
-                        RunClipJob(context.capture_dir, context.clip_path, options, context.progress));
+                        RunClipJob(context.capture_dir, context.clip_path, job_options, context.progress));
     for (const std::string& warning : report.pipeline.warnings) {
       Logger("device")->warn("job {}: {}", context.job_id, warning);
     }

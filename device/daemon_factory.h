@@ -3,6 +3,7 @@
 #pragma once
 
 #include <memory>
+#include <vector>
 
 #include "device/clip_job.h"
 #include "device/config.h"
@@ -13,6 +14,8 @@ namespace px::device {
 struct DaemonRunFlags {
   bool stdin_trigger = false;   // each line on stdin is a press; EOF drains and stops
   bool exit_when_idle = false;  // stop once nothing is queued (see DaemonOptions)
+  // More inputs for the daemon's loop, e.g. parallaxd's systemd watchdog pinger.
+  std::vector<std::shared_ptr<LoopInput>> loop_inputs;
 };
 
 // The pipeline and encoder options for the config's clip settings. Errors name the field

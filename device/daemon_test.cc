@@ -19,6 +19,10 @@
 #include "pipeline/core/durable_file.h"
 #include "tests/testing/temp_dir.h"
 #include "sim/replay/recording.h"
+#include "sim/replay/sha256.h"
+#include "device/clip_fetch.h"
+#include <map>
+#include <span>
 
 namespace px::device {
 namespace {
@@ -41,6 +45,7 @@ class GradientSource final : public FrameSource {
     return wanted == *granted ? ConfigureResult::kValid : ConfigureResult::kAdjusted;
   }
   StatusOr<FrameSet> Next(std::chrono::milliseconds) override {
+    while (hold) std::this_thread::sleep_for(std::chrono::milliseconds(1));
     if (fail_next > 0) {
       fail_next--;
       return UnavailableError("sensor disconnected");
@@ -62,6 +67,7 @@ class GradientSource final : public FrameSource {
 
   std::atomic<int> fail_next{0};
   std::atomic<int> configures{0};
+  std::atomic<bool> hold{false};  // Next waits while set
   uint64_t count = 0;
 };
 
@@ -351,6 +357,267 @@ TEST_F(DaemonTest, SecondDaemonOnTheSameSocketIsRefused) {
   Status status = second.Start();
   EXPECT_EQ(status.code(), StatusCode::kAlreadyExists) << status.ToString();
   EXPECT_EQ(Call(R"({"cmd":"status"})")["ok"], true);
+}
+
+// Bytes of every regular file under `dir`.
+uint64_t BytesUnder(const fs::path& dir) {
+  uint64_t total = 0;
+  for (const auto& entry : fs::recursive_directory_iterator(dir)) {
+    if (entry.is_regular_file()) total += entry.file_size();
+  }
+  return total;
+}
+
+TEST_F(DaemonTest, FullDiskShowsInStatus) {
+  DaemonOptions options = Options();
+  options.storage.min_free_bytes = 1ull << 62;
+  auto daemon = StartDaemon(options);
+  nlohmann::json status = Call(R"({"cmd":"status"})");
+  EXPECT_EQ(status["storage"]["full"], true) << status.dump();
+  EXPECT_THAT(status["storage"]["reason"].get<std::string>(),
+              ::testing::MatchesRegex("RESOURCE_EXHAUSTED: disk full: [0-9]+ MB free under .*/store, need [0-9]+ MB"));
+  EXPECT_GT(status["storage"]["free_mb"].get<double>(), 0);
+  DaemonOptions roomy = Options();
+  daemon.reset();
+  daemon = StartDaemon(roomy);
+  status = Call(R"({"cmd":"status"})");
+  EXPECT_EQ(status["storage"]["full"], false) << status.dump();
+  EXPECT_EQ(status["storage"]["reason"], "");
+}
+
+TEST_F(DaemonTest, QuotaEvictsTheOldestClipsWithTheirCaptures) {
+  // Measure one job's whole footprint (capture, clip, journal record), then allow about three.
+  auto first = StartDaemon(Options());
+  const std::string one = Call(R"({"cmd":"capture"})")["job"];
+  ASSERT_EQ(Call(R"({"cmd":"wait","job":")" + one + R"("})")["job"]["state"], "done");
+  const uint64_t job_bytes = BytesUnder(dir() / "store");
+  first.reset();
+
+  DaemonOptions options = Options();
+  // Room for two jobs and the next one; the records of evicted jobs stay (a few hundred bytes each).
+  options.storage.quota_bytes = 3 * job_bytes + 2000;
+  auto daemon = StartDaemon(options);
+  std::vector<std::string> ids = {one};
+  for (int i = 0; i < 6; ++i) {
+    ids.push_back(Call(R"({"cmd":"capture"})")["job"]);
+    nlohmann::json job = Call(R"({"cmd":"wait","job":")" + ids.back() + R"("})")["job"];
+    ASSERT_EQ(job["state"], "done") << job.dump();
+    EXPECT_LE(BytesUnder(dir() / "store"), options.storage.quota_bytes + job_bytes / 4) << "after job " << ids.back();
+  }
+  // The oldest are evicted whole (clip and capture), their records stay and say so; the newest stay.
+  size_t kept = 0;
+  for (size_t i = 0; i < ids.size(); ++i) {
+    const JobRecord record = *daemon->Job(ids[i]);
+    EXPECT_EQ(record.state, JobState::kDone);
+    const bool has_clip = fs::exists(daemon->layout().ClipPath(ids[i]));
+    EXPECT_EQ(has_clip, fs::exists(daemon->layout().CaptureDir(ids[i]))) << ids[i];
+    if (has_clip) {
+      kept++;
+      EXPECT_EQ(record.clip_path, daemon->layout().ClipPath(ids[i]).string());
+    } else {
+      EXPECT_EQ(kept, 0u) << "evicted " << ids[i] << " after a kept newer clip";
+      EXPECT_THAT(record.note, HasSubstr("evicted"));
+      EXPECT_THAT(record.note, HasSubstr("storage.quota_mb"));
+      EXPECT_TRUE(record.clip_path.empty());
+      nlohmann::json fetched = Call(R"({"cmd":"fetch","job":")" + ids[i] + R"("})");
+      EXPECT_EQ(fetched["code"], "NOT_FOUND");
+      EXPECT_THAT(fetched["error"].get<std::string>(), HasSubstr("its clip is gone: evicted"));
+    }
+  }
+  EXPECT_GE(kept, 2u);
+  EXPECT_LE(kept, 3u);
+  EXPECT_TRUE(fs::exists(daemon->layout().ClipPath(ids.back())));
+  nlohmann::json status = Call(R"({"cmd":"status"})");
+  EXPECT_EQ(status["storage"]["full"], false);
+  EXPECT_DOUBLE_EQ(status["storage"]["quota_mb"].get<double>(), options.storage.quota_bytes / 1e6);
+}
+
+TEST_F(DaemonTest, QuotaNeverEvictsUnprocessedCaptures) {
+  // One finished job stays in the store (the newest clip: not evictable yet) and sets the
+  // estimate of what the next job will need.
+  auto measure = StartDaemon(Options());
+  const std::string one = Call(R"({"cmd":"capture"})")["job"];
+  ASSERT_EQ(Call(R"({"cmd":"wait","job":")" + one + R"("})")["job"]["state"], "done");
+  const uint64_t record_bytes = BytesUnder(measure->layout().JobsDir());
+  const uint64_t capture_bytes = BytesUnder(measure->layout().CaptureDir(one)) + record_bytes;
+  const uint64_t job_bytes = BytesUnder(dir() / "store");
+  measure.reset();
+
+  std::promise<void> release;
+  std::shared_future<void> released = release.get_future().share();
+  DaemonOptions options = Options();
+  // Two unprocessed captures fit beside the done job and the next job's estimate; a third does not.
+  options.storage.quota_bytes = 2 * job_bytes + capture_bytes + capture_bytes / 2;
+  auto daemon = StartDaemon(options, [&](const JobContext& context) {
+    released.wait();  // hold processing: every capture stays unprocessed
+    return PngJob(context);
+  });
+  const std::string a = Call(R"({"cmd":"capture"})")["job"];
+  const std::string b = Call(R"({"cmd":"capture"})")["job"];
+  const std::string c = Call(R"({"cmd":"capture"})")["job"];
+  nlohmann::json refused = Call(R"({"cmd":"wait","job":")" + c + R"("})")["job"];
+  EXPECT_EQ(refused["state"], "failed");
+  EXPECT_THAT(refused["error"].get<std::string>(),
+              ::testing::MatchesRegex("RESOURCE_EXHAUSTED: storage quota: [0-9]+ MB used of [0-9]+ MB under .*/store, "
+                                      "the next job needs about [0-9]+ MB; nothing left to evict .*"));
+  EXPECT_TRUE(ReadRecording(daemon->layout().CaptureDir(a)).ok());
+  EXPECT_TRUE(ReadRecording(daemon->layout().CaptureDir(b)).ok());
+  EXPECT_EQ(Call(R"({"cmd":"status"})")["storage"]["evictable_mb"], 0.0);
+  release.set_value();
+  daemon->WaitUntilIdle();
+  EXPECT_EQ(daemon->Job(a)->state, JobState::kDone);
+  EXPECT_EQ(daemon->Job(b)->state, JobState::kDone);
+  // Now a's clip may go (b's is the newest), and the next press works.
+  const std::string d = Call(R"({"cmd":"capture"})")["job"];
+  EXPECT_EQ(Call(R"({"cmd":"wait","job":")" + d + R"("})")["job"]["state"], "done");
+  EXPECT_FALSE(fs::exists(daemon->layout().CaptureDir(a)));
+  EXPECT_TRUE(fs::exists(daemon->layout().ClipPath(b)));
+  EXPECT_TRUE(fs::exists(daemon->layout().ClipPath(d)));
+}
+
+TEST_F(DaemonTest, FetchGivesPathSizeChecksumAndInlineBytes) {
+  auto daemon = StartDaemon(Options());
+  const std::string id = Call(R"({"cmd":"capture"})")["job"];
+  ASSERT_EQ(Call(R"({"cmd":"wait","job":")" + id + R"("})")["job"]["state"], "done");
+  const fs::path clip = daemon->layout().ClipPath(id);
+  const std::string bytes = ReadFileToString(clip).value();
+
+  nlohmann::json fetched = Call(R"({"cmd":"fetch","job":")" + id + R"("})");
+  ASSERT_EQ(fetched["ok"], true) << fetched.dump();
+  EXPECT_EQ(fetched["path"], clip.string());
+  EXPECT_EQ(fetched["bytes"], bytes.size());
+  EXPECT_EQ(fetched["sha256"], replay::Sha256Hex(std::span(reinterpret_cast<const uint8_t*>(bytes.data()), bytes.size())));
+  EXPECT_FALSE(fetched.contains("data"));
+
+  nlohmann::json with_data = Call(R"({"cmd":"fetch","job":")" + id + R"(","inline":true})");
+  ASSERT_EQ(with_data["ok"], true);
+  // Decode the base64 with OpenSSL-free arithmetic: it must give back the clip's bytes.
+  const std::string data = with_data["data"];
+  EXPECT_EQ(data.size() % 4, 0u);
+  std::string decoded;
+  uint32_t acc = 0;
+  int bits = 0;
+  for (char ch : data) {
+    if (ch == '=') break;
+    const std::string alphabet = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+    acc = (acc << 6) | static_cast<uint32_t>(alphabet.find(ch));
+    bits += 6;
+    if (bits >= 8) {
+      bits -= 8;
+      decoded.push_back(static_cast<char>((acc >> bits) & 0xff));
+    }
+  }
+  EXPECT_EQ(decoded, bytes);
+  EXPECT_EQ(Base64Encode("Ma"), "TWE=");
+  EXPECT_EQ(Base64Encode("Man"), "TWFu");
+  EXPECT_EQ(Base64Encode("M"), "TQ==");
+
+  EXPECT_EQ(Call(R"({"cmd":"fetch","job":"424242"})")["code"], "NOT_FOUND");
+  // A clip over the inline limit is refused with its path.
+  ASSERT_TRUE(WriteFileAtomically(clip, std::string(kMaxInlineClipBytes + 1, 'x')).ok());
+  nlohmann::json too_big = Call(R"({"cmd":"fetch","job":")" + id + R"(","inline":true})");
+  EXPECT_EQ(too_big["code"], "OUT_OF_RANGE");
+  EXPECT_THAT(too_big["error"].get<std::string>(), HasSubstr("read it from " + clip.string()));
+  EXPECT_EQ(Call(R"({"cmd":"fetch","job":")" + id + R"("})")["bytes"], kMaxInlineClipBytes + 1);
+}
+
+TEST_F(DaemonTest, FetchOfAJobWithoutClipSaysWhy) {
+  auto daemon = StartDaemon(
+      Options(), [](const JobContext&) -> StatusOr<JobOutcome> { return DataLossError("depth: no plane found"); });
+  const std::string id = Call(R"({"cmd":"capture"})")["job"];
+  ASSERT_EQ(Call(R"({"cmd":"wait","job":")" + id + R"("})")["job"]["state"], "failed");
+  nlohmann::json fetched = Call(R"({"cmd":"fetch","job":")" + id + R"("})");
+  EXPECT_EQ(fetched["code"], "FAILED_PRECONDITION");
+  EXPECT_THAT(fetched["error"].get<std::string>(), HasSubstr("failed, it has no clip: DATA_LOSS: depth: no plane found"));
+}
+
+TEST_F(DaemonTest, SetMoveAppliesToJobsPressedAfterIt) {
+  std::mutex moves_mutex;
+  std::map<std::string, std::string> moves;
+  auto daemon = StartDaemon(Options(), [&](const JobContext& context) {
+    std::lock_guard<std::mutex> lock(moves_mutex);
+    moves[context.job_id] = context.move;
+    return PngJob(context);
+  });
+  const std::string before = Call(R"({"cmd":"capture"})")["job"];
+  nlohmann::json bad = Call(R"({"cmd":"set_move","move":"barrel_roll"})");
+  EXPECT_EQ(bad["code"], "INVALID_ARGUMENT");
+  EXPECT_THAT(bad["error"].get<std::string>(), HasSubstr("unknown move \"barrel_roll\", want one of auto establishing_dolly"));
+  EXPECT_EQ(Call(R"({"cmd":"status"})")["move"], nullptr);
+  nlohmann::json set = Call(R"({"cmd":"set_move","move":"establishing_dolly"})");
+  EXPECT_EQ(set["ok"], true);
+  EXPECT_EQ(set["move"], "establishing_dolly");
+  const std::string after = Call(R"({"cmd":"capture"})")["job"];
+  daemon->WaitUntilIdle();
+  EXPECT_EQ(Call(R"({"cmd":"status"})")["move"], "establishing_dolly");
+  std::lock_guard<std::mutex> lock(moves_mutex);
+  EXPECT_EQ(moves[before], "");  // the config's move
+  EXPECT_EQ(moves[after], "establishing_dolly");
+  EXPECT_EQ(daemon->Job(after)->move, "establishing_dolly");  // journaled: a resumed job keeps it
+}
+
+TEST_F(DaemonTest, CancelStopsAQueuedJobOrTheRunningClipAndKeepsTheCapture) {
+  std::promise<void> started;
+  std::atomic<int> runs{0};
+  auto daemon = StartDaemon(Options(), [&](const JobContext& context) -> StatusOr<JobOutcome> {
+    if (runs++ == 0) {
+      context.progress("render", 0.0);
+      started.set_value();
+      while (context.progress("render", 0.5)) std::this_thread::yield();
+      return CancelledError("pipeline cancelled during render");
+    }
+    return PngJob(context);
+  });
+  const std::string running = Call(R"({"cmd":"capture"})")["job"];
+  started.get_future().wait();
+  const std::string queued = Call(R"({"cmd":"capture"})")["job"];
+  const std::string third = Call(R"({"cmd":"capture"})")["job"];
+  // Wait until the second is saved (queued for processing) before cancelling it.
+  for (int i = 0; i < 1000 && daemon->Job(third)->state != JobState::kSaved; ++i) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(5));
+  }
+  ASSERT_EQ(daemon->Job(queued)->state, JobState::kSaved);
+  nlohmann::json cancelled = Call(R"({"cmd":"cancel","job":")" + queued + R"("})");
+  EXPECT_EQ(cancelled["ok"], true) << cancelled.dump();
+  EXPECT_EQ(cancelled["was"], "saved");
+  nlohmann::json job = Call(R"({"cmd":"wait","job":")" + queued + R"("})")["job"];
+  EXPECT_EQ(job["state"], "failed");
+  EXPECT_THAT(job["error"].get<std::string>(), HasSubstr("CANCELLED: cancelled by request before processing"));
+  EXPECT_TRUE(ReadRecording(daemon->layout().CaptureDir(queued)).ok());
+
+  EXPECT_EQ(Call(R"({"cmd":"cancel","job":")" + running + R"("})")["was"], "processing");
+  job = Call(R"({"cmd":"wait","job":")" + running + R"("})")["job"];
+  EXPECT_EQ(job["state"], "failed");
+  EXPECT_THAT(job["error"].get<std::string>(), HasSubstr("CANCELLED: cancelled by request during render; raw capture kept"));
+  EXPECT_TRUE(ReadRecording(daemon->layout().CaptureDir(running)).ok());
+  EXPECT_FALSE(fs::exists(daemon->layout().ClipPath(running)));
+
+  // The third goes on; cancelling finished or unknown jobs is refused.
+  EXPECT_EQ(Call(R"({"cmd":"wait","job":")" + third + R"("})")["job"]["state"], "done");
+  EXPECT_EQ(Call(R"({"cmd":"cancel","job":")" + third + R"("})")["code"], "FAILED_PRECONDITION");
+  EXPECT_EQ(Call(R"({"cmd":"cancel","job":"777777"})")["code"], "NOT_FOUND");
+  EXPECT_EQ(Call(R"({"cmd":"status"})")["jobs"]["failed"], 2);
+}
+
+TEST_F(DaemonTest, CancelAJobStillWaitingForTheCamera) {
+  auto daemon = StartDaemon(Options());
+  source_->hold = true;  // the camera takes its time with the first capture
+  const std::string first = Call(R"({"cmd":"capture"})")["job"];
+  while (Call(R"({"cmd":"status"})")["capturing"] != first) std::this_thread::sleep_for(std::chrono::milliseconds(2));
+  const std::string second = Call(R"({"cmd":"capture"})")["job"];
+  nlohmann::json busy = Call(R"({"cmd":"cancel","job":")" + first + R"("})");
+  EXPECT_EQ(busy["code"], "FAILED_PRECONDITION");
+  EXPECT_THAT(busy["error"].get<std::string>(), HasSubstr("is being captured right now"));
+  nlohmann::json cancelled = Call(R"({"cmd":"cancel","job":")" + second + R"("})");
+  EXPECT_EQ(cancelled["ok"], true) << cancelled.dump();
+  EXPECT_EQ(cancelled["was"], "capturing");
+  source_->hold = false;
+  daemon->WaitUntilIdle();
+  EXPECT_EQ(daemon->Job(first)->state, JobState::kDone);
+  EXPECT_EQ(daemon->Job(second)->state, JobState::kFailed);
+  EXPECT_THAT(daemon->Job(second)->error, HasSubstr("CANCELLED: cancelled by request before the capture"));
+  EXPECT_FALSE(fs::exists(daemon->layout().CaptureDir(second)));
+  EXPECT_EQ(source_->count, 1u);  // the camera was asked once
 }
 
 }  // namespace

@@ -13,6 +13,7 @@
 
 #include "device/config.h"
 #include "device/daemon_factory.h"
+#include "device/systemd/systemd_notifier.h"
 #include "pipeline/core/log.h"
 
 namespace {
@@ -71,6 +72,12 @@ int main(int argc, char** argv) {
   sigaddset(&signals, SIGTERM);
   pthread_sigmask(SIG_BLOCK, &signals, nullptr);
 
+  // Under systemd (Type=notify): READY/STATUS/STOPPING, and watchdog pings from the daemon's loop.
+  auto systemd = px::device::SystemdNotifier::FromEnvironment();
+  if (!systemd.ok()) return Fail(systemd.status());
+  if (*systemd) {
+    if (auto pinger = (*systemd)->MakeWatchdogPinger()) flags.loop_inputs.push_back(pinger);
+  }
   auto daemon = px::device::BuildDaemon(config, flags);
   if (!daemon.ok()) return Fail(daemon.status());
   std::mutex stdout_mutex;
@@ -78,7 +85,13 @@ int main(int argc, char** argv) {
     std::lock_guard<std::mutex> lock(stdout_mutex);
     std::cout << "clip: " << clip.string() << std::endl;
   });
+  if (*systemd) {
+    (*daemon)->SetStateListener([notifier = systemd->get()](const std::string& state, bool stopping) {
+      notifier->ReportState(state, stopping);
+    });
+  }
   if (px::Status started = (*daemon)->Start(); !started.ok()) return Fail(started);
+  if (*systemd) (*systemd)->Ready();  // the control socket listens now
 
   std::atomic<bool> finished{false};
   std::thread signal_thread([&] {
@@ -92,6 +105,7 @@ int main(int argc, char** argv) {
     }
   });
   (*daemon)->Wait();
+  if (*systemd) (*systemd)->Stopping();
   finished = true;
   pthread_kill(signal_thread.native_handle(), SIGTERM);  // wakes the sigwait so the thread ends
   signal_thread.join();

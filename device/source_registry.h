@@ -1,5 +1,6 @@
 // The table of frame sources the daemon can open by name. The only place in device/ that names
-// concrete sources (STYLE.md section 2): "sim" (sim/synthetic) and "replay" (sim/replay).
+// concrete sources (STYLE.md section 2): "sim" (sim/synthetic), "replay" (sim/replay)
+// and "libcamera" (drivers/libcamera).
 // Hardware drivers join here as they land.
 #pragma once
 
@@ -28,7 +29,8 @@ std::vector<std::string> KnownSourceKinds();
 // focal length scaled with the tile width, so the field of view stays the preset's.
 StatusOr<SimCameraSpec> SimCameraFromSettings(const SimSourceSettings& settings);
 
-// Opens (but does not configure) the source the settings name. Errors name the config field:
+// Opens (but does not configure) the source the settings name, wrapped in the fault injector
+// (sim/faults) when source.faults is not empty. Errors name the config field:
 // "source.sim.scene: /x.json: no such file", "source.replay.path: ...".
 StatusOr<OpenedSource> OpenSource(const SourceSettings& settings);
 

@@ -97,6 +97,7 @@ nlohmann::json JobRecordToJson(const JobRecord& record) {
       {"attempts", record.attempts},
       {"error", record.error},
       {"note", record.note},
+      {"move", record.move},
   };
   return j;
 }
@@ -120,6 +121,7 @@ StatusOr<JobRecord> JobRecordFromJson(const nlohmann::json& j, const std::string
   record.attempts = static_cast<int>(attempts);
   PX_ASSIGN_OR_RETURN(record.error, json::GetStringOr(j, "error", what, ""));
   PX_ASSIGN_OR_RETURN(record.note, json::GetStringOr(j, "note", what, ""));
+  PX_ASSIGN_OR_RETURN(record.move, json::GetStringOr(j, "move", what, ""));
   return record;
 }
 

@@ -43,6 +43,7 @@ struct JobRecord {
   int attempts = 0;         // processing attempts started (crash recovery counts them)
   std::string error;        // why it failed: a Status::ToString()
   std::string note;         // a short human summary of the last step ("90 frames, 9 views")
+  std::string move;         // the camera move asked for at the press (set_move); "" = the config's clip.move
 };
 
 nlohmann::json JobRecordToJson(const JobRecord& record);

@@ -16,6 +16,9 @@ namespace px::device {
 struct StorageOptions {
   std::filesystem::path root = "/var/lib/parallax";  // absolute or relative to the working folder
   uint64_t min_free_bytes = 200ull * 1000 * 1000;    // refuse a capture with less free under root; >= 0
+  // At most this many bytes under root (captures, clips, journal); 0 = no quota. Oldest done jobs
+  // are evicted to stay under it (storage_quota.h); unprocessed captures never are.
+  uint64_t quota_bytes = 0;
   Status Validate() const;
 };
 

@@ -14,6 +14,7 @@
 #include "pipeline/direct/plan_camera_path.h"
 #include "pipeline/lattice/split_lattice.h"
 #include "pipeline/render/novel_view_renderer.h"
+#include "pipeline/run/frame_salvage.h"
 
 namespace px {
 
@@ -57,6 +58,44 @@ Status UnusableFrameError(const FrameSet& capture, size_t index) {
   return InternalError(message);
 }
 
+// When no frame is ok, the one that can still honestly be used (frame_salvage.h): a frame at the
+// sensor's size in another pixel format (it decodes as what it says it is), else a truncated one
+// (its whole rows). Sets *bgr and *complete_rows and says so in a warning; frames.size() if none.
+size_t SalvageFrame(const FrameSet& capture, const LatticeLayout& lattice, cv::Mat* bgr, int* complete_rows,
+                    std::vector<std::string>* warnings) {
+  for (size_t i = 0; i < capture.frames.size(); ++i) {
+    const Frame& frame = capture.frames[i];
+    const RawImage& image = frame.image;
+    if (frame.status != FrameStatus::kWrongFormat || image.width != lattice.sensor_width ||
+        image.height != lattice.sensor_height || !image.Validate().ok()) {
+      continue;
+    }
+    StatusOr<cv::Mat> decoded = ToBgr(image);
+    if (!decoded.ok()) continue;
+    *bgr = *decoded;
+    *complete_rows = image.height;
+    warnings->push_back(FrameName(capture, i) + " came as " + std::string(PixelFormatName(image.format)) +
+                        ", not as configured (" + frame.status_detail + "); used as it decodes");
+    return i;
+  }
+  for (size_t i = 0; i < capture.frames.size(); ++i) {
+    const Frame& frame = capture.frames[i];
+    if (frame.status != FrameStatus::kCorrupt || frame.image.width != lattice.sensor_width ||
+        frame.image.height != lattice.sensor_height) {
+      continue;
+    }
+    StatusOr<SalvagedFrame> salvaged = SalvageTruncatedFrame(frame.image);
+    if (!salvaged.ok() || salvaged->complete_rows == 0) continue;
+    *bgr = salvaged->bgr;
+    *complete_rows = salvaged->complete_rows;
+    warnings->push_back(FrameName(capture, i) + " is truncated (" + std::to_string(salvaged->bytes_arrived) + " of " +
+                        std::to_string(salvaged->bytes_expected) + " bytes): using the views in its first " +
+                        std::to_string(salvaged->complete_rows) + " rows");
+    return i;
+  }
+  return capture.frames.size();
+}
+
 // Splits the lattice frame and makes the views, timing both stages.
 StatusOr<std::vector<View>> LatticeViews(const FrameSet& capture, const RigCalibration& rig,
                                          const CalibOptions& calib, std::vector<std::string>* warnings,
@@ -83,7 +122,12 @@ StatusOr<std::vector<View>> LatticeViews(const FrameSet& capture, const RigCalib
       break;
     }
   }
-  if (chosen == capture.frames.size()) return UnusableFrameError(capture, 0);
+  cv::Mat salvaged;                               // set when the chosen frame is not ok
+  int complete_rows = rig.lattice.sensor_height;  // rows of the sensor frame that arrived whole
+  if (chosen == capture.frames.size()) {
+    chosen = SalvageFrame(capture, rig.lattice, &salvaged, &complete_rows, warnings);
+    if (chosen == capture.frames.size()) return UnusableFrameError(capture, 0);
+  }
   for (size_t i = 0; i < capture.frames.size(); ++i) {
     if (i == chosen) continue;
     warnings->push_back(FrameName(capture, i) + " skipped: a lattice capture needs one frame, used frame " +
@@ -93,7 +137,7 @@ StatusOr<std::vector<View>> LatticeViews(const FrameSet& capture, const RigCalib
                              : std::string(" (this one is ") + std::string(FrameStatusName(capture.frames[i].status)) +
                                    ")"));
   }
-  StatusOr<cv::Mat> sensor = ToBgr(capture.frames[chosen].image);
+  StatusOr<cv::Mat> sensor = salvaged.empty() ? ToBgr(capture.frames[chosen].image) : StatusOr<cv::Mat>(salvaged);
   if (!sensor.ok()) return sensor.status().WithContext(FrameName(capture, chosen));
   StatusOr<std::vector<cv::Mat>> tiles = SplitLattice(*sensor, rig.lattice);
   if (!tiles.ok()) return tiles.status().WithContext(FrameName(capture, chosen));
@@ -105,6 +149,13 @@ StatusOr<std::vector<View>> LatticeViews(const FrameSet& capture, const RigCalib
   std::vector<View> usable;
   std::vector<std::string> blank;
   for (View& view : views) {
+    const cv::Rect& tile = rig.lattice.tiles[view.id.value].rect;
+    if (tile.br().y > complete_rows) {
+      blank.push_back("view " + std::to_string(view.id.value) + " was lost: its tile (rows " + std::to_string(tile.y) +
+                      ".." + std::to_string(tile.br().y - 1) + ") lies past the " + std::to_string(complete_rows) +
+                      " rows that arrived");
+      continue;
+    }
     cv::Mat grey;
     cv::cvtColor(view.image, grey, cv::COLOR_BGR2GRAY);
     cv::Scalar mean, stddev;

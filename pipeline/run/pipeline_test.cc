@@ -210,6 +210,64 @@ TEST_F(PipelineTest, SkipsBadFramesAndBlankLenses) {
   EXPECT_EQ(cv::norm((*views)[0].image, want, cv::NORM_INF), 0.0);
 }
 
+TEST_F(PipelineTest, TruncatedFrameGivesTheViewsThatArrivedWhole) {
+  FrameSet capture = Capture(sensor_);
+  // A short transfer: the buffer stops inside the third row of tiles (as a camera's DMA would).
+  const LatticeLayout& lattice = rig_.lattice;
+  const int cut_row = lattice.tiles[6].rect.y + 10;
+  std::vector<uint8_t>& bytes = capture.frames[0].image.bytes;
+  bytes.resize(static_cast<size_t>(cut_row) * lattice.sensor_width * 3 + 5);
+  capture.frames[0].status = FrameStatus::kCorrupt;
+  capture.frames[0].status_detail = "truncated";
+
+  std::vector<std::string> warnings;
+  StatusOr<std::vector<View>> views = MakeViewsFromCapture(capture, rig_, &warnings);
+  ASSERT_TRUE(views.ok()) << views.status().ToString();
+  ASSERT_EQ(views->size(), 6u);
+  for (const View& view : *views) EXPECT_LT(view.id.value, 6);
+  ASSERT_EQ(warnings.size(), 4u);
+  EXPECT_NE(warnings[0].find("is truncated"), std::string::npos) << warnings[0];
+  EXPECT_NE(warnings[0].find("using the views in its first " + std::to_string(cut_row) + " rows"), std::string::npos)
+      << warnings[0];
+  EXPECT_NE(warnings[1].find("view 6 was lost"), std::string::npos) << warnings[1];
+  // The views that arrived are exact.
+  cv::Mat want, want_depth;
+  scene_.Render(rig_.lenses[3].camera, rig_.lenses[3].cam_from_rig, &want, &want_depth);
+  EXPECT_EQ(cv::norm((*views)[3].image, want, cv::NORM_INF), 0.0);
+
+  // The whole pipeline makes a clip from them.
+  CollectingSink sink;
+  StatusOr<PipelineReport> report = RunPipeline(capture, rig_, ShortClip(), &sink);
+  ASSERT_TRUE(report.ok()) << report.status().ToString();
+  EXPECT_EQ(report->num_views, 6);
+  EXPECT_EQ(sink.frames.size(), 10u);
+
+  // Cut inside the first row of tiles: not two views left, and the error says why.
+  bytes.resize(static_cast<size_t>(lattice.tiles[0].rect.y + 5) * lattice.sensor_width * 3);
+  const Status status = RunPipeline(capture, rig_, ShortClip(), &sink).status();
+  EXPECT_EQ(status.code(), StatusCode::kFailedPrecondition);
+  EXPECT_NE(status.message().find("only 0 of 9 views show the scene; view 0 was lost"), std::string::npos)
+      << status.message();
+}
+
+TEST_F(PipelineTest, FrameInAnotherPixelFormatIsUsedAsItDecodes) {
+  FrameSet capture = Capture(sensor_);
+  capture.frames[0].image = FromBgr(sensor_, PixelFormat::kNv12).value();
+  capture.frames[0].status = FrameStatus::kWrongFormat;
+  capture.frames[0].status_detail = "got NV12, want RGB888";
+  std::vector<std::string> warnings;
+  StatusOr<std::vector<View>> views = MakeViewsFromCapture(capture, rig_, &warnings);
+  ASSERT_TRUE(views.ok()) << views.status().ToString();
+  EXPECT_EQ(views->size(), 9u);
+  ASSERT_EQ(warnings.size(), 1u);
+  EXPECT_NE(warnings[0].find("came as NV12, not as configured"), std::string::npos) << warnings[0];
+  // A frame of the wrong size cannot be split by this rig's lattice.
+  cv::Mat small;
+  cv::resize(sensor_, small, cv::Size(), 0.5, 0.5);
+  capture.frames[0].image = FromBgr(small, PixelFormat::kRgb888).value();
+  EXPECT_EQ(MakeViewsFromCapture(capture, rig_, &warnings).status().code(), StatusCode::kInvalidArgument);
+}
+
 TEST_F(PipelineTest, RejectsWhatItCannotDo) {
   CollectingSink sink;
   FrameSet image_set = Capture(sensor_);
