@@ -3,6 +3,7 @@
 
 #include "device/cli/bench_command.h"
 #include "device/cli/clip_command.h"
+#include "device/cli/eval_command.h"
 #include "device/cli/sim_command.h"
 #include "pipeline/core/log.h"
 
@@ -18,6 +19,7 @@ int main(int argc, char** argv) {
   px::cli::AddSimCommand(app);
   px::cli::AddClipCommand(app);
   px::cli::AddBenchCommand(app);
+  px::cli::AddEvalCommand(app);
   CLI11_PARSE(app, argc, argv);
   return 0;
 }

@@ -3,6 +3,7 @@
 #   pipeline/  includes only pipeline/
 #   drivers/   includes only drivers/ and pipeline/core/
 #   sim/       includes only sim/, drivers/source/ (the frame-source interface) and pipeline/core/
+#   eval/      includes only eval/, pipeline/, sim/ and drivers/source/
 #   device/    may include everything
 # Test sources (*_test.*, *_benchmark.*, *test_util*) may also include tests/ helpers.
 # The CMake link lists enforce the same at link time; this names the offending line.
@@ -14,10 +15,11 @@ endif()
 set(allowed_pipeline "pipeline/")
 set(allowed_drivers "drivers/;pipeline/core/")
 set(allowed_sim "sim/;drivers/source/;pipeline/core/")
+set(allowed_eval "eval/;pipeline/;sim/;drivers/source/")
 
 set(violations 0)
 set(checked 0)
-foreach(module pipeline drivers sim)
+foreach(module pipeline drivers sim eval)
   file(GLOB_RECURSE sources RELATIVE "${SOURCE_DIR}" "${SOURCE_DIR}/${module}/*.h" "${SOURCE_DIR}/${module}/*.cc")
   foreach(source IN LISTS sources)
     math(EXPR checked "${checked} + 1")
@@ -46,4 +48,4 @@ endforeach()
 if(violations GREATER 0)
   message(FATAL_ERROR "${violations} include(s) break the module layering")
 endif()
-message(STATUS "layering: ${checked} files of pipeline/, drivers/ and sim/ include only what they may")
+message(STATUS "layering: ${checked} files of pipeline/, drivers/, sim/ and eval/ include only what they may")
