@@ -20,6 +20,8 @@ if(PX_BUILD_TESTS)
 endif()
 if(PX_BUILD_TESTS)
   find_package(GTest REQUIRED)
+  # Tests decode animated WebP clips back (FFmpeg 5.1 has no animated WebP decoder).
+  pkg_check_modules(WEBPDEMUX REQUIRED IMPORTED_TARGET libwebpdemux)
 endif()
 if(PX_BUILD_BENCHMARKS)
   find_package(benchmark REQUIRED)

@@ -8,6 +8,7 @@
 
 #include <opencv2/core.hpp>
 
+#include "pipeline/clip/clip_writer.h"
 #include "pipeline/core/status.h"
 
 namespace px::clip {
@@ -19,18 +20,15 @@ struct Mp4Options {
   Status Validate() const;
 };
 
-class Mp4Writer {
+class Mp4Writer : public ClipWriter {
  public:
   // Opens `path` for writing frames of width x height (odd sizes are cropped by one pixel:
   // yuv420p needs even sizes). The caller owns atomicity: write to a temporary name, then rename.
   static StatusOr<std::unique_ptr<Mp4Writer>> Open(const std::filesystem::path& path, int width, int height,
                                                    const Mp4Options& options);
-  virtual ~Mp4Writer() = default;
-  // `bgr` is CV_8UC3 of the size given to Open.
-  virtual Status Write(const cv::Mat& bgr) = 0;
-  // Flushes the encoder and writes the index at the front (faststart). Must be called once.
-  virtual Status Finish() = 0;
-  virtual int FramesWritten() const = 0;
+
+ protected:
+  using ClipWriter::ClipWriter;
 };
 
 }  // namespace px::clip

@@ -1,5 +1,7 @@
 #include "pipeline/clip/mp4_writer.h"
 
+#include "pipeline/clip/clip_test_util.h"
+
 #include <cmath>
 #include <fstream>
 #include <string>
@@ -32,20 +34,8 @@ class Mp4WriterTest : public ::testing::Test {
   std::filesystem::path dir_;
 };
 
-// A smooth moving pattern (gradients and a drifting disc): compressible, and any frame
-// mix-up shows.
 cv::Mat PatternFrame(int width, int height, int index) {
-  cv::Mat frame(height, width, CV_8UC3);
-  for (int y = 0; y < height; ++y) {
-    for (int x = 0; x < width; ++x) {
-      frame.at<cv::Vec3b>(y, x) = cv::Vec3b(static_cast<uint8_t>(40 + 150 * x / width),
-                                            static_cast<uint8_t>(60 + 120 * y / height),
-                                            static_cast<uint8_t>(128 + 90 * std::sin(0.05 * (x + y) + 0.3 * index)));
-    }
-  }
-  cv::circle(frame, cv::Point(20 + 4 * index, height / 2), height / 6, cv::Scalar(230, 230, 240), cv::FILLED,
-             cv::LINE_AA);
-  return frame;
+  return testing::PatternFrame(width, height, index, cv::Scalar(230, 230, 240), 4);
 }
 
 // What a player sees: stream facts and every decoded frame, converted back to BGR.

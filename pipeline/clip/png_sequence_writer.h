@@ -1,0 +1,14 @@
+// Clip output as a folder of PNG frames (OpenCV's PNG codec). Use OpenClipWriter (clip_writer.h), which validates the options.
+#pragma once
+
+#include <filesystem>
+#include <memory>
+
+#include "pipeline/clip/clip_writer.h"
+
+namespace px::clip {
+
+StatusOr<std::unique_ptr<ClipWriter>> OpenPngSequenceWriter(const std::filesystem::path& path, int width, int height,
+                                                     const ClipOptions& options);
+
+}  // namespace px::clip
