@@ -49,6 +49,10 @@ StatusOr<nlohmann::json> FetchClipReply(const std::string& id, const std::option
   }
   if (record->clip_path.empty()) return NotFoundError("job " + id + ": its clip is gone: " + record->note);
   std::error_code ec;
+  if (std::filesystem::is_directory(record->clip_path, ec)) {
+    return FailedPreconditionError("job " + id + ": its clip is a folder of PNG frames (clip.format png), not one "
+                                   "file; read the frames from " + record->clip_path);
+  }
   const uint64_t size = std::filesystem::file_size(record->clip_path, ec);
   if (ec) return DataLossError("job " + id + ": clip " + record->clip_path + " is missing: " + ec.message());
   if (inline_bytes && size > kMaxInlineClipBytes) {

@@ -22,18 +22,19 @@ double MillisecondsSince(Clock::time_point start) {
   return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
 }
 
-// Streams rendered frames into an Mp4Writer opened on the first frame (its size is the
-// pipeline's choice), timing the encoder apart from rendering.
-class Mp4Sink final : public FrameSink {
+// Streams rendered frames into a ClipWriter opened on the first frame (its size is the
+// pipeline's choice: the clip has the rendered frames' size), timing the encoder apart from
+// rendering.
+class ClipSink final : public FrameSink {
  public:
-  Mp4Sink(fs::path path, clip::Mp4Options options) : path_(std::move(path)), options_(std::move(options)) {}
+  ClipSink(fs::path path, clip::ClipOptions options) : path_(std::move(path)), options_(std::move(options)) {}
 
   Status Consume(int index, const cv::Mat& bgr) override {
     const auto start = Clock::now();
     if (!writer_) {
-      PX_ASSIGN_OR_RETURN(writer_, clip::Mp4Writer::Open(path_, bgr.cols, bgr.rows, options_));
-      width_ = bgr.cols & ~1;  // yuv420p: the writer crops odd sizes by one pixel
-      height_ = bgr.rows & ~1;
+      PX_ASSIGN_OR_RETURN(writer_, clip::OpenClipWriter(path_, bgr.cols, bgr.rows, options_));
+      width_ = writer_->StoredWidth();
+      height_ = writer_->StoredHeight();
     }
     Status written = writer_->Write(bgr);
     encode_ms_ += MillisecondsSince(start);
@@ -56,21 +57,21 @@ class Mp4Sink final : public FrameSink {
 
  private:
   fs::path path_;
-  clip::Mp4Options options_;
-  std::unique_ptr<clip::Mp4Writer> writer_;
+  clip::ClipOptions options_;
+  std::unique_ptr<clip::ClipWriter> writer_;
   int width_ = 0;
   int height_ = 0;
   double encode_ms_ = 0;
 };
 
-// Removes a file on scope exit unless released (the temporary clip of a failed job).
+// Removes a file or folder on scope exit unless released (the temporary clip of a failed job).
 class RemoveOnExit {
  public:
   explicit RemoveOnExit(fs::path path) : path_(std::move(path)) {}
   ~RemoveOnExit() {
     if (!path_.empty()) {
       std::error_code ec;
-      fs::remove(path_, ec);
+      fs::remove_all(path_, ec);
     }
   }
   RemoveOnExit(const RemoveOnExit&) = delete;
@@ -81,11 +82,42 @@ class RemoveOnExit {
   fs::path path_;
 };
 
+// Bytes of a file, or of every file under a folder (a PNG clip).
+uint64_t BytesOf(const fs::path& path) {
+  std::error_code ec;
+  if (!fs::is_directory(path, ec)) return fs::file_size(path, ec);
+  uint64_t total = 0;
+  for (fs::recursive_directory_iterator it(path, ec), end; !ec && it != end; it.increment(ec)) {
+    std::error_code size_ec;
+    if (it->is_regular_file(size_ec)) total += it->file_size(size_ec);
+  }
+  return total;
+}
+
+// Puts the finished temporary in place. A file replaces an older clip of the same name
+// atomically; a folder cannot replace a non-empty folder, so an older one is moved aside first
+// and removed once the new one is in place.
+Status PutInPlace(const fs::path& temp, const fs::path& clip_path) {
+  std::error_code ec;
+  if (!fs::is_directory(temp, ec) || !fs::exists(clip_path, ec)) return RenameDurably(temp, clip_path);
+  const fs::path old = TemporaryPathFor(clip_path);
+  PX_RETURN_IF_ERROR(RenameDurably(clip_path, old));
+  PX_RETURN_IF_ERROR(RenameDurably(temp, clip_path));
+  fs::remove_all(old, ec);
+  return OkStatus();
+}
+
 }  // namespace
+
+fs::path ClipPathForFormat(const fs::path& path, clip::ClipFormat format) {
+  fs::path with_format = path;
+  with_format.replace_extension(clip::ClipFormatExtension(format));
+  return with_format;
+}
 
 Status ClipJobOptions::Validate() const {
   PX_RETURN_IF_ERROR(pipeline.Validate());
-  clip::Mp4Options effective = mp4;
+  clip::ClipOptions effective = clip;
   effective.fps = pipeline.direct.fps;
   return effective.Validate();
 }
@@ -98,6 +130,7 @@ nlohmann::json ClipJobReportToJson(const ClipJobReport& report) {
       {"recording", report.recording_dir.string()},
       {"source", report.source_model},
       {"created_at", NowIso8601Utc()},
+      {"format", report.format},
       {"frames", report.frames_written},
       {"width", report.width},
       {"height", report.height},
@@ -145,11 +178,12 @@ StatusOr<ClipJobReport> RunClipJob(const fs::path& recording_dir,
             recording.frames.frames.size(),
             MillisecondsSince(read_start));
 
-  clip::Mp4Options mp4 = options.mp4;
-  mp4.fps = options.pipeline.direct.fps;
+  clip::ClipOptions clip_options = options.clip;
+  clip_options.fps = options.pipeline.direct.fps;
+  report.format = std::string(clip::ClipFormatName(clip_options.format));
   const fs::path temp = TemporaryPathFor(report.clip_path);
   RemoveOnExit remove_temp(temp);
-  Mp4Sink sink(temp, mp4);
+  ClipSink sink(temp, clip_options);
   StatusOr<PipelineReport> pipeline = RunPipeline(recording.frames, rig, options.pipeline, &sink, progress);
   if (!pipeline.ok()) return pipeline.status();
   report.pipeline = std::move(pipeline).value();
@@ -164,15 +198,16 @@ StatusOr<ClipJobReport> RunClipJob(const fs::path& recording_dir,
   PX_RETURN_IF_ERROR(FsyncFile(temp));
   // The last point where the job can still stop (or a crash test pause) before the clip appears.
   if (progress && !progress("encode", 1.0)) return CancelledError("clip job cancelled before the clip was put in place");
-  PX_RETURN_IF_ERROR(RenameDurably(temp, report.clip_path));
+  PX_RETURN_IF_ERROR(PutInPlace(temp, report.clip_path));
   remove_temp.Release();
   RemoveOnExit remove_clip(report.clip_path);  // until the report is beside it
-  report.clip_bytes = fs::file_size(report.clip_path, ec);
+  report.clip_bytes = BytesOf(report.clip_path);
   report.total_ms = MillisecondsSince(start);
   PX_RETURN_IF_ERROR(WriteFileAtomically(report.report_path, ClipJobReportToJson(report).dump(2) + "\n"));
   remove_clip.Release();
-  log->info("clip job: wrote {} ({} frames {}x{}, {:.2f} MB, encode {:.0f} ms) in {:.0f} ms",
+  log->info("clip job: wrote {} ({} {} frames {}x{}, {:.2f} MB, encode {:.0f} ms) in {:.0f} ms",
             report.clip_path.string(),
+            report.format,
             report.frames_written,
             report.width,
             report.height,

@@ -1,7 +1,8 @@
 // The one capture-to-clip job, shared by the daemon and the `parallax` command line: read a
-// recording, run the pipeline, stream the frames into an MP4 beside the destination, then put
-// the clip in place atomically with its camera path and report (clips/<id>.json) beside it.
-// A failed or cancelled job leaves no clip file behind.
+// recording, run the pipeline, stream the frames into a clip (MP4, GIF, WebP or a folder of PNG
+// frames; pipeline/clip) beside the destination, then put the clip in place atomically with its
+// camera path and report (clips/<id>.json) beside it. A failed or cancelled job leaves no clip
+// behind.
 #pragma once
 
 #include <cstdint>
@@ -9,14 +10,14 @@
 #include <nlohmann/json_fwd.hpp>
 #include <string>
 
-#include "pipeline/clip/mp4_writer.h"
+#include "pipeline/clip/clip_writer.h"
 #include "pipeline/run/pipeline.h"
 
 namespace px::device {
 
 struct ClipJobOptions {
   PipelineOptions pipeline;  // depth, camera path (move, duration_s, fps), render, threads
-  clip::Mp4Options mp4;      // crf, preset; its fps is replaced by pipeline.direct.fps
+  clip::ClipOptions clip;    // format, crf, preset, loop; its fps is replaced by pipeline.direct.fps
   Status Validate() const;
 };
 
@@ -27,7 +28,8 @@ struct ClipJobReport {
   std::string source_model;           // from the recording: "sim:sim-pop9", ...
   PipelineReport pipeline;            // views, warnings, per-stage timings (with "encode"), camera path
   int frames_written = 0;
-  int width = 0;  // encoded size (even)
+  std::string format;  // "mp4", "gif", "webp" or "png"
+  int width = 0;  // stored size (MP4: even)
   int height = 0;
   uint64_t clip_bytes = 0;
   double total_ms = 0;  // read to rename, wall clock
@@ -37,12 +39,18 @@ struct ClipJobReport {
 // warnings and timings.
 nlohmann::json ClipJobReportToJson(const ClipJobReport& report);
 
-// Errors: the recording's read error (naming its file), FAILED_PRECONDITION when a lattice frame
-// comes without a rig calibration, the pipeline's error, the encoder's, or RESOURCE_EXHAUSTED
-// when the disk fills. CANCELLED when `progress` returned false.
+// `clip_path` is the file to write (a folder for png). Errors: the recording's read error (naming
+// its file), FAILED_PRECONDITION when a lattice frame comes without a rig calibration, the
+// pipeline's error, the encoder's, or RESOURCE_EXHAUSTED when the disk fills. CANCELLED when
+// `progress` returned false.
 StatusOr<ClipJobReport> RunClipJob(const std::filesystem::path& recording_dir,
                                    const std::filesystem::path& clip_path,
                                    const ClipJobOptions& options,
                                    const ProgressCallback& progress = {});
+
+// Where a clip of `format` goes for a destination named without regard to format: `path` with
+// its extension replaced by the format's (clips/000007.mp4 -> clips/000007.gif; png: the folder
+// clips/000007).
+std::filesystem::path ClipPathForFormat(const std::filesystem::path& path, clip::ClipFormat format);
 
 }  // namespace px::device

@@ -5,6 +5,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "tests/testing/animation_probe.h"
 #include "tests/testing/video_probe.h"
 #include "device/source_registry.h"
 #include "pipeline/core/durable_file.h"
@@ -25,7 +26,7 @@ ClipJobOptions SmallClipOptions() {
   ClipJobOptions options;
   options.pipeline.direct.duration_s = 0.5;
   options.pipeline.direct.fps = 10;
-  options.mp4.preset = "ultrafast";
+  options.clip.preset = "ultrafast";
   return options;
 }
 
@@ -92,6 +93,42 @@ TEST_F(ClipJobTest, MakesAPlayableClipWithItsCameraPathBesideIt) {
   EXPECT_EQ(path->fps, 10);
 }
 
+// Each format through the whole job: the clip decodes with the job's frame count and size, the
+// report names the format, and a second run replaces the first clip (a PNG folder too).
+TEST_F(ClipJobTest, WritesEveryClipFormat) {
+  const fs::path recording = SaveSimRecording();
+  const int want_frames = NumFrames(10, 0.5);
+  for (clip::ClipFormat format : {clip::ClipFormat::kGif, clip::ClipFormat::kWebp, clip::ClipFormat::kPng}) {
+    SCOPED_TRACE(std::string(clip::ClipFormatName(format)));
+    ClipJobOptions options = SmallClipOptions();
+    options.clip.format = format;
+    const fs::path clip = ClipPathForFormat(dir() / "clips" / "000002.mp4", format);
+    for (int run = 0; run < 2; ++run) {
+      auto report = RunClipJob(recording, clip, options);
+      ASSERT_TRUE(report.ok()) << report.status().ToString();
+      EXPECT_EQ(report->format, clip::ClipFormatName(format));
+      EXPECT_EQ(report->frames_written, want_frames);
+      EXPECT_GT(report->clip_bytes, 0u);
+    }
+    if (format == clip::ClipFormat::kPng) {
+      EXPECT_EQ(clip.filename(), "000002");
+      int frames = 0;
+      for (const auto& entry : fs::directory_iterator(clip)) frames += entry.path().extension() == ".png";
+      EXPECT_EQ(frames, want_frames);
+    } else {
+      auto probe = px::testing::ProbeAnimation(clip);
+      ASSERT_TRUE(probe.ok()) << probe.status().ToString();
+      EXPECT_EQ(probe->frames, want_frames);
+      EXPECT_EQ(probe->plays, 0);
+    }
+    auto text = ReadFileToString(dir() / "clips" / "000002.json");
+    ASSERT_TRUE(text.ok());
+    EXPECT_EQ(nlohmann::json::parse(*text)["format"], clip::ClipFormatName(format));
+  }
+  // Only the clips and their report: no temporaries, no older PNG folder left aside.
+  EXPECT_EQ(ClipsFolder(), (std::vector<std::string>{"000002", "000002.gif", "000002.json", "000002.webp"}));
+}
+
 TEST_F(ClipJobTest, LatticeRecordingWithoutRigFailsAndLeavesNoClip) {
   const fs::path recording = SaveSimRecording(/*with_rig=*/false);
   auto report = RunClipJob(recording, dir() / "clips" / "x.mp4", SmallClipOptions());
@@ -120,7 +157,7 @@ TEST_F(ClipJobTest, MissingRecordingIsNotFound) {
 
 TEST(ClipJobOptionsTest, BadOptionsNameTheField) {
   ClipJobOptions options = SmallClipOptions();
-  options.mp4.crf = 99;
+  options.clip.crf = 99;
   EXPECT_THAT(options.Validate().message(), HasSubstr("crf"));
 }
 

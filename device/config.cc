@@ -5,6 +5,7 @@
 #include <sstream>
 
 #include "device/trigger/key_codes.h"
+#include "pipeline/clip/clip_writer.h"
 #include "pipeline/core/durable_file.h"
 #include "pipeline/core/json_fields.h"
 #include "pipeline/core/pixel_format.h"
@@ -221,6 +222,13 @@ Status DaemonConfig::Validate() const {
                                 "' is not one of ultrafast, superfast, veryfast, faster, fast, medium, slow, "
                                 "slower, veryslow");
   }
+  if (Status format = clip::ParseClipFormat(clip.format).status(); !format.ok()) return format;
+  if (clip.loop_count < 0 || clip.loop_count > 65535) {
+    return RangeError("clip.loop_count", clip.loop_count, "[0, 65535] (0 = forever)");
+  }
+  if (clip.webp_quality < 0 || clip.webp_quality > 100) {
+    return RangeError("clip.webp_quality", clip.webp_quality, "[0, 100]");
+  }
   if (clip.num_threads < 0 || clip.num_threads > 256) {
     return RangeError("clip.num_threads", clip.num_threads, "[0, 256] (0 = all cores)");
   }
@@ -294,8 +302,11 @@ StatusOr<DaemonConfig> DaemonConfigFromJson(const nlohmann::json& j) {
   PX_RETURN_IF_ERROR(clip.String("move", &config.clip.move));
   PX_RETURN_IF_ERROR(clip.Number("duration_s", &config.clip.duration_s));
   PX_RETURN_IF_ERROR(clip.Number("fps", &config.clip.fps));
+  PX_RETURN_IF_ERROR(clip.String("format", &config.clip.format));
   PX_RETURN_IF_ERROR(clip.Int("crf", &config.clip.crf));
   PX_RETURN_IF_ERROR(clip.String("preset", &config.clip.preset));
+  PX_RETURN_IF_ERROR(clip.Int("loop_count", &config.clip.loop_count));
+  PX_RETURN_IF_ERROR(clip.Int("webp_quality", &config.clip.webp_quality));
   PX_RETURN_IF_ERROR(clip.Int("num_threads", &config.clip.num_threads));
   PX_RETURN_IF_ERROR(clip.CheckNoUnknownFields());
 
@@ -355,8 +366,11 @@ nlohmann::json DaemonConfigToJson(const DaemonConfig& config) {
   j["clip"] = {{"move", config.clip.move},
                {"duration_s", config.clip.duration_s},
                {"fps", config.clip.fps},
+               {"format", config.clip.format},
                {"crf", config.clip.crf},
                {"preset", config.clip.preset},
+               {"loop_count", config.clip.loop_count},
+               {"webp_quality", config.clip.webp_quality},
                {"num_threads", config.clip.num_threads}};
   j["trigger"] = {{"input_device", config.trigger.input_device.string()},
                   {"key", config.trigger.key},

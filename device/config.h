@@ -75,8 +75,13 @@ struct ClipSettings {
   std::string move = "auto";        // camera move, see pipeline/direct/direct_options.h
   double duration_s = 3.0;          // clip length in seconds, (0, 60]
   double fps = 30.0;                // frames per second, (0, 240]
-  int crf = 20;                     // x264 quality, [0, 51]; lower is better and larger
-  std::string preset = "veryfast";  // x264 preset, ultrafast .. veryslow
+  // "mp4" (H.264), "gif" or "webp" (looping animations), or "png" (a folder of frames,
+  // clips/<id>/frame_00000.png ...); see pipeline/clip/README.md.
+  std::string format = "mp4";
+  int crf = 20;                     // x264 quality, [0, 51]; lower is better and larger (mp4)
+  std::string preset = "veryfast";  // x264 preset, ultrafast .. veryslow (mp4)
+  int loop_count = 0;               // times a gif or webp plays, [0, 65535]; 0 = forever
+  int webp_quality = 80;            // lossy WebP quality, [0, 100]
   int num_threads = 0;              // pipeline threads, 0 = all cores
 };
 

@@ -37,7 +37,7 @@ TEST(DaemonConfigTest, ReadsEveryField) {
                "sim": {"scene": "s.json", "camera": "integral5x4", "tile_width": 160, "tile_height": 120, "seed": 7},
                "replay": {"path": "/rec", "loop": false}},
     "clip": {"move": "establishing_dolly", "duration_s": 0.5, "fps": 10, "crf": 28, "preset": "ultrafast",
-             "num_threads": 2},
+             "num_threads": 2, "format": "gif", "loop_count": 2, "webp_quality": 60},
     "log": {"levels": "info,depth=debug"}})"));
   ASSERT_TRUE(config.ok()) << config.status().ToString();
   EXPECT_EQ(config->storage.root, "/data/px");
@@ -58,6 +58,9 @@ TEST(DaemonConfigTest, ReadsEveryField) {
   EXPECT_EQ(config->clip.crf, 28);
   EXPECT_EQ(config->clip.preset, "ultrafast");
   EXPECT_EQ(config->clip.num_threads, 2);
+  EXPECT_EQ(config->clip.format, "gif");
+  EXPECT_EQ(config->clip.loop_count, 2);
+  EXPECT_EQ(config->clip.webp_quality, 60);
   EXPECT_EQ(config->log_levels, "info,depth=debug");
 }
 
@@ -67,6 +70,9 @@ TEST(DaemonConfigTest, ErrorsNameTheField) {
   EXPECT_EQ(ErrorOf(R"({"clip": {"crf": 60}})"), "clip.crf: 60 is not in [0, 51]");
   EXPECT_EQ(ErrorOf(R"({"clip": {"duration_s": -1}})"), "clip.duration_s: -1 is not in (0, 60]");
   EXPECT_THAT(ErrorOf(R"({"clip": {"preset": "warp"}})"), HasSubstr("clip.preset: 'warp' is not one of"));
+  EXPECT_EQ(ErrorOf(R"({"clip": {"format": "avi"}})"), "clip.format: \"avi\" is not one of mp4, gif, webp, png");
+  EXPECT_EQ(ErrorOf(R"({"clip": {"loop_count": -1}})"), "clip.loop_count: -1 is not in [0, 65535] (0 = forever)");
+  EXPECT_EQ(ErrorOf(R"({"clip": {"webp_quality": 101}})"), "clip.webp_quality: 101 is not in [0, 100]");
   EXPECT_THAT(ErrorOf(R"({"source": {"kind": "webcam"}})"), HasSubstr("source.kind: 'webcam' is not one of sim, replay"));
   EXPECT_EQ(ErrorOf(R"({"source": {"sim": {"camera": "pop4"}}})"),
             "source.sim.camera: 'pop4' is not one of pop9, integral5x4");

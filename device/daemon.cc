@@ -511,6 +511,7 @@ std::optional<JobRecord> Daemon::ProcessJob(const std::string& id) {
   if (outcome.ok()) {
     PauseHereIfAsked("clip_written");
     record.state = JobState::kDone;
+    if (!outcome->clip_path.empty()) context.clip_path = outcome->clip_path;
     record.clip_path = context.clip_path.string();
     record.note = outcome->note;
     record.error.clear();

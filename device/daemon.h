@@ -58,6 +58,9 @@ struct JobContext {
 
 struct JobOutcome {
   std::string note;  // one line for the log and the journal: "90 frames, 9 views, 1.2 MB"
+  // Where the clip went, when the runner chose another name than JobContext::clip_path (another
+  // clip format's extension); empty = that path.
+  std::filesystem::path clip_path;
 };
 
 // Turns a saved capture into a clip. The daemon uses RunClipJob (clip_job.h); tests may pass a

@@ -19,9 +19,12 @@ StatusOr<ClipJobOptions> ClipJobOptionsFromConfig(const DaemonConfig& config) {
   options.pipeline.direct.duration_s = config.clip.duration_s;
   options.pipeline.direct.fps = config.clip.fps;
   options.pipeline.num_threads = config.clip.num_threads;
-  options.mp4.fps = config.clip.fps;
-  options.mp4.crf = config.clip.crf;
-  options.mp4.preset = config.clip.preset;
+  options.clip.format = clip::ParseClipFormat(config.clip.format).value();  // DaemonConfig::Validate checked it
+  options.clip.fps = config.clip.fps;
+  options.clip.crf = config.clip.crf;
+  options.clip.preset = config.clip.preset;
+  options.clip.loop_count = config.clip.loop_count;
+  options.clip.webp_quality = config.clip.webp_quality;
   if (Status valid = options.Validate(); !valid.ok()) return valid.WithContext("clip");
   return options;
 }
@@ -50,8 +53,10 @@ JobRunner MakeClipJobRunner(const ClipJobOptions& options) {
   return [options](const JobContext& context) -> StatusOr<JobOutcome> {
     ClipJobOptions job_options = options;
     if (!context.move.empty()) job_options.pipeline.direct.move = context.move;  // set_move
+    // The daemon names clips/<id>.mp4; the configured format decides the real name.
+    const std::filesystem::path clip_path = ClipPathForFormat(context.clip_path, job_options.clip.format);
     PX_ASSIGN_OR_RETURN(ClipJobReport report,
-                        RunClipJob(context.capture_dir, context.clip_path, job_options, context.progress));
+                        RunClipJob(context.capture_dir, clip_path, job_options, context.progress));
     for (const std::string& warning : report.pipeline.warnings) {
       Logger("device")->warn("job {}: {}", context.job_id, warning);
     }
@@ -65,7 +70,7 @@ JobRunner MakeClipJobRunner(const ClipJobOptions& options) {
                   report.pipeline.num_views,
                   static_cast<double>(report.clip_bytes) / 1e6,
                   report.pipeline.warnings.empty() ? "" : ", with warnings");
-    return JobOutcome{note};
+    return JobOutcome{note, report.clip_path};
   };
 }
 

@@ -1,4 +1,4 @@
-// `parallax clip RECORDING -o OUT.mp4`: the offline pipeline on a recording.
+// `parallax clip RECORDING -o OUT.mp4` (or .gif, .webp, a PNG folder): the offline pipeline on a recording.
 #pragma once
 
 #include <CLI/CLI.hpp>

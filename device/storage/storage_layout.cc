@@ -50,6 +50,15 @@ Status StorageLayout::Prepare() const {
   return OkStatus();
 }
 
+fs::path StorageLayout::FindClip(const std::string& job_id) const {
+  std::error_code ec;
+  for (const char* extension : {".mp4", ".gif", ".webp", ""}) {
+    const fs::path candidate = ClipsDir() / (job_id + extension);
+    if (fs::exists(candidate, ec)) return candidate;
+  }
+  return ClipPath(job_id);
+}
+
 fs::path ClipReportPathFor(const fs::path& clip_path) {
   fs::path report = clip_path;
   report.replace_extension(".json");

@@ -1,6 +1,7 @@
 // Where the daemon keeps its files, all under one root:
 //   <root>/captures/<id>/   the raw capture as a recording (sim/replay/FORMAT.md), written first
-//   <root>/clips/<id>.mp4   the finished clip
+//   <root>/clips/<id>.mp4   the finished clip (.gif or .webp, or the folder <id>/ of PNG frames,
+//                           with another clip.format)
 //   <root>/clips/<id>.json  the camera path and the pipeline report for that clip
 //   <root>/jobs/<id>.json   the journal: one record per job (job_journal.h)
 #pragma once
@@ -34,6 +35,9 @@ class StorageLayout {
 
   std::filesystem::path CaptureDir(const std::string& job_id) const { return CapturesDir() / job_id; }
   std::filesystem::path ClipPath(const std::string& job_id) const { return ClipsDir() / (job_id + ".mp4"); }
+  // The job's clip as it exists on disk in whichever format it was made (mp4, gif, webp, or a
+  // folder of PNG frames); ClipPath() when there is none.
+  std::filesystem::path FindClip(const std::string& job_id) const;
   std::filesystem::path JobRecordPath(const std::string& job_id) const { return JobsDir() / (job_id + ".json"); }
 
   // Creates the folders (fsyncing each new one into its parent) and removes temporaries that a

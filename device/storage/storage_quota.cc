@@ -32,13 +32,13 @@ uint64_t BytesUnder(const fs::path& path) {
 
 // What one done job holds on disk: clip, report, capture.
 uint64_t JobBytes(const StorageLayout& layout, const std::string& id) {
-  const fs::path clip = layout.ClipPath(id);
+  const fs::path clip = layout.FindClip(id);
   return BytesUnder(clip) + BytesUnder(ClipReportPathFor(clip)) + BytesUnder(layout.CaptureDir(id));
 }
 
 bool HasFiles(const StorageLayout& layout, const std::string& id) {
   std::error_code ec;
-  return fs::exists(layout.ClipPath(id), ec) || fs::exists(layout.CaptureDir(id), ec);
+  return fs::exists(layout.FindClip(id), ec) || fs::exists(layout.CaptureDir(id), ec);
 }
 
 // Done jobs that may go, oldest first: not the newest done job, and only while they hold files.
@@ -92,8 +92,8 @@ Status Shortfall(const StorageLayout& layout, const StorageOptions& options, con
 
 Status Evict(const StorageLayout& layout, JobJournal* journal, const std::string& id, const std::string& why) {
   std::error_code ec;
-  const fs::path clip = layout.ClipPath(id);
-  fs::remove(clip, ec);
+  const fs::path clip = layout.FindClip(id);
+  fs::remove_all(clip, ec);
   if (ec) return ErrnoToStatus(ec.value(), "evict", clip);
   fs::remove(ClipReportPathFor(clip), ec);
   fs::remove_all(layout.CaptureDir(id), ec);
