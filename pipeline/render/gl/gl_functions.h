@@ -37,6 +37,7 @@ namespace px::render::gl {
   X(PFNGLBINDTEXTUREPROC, BindTexture)                                     \
   X(PFNGLACTIVETEXTUREPROC, ActiveTexture)                                 \
   X(PFNGLTEXIMAGE2DPROC, TexImage2D)                                       \
+  X(PFNGLTEXSUBIMAGE2DPROC, TexSubImage2D)                                       \
   X(PFNGLTEXIMAGE3DPROC, TexImage3D)                                       \
   X(PFNGLTEXSUBIMAGE3DPROC, TexSubImage3D)                                 \
   X(PFNGLTEXPARAMETERIPROC, TexParameteri)                                 \

@@ -1,0 +1,531 @@
+#include "pipeline/render/gl/gl_scene_renderer.h"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+
+#include <Eigen/Dense>
+#include <opencv2/core.hpp>
+
+#include "pipeline/core/log.h"
+#include "pipeline/render/gl/gl_program.h"
+#include "pipeline/render/gl/gl_render_shaders.h"
+#include "pipeline/render/hole_fill.h"
+
+namespace px::render::gl {
+namespace {
+
+constexpr int kFloatsPerInstance = 22;  // corners 8, homography 9, plane 3, segment 1, pad 1
+constexpr double kNearDepthM = 1e-3;
+
+std::string ViewName(const LayeredDepthView& view, int index) {
+  return "view " + std::to_string(index) + " (id " + std::to_string(view.id.value) + ")";
+}
+
+// A segment whose plane is finite with positive inverse depth at the four corners of its
+// rectangle (the bbox grown by one pixel).
+bool SegmentUsable(const DepthSegment& s) {
+  if (!std::isfinite(s.inv_depth_a) || !std::isfinite(s.inv_depth_b) || !std::isfinite(s.inv_depth_c)) return false;
+  if (s.bbox.width <= 0 || s.bbox.height <= 0) return false;
+  const double x0 = s.bbox.x - 1, x1 = s.bbox.x + s.bbox.width, y0 = s.bbox.y - 1, y1 = s.bbox.y + s.bbox.height;
+  for (double x : {x0, x1}) {
+    for (double y : {y0, y1}) {
+      if (s.inv_depth_a * x + s.inv_depth_b * y + s.inv_depth_c <= 0) return false;
+    }
+  }
+  return true;
+}
+
+Eigen::Matrix3f ToFloat(const Eigen::Matrix3d& m) { return m.cast<float>(); }
+
+void SetUniformMatrix3(const GlFunctions& gl, GLuint program, const char* name, const Eigen::Matrix3d& m) {
+  const Eigen::Matrix3f f = ToFloat(m);  // column-major, as GL wants with transpose = false
+  gl.UniformMatrix3fv(gl.GetUniformLocation(program, name), 1, GL_FALSE, f.data());
+}
+void SetUniform3(const GlFunctions& gl, GLuint program, const char* name, const Eigen::Vector3d& v) {
+  gl.Uniform3f(gl.GetUniformLocation(program, name), static_cast<float>(v.x()), static_cast<float>(v.y()),
+               static_cast<float>(v.z()));
+}
+void BindTextureUnit(const GlFunctions& gl, GLuint program, const char* name, int unit, GLuint texture) {
+  gl.ActiveTexture(GL_TEXTURE0 + unit);
+  gl.BindTexture(GL_TEXTURE_2D, texture);
+  gl.Uniform1i(gl.GetUniformLocation(program, name), unit);
+}
+
+StatusOr<GlObject> UploadTexture(const GlFunctions& gl, GLenum internal_format, GLenum format, GLenum type,
+                                 const cv::Mat& image, const std::string& what) {
+  PX_ASSIGN_OR_RETURN(GlObject texture, MakeTexture2D(gl, internal_format, image.cols, image.rows, what));
+  const cv::Mat contiguous = image.isContinuous() ? image : image.clone();
+  gl.BindTexture(GL_TEXTURE_2D, texture.id());
+  gl.PixelStorei(GL_UNPACK_ALIGNMENT, 1);
+  gl.TexSubImage2D(GL_TEXTURE_2D, 0, 0, 0, image.cols, image.rows, format, type, contiguous.data);
+  gl.BindTexture(GL_TEXTURE_2D, 0);
+  const std::string errors = DrainGlErrors(gl);
+  if (!errors.empty()) return InternalError(what + ": uploading raised " + errors);
+  return texture;
+}
+
+// Scene depth range rho of eq. (1) (ALGORITHM.md 1): the 1st to 99th percentile of layer-0 depth
+// over all views, at least 1% of the median.
+void SceneDepthRange(const std::vector<PosedLayeredView>& views, double* rho, double* median) {
+  std::vector<float> depths;
+  for (const PosedLayeredView& view : views) {
+    const LayeredDepthView& d = view.depth;
+    if (d.depth_m.type() != CV_32F || d.layers[0].weight.type() != CV_32F || d.depth_m.size() != d.layers[0].weight.size()) {
+      continue;
+    }
+    for (int y = 0; y < d.depth_m.rows; ++y) {
+      const float* z = d.depth_m.ptr<float>(y);
+      const float* w = d.layers[0].weight.ptr<float>(y);
+      for (int x = 0; x < d.depth_m.cols; ++x) {
+        if (w[x] > 0 && std::isfinite(z[x]) && z[x] > 0) depths.push_back(z[x]);
+      }
+    }
+  }
+  if (depths.empty()) {
+    *rho = 1.0, *median = 1.0;
+    return;
+  }
+  auto at = [&](double q) {
+    auto it = depths.begin() + static_cast<std::ptrdiff_t>(q * (depths.size() - 1));
+    std::nth_element(depths.begin(), it, depths.end());
+    return static_cast<double>(*it);
+  };
+  const double z1 = at(0.01), z50 = at(0.5), z99 = at(0.99);
+  *median = z50;
+  *rho = std::max(z99 - z1, 0.01 * z50);
+}
+
+}  // namespace
+
+StatusOr<std::unique_ptr<GlSceneRenderer>> GlSceneRenderer::Create(std::vector<PosedLayeredView> views,
+                                                                   const GlSceneRendererOptions& options) {
+  PX_RETURN_IF_ERROR(options.Validate());
+  if (views.empty()) return InvalidArgumentError("gl renderer: no views");
+  std::unique_ptr<GlSceneRenderer> renderer(new GlSceneRenderer());
+  PX_ASSIGN_OR_RETURN(renderer->context_, CreateGlContext(options.context));
+  renderer->views_ = std::move(views);
+  ScopedCurrent current(renderer->context_.get());
+  PX_RETURN_IF_ERROR(current.status());
+  PX_RETURN_IF_ERROR(renderer->Upload());
+  Logger("render")->info("gl renderer on {}: {} views, {} mesh triangles, rho {:.3f} m{}",
+                         renderer->context_->info().ToString(), renderer->views_.size(),
+                         renderer->mesh_.triangles.size(), renderer->rho_m_,
+                         renderer->warnings_.empty() ? "" : ", with warnings");
+  for (const std::string& warning : renderer->warnings_) Logger("render")->warn("gl renderer: {}", warning);
+  return renderer;
+}
+
+GlSceneRenderer::~GlSceneRenderer() {
+  if (!context_) return;
+  // GL objects are deleted while their context is current.
+  ScopedCurrent current(context_.get());
+  textures_.clear();
+  targets_.clear();
+  mesh_texture_.Reset();
+  weights_program_.Reset();
+  segment_program_.Reset();
+  resolve_program_.Reset();
+  empty_vertex_array_.Reset();
+  instance_vertex_array_.Reset();
+  instance_buffer_.Reset();
+}
+
+Status GlSceneRenderer::Upload() {
+  const GlFunctions& gl = context_->gl();
+  const int max_size = context_->info().max_texture_size;
+  std::vector<Eigen::Vector3d> centres, axes, x_axes;
+  for (int v = 0; v < static_cast<int>(views_.size()); ++v) {
+    LayeredDepthView& view = views_[v].depth;
+    const std::string name = ViewName(view, v);
+    const int w = view.camera.width, h = view.camera.height;
+    if (w > max_size || h > max_size) {
+      return InvalidArgumentError("gl renderer: " + name + " is " + std::to_string(w) + "x" + std::to_string(h) +
+                                  ", larger than the GL context's GL_MAX_TEXTURE_SIZE " + std::to_string(max_size));
+    }
+    for (int l = 0; l < 2; ++l) {
+      const SegmentLayer& layer = view.layers[l];
+      if (layer.colour.type() != CV_8UC3 || layer.weight.type() != CV_32F || layer.segment.type() != CV_32S ||
+          layer.colour.size() != cv::Size(w, h) || layer.weight.size() != cv::Size(w, h) ||
+          layer.segment.size() != cv::Size(w, h)) {
+        return InvalidArgumentError("gl renderer: " + name + " layer " + std::to_string(l) +
+                                    ": colour, weight and segment must be CV_8UC3, CV_32F and CV_32S of the camera's "
+                                    "size " + std::to_string(w) + "x" + std::to_string(h));
+      }
+    }
+    ViewTextures textures;
+    std::vector<bool> usable(view.segments.size());
+    int dropped_segments = 0;
+    for (size_t s = 0; s < view.segments.size(); ++s) {
+      usable[s] = SegmentUsable(view.segments[s]);
+      if (usable[s]) textures.kept_segments.push_back(static_cast<int>(s));
+      else ++dropped_segments;
+    }
+    int dropped_texels = 0;
+    int kept_texels = 0;
+    cv::Mat layer_rgba[2] = {cv::Mat(h, w, CV_8UC4), cv::Mat(h, w, CV_8UC4)};
+    cv::Mat ids(h, w, CV_32SC2);
+    for (int y = 0; y < h; ++y) {
+      for (int x = 0; x < w; ++x) {
+        cv::Vec2i id(-1, -1);
+        for (int l = 0; l < 2; ++l) {
+          const float weight = view.layers[l].weight.at<float>(y, x);
+          const int segment = view.layers[l].segment.at<int32_t>(y, x);
+          const cv::Vec3b c = view.layers[l].colour.at<cv::Vec3b>(y, x);
+          const bool segment_ok = segment >= 0 && segment < view.NumSegments() && usable[segment];
+          const bool weight_ok = std::isfinite(weight) && weight >= 0 && weight <= 1;
+          float kept = 0;
+          if (segment_ok && weight_ok && weight > 0) {
+            kept = weight;
+            id[l] = segment;
+            ++kept_texels;
+          } else if (!(weight == 0)) {  // NaN, out of range, or weight on a bad segment
+            ++dropped_texels;
+          }
+          layer_rgba[l].at<cv::Vec4b>(y, x) =
+              cv::Vec4b(c[0], c[1], c[2], cv::saturate_cast<uint8_t>(std::lround(kept * 255.0f)));
+        }
+        ids.at<cv::Vec2i>(y, x) = id;
+      }
+    }
+    if (dropped_segments > 0) {
+      warnings_.push_back(name + ": " + std::to_string(dropped_segments) + " of " +
+                          std::to_string(view.segments.size()) +
+                          " segments dropped (plane not finite or depth not positive over its rectangle)");
+    }
+    if (dropped_texels > 0) {
+      warnings_.push_back(name + ": " + std::to_string(dropped_texels) +
+                          " texels dropped (weight not finite or outside [0, 1], or its segment invalid or dropped)");
+    }
+    if (kept_texels == 0) {
+      warnings_.push_back(name + ": no texel with depth (no usable segment or weight); the view is left out");
+      textures.kept_segments.clear();
+    }
+    PX_ASSIGN_OR_RETURN(textures.layer0, UploadTexture(gl, GL_RGBA8, GL_RGBA, GL_UNSIGNED_BYTE, layer_rgba[0],
+                                                       name + " layer 0"));
+    PX_ASSIGN_OR_RETURN(textures.layer1, UploadTexture(gl, GL_RGBA8, GL_RGBA, GL_UNSIGNED_BYTE, layer_rgba[1],
+                                                       name + " layer 1"));
+    PX_ASSIGN_OR_RETURN(textures.segment_ids, UploadTexture(gl, GL_RG32I, GL_RG_INTEGER, GL_INT, ids,
+                                                            name + " segment ids"));
+    textures_.push_back(std::move(textures));
+  }
+  // The view mesh over the views that have something to draw; vertex views index views_.
+  std::vector<int> meshed;
+  for (int v = 0; v < static_cast<int>(views_.size()); ++v) {
+    if (textures_[v].kept_segments.empty()) continue;
+    meshed.push_back(v);
+    const Eigen::Matrix3d world_from_cam = views_[v].cam_from_world.RotationMatrix().transpose();
+    centres.push_back(CameraCentre(views_[v].cam_from_world));
+    axes.push_back(world_from_cam.col(2));
+    x_axes.push_back(world_from_cam.col(0));
+  }
+  if (meshed.empty()) return FailedPreconditionError("gl renderer: no view has a usable segment (no valid depth)");
+  PX_ASSIGN_OR_RETURN(mesh_, BuildGlViewMesh(centres, axes, x_axes));
+  for (int& view : mesh_.vertex_view) view = meshed[view];
+  const int mesh_width = std::max<int>({1, 3 * static_cast<int>(mesh_.triangles.size()),
+                                        2 * static_cast<int>(mesh_.outer_edges.size())});
+  cv::Mat mesh_texels(2, mesh_width, CV_32FC4, cv::Scalar::all(0));
+  auto texel = [&](int vertex) {
+    const Eigen::Vector2d& p = mesh_.vertices[vertex];
+    return cv::Vec4f(static_cast<float>(p.x()), static_cast<float>(p.y()), static_cast<float>(mesh_.vertex_view[vertex]), 0);
+  };
+  for (size_t t = 0; t < mesh_.triangles.size(); ++t) {
+    for (int k = 0; k < 3; ++k) mesh_texels.at<cv::Vec4f>(0, static_cast<int>(3 * t) + k) = texel(mesh_.triangles[t][k]);
+  }
+  for (size_t e = 0; e < mesh_.outer_edges.size(); ++e) {
+    for (int k = 0; k < 2; ++k) mesh_texels.at<cv::Vec4f>(1, static_cast<int>(2 * e) + k) = texel(mesh_.outer_edges[e][k]);
+  }
+  if (mesh_.single_view) mesh_.vertex_view[0] = meshed[0];
+  PX_ASSIGN_OR_RETURN(mesh_texture_, UploadTexture(gl, GL_RGBA32F, GL_RGBA, GL_FLOAT, mesh_texels, "view mesh"));
+  SceneDepthRange(views_, &rho_m_, &median_depth_m_);
+
+  PX_ASSIGN_OR_RETURN(weights_program_, BuildProgram(gl, "view_weights", kFullScreenVertexShader,
+                                                     kViewWeightsFragmentShader));
+  PX_ASSIGN_OR_RETURN(segment_program_, BuildProgram(gl, "segments", kSegmentVertexShader, kSegmentFragmentShader));
+  PX_ASSIGN_OR_RETURN(resolve_program_, BuildProgram(gl, "soft_z_resolve", kFullScreenVertexShader,
+                                                     kSoftZResolveFragmentShader));
+  empty_vertex_array_ = GlObject(&gl, GlObjectKind::kVertexArray);
+  instance_vertex_array_ = GlObject(&gl, GlObjectKind::kVertexArray);
+  instance_buffer_ = GlObject(&gl, GlObjectKind::kBuffer);
+  gl.BindVertexArray(instance_vertex_array_.id());
+  gl.BindBuffer(GL_ARRAY_BUFFER, instance_buffer_.id());
+  const GLsizei stride = kFloatsPerInstance * sizeof(float);
+  const std::array<std::pair<int, int>, 7> attributes = {{{4, 0}, {4, 4}, {3, 8}, {3, 11}, {3, 14}, {3, 17}, {1, 20}}};
+  for (int a = 0; a < static_cast<int>(attributes.size()); ++a) {
+    gl.EnableVertexAttribArray(a);
+    gl.VertexAttribPointer(a, attributes[a].first, GL_FLOAT, GL_FALSE, stride,
+                           reinterpret_cast<const void*>(static_cast<uintptr_t>(attributes[a].second * sizeof(float))));
+    gl.VertexAttribDivisor(a, 1);
+  }
+  gl.BindVertexArray(0);
+  const std::string errors = DrainGlErrors(gl);
+  if (!errors.empty()) return InternalError("gl renderer: setting up raised " + errors);
+  return OkStatus();
+}
+
+StatusOr<GlSceneRenderer::Targets*> GlSceneRenderer::TargetsFor(int width, int height) {
+  auto it = targets_.find({width, height});
+  if (it != targets_.end()) return &it->second;
+  const GlFunctions& gl = context_->gl();
+  Targets t;
+  const std::string size = std::to_string(width) + "x" + std::to_string(height);
+  PX_ASSIGN_OR_RETURN(t.slot_views, MakeTexture2D(gl, GL_RGBA32F, width, height, "slot views " + size));
+  PX_ASSIGN_OR_RETURN(t.slot_weights, MakeTexture2D(gl, GL_RGBA32F, width, height, "slot weights " + size));
+  PX_ASSIGN_OR_RETURN(t.weights_fbo, MakeFramebuffer(gl, {t.slot_views.id(), t.slot_weights.id()}, "weights " + size));
+  for (int k = 0; k < 3; ++k) {
+    PX_ASSIGN_OR_RETURN(t.colour[k], MakeTexture2D(gl, GL_RGBA16, width, height, "rendering buffer " + size));
+    PX_ASSIGN_OR_RETURN(t.depth[k], MakeTexture2D(gl, GL_RGBA16, width, height, "rendering buffer depth " + size));
+  }
+  PX_ASSIGN_OR_RETURN(t.slots_fbo, MakeFramebuffer(gl, {t.colour[0].id(), t.colour[1].id(), t.colour[2].id(),
+                                                        t.depth[0].id(), t.depth[1].id(), t.depth[2].id()},
+                                                   "rendering buffers " + size));
+  PX_ASSIGN_OR_RETURN(t.resolved_colour, MakeTexture2D(gl, GL_RGBA32F, width, height, "resolved colour " + size));
+  PX_ASSIGN_OR_RETURN(t.resolved_depth, MakeTexture2D(gl, GL_RGBA32F, width, height, "resolved depth " + size));
+  PX_ASSIGN_OR_RETURN(t.resolve_fbo, MakeFramebuffer(gl, {t.resolved_colour.id(), t.resolved_depth.id()},
+                                                     "resolve " + size));
+  return &targets_.emplace(std::make_pair(width, height), std::move(t)).first->second;
+}
+
+StatusOr<GlSceneRenderer::RawFrame> GlSceneRenderer::RenderRaw(const CameraModel& camera,
+                                                               const Rigid3& cam_from_world, bool with_slots) {
+  const GlFunctions& gl = context_->gl();
+  const int width = camera.width, height = camera.height;
+  PX_ASSIGN_OR_RETURN(Targets * t, TargetsFor(width, height));
+  const Eigen::Matrix3d k_novel = camera.K();
+  const Eigen::Matrix3d rotation = cam_from_world.RotationMatrix();
+  const Eigen::Vector3d centre = CameraCentre(cam_from_world);
+
+  // Pass 1: viewing weights.
+  gl.Disable(GL_BLEND);
+  gl.Viewport(0, 0, width, height);
+  gl.BindFramebuffer(GL_FRAMEBUFFER, t->weights_fbo.id());
+  gl.UseProgram(weights_program_.id());
+  GLuint p = weights_program_.id();
+  SetUniformMatrix3(gl, p, "dir_from_pixel", rotation.transpose() * k_novel.inverse());
+  SetUniform3(gl, p, "centre", centre);
+  SetUniform3(gl, p, "mesh_origin", mesh_.origin);
+  SetUniform3(gl, p, "mesh_normal", mesh_.normal);
+  SetUniform3(gl, p, "mesh_axis1", mesh_.axis1);
+  SetUniform3(gl, p, "mesh_axis2", mesh_.axis2);
+  BindTextureUnit(gl, p, "mesh", 0, mesh_texture_.id());
+  gl.Uniform1i(gl.GetUniformLocation(p, "num_triangles"), static_cast<int>(mesh_.triangles.size()));
+  gl.Uniform1i(gl.GetUniformLocation(p, "num_edges"), static_cast<int>(mesh_.outer_edges.size()));
+  gl.Uniform1i(gl.GetUniformLocation(p, "single_view"), mesh_.single_view ? 1 : 0);
+  gl.BindVertexArray(empty_vertex_array_.id());
+  gl.DrawArrays(GL_TRIANGLES, 0, 3);
+
+  // Pass 2: every view's segments, front to back, into the three rendering buffers.
+  std::vector<std::vector<float>> instances(views_.size());
+  double z_max = 0;
+  for (size_t v = 0; v < views_.size(); ++v) {
+    const LayeredDepthView& view = views_[v].depth;
+    const Eigen::Matrix3d k_source = view.camera.K();
+    const Rigid3 source_from_novel = views_[v].cam_from_world * cam_from_world.Inverse();
+    const Eigen::Matrix3d r_rel = source_from_novel.RotationMatrix();
+    const Eigen::Vector3d t_rel = source_from_novel.translation;
+    const Rigid3 novel_from_source = cam_from_world * views_[v].cam_from_world.Inverse();
+    struct Sorted {
+      double depth;
+      int segment;
+      std::array<float, kFloatsPerInstance> data;
+    };
+    std::vector<Sorted> sorted;
+    for (int s : textures_[v].kept_segments) {
+      const DepthSegment& seg = view.segments[s];
+      const Eigen::Vector3d plane_source = k_source.transpose() * Eigen::Vector3d(seg.inv_depth_a, seg.inv_depth_b, seg.inv_depth_c);
+      const double denominator = 1.0 - plane_source.dot(t_rel);
+      if (std::abs(denominator) < 1e-12) continue;  // the plane passes through the output camera
+      const Eigen::Vector3d plane_novel = r_rel.transpose() * plane_source / denominator;
+      const Eigen::Vector3d inv_depth_novel = k_novel.inverse().transpose() * plane_novel;
+      const Eigen::Matrix3d h = k_source * (r_rel + t_rel * plane_novel.transpose()) * k_novel.inverse();
+      const double x0 = seg.bbox.x - 1, x1 = seg.bbox.x + seg.bbox.width, y0 = seg.bbox.y - 1,
+                   y1 = seg.bbox.y + seg.bbox.height;
+      const std::array<Eigen::Vector2d, 4> corners = {Eigen::Vector2d(x0, y0), Eigen::Vector2d(x1, y0),
+                                                      Eigen::Vector2d(x1, y1), Eigen::Vector2d(x0, y1)};
+      Sorted item;
+      item.segment = s;
+      bool behind = false;
+      for (int c = 0; c < 4 && !behind; ++c) {
+        const double z_source = 1.0 / (seg.inv_depth_a * corners[c].x() + seg.inv_depth_b * corners[c].y() + seg.inv_depth_c);
+        const Eigen::Vector3d point = novel_from_source * (z_source * k_source.inverse() *
+                                                           Eigen::Vector3d(corners[c].x(), corners[c].y(), 1.0));
+        if (point.z() <= kNearDepthM) {
+          behind = true;
+          break;
+        }
+        z_max = std::max(z_max, point.z());
+        const Eigen::Vector3d projected = k_novel * point;
+        item.data[2 * c] = static_cast<float>(projected.x() / projected.z());
+        item.data[2 * c + 1] = static_cast<float>(projected.y() / projected.z());
+      }
+      if (behind) continue;
+      for (int r = 0; r < 3; ++r) {
+        for (int c = 0; c < 3; ++c) item.data[8 + 3 * r + c] = static_cast<float>(h(r, c));
+      }
+      for (int c = 0; c < 3; ++c) item.data[17 + c] = static_cast<float>(inv_depth_novel(c));
+      item.data[20] = static_cast<float>(s);
+      item.data[21] = 0;
+      const double cx = seg.bbox.x + (seg.bbox.width - 1) / 2.0, cy = seg.bbox.y + (seg.bbox.height - 1) / 2.0;
+      const double z_centre = 1.0 / (seg.inv_depth_a * cx + seg.inv_depth_b * cy + seg.inv_depth_c);
+      item.depth = (novel_from_source * (z_centre * k_source.inverse() * Eigen::Vector3d(cx, cy, 1.0))).z();
+      sorted.push_back(item);
+    }
+    std::sort(sorted.begin(), sorted.end(), [](const Sorted& a, const Sorted& b) {
+      return a.depth != b.depth ? a.depth < b.depth : a.segment < b.segment;
+    });
+    for (const Sorted& item : sorted) instances[v].insert(instances[v].end(), item.data.begin(), item.data.end());
+  }
+  const float z_scale = static_cast<float>(std::max(z_max, kNearDepthM) * 1.0001);
+
+  gl.BindFramebuffer(GL_FRAMEBUFFER, t->slots_fbo.id());
+  const float zero[4] = {0, 0, 0, 0};
+  for (int a = 0; a < 6; ++a) gl.ClearBufferfv(GL_COLOR, a, zero);
+  gl.Enable(GL_BLEND);
+  gl.BlendEquation(GL_FUNC_ADD);
+  gl.BlendFuncSeparate(GL_SRC_ALPHA_SATURATE, GL_ONE, GL_ONE, GL_ONE);
+  gl.UseProgram(segment_program_.id());
+  p = segment_program_.id();
+  gl.Uniform2f(gl.GetUniformLocation(p, "viewport_size"), static_cast<float>(width), static_cast<float>(height));
+  gl.Uniform1f(gl.GetUniformLocation(p, "z_scale"), z_scale);
+  BindTextureUnit(gl, p, "slot_views", 3, t->slot_views.id());
+  gl.BindVertexArray(instance_vertex_array_.id());
+  gl.BindBuffer(GL_ARRAY_BUFFER, instance_buffer_.id());
+  for (size_t v = 0; v < views_.size(); ++v) {
+    if (instances[v].empty()) continue;
+    BindTextureUnit(gl, p, "layer0", 0, textures_[v].layer0.id());
+    BindTextureUnit(gl, p, "layer1", 1, textures_[v].layer1.id());
+    BindTextureUnit(gl, p, "segment_ids", 2, textures_[v].segment_ids.id());
+    gl.Uniform1f(gl.GetUniformLocation(p, "view_index"), static_cast<float>(v));
+    gl.BufferData(GL_ARRAY_BUFFER, static_cast<GLsizeiptr>(instances[v].size() * sizeof(float)), instances[v].data(),
+                  GL_STREAM_DRAW);
+    gl.DrawArraysInstanced(GL_TRIANGLE_STRIP, 0, 4, static_cast<GLsizei>(instances[v].size() / kFloatsPerInstance));
+  }
+  gl.Disable(GL_BLEND);
+
+  // Pass 3: the soft z resolve.
+  gl.BindFramebuffer(GL_FRAMEBUFFER, t->resolve_fbo.id());
+  gl.UseProgram(resolve_program_.id());
+  p = resolve_program_.id();
+  const char* colour_names[3] = {"colour_slot0", "colour_slot1", "colour_slot2"};
+  const char* depth_names[3] = {"depth_slot0", "depth_slot1", "depth_slot2"};
+  for (int k = 0; k < 3; ++k) {
+    BindTextureUnit(gl, p, colour_names[k], k, t->colour[k].id());
+    BindTextureUnit(gl, p, depth_names[k], 3 + k, t->depth[k].id());
+  }
+  BindTextureUnit(gl, p, "slot_weights", 6, t->slot_weights.id());
+  gl.Uniform1f(gl.GetUniformLocation(p, "z_scale"), z_scale);
+  gl.Uniform1f(gl.GetUniformLocation(p, "rho"), static_cast<float>(rho_m_));
+  gl.Uniform1f(gl.GetUniformLocation(p, "gamma"), static_cast<float>(rho_m_ / 10));
+  gl.BindVertexArray(empty_vertex_array_.id());
+  gl.DrawArrays(GL_TRIANGLES, 0, 3);
+
+  RawFrame raw;
+  raw.colour_alpha.create(height, width, CV_32FC4);
+  raw.depth.create(height, width, CV_32FC4);
+  ReadAttachment(gl, 0, width, height, GL_RGBA, GL_FLOAT, raw.colour_alpha.data);
+  ReadAttachment(gl, 1, width, height, GL_RGBA, GL_FLOAT, raw.depth.data);
+  if (with_slots) {
+    gl.BindFramebuffer(GL_FRAMEBUFFER, t->weights_fbo.id());
+    raw.slot_views.create(height, width, CV_32FC4);
+    raw.slot_weights.create(height, width, CV_32FC4);
+    ReadAttachment(gl, 0, width, height, GL_RGBA, GL_FLOAT, raw.slot_views.data);
+    ReadAttachment(gl, 1, width, height, GL_RGBA, GL_FLOAT, raw.slot_weights.data);
+  }
+  gl.BindFramebuffer(GL_FRAMEBUFFER, 0);
+  gl.BindVertexArray(0);
+  const std::string errors = DrainGlErrors(gl);
+  if (!errors.empty()) return InternalError("gl renderer: a " + std::to_string(width) + "x" + std::to_string(height) +
+                                            " frame raised " + errors);
+  return raw;
+}
+
+StatusOr<FrameRender> GlSceneRenderer::Render(const VirtualCamera& camera) {
+  PX_RETURN_IF_ERROR(camera.Validate());
+  if (camera.aperture_m > 0 || !camera.effects.empty()) {
+    return UnimplementedError("gl renderer: depth of field (aperture_m " + std::to_string(camera.aperture_m) +
+                              ") and colour effects (" + std::to_string(camera.effects.size()) +
+                              ") are not on GL yet; use the cpu back end for such frames");
+  }
+  ScopedCurrent current(context_.get());
+  PX_RETURN_IF_ERROR(current.status());
+  PX_ASSIGN_OR_RETURN(RawFrame raw, RenderRaw(camera.camera, camera.cam_from_world, /*with_slots=*/true));
+  const int width = camera.camera.width, height = camera.camera.height;
+  FrameRender frame;
+  frame.bgr.create(height, width, CV_8UC3);
+  frame.depth_m.create(height, width, CV_32F);
+  frame.coverage.create(height, width, CV_8U);
+  cv::Mat partial_alpha(height, width, CV_32F, cv::Scalar(0));
+  cv::Mat partial_colour(height, width, CV_32FC3, cv::Scalar::all(0));
+  std::vector<double> view_weight(views_.size(), 0.0);
+  for (int y = 0; y < height; ++y) {
+    const cv::Vec4f* ca = raw.colour_alpha.ptr<cv::Vec4f>(y);
+    const cv::Vec4f* d = raw.depth.ptr<cv::Vec4f>(y);
+    const cv::Vec4f* sv = raw.slot_views.ptr<cv::Vec4f>(y);
+    const cv::Vec4f* sw = raw.slot_weights.ptr<cv::Vec4f>(y);
+    for (int x = 0; x < width; ++x) {
+      const float alpha = ca[x][3];
+      const bool covered = alpha >= 0.5f;
+      frame.coverage.at<uint8_t>(y, x) = covered ? 255 : 0;
+      frame.bgr.at<cv::Vec3b>(y, x) = covered ? cv::Vec3b(cv::saturate_cast<uint8_t>(ca[x][0]),
+                                                          cv::saturate_cast<uint8_t>(ca[x][1]),
+                                                          cv::saturate_cast<uint8_t>(ca[x][2]))
+                                              : cv::Vec3b(0, 0, 0);
+      frame.depth_m.at<float>(y, x) = covered ? d[x][0] : 0.0f;
+      if (!covered && alpha > 0) {
+        partial_alpha.at<float>(y, x) = alpha;
+        partial_colour.at<cv::Vec3f>(y, x) = cv::Vec3f(ca[x][0], ca[x][1], ca[x][2]);
+      }
+      for (int k = 0; k < 3; ++k) {
+        const int view = static_cast<int>(std::lround(sv[x][k]));
+        if (view >= 0 && view < static_cast<int>(views_.size())) view_weight[view] += sw[x][k];
+      }
+    }
+  }
+  const double holes = static_cast<double>(width) * height - cv::countNonZero(frame.coverage);
+  frame.holes.width = width;
+  frame.holes.height = height;
+  frame.holes.hole_ratio = holes / (static_cast<double>(width) * height);
+  frame.holes.hole_score = HoleScore(frame.coverage);
+  const float band = static_cast<float>(std::clamp(rho_m_ / std::max(median_depth_m_, 1e-6), 1e-3, 1.0));
+  FillHoles(frame.coverage, 3, band, &frame.bgr, &frame.depth_m);
+  // A soft edge with nothing behind it keeps its share over the fill (ALGORITHM.md 6).
+  for (int y = 0; y < height; ++y) {
+    for (int x = 0; x < width; ++x) {
+      const float a = partial_alpha.at<float>(y, x);
+      if (a <= 0) continue;
+      cv::Vec3b& out = frame.bgr.at<cv::Vec3b>(y, x);
+      const cv::Vec3f c = partial_colour.at<cv::Vec3f>(y, x);
+      for (int ch = 0; ch < 3; ++ch) out[ch] = cv::saturate_cast<uint8_t>(a * c[ch] + (1 - a) * out[ch]);
+    }
+  }
+  std::vector<int> order;
+  for (size_t v = 0; v < views_.size(); ++v) {
+    if (view_weight[v] > 0) order.push_back(static_cast<int>(v));
+  }
+  std::sort(order.begin(), order.end(), [&](int a, int b) { return view_weight[a] > view_weight[b]; });
+  for (int v : order) frame.sources.push_back(views_[v].depth.id);
+  return frame;
+}
+
+StatusOr<CoverageReport> GlSceneRenderer::Coverage(const CameraModel& camera, const Rigid3& cam_from_world) {
+  VirtualCamera check;
+  check.camera = camera;
+  check.cam_from_world = cam_from_world;
+  PX_RETURN_IF_ERROR(check.Validate());
+  ScopedCurrent current(context_.get());
+  PX_RETURN_IF_ERROR(current.status());
+  PX_ASSIGN_OR_RETURN(RawFrame raw, RenderRaw(camera, cam_from_world, /*with_slots=*/false));
+  cv::Mat coverage(camera.height, camera.width, CV_8U);
+  for (int y = 0; y < camera.height; ++y) {
+    const cv::Vec4f* ca = raw.colour_alpha.ptr<cv::Vec4f>(y);
+    for (int x = 0; x < camera.width; ++x) coverage.at<uint8_t>(y, x) = ca[x][3] >= 0.5f ? 255 : 0;
+  }
+  CoverageReport report;
+  report.width = camera.width;
+  report.height = camera.height;
+  report.hole_ratio = 1.0 - cv::countNonZero(coverage) / (static_cast<double>(camera.width) * camera.height);
+  report.hole_score = HoleScore(coverage);
+  return report;
+}
+
+}  // namespace px::render::gl

@@ -1,0 +1,97 @@
+// The real-time renderer of paper section 6.1 on headless GL (OSMesa or EGL), following
+// pipeline/render/ALGORITHM.md: the view mesh (CPU, once per scene) and the per-pixel viewing
+// weights in a shader; each view's segment images as textures and its segments drawn as
+// instanced textured rectangles front to back into the three rendering buffers multiplexed by
+// view (16-bit targets, saturating blend); the soft z-buffer of eq. (1) in a resolve shader;
+// coverage, H(V) and hole filling on the CPU after the float read-back.
+//
+// Not on GL yet (UNIMPLEMENTED, so a caller falls back to the CPU back end): colour effects and
+// depth of field (a VirtualCamera with effects or aperture_m > 0) and 1D (collinear) rigs. Hole
+// filling uses this folder's FillHoles (pipeline/render/hole_fill.h), not yet ALGORITHM.md 6's
+// exact pass rule.
+#pragma once
+
+#include <map>
+#include <memory>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "pipeline/core/layered_depth.h"
+#include "pipeline/core/rigid3.h"
+#include "pipeline/render/gl/gl_context.h"
+#include "pipeline/render/gl/gl_objects.h"
+#include "pipeline/render/gl/gl_view_mesh.h"
+#include "pipeline/render/scene_renderer.h"
+
+namespace px::render::gl {
+
+// One input view: its layered depth and where its camera was.
+struct PosedLayeredView {
+  LayeredDepthView depth;
+  Rigid3 cam_from_world;
+};
+
+struct GlSceneRendererOptions {
+  GlContextOptions context;
+  Status Validate() const { return context.Validate(); }
+};
+
+class GlSceneRenderer final : public SceneRenderer {
+ public:
+  // Creates the context, builds the view mesh and uploads every view's segment images. Bad
+  // texels (non-finite or out-of-range weights, segment indices out of range) and bad segments
+  // (non-finite planes, depth not positive over their rectangle) are dropped and counted in
+  // warnings(). Errors: no context (the platforms' reasons), a view larger than the context's
+  // GL_MAX_TEXTURE_SIZE, images of the wrong size or type (naming the view), shader errors.
+  static StatusOr<std::unique_ptr<GlSceneRenderer>> Create(std::vector<PosedLayeredView> views,
+                                                           const GlSceneRendererOptions& options = {});
+  ~GlSceneRenderer() override;
+
+  std::string_view BackendName() const override { return context_->BackendName(); }
+  StatusOr<FrameRender> Render(const VirtualCamera& camera) override;
+  StatusOr<CoverageReport> Coverage(const CameraModel& camera, const Rigid3& cam_from_world) override;
+
+  const GlContextInfo& context_info() const { return context_->info(); }
+  const std::vector<std::string>& warnings() const { return warnings_; }
+  double rho_m() const { return rho_m_; }
+
+ private:
+  struct ViewTextures {
+    GlObject layer0;
+    GlObject layer1;
+    GlObject segment_ids;
+    std::vector<int> kept_segments;  // segments that survived sanitising
+  };
+  struct Targets {  // per output size
+    GlObject slot_views, slot_weights, weights_fbo;
+    GlObject colour[3], depth[3], slots_fbo;
+    GlObject resolved_colour, resolved_depth, resolve_fbo;
+  };
+  // The resolved frame before hole filling: (B, G, R, alpha) and depth, CV_32FC4 and CV_32FC4.
+  struct RawFrame {
+    cv::Mat colour_alpha;
+    cv::Mat depth;
+    cv::Mat slot_views;    // CV_32FC4, only when asked for
+    cv::Mat slot_weights;  // CV_32FC4
+  };
+
+  GlSceneRenderer() = default;
+  Status Upload();
+  StatusOr<Targets*> TargetsFor(int width, int height);
+  StatusOr<RawFrame> RenderRaw(const CameraModel& camera, const Rigid3& cam_from_world, bool with_slots);
+
+  std::unique_ptr<GlContext> context_;
+  std::vector<PosedLayeredView> views_;
+  std::vector<ViewTextures> textures_;
+  GlViewMesh mesh_;
+  GlObject mesh_texture_;
+  GlObject weights_program_, segment_program_, resolve_program_;
+  GlObject empty_vertex_array_, instance_vertex_array_, instance_buffer_;
+  std::map<std::pair<int, int>, Targets> targets_;
+  double rho_m_ = 0;
+  double median_depth_m_ = 0;
+  std::vector<std::string> warnings_;
+};
+
+}  // namespace px::render::gl

@@ -1,0 +1,109 @@
+#include "pipeline/render/gl/gl_view_mesh.h"
+
+#include <algorithm>
+#include <map>
+
+#include <Eigen/Eigenvalues>
+#include <opencv2/imgproc.hpp>
+
+namespace px::render::gl {
+
+StatusOr<GlViewMesh> BuildGlViewMesh(const std::vector<Eigen::Vector3d>& centres_in_world,
+                                     const std::vector<Eigen::Vector3d>& optical_axes_in_world,
+                                     const std::vector<Eigen::Vector3d>& x_axes_in_world) {
+  const int n = static_cast<int>(centres_in_world.size());
+  if (n == 0) return InvalidArgumentError("view mesh: no views");
+  if (optical_axes_in_world.size() != centres_in_world.size() || x_axes_in_world.size() != centres_in_world.size()) {
+    return InvalidArgumentError("view mesh: " + std::to_string(n) + " centres but " +
+                                std::to_string(optical_axes_in_world.size()) + " optical axes and " +
+                                std::to_string(x_axes_in_world.size()) + " x axes");
+  }
+  GlViewMesh mesh;
+  Eigen::Vector3d mean_axis = Eigen::Vector3d::Zero();
+  Eigen::Vector3d mean_x = Eigen::Vector3d::Zero();
+  for (int i = 0; i < n; ++i) {
+    mesh.origin += centres_in_world[i] / n;
+    mean_axis += optical_axes_in_world[i] / n;
+    mean_x += x_axes_in_world[i] / n;
+  }
+  Eigen::Matrix3d scatter = Eigen::Matrix3d::Zero();
+  double spread = 0;
+  for (const Eigen::Vector3d& c : centres_in_world) {
+    scatter += (c - mesh.origin) * (c - mesh.origin).transpose();
+    spread = std::max(spread, (c - mesh.origin).norm());
+  }
+  mesh.vertex_view.push_back(0);
+  mesh.vertices.push_back(Eigen::Vector2d::Zero());
+  if (n == 1 || spread < 1e-9) {
+    mesh.single_view = true;
+    return mesh;
+  }
+  Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eigen(scatter);  // ascending eigenvalues
+  if (eigen.eigenvalues()(1) < 1e-6 * eigen.eigenvalues()(2)) {
+    return UnimplementedError("view mesh: the " + std::to_string(n) +
+                              " view centres are collinear (a 1D rig); the GL back end needs a 2D rig");
+  }
+  mesh.normal = eigen.eigenvectors().col(0);
+  if (mesh.normal.dot(mean_axis) < 0) mesh.normal = -mesh.normal;
+  mesh.axis1 = (mean_x - mesh.normal.dot(mean_x) * mesh.normal).normalized();
+  mesh.axis2 = mesh.normal.cross(mesh.axis1);
+
+  mesh.vertices.clear();
+  mesh.vertex_view.clear();
+  cv::Rect2f bounds;
+  std::vector<cv::Point2f> points;
+  for (int i = 0; i < n; ++i) {
+    const Eigen::Vector3d d = centres_in_world[i] - mesh.origin;
+    mesh.vertices.emplace_back(d.dot(mesh.axis1), d.dot(mesh.axis2));
+    mesh.vertex_view.push_back(i);
+    points.emplace_back(static_cast<float>(mesh.vertices.back().x()), static_cast<float>(mesh.vertices.back().y()));
+  }
+  float x0 = points[0].x, x1 = x0, y0 = points[0].y, y1 = y0;
+  for (const cv::Point2f& p : points) {
+    x0 = std::min(x0, p.x), x1 = std::max(x1, p.x), y0 = std::min(y0, p.y), y1 = std::max(y1, p.y);
+  }
+  const float margin = 1.0f + (x1 - x0) + (y1 - y0);
+  cv::Subdiv2D subdiv(cv::Rect(static_cast<int>(std::floor(x0 - margin)), static_cast<int>(std::floor(y0 - margin)),
+                               static_cast<int>(std::ceil(x1 - x0 + 2 * margin)),
+                               static_cast<int>(std::ceil(y1 - y0 + 2 * margin))));
+  for (int i = 0; i < n; ++i) subdiv.insert(points[i]);
+  std::vector<cv::Vec6f> triangles;
+  subdiv.getTriangleList(triangles);
+  auto index_of = [&](float x, float y) {
+    for (int i = 0; i < n; ++i) {
+      if (std::abs(points[i].x - x) < 1e-6f && std::abs(points[i].y - y) < 1e-6f) return i;
+    }
+    return -1;  // one of Subdiv2D's outer virtual vertices
+  };
+  std::map<std::pair<int, int>, int> edge_uses;
+  for (const cv::Vec6f& t : triangles) {
+    const int a = index_of(t[0], t[1]), b = index_of(t[2], t[3]), c = index_of(t[4], t[5]);
+    if (a < 0 || b < 0 || c < 0) continue;
+    mesh.triangles.push_back({a, b, c});
+    for (auto [i, j] : {std::pair{a, b}, std::pair{b, c}, std::pair{c, a}}) ++edge_uses[{std::min(i, j), std::max(i, j)}];
+  }
+  if (mesh.triangles.empty()) return UnimplementedError("view mesh: no triangle from " + std::to_string(n) + " centres");
+  // Boundary edges (used once) get their vertices duplicated at g + 4 (p - g).
+  Eigen::Vector2d g = Eigen::Vector2d::Zero();
+  for (const Eigen::Vector2d& p : mesh.vertices) g += p / n;
+  std::map<int, int> duplicate_of;
+  auto duplicate = [&](int i) {
+    auto [it, inserted] = duplicate_of.emplace(i, static_cast<int>(mesh.vertices.size()));
+    if (inserted) {
+      mesh.vertices.push_back(g + 4.0 * (mesh.vertices[i] - g));
+      mesh.vertex_view.push_back(i);
+    }
+    return it->second;
+  };
+  for (const auto& [edge, uses] : edge_uses) {
+    if (uses != 1) continue;
+    const auto [i, j] = edge;
+    const int di = duplicate(i), dj = duplicate(j);
+    mesh.triangles.push_back({i, j, dj});
+    mesh.triangles.push_back({i, dj, di});
+    mesh.outer_edges.push_back({di, dj});
+  }
+  return mesh;
+}
+
+}  // namespace px::render::gl

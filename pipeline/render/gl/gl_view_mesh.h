@@ -1,0 +1,39 @@
+// The view mesh of paper section 6 (pipeline/render/ALGORITHM.md section 2), built on the CPU once
+// per scene and handed to the GL weight pass as a texture: the plane fit to the views' centres of
+// projection, the Delaunay triangulation of the centres in that plane (cv::Subdiv2D), and the
+// boundary vertices duplicated radially outward at four times their distance from the centroid.
+// The per-pixel viewing weights (ALGORITHM.md section 3) are computed from it in a shader.
+//
+// Kept inside the GL back end until the CPU reference's ViewMesh lands; both follow
+// ALGORITHM.md, and the GL side should then take its triangles from that one.
+#pragma once
+
+#include <array>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "pipeline/core/status.h"
+
+namespace px::render::gl {
+
+struct GlViewMesh {
+  Eigen::Vector3d origin = Eigen::Vector3d::Zero();  // m: mean of the centres
+  Eigen::Vector3d normal = Eigen::Vector3d::UnitZ();  // n, towards the scene
+  Eigen::Vector3d axis1 = Eigen::Vector3d::UnitX();   // e1, e2: in-plane axes
+  Eigen::Vector3d axis2 = Eigen::Vector3d::UnitY();
+  std::vector<Eigen::Vector2d> vertices;              // in-plane positions, duplicates appended
+  std::vector<int> vertex_view;                       // the view (index into the inputs) of each vertex
+  std::vector<std::array<int, 3>> triangles;          // the extended mesh
+  std::vector<std::array<int, 2>> outer_edges;        // the extended mesh's outer boundary
+  bool single_view = false;                           // one view (or all centres together): weight 1 everywhere
+};
+
+// `centres_in_world` and `optical_axes_in_world` (unit, R^T (0,0,1)) and `x_axes_in_world`, one of
+// each per view. UNIMPLEMENTED for collinear centres (a 1D rig: the polyline mesh is not built
+// here), INVALID_ARGUMENT for no views or mismatched lists.
+StatusOr<GlViewMesh> BuildGlViewMesh(const std::vector<Eigen::Vector3d>& centres_in_world,
+                                     const std::vector<Eigen::Vector3d>& optical_axes_in_world,
+                                     const std::vector<Eigen::Vector3d>& x_axes_in_world);
+
+}  // namespace px::render::gl
