@@ -23,6 +23,7 @@ namespace px::render::gl {
   X(PFNGLGETERRORPROC, GetError)                                           \
   X(PFNGLENABLEPROC, Enable)                                               \
   X(PFNGLDISABLEPROC, Disable)                                             \
+  X(PFNGLSCISSORPROC, Scissor)                                             \
   X(PFNGLVIEWPORTPROC, Viewport)                                           \
   X(PFNGLCLEARBUFFERFVPROC, ClearBufferfv)                                 \
   X(PFNGLBLENDFUNCSEPARATEPROC, BlendFuncSeparate)                         \

@@ -26,7 +26,6 @@ std::string ViewName(const LayeredDepthView& view, int index) {
 // rectangle (the bbox grown by one pixel).
 bool SegmentUsable(const DepthSegment& s) {
   if (!std::isfinite(s.inv_depth_a) || !std::isfinite(s.inv_depth_b) || !std::isfinite(s.inv_depth_c)) return false;
-  if (s.bbox.width <= 0 || s.bbox.height <= 0) return false;
   const double x0 = s.bbox.x - 1, x1 = s.bbox.x + s.bbox.width, y0 = s.bbox.y - 1, y1 = s.bbox.y + s.bbox.height;
   for (double x : {x0, x1}) {
     for (double y : {y0, y1}) {
@@ -102,8 +101,16 @@ StatusOr<std::unique_ptr<GlSceneRenderer>> GlSceneRenderer::Create(std::vector<P
                                                                    const GlSceneRendererOptions& options) {
   PX_RETURN_IF_ERROR(options.Validate());
   if (views.empty()) return InvalidArgumentError("gl renderer: no views");
+  PX_ASSIGN_OR_RETURN(std::unique_ptr<GlContext> context, CreateGlContext(options.context));
+  return Create(std::move(views), std::move(context));
+}
+
+StatusOr<std::unique_ptr<GlSceneRenderer>> GlSceneRenderer::Create(std::vector<PosedLayeredView> views,
+                                                                   std::unique_ptr<GlContext> context) {
+  if (views.empty()) return InvalidArgumentError("gl renderer: no views");
+  if (!context) return InvalidArgumentError("gl renderer: no GL context");
   std::unique_ptr<GlSceneRenderer> renderer(new GlSceneRenderer());
-  PX_ASSIGN_OR_RETURN(renderer->context_, CreateGlContext(options.context));
+  renderer->context_ = std::move(context);
   renderer->views_ = std::move(views);
   ScopedCurrent current(renderer->context_.get());
   PX_RETURN_IF_ERROR(current.status());
@@ -157,6 +164,7 @@ Status GlSceneRenderer::Upload() {
     std::vector<bool> usable(view.segments.size());
     int dropped_segments = 0;
     for (size_t s = 0; s < view.segments.size(); ++s) {
+      if (view.segments[s].bbox.empty()) continue;  // covers no pixel: nothing to draw, nothing wrong
       usable[s] = SegmentUsable(view.segments[s]);
       if (usable[s]) textures.kept_segments.push_back(static_cast<int>(s));
       else ++dropped_segments;
@@ -314,6 +322,11 @@ StatusOr<GlSceneRenderer::RawFrame> GlSceneRenderer::RenderRaw(const CameraModel
   gl.BindVertexArray(empty_vertex_array_.id());
   gl.DrawArrays(GL_TRIANGLES, 0, 3);
 
+  // Where each view holds a slot, from the CPU twin of the weight shader on a coarse grid (each
+  // box grown by one cell): views drawn nowhere are skipped and the rest scissored to their box,
+  // so a frame shades about three views' worth of fragments per pixel, not all of them.
+  const std::vector<cv::Rect> view_boxes = ViewBoxes(camera, cam_from_world);
+
   // Pass 2: every view's segments, front to back, into the three rendering buffers.
   std::vector<std::vector<float>> instances(views_.size());
   double z_max = 0;
@@ -330,6 +343,7 @@ StatusOr<GlSceneRenderer::RawFrame> GlSceneRenderer::RenderRaw(const CameraModel
       std::array<float, kFloatsPerInstance> data;
     };
     std::vector<Sorted> sorted;
+    if (view_boxes[v].empty()) continue;
     for (int s : textures_[v].kept_segments) {
       const DepthSegment& seg = view.segments[s];
       const Eigen::Vector3d plane_source = k_source.transpose() * Eigen::Vector3d(seg.inv_depth_a, seg.inv_depth_b, seg.inv_depth_c);
@@ -390,8 +404,10 @@ StatusOr<GlSceneRenderer::RawFrame> GlSceneRenderer::RenderRaw(const CameraModel
   BindTextureUnit(gl, p, "slot_views", 3, t->slot_views.id());
   gl.BindVertexArray(instance_vertex_array_.id());
   gl.BindBuffer(GL_ARRAY_BUFFER, instance_buffer_.id());
+  gl.Enable(GL_SCISSOR_TEST);
   for (size_t v = 0; v < views_.size(); ++v) {
     if (instances[v].empty()) continue;
+    gl.Scissor(view_boxes[v].x, view_boxes[v].y, view_boxes[v].width, view_boxes[v].height);
     BindTextureUnit(gl, p, "layer0", 0, textures_[v].layer0.id());
     BindTextureUnit(gl, p, "layer1", 1, textures_[v].layer1.id());
     BindTextureUnit(gl, p, "segment_ids", 2, textures_[v].segment_ids.id());
@@ -400,6 +416,7 @@ StatusOr<GlSceneRenderer::RawFrame> GlSceneRenderer::RenderRaw(const CameraModel
                   GL_STREAM_DRAW);
     gl.DrawArraysInstanced(GL_TRIANGLE_STRIP, 0, 4, static_cast<GLsizei>(instances[v].size() / kFloatsPerInstance));
   }
+  gl.Disable(GL_SCISSOR_TEST);
   gl.Disable(GL_BLEND);
 
   // Pass 3: the soft z resolve.
@@ -437,6 +454,27 @@ StatusOr<GlSceneRenderer::RawFrame> GlSceneRenderer::RenderRaw(const CameraModel
   if (!errors.empty()) return InternalError("gl renderer: a " + std::to_string(width) + "x" + std::to_string(height) +
                                             " frame raised " + errors);
   return raw;
+}
+
+std::vector<cv::Rect> GlSceneRenderer::ViewBoxes(const CameraModel& camera, const Rigid3& cam_from_world) const {
+  constexpr int kGrid = 32;
+  const Eigen::Matrix3d dir_from_pixel = cam_from_world.RotationMatrix().transpose() * camera.K().inverse();
+  const Eigen::Vector3d centre = CameraCentre(cam_from_world);
+  const double cell_x = static_cast<double>(camera.width) / kGrid, cell_y = static_cast<double>(camera.height) / kGrid;
+  std::vector<cv::Rect> boxes(views_.size());
+  const cv::Rect frame(0, 0, camera.width, camera.height);
+  for (int gy = 0; gy <= kGrid; ++gy) {
+    for (int gx = 0; gx <= kGrid; ++gx) {
+      const Eigen::Vector3d pixel(std::min(gx * cell_x, camera.width - 1.0), std::min(gy * cell_y, camera.height - 1.0), 1);
+      for (int view : SlotViewsAt(mesh_, MeshPointOfRay(mesh_, centre, dir_from_pixel * pixel))) {
+        if (view < 0) continue;
+        const cv::Rect cell(static_cast<int>(std::floor(pixel.x() - cell_x - 1)), static_cast<int>(std::floor(pixel.y() - cell_y - 1)),
+                            static_cast<int>(std::ceil(2 * cell_x + 3)), static_cast<int>(std::ceil(2 * cell_y + 3)));
+        boxes[view] = boxes[view].empty() ? (cell & frame) : ((boxes[view] | cell) & frame);
+      }
+    }
+  }
+  return boxes;
 }
 
 StatusOr<FrameRender> GlSceneRenderer::Render(const VirtualCamera& camera) {

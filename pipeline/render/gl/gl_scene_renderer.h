@@ -46,6 +46,9 @@ class GlSceneRenderer final : public SceneRenderer {
   // GL_MAX_TEXTURE_SIZE, images of the wrong size or type (naming the view), shader errors.
   static StatusOr<std::unique_ptr<GlSceneRenderer>> Create(std::vector<PosedLayeredView> views,
                                                            const GlSceneRendererOptions& options = {});
+  // The same on a context made already (ChooseRenderBackend's); it must not be current elsewhere.
+  static StatusOr<std::unique_ptr<GlSceneRenderer>> Create(std::vector<PosedLayeredView> views,
+                                                           std::unique_ptr<GlContext> context);
   ~GlSceneRenderer() override;
 
   std::string_view BackendName() const override { return context_->BackendName(); }
@@ -79,6 +82,8 @@ class GlSceneRenderer final : public SceneRenderer {
   GlSceneRenderer() = default;
   Status Upload();
   StatusOr<Targets*> TargetsFor(int width, int height);
+  // Per view, the box of output pixels where it may hold a slot (empty: nowhere).
+  std::vector<cv::Rect> ViewBoxes(const CameraModel& camera, const Rigid3& cam_from_world) const;
   StatusOr<RawFrame> RenderRaw(const CameraModel& camera, const Rigid3& cam_from_world, bool with_slots);
 
   std::unique_ptr<GlContext> context_;

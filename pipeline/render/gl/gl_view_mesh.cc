@@ -106,4 +106,50 @@ StatusOr<GlViewMesh> BuildGlViewMesh(const std::vector<Eigen::Vector3d>& centres
   return mesh;
 }
 
+Eigen::Vector2d MeshPointOfRay(const GlViewMesh& mesh, const Eigen::Vector3d& centre, const Eigen::Vector3d& dir) {
+  const double s = mesh.normal.dot(dir);
+  const double h = mesh.normal.dot(centre - mesh.origin);
+  const Eigen::Vector3d x = std::abs(s) <= 1e-9 * dir.norm() ? centre : Eigen::Vector3d(centre - (h / s) * dir);
+  return Eigen::Vector2d((x - mesh.origin).dot(mesh.axis1), (x - mesh.origin).dot(mesh.axis2));
+}
+
+std::array<int, 3> SlotViewsAt(const GlViewMesh& mesh, const Eigen::Vector2d& q) {
+  std::array<int, 3> views = {-1, -1, -1};
+  auto add = [&](int view) {
+    for (int& slot : views) {
+      if (slot == view) return;
+      if (slot < 0) {
+        slot = view;
+        return;
+      }
+    }
+  };
+  if (mesh.single_view) {
+    views[0] = mesh.vertex_view[0];
+    return views;
+  }
+  for (const auto& t : mesh.triangles) {
+    const Eigen::Vector2d a = mesh.vertices[t[0]], v0 = mesh.vertices[t[1]] - a, v1 = mesh.vertices[t[2]] - a,
+                          v2 = q - a;
+    const double den = v0.x() * v1.y() - v1.x() * v0.y();
+    if (std::abs(den) < 1e-20) continue;
+    const double wb = (v2.x() * v1.y() - v1.x() * v2.y()) / den, wc = (v0.x() * v2.y() - v2.x() * v0.y()) / den;
+    if (1 - wb - wc >= -1e-6 && wb >= -1e-6 && wc >= -1e-6) {
+      for (int k = 0; k < 3; ++k) add(mesh.vertex_view[t[k]]);
+      return views;
+    }
+  }
+  double best = 1e300;
+  std::array<int, 2> best_edge = {0, 0};
+  for (const auto& e : mesh.outer_edges) {
+    const Eigen::Vector2d a = mesh.vertices[e[0]], ab = mesh.vertices[e[1]] - a;
+    const double t = std::clamp((q - a).dot(ab) / std::max(ab.squaredNorm(), 1e-30), 0.0, 1.0);
+    const double dist = (q - (a + t * ab)).norm();
+    if (dist < best) best = dist, best_edge = e;
+  }
+  add(mesh.vertex_view[best_edge[0]]);
+  add(mesh.vertex_view[best_edge[1]]);
+  return views;
+}
+
 }  // namespace px::render::gl

@@ -36,4 +36,10 @@ StatusOr<GlViewMesh> BuildGlViewMesh(const std::vector<Eigen::Vector3d>& centres
                                      const std::vector<Eigen::Vector3d>& optical_axes_in_world,
                                      const std::vector<Eigen::Vector3d>& x_axes_in_world);
 
+// The CPU twin of the weight shader (ALGORITHM.md 3), without the weights: the point of the mesh
+// plane a ray from `centre` along `dir` meets (behind the camera too), and the views with a slot
+// there (-1 = none). The renderer samples it on a coarse grid to bound where each view is drawn.
+Eigen::Vector2d MeshPointOfRay(const GlViewMesh& mesh, const Eigen::Vector3d& centre, const Eigen::Vector3d& dir);
+std::array<int, 3> SlotViewsAt(const GlViewMesh& mesh, const Eigen::Vector2d& q);
+
 }  // namespace px::render::gl

@@ -1,0 +1,193 @@
+// Frames per second of the render back ends at the preview size (480x320) and a clip size
+// (1200x800), with 9 (3x3) and 20 (4x5) input views of the analytic two-plane scene cut into
+// 16 px segments (~600 per 480x320 view, ~3750 per 1200x800 view), along a dolly across the rig.
+// Back ends: gl (OSMesa llvmpipe, or EGL: PX_GL=egl|osmesa picks, default auto), and the CPU
+// NovelViewRenderer now on main (the CPU reference SceneRenderer is another branch's work).
+// Plus a whole 5 s, 30 fps, 1200x800 clip rendered on GL and encoded as H.264. Prints, asserts
+// nothing.
+#include <benchmark/benchmark.h>
+
+#include <chrono>
+#include <cstdlib>
+#include <filesystem>
+
+#include <opencv2/core.hpp>
+
+#include "pipeline/clip/clip_writer.h"
+#include "pipeline/render/gl/gl_scene_renderer.h"
+#include "pipeline/render/gl/layered_plane_scene_testing.h"
+#include "pipeline/render/novel_view_renderer.h"
+
+namespace px::render::gl {
+namespace {
+
+constexpr double kBaselineM = 0.025;
+constexpr int kTilePx = 16;
+
+CameraModel CameraOfWidth(int width) {
+  // The Pop9 tile's field of view (640 px wide, f 560) at any width, 3:2.
+  return CameraModel::Pinhole(width, width * 2 / 3, 560.0 * width / 640.0);
+}
+void RigShape(int views, int* rows, int* cols) {
+  *rows = views == 20 ? 4 : 3;
+  *cols = views == 20 ? 5 : 3;
+}
+Rigid3 DollyPose(int frame, int frames) {
+  const double t = (frame % frames) / (frames - 1.0);
+  return Rigid3(Eigen::Quaterniond::Identity(), -Eigen::Vector3d(-0.025 + 0.05 * t, 0.004, 0));
+}
+GlSceneRendererOptions OptionsFromEnvironment() {
+  GlSceneRendererOptions options;
+  if (const char* name = std::getenv("PX_GL")) {
+    if (auto platform = ParseGlPlatform(name); platform.ok()) options.context.platform = *platform;
+  }
+  return options;
+}
+
+bool WarmUp(GlSceneRenderer& renderer, const CameraModel& camera) {
+  VirtualCamera request;
+  request.camera = camera;
+  request.cam_from_world = DollyPose(0, 150);
+  return renderer.Render(request).ok();
+}
+
+// range(0): output width (480 or 1200); range(1): input views (9 or 20).
+void BM_GlRenderFrame(benchmark::State& state) {
+  const CameraModel camera = CameraOfWidth(static_cast<int>(state.range(0)));
+  int rows, cols;
+  RigShape(static_cast<int>(state.range(1)), &rows, &cols);
+  auto renderer = GlSceneRenderer::Create(
+      testing::LayeredPlaneScene(render::testing::PlaneScene{}, rows, cols, kBaselineM, camera, kTilePx),
+      OptionsFromEnvironment());
+  if (!renderer.ok()) {
+    state.SkipWithError(renderer.status().ToString().c_str());
+    return;
+  }
+  state.SetLabel(std::string((*renderer)->BackendName()) + " " + (*renderer)->context_info().renderer);
+  // The first frame compiles llvmpipe's shader variants; it is not what a clip pays per frame.
+  if (!WarmUp(**renderer, camera)) {
+    state.SkipWithError("warm-up frame failed");
+    return;
+  }
+  int frame = 0;
+  double holes = 0;
+  for (auto _ : state) {
+    VirtualCamera request;
+    request.camera = camera;
+    request.cam_from_world = DollyPose(frame++, 150);
+    auto result = (*renderer)->Render(request);
+    if (!result.ok()) {
+      state.SkipWithError(result.status().ToString().c_str());
+      return;
+    }
+    holes += result->holes.hole_ratio;
+    benchmark::DoNotOptimize(result->bgr.data);
+  }
+  state.counters["fps"] = benchmark::Counter(frame, benchmark::Counter::kIsRate);
+  state.counters["hole_ratio"] = holes / std::max(frame, 1);
+}
+BENCHMARK(BM_GlRenderFrame)->ArgsProduct({{480, 1200}, {9, 20}})->Unit(benchmark::kMillisecond)->UseRealTime();
+
+// The direction stage's question: coverage and H(V) at 1/8 of 1200x800.
+void BM_GlCoverage(benchmark::State& state) {
+  const CameraModel camera = CameraOfWidth(1200);
+  auto renderer = GlSceneRenderer::Create(
+      testing::LayeredPlaneScene(render::testing::PlaneScene{}, 3, 3, kBaselineM, camera, kTilePx),
+      OptionsFromEnvironment());
+  if (!renderer.ok()) {
+    state.SkipWithError(renderer.status().ToString().c_str());
+    return;
+  }
+  const CameraModel small = camera.Scaled(0.125);
+  if (!(*renderer)->Coverage(small, DollyPose(0, 150)).ok()) {
+    state.SkipWithError("warm-up call failed");
+    return;
+  }
+  int frame = 0;
+  for (auto _ : state) {
+    auto report = (*renderer)->Coverage(small, DollyPose(frame++, 150));
+    if (!report.ok()) {
+      state.SkipWithError(report.status().ToString().c_str());
+      return;
+    }
+    benchmark::DoNotOptimize(report->hole_score);
+  }
+  state.counters["calls_per_s"] = benchmark::Counter(frame, benchmark::Counter::kIsRate);
+}
+BENCHMARK(BM_GlCoverage)->Unit(benchmark::kMillisecond)->UseRealTime();
+
+// The CPU renderer on main (NovelViewRenderer, 3 nearest views, all cores), same scene and sizes.
+void BM_CpuNovelViewFrame(benchmark::State& state) {
+  const CameraModel camera = CameraOfWidth(static_cast<int>(state.range(0)));
+  int rows, cols;
+  RigShape(static_cast<int>(state.range(1)), &rows, &cols);
+  std::vector<View> views;
+  std::vector<DepthMap> depths;
+  render::testing::MakeLatticeViews(render::testing::PlaneScene{}, rows, cols, kBaselineM, camera, &views, &depths);
+  auto renderer = NovelViewRenderer::Create(views, depths, RenderOptions{});
+  if (!renderer.ok()) {
+    state.SkipWithError(renderer.status().ToString().c_str());
+    return;
+  }
+  state.SetLabel("cpu NovelViewRenderer, " + std::to_string(cv::getNumThreads()) + " threads");
+  int frame = 0;
+  for (auto _ : state) {
+    auto result = (*renderer)->Render(camera, DollyPose(frame++, 150));
+    if (!result.ok()) {
+      state.SkipWithError(result.status().ToString().c_str());
+      return;
+    }
+    benchmark::DoNotOptimize(result->bgr.data);
+  }
+  state.counters["fps"] = benchmark::Counter(frame, benchmark::Counter::kIsRate);
+}
+BENCHMARK(BM_CpuNovelViewFrame)->ArgsProduct({{480, 1200}, {9, 20}})->Unit(benchmark::kMillisecond)->UseRealTime();
+
+// The clip goal: 150 frames of 1200x800 rendered on GL and encoded (H.264, veryfast,
+// CRF 20) in under 8 s. One iteration is one whole clip.
+void BM_GlClipRenderAndEncode(benchmark::State& state) {
+  const CameraModel camera = CameraOfWidth(1200);
+  auto renderer = GlSceneRenderer::Create(
+      testing::LayeredPlaneScene(render::testing::PlaneScene{}, 3, 3, kBaselineM, camera, kTilePx),
+      OptionsFromEnvironment());
+  if (!renderer.ok()) {
+    state.SkipWithError(renderer.status().ToString().c_str());
+    return;
+  }
+  if (!WarmUp(**renderer, camera)) {
+    state.SkipWithError("warm-up frame failed");
+    return;
+  }
+  const std::filesystem::path path = std::filesystem::temp_directory_path() / "px_gl_clip_benchmark.mp4";
+  double render_s = 0, encode_s = 0;
+  for (auto _ : state) {
+    auto writer = clip::OpenClipWriter(path, camera.width, camera.height, clip::ClipOptions{});
+    if (!writer.ok()) {
+      state.SkipWithError(writer.status().ToString().c_str());
+      return;
+    }
+    for (int frame = 0; frame < 150; ++frame) {
+      VirtualCamera request;
+      request.camera = camera;
+      request.cam_from_world = DollyPose(frame, 150);
+      const auto t0 = std::chrono::steady_clock::now();
+      auto result = (*renderer)->Render(request);
+      const auto t1 = std::chrono::steady_clock::now();
+      if (!result.ok() || !(*writer)->Write(result->bgr).ok()) {
+        state.SkipWithError("render or encode failed");
+        return;
+      }
+      render_s += std::chrono::duration<double>(t1 - t0).count();
+      encode_s += std::chrono::duration<double>(std::chrono::steady_clock::now() - t1).count();
+    }
+    if (!(*writer)->Finish().ok()) state.SkipWithError("finishing the clip failed");
+  }
+  state.counters["render_s"] = render_s / state.iterations();
+  state.counters["encode_s"] = encode_s / state.iterations();
+  std::error_code ec;
+  std::filesystem::remove(path, ec);
+}
+BENCHMARK(BM_GlClipRenderAndEncode)->Iterations(1)->Unit(benchmark::kSecond)->UseRealTime();
+
+}  // namespace
+}  // namespace px::render::gl
