@@ -51,31 +51,39 @@ bool WarmUp(GlSceneRenderer& renderer, const CameraModel& camera) {
   return renderer.Render(request).ok();
 }
 
-// range(0): output width (480 or 1200); range(1): input views (9 or 20).
-void BM_GlRenderFrame(benchmark::State& state) {
-  const CameraModel camera = CameraOfWidth(static_cast<int>(state.range(0)));
-  int rows, cols;
-  RigShape(static_cast<int>(state.range(1)), &rows, &cols);
+// The renderer over a rows x cols rig at `camera`, warmed up; null (and the benchmark skipped)
+// when it cannot start.
+std::unique_ptr<GlSceneRenderer> MakeRenderer(const CameraModel& camera, int rows, int cols, benchmark::State& state) {
   auto renderer = GlSceneRenderer::Create(
       testing::LayeredPlaneScene(render::testing::PlaneScene{}, rows, cols, kBaselineM, camera, kTilePx),
       OptionsFromEnvironment());
   if (!renderer.ok()) {
     state.SkipWithError(renderer.status().ToString().c_str());
-    return;
+    return nullptr;
   }
-  state.SetLabel(std::string((*renderer)->BackendName()) + " " + (*renderer)->context_info().renderer);
   // The first frame compiles llvmpipe's shader variants; it is not what a clip pays per frame.
   if (!WarmUp(**renderer, camera)) {
     state.SkipWithError("warm-up frame failed");
-    return;
+    return nullptr;
   }
+  return std::move(renderer).value();
+}
+
+// range(0): output width (480 or 1200); range(1): input views (9 or 20).
+void BM_GlRenderFrame(benchmark::State& state) {
+  const CameraModel camera = CameraOfWidth(static_cast<int>(state.range(0)));
+  int rows, cols;
+  RigShape(static_cast<int>(state.range(1)), &rows, &cols);
+  std::unique_ptr<GlSceneRenderer> renderer = MakeRenderer(camera, rows, cols, state);
+  if (!renderer) return;
+  state.SetLabel(std::string(renderer->BackendName()) + " " + renderer->context_info().renderer);
   int frame = 0;
   double holes = 0;
   for (auto _ : state) {
     VirtualCamera request;
     request.camera = camera;
     request.cam_from_world = DollyPose(frame++, 150);
-    auto result = (*renderer)->Render(request);
+    auto result = renderer->Render(request);
     if (!result.ok()) {
       state.SkipWithError(result.status().ToString().c_str());
       return;
@@ -91,21 +99,12 @@ BENCHMARK(BM_GlRenderFrame)->ArgsProduct({{480, 1200}, {9, 20}})->Unit(benchmark
 // The direction stage's question: coverage and H(V) at 1/8 of 1200x800.
 void BM_GlCoverage(benchmark::State& state) {
   const CameraModel camera = CameraOfWidth(1200);
-  auto renderer = GlSceneRenderer::Create(
-      testing::LayeredPlaneScene(render::testing::PlaneScene{}, 3, 3, kBaselineM, camera, kTilePx),
-      OptionsFromEnvironment());
-  if (!renderer.ok()) {
-    state.SkipWithError(renderer.status().ToString().c_str());
-    return;
-  }
+  std::unique_ptr<GlSceneRenderer> renderer = MakeRenderer(camera, 3, 3, state);
+  if (!renderer) return;
   const CameraModel small = camera.Scaled(0.125);
-  if (!(*renderer)->Coverage(small, DollyPose(0, 150)).ok()) {
-    state.SkipWithError("warm-up call failed");
-    return;
-  }
   int frame = 0;
   for (auto _ : state) {
-    auto report = (*renderer)->Coverage(small, DollyPose(frame++, 150));
+    auto report = renderer->Coverage(small, DollyPose(frame++, 150));
     if (!report.ok()) {
       state.SkipWithError(report.status().ToString().c_str());
       return;
@@ -147,17 +146,8 @@ BENCHMARK(BM_CpuNovelViewFrame)->ArgsProduct({{480, 1200}, {9, 20}})->Unit(bench
 // CRF 20) in under 8 s. One iteration is one whole clip.
 void BM_GlClipRenderAndEncode(benchmark::State& state) {
   const CameraModel camera = CameraOfWidth(1200);
-  auto renderer = GlSceneRenderer::Create(
-      testing::LayeredPlaneScene(render::testing::PlaneScene{}, 3, 3, kBaselineM, camera, kTilePx),
-      OptionsFromEnvironment());
-  if (!renderer.ok()) {
-    state.SkipWithError(renderer.status().ToString().c_str());
-    return;
-  }
-  if (!WarmUp(**renderer, camera)) {
-    state.SkipWithError("warm-up frame failed");
-    return;
-  }
+  std::unique_ptr<GlSceneRenderer> renderer = MakeRenderer(camera, 3, 3, state);
+  if (!renderer) return;
   const std::filesystem::path path = std::filesystem::temp_directory_path() / "px_gl_clip_benchmark.mp4";
   double render_s = 0, encode_s = 0;
   for (auto _ : state) {
@@ -171,7 +161,7 @@ void BM_GlClipRenderAndEncode(benchmark::State& state) {
       request.camera = camera;
       request.cam_from_world = DollyPose(frame, 150);
       const auto t0 = std::chrono::steady_clock::now();
-      auto result = (*renderer)->Render(request);
+      auto result = renderer->Render(request);
       const auto t1 = std::chrono::steady_clock::now();
       if (!result.ok() || !(*writer)->Write(result->bgr).ok()) {
         state.SkipWithError("render or encode failed");
