@@ -18,6 +18,7 @@ struct ClipArgs {
   double fps = 30.0;
   int crf = 20;
   std::string preset = "veryfast";
+  std::string quality = "preview";
   int threads = 0;
   bool quiet = false;
 };
@@ -28,6 +29,7 @@ Status RunClip(const ClipArgs& args) {
   options.pipeline.direct.duration_s = args.duration_s;
   options.pipeline.direct.fps = args.fps;
   options.pipeline.num_threads = args.threads;
+  PX_ASSIGN_OR_RETURN(options.pipeline.render.quality, ParseRenderQuality(args.quality));
   options.mp4.crf = args.crf;
   options.mp4.preset = args.preset;
   options.mp4.fps = args.fps;
@@ -64,6 +66,10 @@ void AddClipCommand(CLI::App& app) {
   clip->add_option("--fps", args->fps, "Frames per second")->capture_default_str();
   clip->add_option("--crf", args->crf, "x264 quality, 0..51, lower is better")->capture_default_str();
   clip->add_option("--preset", args->preset, "x264 preset, ultrafast..veryslow")->capture_default_str();
+  clip->add_option("--quality", args->quality,
+                   "Render quality: preview (paper 6.1, real time) or offline (6.2: soft z over all segments, "
+                   "exemplar inpainting, synthetic-aperture depth of field)")
+      ->capture_default_str();
   clip->add_option("--threads", args->threads, "Worker threads, 0 = all cores")->capture_default_str();
   clip->add_flag("-q,--quiet", args->quiet, "No progress bar");
   clip->callback([args]() {

@@ -280,8 +280,8 @@ TEST_F(PipelineTest, RejectsWhatItCannotDo) {
   EXPECT_EQ(RunPipeline(Capture(sensor_), rig_, ShortClip(), nullptr).status().code(), StatusCode::kInvalidArgument);
 
   PipelineOptions options = ShortClip();
-  options.render.num_source_views = 0;
-  EXPECT_NE(RunPipeline(Capture(sensor_), rig_, options, &sink).status().message().find("render.num_source_views"),
+  options.render.aperture_samples = 0;
+  EXPECT_NE(RunPipeline(Capture(sensor_), rig_, options, &sink).status().message().find("render.aperture_samples"),
             std::string::npos);
 
   RigCalibration no_lattice = rig_;
