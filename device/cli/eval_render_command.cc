@@ -24,6 +24,7 @@ struct EvalRenderArgs {
   std::vector<std::string> scenes = {"still_life", "two_faces"};
   std::string quality = "preview";
   double sim_scale = 1.0;
+  int block_px = LayeredFromDepthOptions().block_px;
   bool skip_hci_full_grid = false;
   bool json = false;
 };
@@ -42,6 +43,7 @@ Status RunEvalRender(const EvalRenderArgs& args) {
   eval::RenderEvalOptions options;
   PX_ASSIGN_OR_RETURN(options.render.quality, ParseRenderQuality(args.quality));
   options.sim_scale = args.sim_scale;
+  options.layered.block_px = args.block_px;
   options.hci_full_grid = !args.skip_hci_full_grid;
   if (!args.json) options.progress = [](const std::string& line) { std::fprintf(stderr, "  ... %s\n", line.c_str()); };
   PX_RETURN_IF_ERROR(options.Validate());
@@ -143,6 +145,10 @@ void AddEvalRenderCommand(CLI::App& eval) {
   render->add_option("--scene", args->scenes, "Simulated scenes of the standard set")->capture_default_str();
   render->add_option("--quality", args->quality, "preview or offline")->capture_default_str();
   render->add_option("--sim-scale", args->sim_scale, "Scale of the simulated lattices' tiles, (0, 1]")
+      ->capture_default_str();
+  render->add_option("--block-px", args->block_px,
+                     "Side of the square segments made from per-pixel depth, [2, 64] (smaller follows curved "
+                     "surfaces more closely, more segments to draw)")
       ->capture_default_str();
   render->add_flag("--no-hci-full-grid", args->skip_hci_full_grid,
                    "HCI: skip rendering from the whole 9x9 (depth for 80 views takes minutes)");

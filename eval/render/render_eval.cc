@@ -30,15 +30,15 @@ void Progress(const RenderEvalOptions& options, const std::string& line) {
 
 StatusOr<std::unique_ptr<CpuSceneRenderer>> MakeRenderer(const std::vector<View>& views,
                                                          const std::vector<DepthMap>& depths,
-                                                         const RenderOptions& options) {
+                                                         const RenderEvalOptions& options) {
   std::vector<LayeredDepthView> layers;
   layers.reserve(views.size());
   for (size_t i = 0; i < views.size(); ++i) {
-    StatusOr<LayeredDepthView> layered = LayeredDepthFromDepthMap(views[i], depths[i]);
+    StatusOr<LayeredDepthView> layered = LayeredDepthFromDepthMap(views[i], depths[i], options.layered);
     if (!layered.ok()) return layered.status().WithContext("layered depth of view " + std::to_string(views[i].id.value));
     layers.push_back(std::move(layered).value());
   }
-  return CpuSceneRenderer::Create(views, layers, options);
+  return CpuSceneRenderer::Create(views, layers, options.render);
 }
 
 // Renders `camera` at `pose` (once to warm up, once timed) and scores it against `truth`.
@@ -114,7 +114,7 @@ StatusOr<std::vector<RenderEvalCase>> EvaluateSimulatedScene(const std::filesyst
     depth.confidence = cv::Mat(truth.depth_m.size(), CV_32F, cv::Scalar(1));
     depths.push_back(depth);
   }
-  PX_ASSIGN_OR_RETURN(std::unique_ptr<CpuSceneRenderer> renderer, MakeRenderer(views, depths, options.render));
+  PX_ASSIGN_OR_RETURN(std::unique_ptr<CpuSceneRenderer> renderer, MakeRenderer(views, depths, options));
 
   // Viewpoints no lens had: between lenses on the lattice plane, off the plane in front of and
   // behind it, and turned. The rig frame is centred on the lattice, lenses looking down +z.
@@ -175,7 +175,7 @@ StatusOr<std::vector<RenderEvalCase>> EvaluateHciCentreView(const std::filesyste
     Progress(options, dataset + ": depth for " + std::to_string(sources.size()) + " views");
     PX_ASSIGN_OR_RETURN(std::vector<DepthMap> depths, ComputeDepth(sources, depth_options));
     Progress(options, dataset + ": " + name);
-    PX_ASSIGN_OR_RETURN(std::unique_ptr<CpuSceneRenderer> renderer, MakeRenderer(sources, depths, options.render));
+    PX_ASSIGN_OR_RETURN(std::unique_ptr<CpuSceneRenderer> renderer, MakeRenderer(sources, depths, options));
     PX_ASSIGN_OR_RETURN(RenderEvalCase result,
                         RenderAndScore(*renderer, centre.camera, centre.cam_from_world, centre.image,
                                        static_cast<int>(sources.size())));
@@ -219,7 +219,7 @@ StatusOr<std::vector<RenderEvalCase>> EvaluateLlffHeldOut(const std::filesystem:
   depth_options.max_depth_m = 1.2 * far;
   Progress(options, dataset + ": depth for " + std::to_string(sources.size()) + " views");
   PX_ASSIGN_OR_RETURN(std::vector<DepthMap> depths, ComputeDepth(sources, depth_options));
-  PX_ASSIGN_OR_RETURN(std::unique_ptr<CpuSceneRenderer> renderer, MakeRenderer(sources, depths, options.render));
+  PX_ASSIGN_OR_RETURN(std::unique_ptr<CpuSceneRenderer> renderer, MakeRenderer(sources, depths, options));
   std::vector<RenderEvalCase> cases;
   for (const View& view : held_out) {
     const std::string name = "view " + std::to_string(view.id.value) + " held out";

@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "pipeline/core/status.h"
+#include "pipeline/render/layered_from_depth.h"
 #include "pipeline/render/render_options.h"
 #include "sim/synthetic/sim_camera.h"
 
@@ -35,6 +36,8 @@ struct RenderEvalCase {
 
 struct RenderEvalOptions {
   RenderOptions render;
+  // How per-pixel depth becomes the renderer's layered depth (until the depth stage makes segments).
+  LayeredFromDepthOptions layered;
   // Simulated lattices: tile and focal length scale (1 = the product's 640x480 Pop9 tiles and
   // the integral camera's 320x240). (0, 1].
   double sim_scale = 1.0;
