@@ -25,6 +25,7 @@ struct EvalRenderArgs {
   std::string quality = "preview";
   double sim_scale = 1.0;
   int block_px = LayeredFromDepthOptions().block_px;
+  double edge_front_weight = LayeredFromDepthOptions().edge_front_weight;
   bool skip_hci_full_grid = false;
   bool json = false;
 };
@@ -44,6 +45,7 @@ Status RunEvalRender(const EvalRenderArgs& args) {
   PX_ASSIGN_OR_RETURN(options.render.quality, ParseRenderQuality(args.quality));
   options.sim_scale = args.sim_scale;
   options.layered.block_px = args.block_px;
+  options.layered.edge_front_weight = args.edge_front_weight;
   options.hci_full_grid = !args.skip_hci_full_grid;
   if (!args.json) options.progress = [](const std::string& line) { std::fprintf(stderr, "  ... %s\n", line.c_str()); };
   PX_RETURN_IF_ERROR(options.Validate());
@@ -149,6 +151,10 @@ void AddEvalRenderCommand(CLI::App& eval) {
   render->add_option("--block-px", args->block_px,
                      "Side of the square segments made from per-pixel depth, [2, 64] (smaller follows curved "
                      "surfaces more closely, more segments to draw)")
+      ->capture_default_str();
+  render->add_option("--edge-front-weight", args->edge_front_weight,
+                     "Front layer's weight at depth jumps in segments made from per-pixel depth, (0, 1]; below 1 "
+                     "the far segment extends under the edge as layer 1")
       ->capture_default_str();
   render->add_flag("--no-hci-full-grid", args->skip_hci_full_grid,
                    "HCI: skip rendering from the whole 9x9 (depth for 80 views takes minutes)");
