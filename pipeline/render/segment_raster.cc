@@ -121,28 +121,22 @@ std::vector<FrameView> SetUpFrame(const LayeredScene& scene, const CameraModel& 
     fv.rows = std::move(rows[v]);
     frame_views.push_back(std::move(fv));
   }
-  // Segments: set up in parallel over (view, segment), then sorted per view.
+  // Segments: set up in parallel over views (each writes only its own list), then sorted per view.
   std::vector<ViewTransfer> transfers;
-  std::vector<size_t> offsets = {0};
   for (const FrameView& fv : frame_views) {
     transfers.push_back(MakeTransfer(scene.views()[fv.view], camera, cam_from_world));
-    offsets.push_back(offsets.back() + scene.views()[fv.view].segments.size());
   }
-  std::vector<SegmentSetup> all(offsets.back());
-  std::vector<uint8_t> kept(offsets.back(), 0);
   cv::parallel_for_(cv::Range(0, static_cast<int>(frame_views.size())), [&](const cv::Range& range) {
     for (int i = range.start; i < range.end; ++i) {
       const SceneView& view = scene.views()[frame_views[i].view];
+      std::vector<SegmentSetup>& list = frame_views[i].segments;
+      list.reserve(view.segments.size());
+      SegmentSetup out;
       for (size_t s = 0; s < view.segments.size(); ++s) {
         const SceneSegment& segment = view.segments[s];
         if (!segment.drawn) continue;
-        SegmentSetup& out = all[offsets[i] + s];
         out.segment = static_cast<int32_t>(s);
-        kept[offsets[i] + s] = SetUpSegment(segment, transfers[i], frame_views[i].region, &out) ? 1 : 0;
-      }
-      std::vector<SegmentSetup>& list = frame_views[i].segments;
-      for (size_t s = offsets[i]; s < offsets[i + 1]; ++s) {
-        if (kept[s]) list.push_back(all[s]);
+        if (SetUpSegment(segment, transfers[i], frame_views[i].region, &out)) list.push_back(out);
       }
       std::sort(list.begin(), list.end(), [](const SegmentSetup& a, const SegmentSetup& b) {
         return a.key < b.key || (a.key == b.key && a.segment < b.segment);
