@@ -107,6 +107,15 @@ Status PutInPlace(const fs::path& temp, const fs::path& clip_path) {
   return OkStatus();
 }
 
+// Per rendered frame, before hole filling: the fraction of pixels no source covered and H(V).
+nlohmann::json FrameCoverageToJson(const std::vector<CoverageReport>& frames) {
+  nlohmann::json out = nlohmann::json::array();
+  for (const CoverageReport& frame : frames) {
+    out.push_back({{"hole_ratio", frame.hole_ratio}, {"hole_score", frame.hole_score}});
+  }
+  return out;
+}
+
 }  // namespace
 
 fs::path ClipPathForFormat(const fs::path& path, clip::ClipFormat format) {
@@ -139,6 +148,7 @@ nlohmann::json ClipJobReportToJson(const ClipJobReport& report) {
       {"bytes", report.clip_bytes},
       {"num_views", report.pipeline.num_views},
       {"mean_hole_ratio", report.pipeline.mean_hole_ratio},
+      {"frame_coverage", FrameCoverageToJson(report.pipeline.frame_coverage)},
       {"warnings", report.pipeline.warnings},
       {"timings_ms", timings},
       {"total_ms", report.total_ms},

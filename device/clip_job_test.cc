@@ -87,6 +87,9 @@ TEST_F(ClipJobTest, MakesAPlayableClipWithItsCameraPathBesideIt) {
   EXPECT_EQ(j["frames"], want_frames);
   EXPECT_EQ(j["source"], "sim:sim-pop9-160x120");
   EXPECT_TRUE(j["timings_ms"].contains("encode"));
+  ASSERT_EQ(j["frame_coverage"].size(), static_cast<size_t>(want_frames));
+  EXPECT_GE(j["frame_coverage"][0]["hole_ratio"].get<double>(), 0.0);
+  EXPECT_LE(j["frame_coverage"][0]["hole_ratio"].get<double>(), 1.0);
   auto path = CameraPathFromJson(j["camera_path"]);
   ASSERT_TRUE(path.ok()) << path.status().ToString();
   EXPECT_GE(path->keyframes.size(), 2u);

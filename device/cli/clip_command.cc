@@ -22,6 +22,7 @@ struct ClipArgs {
   std::string preset = "veryfast";
   int loop_count = 0;
   int webp_quality = 80;
+  std::string quality = "preview";
   int threads = 0;
   bool quiet = false;
 };
@@ -53,6 +54,7 @@ Status RunClip(const ClipArgs& args) {
   options.clip.fps = args.fps;
   options.clip.loop_count = args.loop_count;
   options.clip.webp_quality = args.webp_quality;
+  PX_ASSIGN_OR_RETURN(options.pipeline.render.quality, ParseRenderQuality(args.quality));
   PX_RETURN_IF_ERROR(options.Validate());
   ProgressBar progress(args.quiet);
   PX_ASSIGN_OR_RETURN(device::ClipJobReport report,
@@ -95,6 +97,10 @@ void AddClipCommand(CLI::App& app) {
   clip->add_option("--loop", args->loop_count, "gif, webp: times the animation plays, 0 = forever")
       ->capture_default_str();
   clip->add_option("--webp-quality", args->webp_quality, "webp: lossy quality, 0..100")->capture_default_str();
+  clip->add_option("--quality", args->quality,
+                   "Render quality: preview (paper 6.1, real time) or offline (6.2: soft z over all segments, "
+                   "exemplar inpainting, synthetic-aperture depth of field)")
+      ->capture_default_str();
   clip->add_option("--threads", args->threads, "Worker threads, 0 = all cores")->capture_default_str();
   clip->add_flag("-q,--quiet", args->quiet, "No progress bar");
   clip->callback([args]() {

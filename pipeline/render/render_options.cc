@@ -1,19 +1,45 @@
 #include "pipeline/render/render_options.h"
 
 #include <sstream>
+#include <string>
 
 namespace px {
 
+std::string_view RenderQualityName(RenderQuality quality) {
+  switch (quality) {
+    case RenderQuality::kPreview:
+      return "preview";
+    case RenderQuality::kOffline:
+      return "offline";
+  }
+  return "unknown";
+}
+
+StatusOr<RenderQuality> ParseRenderQuality(std::string_view name) {
+  for (RenderQuality quality : {RenderQuality::kPreview, RenderQuality::kOffline}) {
+    if (name == RenderQualityName(quality)) return quality;
+  }
+  return InvalidArgumentError("render quality '" + std::string(name) + "' is not one of preview, offline");
+}
+
 Status RenderOptions::Validate() const {
   std::ostringstream error;
-  if (num_source_views < 1 || num_source_views > 64) {
-    error << "render.num_source_views: " << num_source_views << " is outside [1, 64]";
-  } else if (!(soft_z_band > 0 && soft_z_band <= 1)) {
-    error << "render.soft_z_band: " << soft_z_band << " is outside (0, 1]";
-  } else if (!(max_splat_stretch >= 1 && max_splat_stretch <= 10)) {
-    error << "render.max_splat_stretch: " << max_splat_stretch << " is outside [1, 10]";
-  } else if (hole_fill_radius_px < 1 || hole_fill_radius_px > 16) {
-    error << "render.hole_fill_radius_px: " << hole_fill_radius_px << " is outside [1, 16]";
+  if (!(soft_z_gamma_fraction > 0 && soft_z_gamma_fraction < 0.5)) {
+    error << "render.soft_z_gamma_fraction: " << soft_z_gamma_fraction << " is outside (0, 0.5)";
+  } else if (!(depth_range_m >= 0 && depth_range_m <= 1e4)) {
+    error << "render.depth_range_m: " << depth_range_m << " is outside [0, 1e4]";
+  } else if (!(covered_alpha > 0 && covered_alpha <= 1)) {
+    error << "render.covered_alpha: " << covered_alpha << " is outside (0, 1]";
+  } else if (hole_window_radius_px < 1 || hole_window_radius_px > 8) {
+    error << "render.hole_window_radius_px: " << hole_window_radius_px << " is outside [1, 8]";
+  } else if (inpaint_patch_radius_px < 1 || inpaint_patch_radius_px > 6) {
+    error << "render.inpaint_patch_radius_px: " << inpaint_patch_radius_px << " is outside [1, 6]";
+  } else if (inpaint_window_radius_px < 4 || inpaint_window_radius_px > 1000) {
+    error << "render.inpaint_window_radius_px: " << inpaint_window_radius_px << " is outside [4, 1000]";
+  } else if (aperture_samples < 1 || aperture_samples > 256) {
+    error << "render.aperture_samples: " << aperture_samples << " is outside [1, 256]";
+  } else if (!(max_output_pixels >= 1 && max_output_pixels <= 1e9)) {
+    error << "render.max_output_pixels: " << max_output_pixels << " is outside [1, 1e9]";
   }
   if (error.str().empty()) return OkStatus();
   return InvalidArgumentError(error.str());

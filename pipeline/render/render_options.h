@@ -1,25 +1,42 @@
-// Options for rendering novel views from views with depth (paper section 6).
+// Options for rendering novel views from layered depth (paper section 6; ALGORITHM.md). Every field
+// has a default, a unit and a range; Validate() names the first bad field and its value.
 #pragma once
+
+#include <string_view>
 
 #include "pipeline/core/status.h"
 
 namespace px {
 
+// Preview: the interactive renderer of paper 6.1 (three hard-z rendering buffers, reverse soft z
+// hole filling, circle-of-confusion depth of field). Offline: paper 6.2 (one soft z over all
+// fragments, exemplar inpainting of large holes, synthetic-aperture depth of field).
+enum class RenderQuality { kPreview, kOffline };
+
+std::string_view RenderQualityName(RenderQuality quality);  // "preview", "offline"
+StatusOr<RenderQuality> ParseRenderQuality(std::string_view name);
+
 struct RenderOptions {
-  // Source views blended per frame: the nearest ones to the virtual camera, [1, 64]. The paper
-  // blends the three views of the view-mesh triangle the ray crosses.
-  int num_source_views = 3;
-  // Soft z-buffer band (paper eq. 1), relative to the nearest candidate depth, (0, 1]: a source
-  // whose surface lies farther than nearest * (1 + band) is hidden there; within the band the
-  // weight falls from 1 (first quarter) to 0 by a raised cosine.
-  double soft_z_band = 0.05;
-  // A source pixel's footprint in the target may grow to this many times its expected size
-  // before it counts as spanning a depth discontinuity and is dropped, [1, 10].
-  double max_splat_stretch = 2.0;
-  // Holes are filled from the covered pixels within this radius, weighted towards the farthest
-  // (disocclusions reveal background; the paper fills holes under 6 px this way), and larger
-  // holes ring by ring inwards with the same radius. Pixels, [1, 16].
-  int hole_fill_radius_px = 3;
+  RenderQuality quality = RenderQuality::kPreview;
+  // Soft z-buffer (eq. 1): gamma = soft_z_gamma_fraction * rho, rho the scene's depth range. The
+  // paper uses 1/10. (0, 0.5).
+  double soft_z_gamma_fraction = 0.1;
+  // rho in metres; 0 = from the scene (1st to 99th percentile of the views' depths). [0, 1e4].
+  double depth_range_m = 0;
+  // A pixel counts as covered (not a hole) when its blended alpha reaches this. (0, 1].
+  double covered_alpha = 0.5;
+  // Reverse soft z hole filling window radius: 3 = the paper's 7x7, which fills holes under 6 px
+  // completely in one pass. [1, 8].
+  int hole_window_radius_px = 3;
+  // Offline exemplar inpainting: patch radius (2 = the paper's 5x5) and search window radius
+  // (50 = the paper's 100x100). [1, 6] and [4, 1000].
+  int inpaint_patch_radius_px = 2;
+  int inpaint_window_radius_px = 50;
+  // Offline depth of field: viewpoints averaged over the aperture. [1, 256].
+  int aperture_samples = 24;
+  // Output images larger than this many pixels are refused (memory: about 100 bytes per pixel
+  // while rendering). [1, 1e9].
+  double max_output_pixels = 64e6;
 
   Status Validate() const;
 };

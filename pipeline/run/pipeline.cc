@@ -13,7 +13,8 @@
 #include "pipeline/depth/plane_sweep.h"
 #include "pipeline/direct/plan_camera_path.h"
 #include "pipeline/lattice/split_lattice.h"
-#include "pipeline/render/novel_view_renderer.h"
+#include "pipeline/render/cpu_scene_renderer.h"
+#include "pipeline/render/layered_from_depth.h"
 #include "pipeline/run/frame_salvage.h"
 
 namespace px {
@@ -279,16 +280,31 @@ StatusOr<PipelineReport> RunPipeline(const FrameSet& capture, const RigCalibrati
 
   // Stage 5: render every frame and hand it on.
   start = Clock::now();
-  PX_ASSIGN_OR_RETURN(std::unique_ptr<NovelViewRenderer> renderer,
-                      NovelViewRenderer::Create(views, *depths, options.render));
+  // Until the depth stage produces segments, its per-pixel maps become layered depth here.
+  std::vector<LayeredDepthView> layers;
+  layers.reserve(views.size());
+  for (size_t i = 0; i < views.size(); ++i) {
+    StatusOr<LayeredDepthView> layered = LayeredDepthFromDepthMap(views[i], (*depths)[i]);
+    if (!layered.ok()) return layered.status().WithContext("render: layered depth of view " + std::to_string(i));
+    layers.push_back(std::move(layered).value());
+  }
+  PX_ASSIGN_OR_RETURN(std::unique_ptr<CpuSceneRenderer> renderer,
+                      CpuSceneRenderer::Create(views, layers, options.render));
+  for (const std::string& warning : renderer->warnings()) report.warnings.push_back("render: " + warning);
   const int num_frames = report.path.NumFrames();
   double sink_ms = 0, hole_sum = 0;
+  report.frame_coverage.clear();
+  report.frame_coverage.reserve(num_frames);
   PX_RETURN_IF_ERROR(report_progress("render", 0));
   for (int i = 0; i < num_frames; ++i) {
     const double t = report.path.FrameTime(i);
-    StatusOr<RenderResult> frame = renderer->Render(report.path.CameraAt(t), report.path.PoseAt(t));
+    VirtualCamera camera;
+    camera.camera = report.path.CameraAt(t);
+    camera.cam_from_world = report.path.PoseAt(t);
+    StatusOr<FrameRender> frame = renderer->Render(camera);
     if (!frame.ok()) return frame.status().WithContext("render frame " + std::to_string(i));
-    hole_sum += frame->hole_ratio;
+    hole_sum += frame->holes.hole_ratio;
+    report.frame_coverage.push_back(frame->holes);
     const Clock::time_point sink_start = Clock::now();
     const Status consumed = sink->Consume(i, frame->bgr);
     sink_ms += MsSince(sink_start);
@@ -299,7 +315,8 @@ StatusOr<PipelineReport> RunPipeline(const FrameSet& capture, const RigCalibrati
   report.mean_hole_ratio = hole_sum / num_frames;
   report.timings.push_back({"render", MsSince(start) - sink_ms});
   report.timings.push_back({"encode", sink_ms});
-  log->info("render: {} frames of {}x{}, {:.1f} ms each, {:.2f}% holes on average; sink {:.0f} ms", num_frames,
+  log->info("render ({} {}): {} frames of {}x{}, {:.1f} ms each, {:.2f}% holes on average; sink {:.0f} ms",
+            renderer->BackendName(), RenderQualityName(options.render.quality), num_frames,
             report.path.width, report.path.height, report.timings[report.timings.size() - 2].ms / num_frames,
             100 * report.mean_hole_ratio, sink_ms);
   if (report.mean_hole_ratio > kHighHoleRatio) {

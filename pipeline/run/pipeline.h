@@ -10,6 +10,7 @@
 #include <opencv2/core.hpp>
 
 #include "pipeline/calib/calib_options.h"
+#include "pipeline/core/coverage_report.h"
 #include "pipeline/core/frame_set.h"
 #include "pipeline/core/rig_calibration.h"
 #include "pipeline/core/view.h"
@@ -47,6 +48,7 @@ struct PipelineReport {
   CameraPath path;              // the path rendered
   int frames_rendered = 0;
   double mean_hole_ratio = 0;   // fraction of pixels no source covered, before filling
+  std::vector<CoverageReport> frame_coverage;  // per rendered frame: hole ratio and H(V) before filling
 };
 
 // stage: a short name; fraction: 0..1 within that stage. Return false to cancel.

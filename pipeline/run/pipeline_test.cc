@@ -158,6 +158,13 @@ TEST_F(PipelineTest, RendersTheDollyFromALatticeFrame) {
   }
   // The dolly stays within the rig: hardly anything to inpaint.
   EXPECT_LT(report->mean_hole_ratio, 0.01);
+  // Per-frame coverage (before hole filling), one report per frame at the output size.
+  ASSERT_EQ(report->frame_coverage.size(), static_cast<size_t>(report->frames_rendered));
+  for (const CoverageReport& frame : report->frame_coverage) {
+    EXPECT_EQ(frame.width, path.width);
+    EXPECT_LT(frame.hole_ratio, 0.05);
+    EXPECT_LT(frame.hole_score, 2.0);  // a valid viewpoint by the paper's rule
+  }
 }
 
 TEST_F(PipelineTest, CancelsWhenProgressSaysSo) {
@@ -280,8 +287,8 @@ TEST_F(PipelineTest, RejectsWhatItCannotDo) {
   EXPECT_EQ(RunPipeline(Capture(sensor_), rig_, ShortClip(), nullptr).status().code(), StatusCode::kInvalidArgument);
 
   PipelineOptions options = ShortClip();
-  options.render.num_source_views = 0;
-  EXPECT_NE(RunPipeline(Capture(sensor_), rig_, options, &sink).status().message().find("render.num_source_views"),
+  options.render.aperture_samples = 0;
+  EXPECT_NE(RunPipeline(Capture(sensor_), rig_, options, &sink).status().message().find("render.aperture_samples"),
             std::string::npos);
 
   RigCalibration no_lattice = rig_;

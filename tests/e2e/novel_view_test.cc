@@ -9,7 +9,8 @@
 
 #include "pipeline/core/log.h"
 #include "pipeline/depth/plane_sweep.h"
-#include "pipeline/render/novel_view_renderer.h"
+#include "pipeline/render/cpu_scene_renderer.h"
+#include "pipeline/render/layered_from_depth.h"
 #include "pipeline/run/pipeline.h"
 #include "sim/synthetic/ray_caster.h"
 #include "sim/synthetic/scene_json.h"
@@ -46,6 +47,30 @@ class NovelViewTest : public ::testing::Test {
     views_.reset();
     depths_.reset();
     scene_.reset();
+  }
+
+  // The CPU renderer over the views whose index is not `left_out` (-1: all), with layered depth
+  // made from the plane sweep's maps as the pipeline does.
+  static std::unique_ptr<CpuSceneRenderer> MakeRenderer(int left_out = -1) {
+    std::vector<View> views;
+    std::vector<LayeredDepthView> layers;
+    for (int i = 0; i < static_cast<int>(views_->size()); ++i) {
+      if (i == left_out) continue;
+      StatusOr<LayeredDepthView> layered = LayeredDepthFromDepthMap((*views_)[i], (*depths_)[i]);
+      EXPECT_TRUE(layered.ok()) << layered.status().ToString();
+      if (!layered.ok()) return nullptr;
+      views.push_back((*views_)[i]);
+      layers.push_back(std::move(layered).value());
+    }
+    auto renderer = CpuSceneRenderer::Create(views, layers, RenderOptions());
+    EXPECT_TRUE(renderer.ok()) << renderer.status().ToString();
+    return renderer.ok() ? std::move(renderer).value() : nullptr;
+  }
+  static VirtualCamera At(const CameraModel& camera, const Rigid3& pose) {
+    VirtualCamera v;
+    v.camera = camera;
+    v.cam_from_world = pose;
+    return v;
   }
 
   static inline std::unique_ptr<e2e::SimulatedShot> shot_;
@@ -86,37 +111,37 @@ TEST_F(NovelViewTest, DepthAgreesWithGroundTruth) {
 }
 
 TEST_F(NovelViewTest, LeftOutInputViewIsRecoveredFromItsNeighbours) {
-  auto renderer = NovelViewRenderer::Create(*views_, *depths_, RenderOptions());
-  ASSERT_TRUE(renderer.ok()) << renderer.status().ToString();
+  std::unique_ptr<CpuSceneRenderer> renderer = MakeRenderer(kCentre);
+  ASSERT_NE(renderer, nullptr);
   const View& centre = (*views_)[kCentre];
-  auto result = (*renderer)->Render(centre.camera, centre.cam_from_world, centre.id);
+  auto result = renderer->Render(At(centre.camera, centre.cam_from_world));
   ASSERT_TRUE(result.ok()) << result.status().ToString();
   const double psnr_vs_input = cv::PSNR(result->bgr, centre.image);
   const double psnr_vs_truth = cv::PSNR(result->bgr, shot_->truth.views[kCentre].bgr);
   RecordProperty("leave_one_out_psnr_db", std::to_string(psnr_vs_input));
   std::printf("leave-one-out centre view: PSNR %.2f dB vs input, %.2f dB vs truth, holes %.4f\n", psnr_vs_input,
-              psnr_vs_truth, result->hole_ratio);
+              psnr_vs_truth, result->holes.hole_ratio);
   // What a renderer that ignored depth would score: the nearest neighbour's image as is.
   const double psnr_without_depth = cv::PSNR((*views_)[kCentre + 1].image, centre.image);
   std::printf("  (the right neighbour's image unwarped scores %.2f dB)\n", psnr_without_depth);
   // The centre view is surrounded by 8 neighbours, so nearly every pixel is seen by some of
-  // them; what is left is resampling blur and depth error at edges. Measured 36.7 dB (README);
+  // them; what is left is resampling blur and depth error at edges. Measured 36.4 dB (README);
   // below 30 dB ghosting at the still life's depth edges becomes visible, and the unwarped
   // neighbour scores about 20 dB, so the bound also proves the depth is doing the work.
   EXPECT_GT(psnr_vs_input, 30.0);
   EXPECT_GT(psnr_vs_input, psnr_without_depth + 6.0);
-  EXPECT_LT(result->hole_ratio, 0.01);
+  EXPECT_LT(result->holes.hole_ratio, 0.01);
 }
 
 TEST_F(NovelViewTest, NovelViewBetweenLensesMatchesTheRayCaster) {
-  auto renderer = NovelViewRenderer::Create(*views_, *depths_, RenderOptions());
-  ASSERT_TRUE(renderer.ok()) << renderer.status().ToString();
+  std::unique_ptr<CpuSceneRenderer> renderer = MakeRenderer();
+  ASSERT_NE(renderer, nullptr);
   // Halfway between the centre lens and its right neighbour, 2 cm forward: a pose no lens had.
   const View& centre = (*views_)[kCentre];
   const Eigen::Vector3d centre_in_world = CameraCentre(centre.cam_from_world);
   const Eigen::Vector3d novel_centre = centre_in_world + Eigen::Vector3d(0.5 * shot_->spec.baseline_m, 0.0, 0.02);
   const Rigid3 novel_pose(centre.cam_from_world.rotation, -(centre.cam_from_world.rotation * novel_centre));
-  auto rendered = (*renderer)->Render(centre.camera, novel_pose);
+  auto rendered = renderer->Render(At(centre.camera, novel_pose));
   ASSERT_TRUE(rendered.ok()) << rendered.status().ToString();
   sim::RenderOptions truth_options;
   truth_options.supersampling = shot_->spec.supersampling;
@@ -125,7 +150,7 @@ TEST_F(NovelViewTest, NovelViewBetweenLensesMatchesTheRayCaster) {
   const double psnr = cv::PSNR(rendered->bgr, truth->bgr);
   RecordProperty("novel_view_psnr_db", std::to_string(psnr));
   std::printf("novel view between lenses: PSNR %.2f dB vs ray-cast truth, holes %.4f\n", psnr,
-              rendered->hole_ratio);
+              rendered->holes.hole_ratio);
   EXPECT_GT(psnr, 28.0);
 }
 

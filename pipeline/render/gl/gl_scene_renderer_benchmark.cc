@@ -2,7 +2,7 @@
 // (1200x800), with 9 (3x3) and 20 (4x5) input views of the analytic two-plane scene cut into
 // 16 px segments (~600 per 480x320 view, ~3750 per 1200x800 view), along a dolly across the rig.
 // Back ends: gl (OSMesa llvmpipe, or EGL: PX_GL=egl|osmesa picks, default auto), and the CPU
-// NovelViewRenderer now on main (the CPU reference SceneRenderer is another branch's work).
+// reference renderer on the same segments.
 // Plus a whole 5 s, 30 fps, 1200x800 clip rendered on GL and encoded as H.264. Prints, asserts
 // nothing.
 #include <benchmark/benchmark.h>
@@ -16,7 +16,7 @@
 #include "pipeline/clip/clip_writer.h"
 #include "pipeline/render/gl/gl_scene_renderer.h"
 #include "pipeline/render/gl/layered_plane_scene_testing.h"
-#include "pipeline/render/novel_view_renderer.h"
+#include "pipeline/render/cpu_scene_renderer.h"
 
 namespace px::render::gl {
 namespace {
@@ -115,23 +115,31 @@ void BM_GlCoverage(benchmark::State& state) {
 }
 BENCHMARK(BM_GlCoverage)->Unit(benchmark::kMillisecond)->UseRealTime();
 
-// The CPU renderer on main (NovelViewRenderer, 3 nearest views, all cores), same scene and sizes.
-void BM_CpuNovelViewFrame(benchmark::State& state) {
+// The CPU reference renderer (CpuSceneRenderer, all cores) on the same segments, sizes and path.
+void BM_CpuSceneFrame(benchmark::State& state) {
   const CameraModel camera = CameraOfWidth(static_cast<int>(state.range(0)));
   int rows, cols;
   RigShape(static_cast<int>(state.range(1)), &rows, &cols);
   std::vector<View> views;
   std::vector<DepthMap> depths;
   render::testing::MakeLatticeViews(render::testing::PlaneScene{}, rows, cols, kBaselineM, camera, &views, &depths);
-  auto renderer = NovelViewRenderer::Create(views, depths, RenderOptions{});
+  std::vector<LayeredDepthView> layers;
+  for (PosedLayeredView& posed :
+       testing::LayeredPlaneScene(render::testing::PlaneScene{}, rows, cols, kBaselineM, camera, kTilePx)) {
+    layers.push_back(std::move(posed.depth));
+  }
+  auto renderer = CpuSceneRenderer::Create(views, layers, RenderOptions{});
   if (!renderer.ok()) {
     state.SkipWithError(renderer.status().ToString().c_str());
     return;
   }
-  state.SetLabel("cpu NovelViewRenderer, " + std::to_string(cv::getNumThreads()) + " threads");
+  state.SetLabel("cpu reference, " + std::to_string(cv::getNumThreads()) + " threads");
+  VirtualCamera request;
+  request.camera = camera;
   int frame = 0;
   for (auto _ : state) {
-    auto result = (*renderer)->Render(camera, DollyPose(frame++, 150));
+    request.cam_from_world = DollyPose(frame++, 150);
+    auto result = (*renderer)->Render(request);
     if (!result.ok()) {
       state.SkipWithError(result.status().ToString().c_str());
       return;
@@ -140,7 +148,7 @@ void BM_CpuNovelViewFrame(benchmark::State& state) {
   }
   state.counters["fps"] = benchmark::Counter(frame, benchmark::Counter::kIsRate);
 }
-BENCHMARK(BM_CpuNovelViewFrame)->ArgsProduct({{480, 1200}, {9, 20}})->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(BM_CpuSceneFrame)->ArgsProduct({{480, 1200}, {9, 20}})->Unit(benchmark::kMillisecond)->UseRealTime();
 
 // The clip goal: 150 frames of 1200x800 rendered on GL and encoded (H.264, veryfast,
 // CRF 20) in under 8 s. One iteration is one whole clip.

@@ -1,0 +1,171 @@
+#include "device/cli/eval_render_command.h"
+
+#include <cstdio>
+#include <filesystem>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "device/cli/machine_info.h"
+#include "device/cli/scene_path.h"
+#include "eval/render/render_eval.h"
+#include "pipeline/core/log.h"
+#include "sim/synthetic/data_paths.h"
+
+namespace px::cli {
+namespace {
+
+namespace fs = std::filesystem;
+
+struct EvalRenderArgs {
+  std::vector<std::string> data;  // dataset folders or scene files; empty = the standard set
+  std::vector<std::string> scenes = {"still_life", "two_faces"};
+  std::string quality = "preview";
+  double sim_scale = 1.0;
+  int block_px = LayeredFromDepthOptions().block_px;
+  double edge_front_weight = LayeredFromDepthOptions().edge_front_weight;
+  bool skip_hci_full_grid = false;
+  bool json = false;
+};
+
+// What a --data argument is, from its layout.
+enum class Layout { kSimScene, kHci, kLlff, kUnknown };
+
+Layout DetectLayout(const fs::path& path) {
+  if (fs::is_regular_file(path) && path.extension() == ".json") return Layout::kSimScene;
+  if (fs::exists(path / "parameters.cfg")) return Layout::kHci;
+  if (fs::exists(path / "poses_bounds.npy")) return Layout::kLlff;
+  return Layout::kUnknown;
+}
+
+Status RunEvalRender(const EvalRenderArgs& args) {
+  eval::RenderEvalOptions options;
+  PX_ASSIGN_OR_RETURN(options.render.quality, ParseRenderQuality(args.quality));
+  options.sim_scale = args.sim_scale;
+  options.layered.block_px = args.block_px;
+  options.layered.edge_front_weight = args.edge_front_weight;
+  options.hci_full_grid = !args.skip_hci_full_grid;
+  if (!args.json) options.progress = [](const std::string& line) { std::fprintf(stderr, "  ... %s\n", line.c_str()); };
+  PX_RETURN_IF_ERROR(options.Validate());
+
+  std::vector<std::string> notes;
+  std::vector<eval::RenderEvalCase> cases;
+  const auto add = [&](StatusOr<std::vector<eval::RenderEvalCase>> result) -> Status {
+    if (!result.ok()) return result.status();
+    cases.insert(cases.end(), result->begin(), result->end());
+    return OkStatus();
+  };
+  std::vector<fs::path> data;
+  if (args.data.empty()) {
+    for (const std::string& scene : args.scenes) {
+      PX_ASSIGN_OR_RETURN(fs::path file, ResolveScenePath(scene));
+      data.push_back(file);
+    }
+    for (const char* name : {"hci_4dlf_antinous", "llff_fern"}) {
+      const fs::path dir = sim::SharedDataDir() / name;
+      if (fs::exists(dir)) {
+        data.push_back(dir);
+      } else {
+        notes.push_back(dir.string() + " is absent: skipped (see ../shared/data/SOURCES.md)");
+      }
+    }
+  } else {
+    for (const std::string& item : args.data) {
+      const fs::path path(item);
+      if (DetectLayout(path) == Layout::kUnknown && !fs::exists(path)) {
+        PX_ASSIGN_OR_RETURN(fs::path file, ResolveScenePath(item));  // a bare scene name
+        data.push_back(file);
+      } else {
+        data.push_back(path);
+      }
+    }
+  }
+  for (const fs::path& path : data) {
+    switch (DetectLayout(path)) {
+      case Layout::kSimScene:
+        PX_RETURN_IF_ERROR(add(eval::EvaluateSimulatedScene(path, SimCameraSpec::Pop9(), options)));
+        PX_RETURN_IF_ERROR(add(eval::EvaluateSimulatedScene(path, SimCameraSpec::Integral5x4(), options)));
+        break;
+      case Layout::kHci:
+        PX_RETURN_IF_ERROR(add(eval::EvaluateHciCentreView(path, options)));
+        break;
+      case Layout::kLlff:
+        PX_RETURN_IF_ERROR(add(eval::EvaluateLlffHeldOut(path, options)));
+        break;
+      case Layout::kUnknown:
+        return InvalidArgumentError("--data '" + path.string() +
+                                    "' is neither a scene JSON, an HCI folder (parameters.cfg) nor an LLFF folder "
+                                    "(poses_bounds.npy)");
+    }
+  }
+
+  const MachineInfo machine = ReadMachineInfo();
+  if (args.json) {
+    nlohmann::json rows = nlohmann::json::array();
+    for (const eval::RenderEvalCase& c : cases) {
+      rows.push_back({{"dataset", c.dataset}, {"viewpoint", c.viewpoint}, {"width", c.width}, {"height", c.height},
+                      {"sources", c.num_sources}, {"psnr_db", c.psnr_db}, {"ssim", c.ssim},
+                      {"hole_ratio", c.hole_ratio}, {"hole_score", c.hole_score}, {"render_ms", c.render_ms}});
+    }
+    const nlohmann::json result{{"backend", "cpu"},
+                                {"quality", args.quality},
+                                {"cases", rows},
+                                {"notes", notes},
+                                {"machine", {{"cpu", machine.cpu_model}, {"cores", machine.cores},
+                                             {"commit", machine.commit}}}};
+    std::printf("%s\n", result.dump(2).c_str());
+    return OkStatus();
+  }
+  std::printf("render evaluation: cpu back end, %s quality; machine %s, %d cores, commit %s\n", args.quality.c_str(),
+              machine.cpu_model.c_str(), machine.cores, machine.commit.c_str());
+  std::printf("%-26s %-38s %9s %7s %9s %7s %8s %9s\n", "dataset", "viewpoint", "size", "sources", "PSNR dB", "SSIM",
+              "holes %", "ms/frame");
+  for (const eval::RenderEvalCase& c : cases) {
+    const std::string size = std::to_string(c.width) + "x" + std::to_string(c.height);
+    std::printf("%-26s %-38s %9s %7d %9.2f %7.4f %8.3f %9.1f\n", c.dataset.c_str(), c.viewpoint.c_str(), size.c_str(),
+                c.num_sources, c.psnr_db, c.ssim, 100 * c.hole_ratio, c.render_ms);
+  }
+  for (const std::string& note : notes) std::printf("note: %s\n", note.c_str());
+  std::printf("goals: >= 38 dB on the simulated scenes; > 24.13 dB on llff fern (LLFF's figure)\n");
+  return OkStatus();
+}
+
+}  // namespace
+
+void AddEvalRenderCommand(CLI::App& eval) {
+  auto args = std::make_shared<EvalRenderArgs>();
+  CLI::App* render = eval.add_subcommand(
+      "render",
+      "Novel views against ground truth: PSNR, SSIM and hole ratio for simulated scenes (Pop9 3x3 and integral "
+      "5x4 lattices, views between, in front of and behind the lenses), the HCI antinous centre view from its "
+      "neighbours and LLFF fern's held-out views");
+  render->add_option("--data", args->data,
+                     "Dataset to evaluate instead of the standard set (repeatable): a scene name or JSON, an HCI "
+                     "light-field folder or an LLFF folder");
+  render->add_option("--scene", args->scenes, "Simulated scenes of the standard set")->capture_default_str();
+  render->add_option("--quality", args->quality, "preview or offline")->capture_default_str();
+  render->add_option("--sim-scale", args->sim_scale, "Scale of the simulated lattices' tiles, (0, 1]")
+      ->capture_default_str();
+  render->add_option("--block-px", args->block_px,
+                     "Side of the square segments made from per-pixel depth, [2, 64] (smaller follows curved "
+                     "surfaces more closely, more segments to draw)")
+      ->capture_default_str();
+  render->add_option("--edge-front-weight", args->edge_front_weight,
+                     "Front layer's weight at depth jumps in segments made from per-pixel depth, (0, 1]; below 1 "
+                     "the far segment extends under the edge as layer 1")
+      ->capture_default_str();
+  render->add_flag("--no-hci-full-grid", args->skip_hci_full_grid,
+                   "HCI: skip rendering from the whole 9x9 (depth for 80 views takes minutes)");
+  render->add_flag("--json", args->json, "Print the figures as JSON (machine-readable)");
+  render->callback([args]() {
+    Status status = RunEvalRender(*args);
+    if (!status.ok()) {
+      Logger("eval")->error("{}", status.ToString());
+      throw CLI::RuntimeError(1);
+    }
+  });
+}
+
+}  // namespace px::cli

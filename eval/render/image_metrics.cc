@@ -1,0 +1,54 @@
+#include "eval/render/image_metrics.h"
+
+#include <algorithm>
+#include <cmath>
+#include <vector>
+
+#include <opencv2/imgproc.hpp>
+
+#include "pipeline/core/check.h"
+
+namespace px::eval {
+
+double Psnr(const cv::Mat& image, const cv::Mat& reference, const cv::Mat& mask) {
+  PX_CHECK(image.type() == CV_8UC3 && reference.type() == CV_8UC3 && image.size() == reference.size())
+      << "Psnr needs two CV_8UC3 images of one size";
+  cv::Mat diff;
+  cv::absdiff(image, reference, diff);
+  diff.convertTo(diff, CV_32FC3);
+  diff = diff.mul(diff);
+  const double count = mask.empty() ? static_cast<double>(image.total()) : cv::countNonZero(mask);
+  if (count <= 0) return 0;
+  const cv::Scalar sum = cv::sum(mask.empty() ? diff : diff.setTo(cv::Scalar::all(0), mask == 0));
+  const double mse = (sum[0] + sum[1] + sum[2]) / (3 * count);
+  return mse <= 0 ? 99.0 : 10.0 * std::log10(255.0 * 255.0 / mse);
+}
+
+double Ssim(const cv::Mat& image, const cv::Mat& reference, const cv::Mat& mask) {
+  PX_CHECK(image.type() == CV_8UC3 && reference.type() == CV_8UC3 && image.size() == reference.size())
+      << "Ssim needs two CV_8UC3 images of one size";
+  constexpr double kC1 = (0.01 * 255) * (0.01 * 255), kC2 = (0.03 * 255) * (0.03 * 255);
+  const cv::Size window(11, 11);
+  const double sigma = 1.5;
+  cv::Mat a, b;
+  image.convertTo(a, CV_32FC3);
+  reference.convertTo(b, CV_32FC3);
+  cv::Mat mu_a, mu_b, aa, bb, ab;
+  cv::GaussianBlur(a, mu_a, window, sigma);
+  cv::GaussianBlur(b, mu_b, window, sigma);
+  cv::GaussianBlur(a.mul(a), aa, window, sigma);
+  cv::GaussianBlur(b.mul(b), bb, window, sigma);
+  cv::GaussianBlur(a.mul(b), ab, window, sigma);
+  const cv::Mat mu_aa = mu_a.mul(mu_a), mu_bb = mu_b.mul(mu_b), mu_ab = mu_a.mul(mu_b);
+  const cv::Mat var_a = aa - mu_aa, var_b = bb - mu_bb, cov = ab - mu_ab;
+  cv::Mat numerator = (2 * mu_ab + kC1).mul(2 * cov + kC2);
+  cv::Mat denominator = (mu_aa + mu_bb + kC1).mul(var_a + var_b + kC2);
+  cv::Mat ssim_map;
+  cv::divide(numerator, denominator, ssim_map);
+  const double count = mask.empty() ? static_cast<double>(image.total()) : cv::countNonZero(mask);
+  if (count <= 0) return 0;
+  const cv::Scalar mean = mask.empty() ? cv::sum(ssim_map) : cv::sum(ssim_map.setTo(cv::Scalar::all(0), mask == 0));
+  return (mean[0] + mean[1] + mean[2]) / (3 * count);
+}
+
+}  // namespace px::eval

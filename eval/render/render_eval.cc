@@ -1,0 +1,236 @@
+#include "eval/render/render_eval.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <memory>
+#include <sstream>
+
+#include <opencv2/imgproc.hpp>
+
+#include "eval/datasets/hci_light_field.h"
+#include "eval/datasets/llff.h"
+#include "eval/render/image_metrics.h"
+#include "pipeline/calib/undistort_cache.h"
+#include "pipeline/depth/plane_sweep.h"
+#include "pipeline/render/cpu_scene_renderer.h"
+#include "pipeline/render/layered_from_depth.h"
+#include "sim/synthetic/ray_caster.h"
+#include "sim/synthetic/scene_json.h"
+#include "sim/synthetic/sim_sensor.h"
+
+namespace px::eval {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+void Progress(const RenderEvalOptions& options, const std::string& line) {
+  if (options.progress) options.progress(line);
+}
+
+StatusOr<std::unique_ptr<CpuSceneRenderer>> MakeRenderer(const std::vector<View>& views,
+                                                         const std::vector<DepthMap>& depths,
+                                                         const RenderEvalOptions& options) {
+  std::vector<LayeredDepthView> layers;
+  layers.reserve(views.size());
+  for (size_t i = 0; i < views.size(); ++i) {
+    StatusOr<LayeredDepthView> layered = LayeredDepthFromDepthMap(views[i], depths[i], options.layered);
+    if (!layered.ok()) return layered.status().WithContext("layered depth of view " + std::to_string(views[i].id.value));
+    layers.push_back(std::move(layered).value());
+  }
+  return CpuSceneRenderer::Create(views, layers, options.render);
+}
+
+// Renders `camera` at `pose` (once to warm up, once timed) and scores it against `truth`.
+StatusOr<RenderEvalCase> RenderAndScore(CpuSceneRenderer& renderer, const CameraModel& camera, const Rigid3& pose,
+                                        const cv::Mat& truth, int num_sources) {
+  VirtualCamera virtual_camera;
+  virtual_camera.camera = camera;
+  virtual_camera.cam_from_world = pose;
+  PX_RETURN_IF_ERROR(renderer.Render(virtual_camera).status());
+  const Clock::time_point start = Clock::now();
+  PX_ASSIGN_OR_RETURN(FrameRender frame, renderer.Render(virtual_camera));
+  RenderEvalCase result;
+  result.render_ms = std::chrono::duration<double, std::milli>(Clock::now() - start).count();
+  result.width = camera.width;
+  result.height = camera.height;
+  result.num_sources = num_sources;
+  result.psnr_db = Psnr(frame.bgr, truth);
+  result.ssim = Ssim(frame.bgr, truth);
+  result.hole_ratio = frame.holes.hole_ratio;
+  result.hole_score = frame.holes.hole_score;
+  return result;
+}
+
+Rigid3 PoseAt(const Eigen::Vector3d& centre_in_world, const Eigen::Quaterniond& cam_from_world_rotation) {
+  return Rigid3(cam_from_world_rotation, -(cam_from_world_rotation * centre_in_world));
+}
+
+std::string LatticeName(const SimCameraSpec& spec) {
+  return std::to_string(spec.cols) + "x" + std::to_string(spec.rows);
+}
+
+}  // namespace
+
+Status RenderEvalOptions::Validate() const {
+  PX_RETURN_IF_ERROR(render.Validate());
+  if (!(sim_scale > 0 && sim_scale <= 1)) {
+    std::ostringstream error;
+    error << "eval render: sim_scale " << sim_scale << " is outside (0, 1]";
+    return InvalidArgumentError(error.str());
+  }
+  if (llff_hold_out_every < 2 || llff_hold_out_every > 100) {
+    return InvalidArgumentError("eval render: llff_hold_out_every " + std::to_string(llff_hold_out_every) +
+                                " is outside [2, 100]");
+  }
+  return OkStatus();
+}
+
+StatusOr<std::vector<RenderEvalCase>> EvaluateSimulatedScene(const std::filesystem::path& scene_file,
+                                                             const SimCameraSpec& lattice,
+                                                             const RenderEvalOptions& options) {
+  PX_RETURN_IF_ERROR(options.Validate());
+  PX_ASSIGN_OR_RETURN(sim::Scene scene, sim::LoadScene(scene_file));
+  SimCameraSpec spec = lattice;
+  spec.tile_width = std::max(16, static_cast<int>(std::lround(spec.tile_width * options.sim_scale)));
+  spec.tile_height = std::max(16, static_cast<int>(std::lround(spec.tile_height * options.sim_scale)));
+  spec.focal_px *= options.sim_scale;
+  spec.distortion = {0, 0, 0, 0, 0};
+  const std::string dataset = "sim " + scene_file.stem().string() + " " + LatticeName(spec);
+  Progress(options, dataset + ": ray casting " + std::to_string(spec.rows * spec.cols) + " views");
+  PX_ASSIGN_OR_RETURN(std::vector<sim::ViewTruth> truths, sim::RenderLatticeViews(scene, spec));
+  std::vector<View> views;
+  std::vector<DepthMap> depths;
+  for (const sim::ViewTruth& truth : truths) {
+    View view;
+    view.id = truth.id;
+    view.camera = truth.camera;
+    view.cam_from_world = truth.cam_from_rig;
+    view.image = truth.bgr;
+    views.push_back(view);
+    DepthMap depth;
+    depth.id = truth.id;
+    depth.depth_m = truth.depth_m;
+    depth.confidence = cv::Mat(truth.depth_m.size(), CV_32F, cv::Scalar(1));
+    depths.push_back(depth);
+  }
+  PX_ASSIGN_OR_RETURN(std::unique_ptr<CpuSceneRenderer> renderer, MakeRenderer(views, depths, options));
+
+  // Viewpoints no lens had: between lenses on the lattice plane, off the plane in front of and
+  // behind it, and turned. The rig frame is centred on the lattice, lenses looking down +z.
+  const double b = spec.baseline_m;
+  const Eigen::Quaterniond straight = Eigen::Quaterniond::Identity();
+  const Eigen::Quaterniond turned(Eigen::AngleAxisd(2.0 * M_PI / 180, Eigen::Vector3d::UnitY()) *
+                                  Eigen::AngleAxisd(1.0 * M_PI / 180, Eigen::Vector3d::UnitX()));
+  struct Viewpoint {
+    std::string name;
+    Eigen::Vector3d centre;
+    Eigen::Quaterniond rotation;
+  };
+  const std::vector<Viewpoint> viewpoints = {
+      {"between lenses", Eigen::Vector3d(0.5 * b, 0.5 * b, 0), straight},
+      {"5 cm in front of the lattice", Eigen::Vector3d(0.25 * b, -0.3 * b, 0.05), straight},
+      {"5 cm behind the lattice", Eigen::Vector3d(-0.3 * b, 0.2 * b, -0.05), straight},
+      {"between lenses, turned 2 deg", Eigen::Vector3d(0.4 * b, -0.4 * b, 0.01), turned},
+  };
+  sim::RenderOptions truth_options;
+  truth_options.supersampling = spec.supersampling;
+  std::vector<RenderEvalCase> cases;
+  for (const Viewpoint& viewpoint : viewpoints) {
+    Progress(options, dataset + ": " + viewpoint.name);
+    const Rigid3 pose = PoseAt(viewpoint.centre, viewpoint.rotation);
+    const CameraModel& camera = views.front().camera;
+    PX_ASSIGN_OR_RETURN(sim::RenderedView truth, sim::RenderView(scene, camera, pose, truth_options));
+    PX_ASSIGN_OR_RETURN(RenderEvalCase result,
+                        RenderAndScore(*renderer, camera, pose, truth.bgr, static_cast<int>(views.size())));
+    result.dataset = dataset;
+    result.viewpoint = viewpoint.name;
+    cases.push_back(result);
+  }
+  return cases;
+}
+
+StatusOr<std::vector<RenderEvalCase>> EvaluateHciCentreView(const std::filesystem::path& dir,
+                                                            const RenderEvalOptions& options) {
+  PX_RETURN_IF_ERROR(options.Validate());
+  PX_ASSIGN_OR_RETURN(HciLightField field, LoadHciLightField(dir));
+  const std::string dataset = "hci " + field.scene;
+  const View& centre = field.views[field.CentreIndex()];
+  // The depth stage's range from the scene's disparity range, with a margin.
+  const double lo = std::max(field.disp_min, -field.offset_px + 0.1), hi = field.disp_max;
+  DepthOptions depth_options;
+  depth_options.min_depth_m = 0.9 * field.DepthFromDisparity(hi);
+  depth_options.max_depth_m = 1.1 * field.DepthFromDisparity(lo);
+  std::vector<std::pair<std::string, std::vector<View>>> sets;
+  std::vector<View> ring = field.CentreGrid(1);
+  ring.erase(ring.begin() + static_cast<long>(ring.size() / 2));
+  sets.emplace_back("centre from its 3x3 ring (8 views)", ring);
+  if (options.hci_full_grid) {
+    std::vector<View> all = field.views;
+    all.erase(all.begin() + field.CentreIndex());
+    sets.emplace_back("centre from the 9x9 (80 views)", all);
+  }
+  std::vector<RenderEvalCase> cases;
+  for (const auto& [name, sources] : sets) {
+    Progress(options, dataset + ": depth for " + std::to_string(sources.size()) + " views");
+    PX_ASSIGN_OR_RETURN(std::vector<DepthMap> depths, ComputeDepth(sources, depth_options));
+    Progress(options, dataset + ": " + name);
+    PX_ASSIGN_OR_RETURN(std::unique_ptr<CpuSceneRenderer> renderer, MakeRenderer(sources, depths, options));
+    PX_ASSIGN_OR_RETURN(RenderEvalCase result,
+                        RenderAndScore(*renderer, centre.camera, centre.cam_from_world, centre.image,
+                                       static_cast<int>(sources.size())));
+    result.dataset = dataset;
+    result.viewpoint = name;
+    cases.push_back(result);
+  }
+  return cases;
+}
+
+StatusOr<std::vector<RenderEvalCase>> EvaluateLlffHeldOut(const std::filesystem::path& dir,
+                                                          const RenderEvalOptions& options) {
+  PX_RETURN_IF_ERROR(options.Validate());
+  PX_ASSIGN_OR_RETURN(LlffScene scene, LoadLlffScene(dir));
+  const std::string dataset = "llff " + dir.filename().string();
+  // The renderer and the depth stage take undistorted pinholes: remove COLMAP's k1.
+  UndistortCache undistort;
+  double near = 1e30, far = 0;
+  for (size_t i = 0; i < scene.views.size(); ++i) {
+    View& view = scene.views[i];
+    if (view.camera.HasDistortion()) {
+      const UndistortCache::Maps& maps = undistort.Get(view.camera);
+      cv::Mat undistorted;
+      cv::remap(view.image, undistorted, maps.map_x, maps.map_y, cv::INTER_LINEAR, cv::BORDER_REPLICATE);
+      view.image = undistorted;
+      view.camera = view.camera.WithoutDistortion();
+    }
+    near = std::min(near, scene.near_depth[i]);
+    far = std::max(far, scene.far_depth[i]);
+  }
+  std::vector<View> sources, held_out;
+  for (size_t i = 0; i < scene.views.size(); ++i) {
+    (static_cast<int>(i) % options.llff_hold_out_every == 0 ? held_out : sources).push_back(scene.views[i]);
+  }
+  if (sources.size() < 2 || held_out.empty()) {
+    return InvalidArgumentError(dataset + ": " + std::to_string(scene.views.size()) +
+                                " views are too few to hold out every " + std::to_string(options.llff_hold_out_every));
+  }
+  DepthOptions depth_options;
+  depth_options.min_depth_m = 0.8 * near;
+  depth_options.max_depth_m = 1.2 * far;
+  Progress(options, dataset + ": depth for " + std::to_string(sources.size()) + " views");
+  PX_ASSIGN_OR_RETURN(std::vector<DepthMap> depths, ComputeDepth(sources, depth_options));
+  PX_ASSIGN_OR_RETURN(std::unique_ptr<CpuSceneRenderer> renderer, MakeRenderer(sources, depths, options));
+  std::vector<RenderEvalCase> cases;
+  for (const View& view : held_out) {
+    const std::string name = "view " + std::to_string(view.id.value) + " held out";
+    Progress(options, dataset + ": " + name);
+    PX_ASSIGN_OR_RETURN(RenderEvalCase result, RenderAndScore(*renderer, view.camera, view.cam_from_world, view.image,
+                                                              static_cast<int>(sources.size())));
+    result.dataset = dataset;
+    result.viewpoint = name;
+    cases.push_back(result);
+  }
+  return cases;
+}
+
+}  // namespace px::eval

@@ -1,0 +1,202 @@
+#include "pipeline/render/cpu_scene_renderer.h"
+
+#include <algorithm>
+#include <chrono>
+#include <string>
+
+#include "pipeline/core/log.h"
+#include "pipeline/render/color_effects.h"
+#include "pipeline/render/compositor.h"
+#include "pipeline/render/depth_of_field.h"
+#include "pipeline/render/exemplar_inpaint.h"
+#include "pipeline/render/hole_fill.h"
+#include "pipeline/render/segment_raster.h"
+
+namespace px {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double MsSince(Clock::time_point start) {
+  return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
+}
+
+cv::Mat ToBgr8(const cv::Mat& colour) {
+  cv::Mat bgr;
+  colour.convertTo(bgr, CV_8UC3);  // rounds to nearest and saturates
+  return bgr;
+}
+
+CoverageReport MeasureCoverage(const cv::Mat& coverage) {
+  CoverageReport report;
+  report.width = coverage.cols;
+  report.height = coverage.rows;
+  const double total = static_cast<double>(coverage.total());
+  report.hole_ratio = 1.0 - cv::countNonZero(coverage) / total;
+  report.hole_score = report.hole_ratio > 0 ? render::HoleScore(coverage) : 0.0;
+  return report;
+}
+
+}  // namespace
+
+StatusOr<std::unique_ptr<CpuSceneRenderer>> CpuSceneRenderer::Create(const std::vector<View>& views,
+                                                                     const std::vector<LayeredDepthView>& layers,
+                                                                     const RenderOptions& options) {
+  PX_ASSIGN_OR_RETURN(render::LayeredScene scene, render::LayeredScene::Create(views, layers, options));
+  const auto log = Logger("render");
+  for (const std::string& warning : scene.warnings()) log->warn("{}", warning);
+  log->debug("cpu renderer: {} views in the mesh, {} triangles, depth range {:.3f} m", scene.views().size(),
+             scene.mesh().triangles().size(), scene.depth_range_m());
+  return std::unique_ptr<CpuSceneRenderer>(new CpuSceneRenderer(std::move(scene), options));
+}
+
+Status CpuSceneRenderer::CheckCamera(const CameraModel& camera, const Rigid3& cam_from_world) const {
+  PX_RETURN_IF_ERROR(camera.Validate().WithContext("render: camera"));
+  if (camera.HasDistortion()) return InvalidArgumentError("render: camera must be a pinhole without distortion");
+  if (!cam_from_world.rotation.coeffs().allFinite() || !cam_from_world.translation.allFinite()) {
+    return InvalidArgumentError("render: camera pose is not finite");
+  }
+  const double pixels = static_cast<double>(camera.width) * camera.height;
+  if (pixels > options_.max_output_pixels) {
+    return InvalidArgumentError("render: output " + std::to_string(camera.width) + "x" + std::to_string(camera.height) +
+                                " exceeds render.max_output_pixels " + std::to_string(options_.max_output_pixels));
+  }
+  return OkStatus();
+}
+
+CpuSceneRenderer::Core CpuSceneRenderer::RenderCore(const CameraModel& camera, const Rigid3& cam_from_world,
+                                                    const std::vector<ColorEffect>& effects, RenderQuality quality,
+                                                    bool inpaint) {
+  const int width = camera.width, height = camera.height;
+  Clock::time_point start = Clock::now();
+  scene_.mesh().ComputeWeights(camera, cam_from_world, &slots_);
+  stats_.weights_ms += MsSince(start);
+
+  start = Clock::now();
+  const std::vector<render::FrameView> frame_views = render::SetUpFrame(scene_, camera, cam_from_world, slots_);
+  stats_.setup_ms += MsSince(start);
+  stats_.views_drawn = static_cast<int>(frame_views.size());
+  stats_.segments_drawn = 0;
+  for (const render::FrameView& fv : frame_views) stats_.segments_drawn += static_cast<int>(fv.segments.size());
+
+  start = Clock::now();
+  render::FrameComposite composite;
+  if (quality == RenderQuality::kOffline) {
+    render::CompositeOffline(scene_, frame_views, slots_, width, height, &composite);
+  } else {
+    render::CompositePreview(scene_, frame_views, slots_, width, height, true, &composite);
+  }
+  stats_.composite_ms += MsSince(start);
+  stats_.fragments += composite.fragments;
+
+  start = Clock::now();
+  Core core;
+  core.coverage = composite.alpha >= options_.covered_alpha;
+  cv::Mat known = core.coverage.clone();
+  // Partly covered holes keep their share of colour over the fill (section 6).
+  struct Partial {
+    cv::Point at;
+    float alpha;
+    cv::Vec3f colour;
+  };
+  std::vector<Partial> partial;
+  for (int y = 0; y < height; ++y) {
+    const float* a = composite.alpha.ptr<float>(y);
+    const uint8_t* k = known.ptr<uint8_t>(y);
+    for (int x = 0; x < width; ++x) {
+      if (k[x] == 0 && a[x] > 0) partial.push_back({{x, y}, a[x], composite.colour.at<cv::Vec3f>(y, x)});
+    }
+  }
+  stats_.hole_pixels = width * height - cv::countNonZero(known);
+  const render::SoftZ& soft_z = scene_.soft_z();
+  const int radius = options_.hole_window_radius_px;
+  if (stats_.hole_pixels > 0) {
+    if (inpaint) {
+      const cv::Mat small = render::SmallHoles(known, radius);
+      const render::HoleFillReport first =
+          render::FillHolesReverseSoftZ(soft_z, radius, 1, &known, &composite.colour, &composite.depth, &small);
+      stats_.small_hole_pixels = first.first_pass;
+      render::InpaintOptions inpaint_options;
+      inpaint_options.patch_radius_px = options_.inpaint_patch_radius_px;
+      inpaint_options.window_radius_px = options_.inpaint_window_radius_px;
+      inpaint_options.depth_radius_px = radius;
+      const render::InpaintReport inpainted = render::InpaintDepthAware(soft_z, inpaint_options, known == 0, &known,
+                                                                        &composite.colour, &composite.depth);
+      stats_.inpainted_pixels = inpainted.pixels - inpainted.fallback_pixels;
+      stats_.propagated_pixels = inpainted.fallback_pixels;
+    }
+    const render::HoleFillReport rest =
+        render::FillHolesReverseSoftZ(soft_z, radius, 0, &known, &composite.colour, &composite.depth);
+    if (!inpaint) stats_.small_hole_pixels = rest.first_pass;
+    stats_.propagated_pixels += inpaint ? rest.first_pass + rest.later_passes : rest.later_passes;
+  }
+  for (const Partial& p : partial) {
+    cv::Vec3f& c = composite.colour.at<cv::Vec3f>(p.at);
+    c = p.alpha * p.colour + (1.0f - p.alpha) * c;
+  }
+  stats_.holes_ms += MsSince(start);
+
+  start = Clock::now();
+  render::ApplyColorEffects(effects, camera, cam_from_world, composite.depth, &composite.colour);
+  stats_.effects_ms += MsSince(start);
+
+  std::vector<std::pair<double, ViewId>> by_weight;
+  for (const render::FrameView& fv : frame_views) by_weight.emplace_back(-fv.weight_sum, scene_.views()[fv.view].id);
+  std::sort(by_weight.begin(), by_weight.end());
+  for (const auto& [weight, id] : by_weight) core.sources.push_back(id);
+  core.colour = composite.colour;
+  core.depth = composite.depth;
+  return core;
+}
+
+StatusOr<FrameRender> CpuSceneRenderer::Render(const VirtualCamera& camera) {
+  PX_RETURN_IF_ERROR(camera.Validate());
+  PX_RETURN_IF_ERROR(CheckCamera(camera.camera, camera.cam_from_world));
+  const Clock::time_point start = Clock::now();
+  stats_ = CpuFrameStats();
+  const bool offline = options_.quality == RenderQuality::kOffline;
+  Core core = RenderCore(camera.camera, camera.cam_from_world, camera.effects, options_.quality, offline);
+  FrameRender frame;
+  if (camera.aperture_m > 0 && offline) {
+    // Synthetic aperture: the average of jittered viewpoints registered on the focal plane.
+    const std::vector<render::ApertureViewpoint> viewpoints = render::ApertureViewpoints(
+        camera.camera, camera.cam_from_world, camera.aperture_m, camera.focus_depth_m, options_.aperture_samples);
+    cv::Mat sum = cv::Mat::zeros(core.colour.size(), CV_32FC3);
+    for (const render::ApertureViewpoint& v : viewpoints) {
+      const Core sample = RenderCore(v.camera, v.cam_from_world, camera.effects, RenderQuality::kOffline, false);
+      sum += sample.colour;
+    }
+    stats_.aperture_samples = static_cast<int>(viewpoints.size());
+    core.colour = sum / static_cast<double>(viewpoints.size());
+  } else if (camera.aperture_m > 0) {
+    const Clock::time_point dof_start = Clock::now();
+    const render::DepthOfFieldReport dof = render::ApplyPreviewDepthOfField(
+        camera.aperture_m, camera.focus_depth_m, camera.camera.fx, core.depth, &core.colour);
+    stats_.silhouette_pixels = dof.silhouette_pixels;
+    stats_.effects_ms += MsSince(dof_start);
+  }
+  frame.bgr = ToBgr8(core.colour);
+  frame.depth_m = core.depth;
+  frame.coverage = core.coverage;
+  frame.holes = MeasureCoverage(core.coverage);
+  frame.sources = std::move(core.sources);
+  stats_.total_ms = MsSince(start);
+  Logger("render")->debug(
+      "cpu {} frame {}x{}: {} views, {} segments; weights {:.1f} ms, setup {:.1f} ms, composite {:.1f} ms, "
+      "holes {:.1f} ms ({:.2f}%), effects {:.1f} ms; {:.1f} ms in all",
+      RenderQualityName(options_.quality), camera.camera.width, camera.camera.height, stats_.views_drawn,
+      stats_.segments_drawn, stats_.weights_ms, stats_.setup_ms, stats_.composite_ms, stats_.holes_ms,
+      100 * frame.holes.hole_ratio, stats_.effects_ms, stats_.total_ms);
+  return frame;
+}
+
+StatusOr<CoverageReport> CpuSceneRenderer::Coverage(const CameraModel& camera, const Rigid3& cam_from_world) {
+  PX_RETURN_IF_ERROR(CheckCamera(camera, cam_from_world));
+  scene_.mesh().ComputeWeights(camera, cam_from_world, &slots_);
+  const std::vector<render::FrameView> frame_views = render::SetUpFrame(scene_, camera, cam_from_world, slots_);
+  render::FrameComposite composite;
+  render::CompositePreview(scene_, frame_views, slots_, camera.width, camera.height, false, &composite);
+  return MeasureCoverage(composite.alpha >= options_.covered_alpha);
+}
+
+}  // namespace px

@@ -1,0 +1,241 @@
+#include "pipeline/render/cpu_scene_renderer.h"
+
+#include <cmath>
+#include <cstdio>
+#include <limits>
+
+#include <gtest/gtest.h>
+
+#include "pipeline/render/render_test_util.h"
+
+namespace px {
+namespace {
+
+using render::testing::AwayFromEdges;
+using render::testing::MakeLayeredLattice;
+using render::testing::MaskedPsnr;
+using render::testing::PlaneScene;
+
+// Half the Pop9 tile (640x480, f 560) keeps the tests fast with the same angles.
+const CameraModel kCamera = CameraModel::Pinhole(320, 240, 280);
+constexpr double kBaselineM = 0.025;
+
+VirtualCamera At(const CameraModel& camera, const Rigid3& pose) {
+  VirtualCamera v;
+  v.camera = camera;
+  v.cam_from_world = pose;
+  return v;
+}
+
+class CpuSceneRendererTest : public ::testing::Test {
+ protected:
+  void SetUp() override { MakeLayeredLattice(scene_, 3, 3, kBaselineM, kCamera, &views_, &layers_); }
+  std::unique_ptr<CpuSceneRenderer> Make(const RenderOptions& options = {}) {
+    auto renderer = CpuSceneRenderer::Create(views_, layers_, options);
+    EXPECT_TRUE(renderer.ok()) << renderer.status().ToString();
+    return renderer.ok() ? std::move(renderer).value() : nullptr;
+  }
+  PlaneScene scene_;
+  std::vector<View> views_;
+  std::vector<LayeredDepthView> layers_;
+};
+
+TEST_F(CpuSceneRendererTest, ViewBetweenSourcesMatchesTheExactRender) {
+  // Between the lenses, turned 1 degree and zoomed 5 %: exercises the full warp.
+  const Eigen::Vector3d centre(0.011, 0.006, 0.0);
+  const Eigen::Quaterniond rotation(Eigen::AngleAxisd(M_PI / 180, Eigen::Vector3d::UnitY()));
+  const Rigid3 pose(rotation, -(rotation * centre));
+  CameraModel camera = kCamera;
+  camera.fx = camera.fy = 294;
+  for (RenderQuality quality : {RenderQuality::kPreview, RenderQuality::kOffline}) {
+    RenderOptions options;
+    options.quality = quality;
+    auto renderer = Make(options);
+    ASSERT_NE(renderer, nullptr);
+    StatusOr<FrameRender> frame = renderer->Render(At(camera, pose));
+    for (int i = 0; i < 5; ++i) frame = renderer->Render(At(camera, pose));
+    ASSERT_TRUE(frame.ok()) << frame.status().ToString();
+    cv::Mat want_bgr, want_depth;
+    scene_.Render(camera, pose, &want_bgr, &want_depth);
+    const cv::Mat interior = AwayFromEdges(want_depth);
+    const double psnr_interior = MaskedPsnr(frame->bgr, want_bgr, interior);
+    const double psnr_all = MaskedPsnr(frame->bgr, want_bgr);
+    const CpuFrameStats& st = renderer->last_frame();
+    std::printf("weights %.1f setup %.1f composite %.1f holes %.1f effects %.1f segs %d views %d\n", st.weights_ms,
+                st.setup_ms, st.composite_ms, st.holes_ms, st.effects_ms, st.segments_drawn, st.views_drawn);
+    std::printf("%s: between sources PSNR %.2f dB interior, %.2f dB all, holes %.4f, %.1f ms\n",
+                std::string(RenderQualityName(quality)).c_str(), psnr_interior, psnr_all, frame->holes.hole_ratio,
+                renderer->last_frame().total_ms);
+    EXPECT_GT(psnr_interior, 44.0);
+    EXPECT_GT(psnr_all, 35.0);
+    EXPECT_LT(frame->holes.hole_ratio, 0.02);
+  }
+}
+
+TEST_F(CpuSceneRendererTest, AtASourceViewTheRenderIsThatView) {
+  auto renderer = Make();
+  ASSERT_NE(renderer, nullptr);
+  const View& centre = views_[4];
+  StatusOr<FrameRender> frame = renderer->Render(At(centre.camera, centre.cam_from_world));
+  ASSERT_TRUE(frame.ok()) << frame.status().ToString();
+  const double psnr = MaskedPsnr(frame->bgr, centre.image);
+  std::printf("at the centre lens: PSNR %.2f dB vs its image, holes %.5f\n", psnr, frame->holes.hole_ratio);
+  // Weight 1 on the centre view at every pixel: its segments resampled at their own pixels.
+  EXPECT_GT(psnr, 45.0);
+  EXPECT_EQ(frame->holes.hole_ratio, 0.0);
+  ASSERT_FALSE(frame->sources.empty());
+  EXPECT_EQ(frame->sources.front(), centre.id);
+}
+
+TEST_F(CpuSceneRendererTest, CoverageAgreesWithRenderAndIsCheapAtReducedSize) {
+  auto renderer = Make();
+  ASSERT_NE(renderer, nullptr);
+  // 30 cm behind the lattice: the wider view sees past the sources' fields of view at its borders.
+  const Rigid3 pose(Eigen::Quaterniond::Identity(), -Eigen::Vector3d(0.01, 0.0, -0.3));
+  StatusOr<FrameRender> frame = renderer->Render(At(kCamera, pose));
+  ASSERT_TRUE(frame.ok()) << frame.status().ToString();
+  StatusOr<CoverageReport> full = renderer->Coverage(kCamera, pose);
+  ASSERT_TRUE(full.ok()) << full.status().ToString();
+  EXPECT_GT(frame->holes.hole_ratio, 0.01);
+  EXPECT_NEAR(full->hole_ratio, frame->holes.hole_ratio, 1e-9);
+  EXPECT_NEAR(full->hole_score, frame->holes.hole_score, 1e-9);
+  EXPECT_EQ(full->width, 320);
+  // At 1/8 size the ratio is nearly the same; H(V) scales with the cube of the size (d^3).
+  StatusOr<CoverageReport> small = renderer->Coverage(kCamera.Scaled(0.125), pose);
+  ASSERT_TRUE(small.ok()) << small.status().ToString();
+  EXPECT_EQ(small->width, 40);
+  EXPECT_NEAR(small->hole_ratio, full->hole_ratio, 0.02);
+  std::printf("coverage: full %.4f H %.3f; 1/8 %.4f H %.5f (x512 = %.3f)\n", full->hole_ratio, full->hole_score,
+              small->hole_ratio, small->hole_score, 512 * small->hole_score);
+}
+
+TEST_F(CpuSceneRendererTest, ColourEffectsAndDepthOfFieldReachTheFrame) {
+  auto renderer = Make();
+  ASSERT_NE(renderer, nullptr);
+  const Rigid3 pose(Eigen::Quaterniond::Identity(), -Eigen::Vector3d(0.005, 0.0, 0.0));
+  StatusOr<FrameRender> plain = renderer->Render(At(kCamera, pose));
+  ASSERT_TRUE(plain.ok());
+  // Desaturate everything but the foreground box (z = 1 m): the background turns grey.
+  VirtualCamera camera = At(kCamera, pose);
+  ColorEffect effect;
+  effect.kind = ColorEffectKind::kSaturation;
+  effect.amount = 0;
+  effect.region_min_in_world = Eigen::Vector3d(-0.25, -0.15, 0.95);
+  effect.region_max_in_world = Eigen::Vector3d(0.15, 0.15, 1.05);
+  effect.falloff_m = 0.02;
+  effect.invert = true;
+  camera.effects = {effect};
+  StatusOr<FrameRender> effected = renderer->Render(camera);
+  ASSERT_TRUE(effected.ok()) << effected.status().ToString();
+  const auto spread = [](const cv::Vec3b& c) { return std::max({c[0], c[1], c[2]}) - std::min({c[0], c[1], c[2]}); };
+  const cv::Point background(5, 5), foreground(140, 120);  // the rectangle spans x 102..186, y 86..153
+  ASSERT_GT(plain->depth_m.at<float>(background), 2.5f);
+  ASSERT_LT(plain->depth_m.at<float>(foreground), 1.5f);
+  EXPECT_LE(spread(effected->bgr.at<cv::Vec3b>(background)), 1);
+  EXPECT_EQ(effected->bgr.at<cv::Vec3b>(foreground), plain->bgr.at<cv::Vec3b>(foreground));
+  // Depth of field focused on the foreground: it stays as it was, the background blurs.
+  VirtualCamera lens = At(kCamera, pose);
+  lens.aperture_m = 0.03;
+  lens.focus_depth_m = 1.0;
+  StatusOr<FrameRender> dof = renderer->Render(lens);
+  ASSERT_TRUE(dof.ok()) << dof.status().ToString();
+  const cv::Rect fg_patch(130, 105, 20, 20), bg_patch(10, 10, 40, 40);
+  cv::Mat diff;
+  cv::absdiff(dof->bgr(fg_patch), plain->bgr(fg_patch), diff);
+  EXPECT_LE(cv::norm(diff, cv::NORM_INF), 1.0);
+  cv::absdiff(dof->bgr(bg_patch), plain->bgr(bg_patch), diff);
+  EXPECT_GT(cv::norm(diff, cv::NORM_INF), 3.0);
+}
+
+// Bad input (issue item 9): clear errors or honest degraded frames, never a crash or a hang.
+TEST_F(CpuSceneRendererTest, AViewWithoutValidDepthIsLeftOutWithAWarning) {
+  std::vector<View> views = views_;
+  std::vector<LayeredDepthView> layers = layers_;
+  DepthMap empty;
+  empty.id = views[2].id;
+  empty.depth_m = cv::Mat(kCamera.height, kCamera.width, CV_32F, cv::Scalar(0));
+  empty.depth_m.at<float>(7, 7) = std::numeric_limits<float>::quiet_NaN();
+  StatusOr<LayeredDepthView> layered = LayeredDepthFromDepthMap(views[2], empty);
+  ASSERT_TRUE(layered.ok()) << layered.status().ToString();
+  layers[2] = *layered;
+  auto renderer = CpuSceneRenderer::Create(views, layers, RenderOptions());
+  ASSERT_TRUE(renderer.ok()) << renderer.status().ToString();
+  EXPECT_EQ((*renderer)->scene().views().size(), 8u);
+  ASSERT_FALSE((*renderer)->warnings().empty());
+  EXPECT_NE((*renderer)->warnings().back().find("no valid depth"), std::string::npos);
+  StatusOr<FrameRender> frame = (*renderer)->Render(At(kCamera, views[4].cam_from_world));
+  ASSERT_TRUE(frame.ok()) << frame.status().ToString();
+  EXPECT_GT(MaskedPsnr(frame->bgr, views[4].image), 40.0);
+  // No view with depth at all: an error that says so.
+  std::vector<LayeredDepthView> none(layers.size(), *layered);
+  for (size_t i = 0; i < none.size(); ++i) none[i].id = views[i].id;
+  auto nothing = CpuSceneRenderer::Create(views, none, RenderOptions());
+  ASSERT_FALSE(nothing.ok());
+  EXPECT_NE(nothing.status().message().find("valid depth"), std::string::npos) << nothing.status().ToString();
+}
+
+TEST_F(CpuSceneRendererTest, NanPlanesAndWeightsAreDroppedNotDrawn) {
+  std::vector<LayeredDepthView> layers = layers_;
+  const float nan = std::numeric_limits<float>::quiet_NaN();
+  // Poison half of the centre view's segments and some of its layer weights.
+  LayeredDepthView& centre = layers[4];
+  for (size_t s = 0; s < centre.segments.size(); s += 2) centre.segments[s].inv_depth_c = nan;
+  centre.layers[0].weight(cv::Rect(0, 0, 40, 40)).setTo(nan);
+  auto renderer = CpuSceneRenderer::Create(views_, layers, RenderOptions());
+  ASSERT_TRUE(renderer.ok()) << renderer.status().ToString();
+  ASSERT_GE((*renderer)->warnings().size(), 2u);
+  StatusOr<FrameRender> frame = (*renderer)->Render(At(kCamera, views_[4].cam_from_world));
+  ASSERT_TRUE(frame.ok()) << frame.status().ToString();
+  // Every pixel is finite and the holes were filled from the other views' segments.
+  cv::Mat depth_ok = frame->depth_m == frame->depth_m;
+  EXPECT_EQ(cv::countNonZero(depth_ok), kCamera.width * kCamera.height);
+  std::printf("half the centre view's planes NaN: holes %.4f, PSNR %.2f dB\n", frame->holes.hole_ratio,
+              MaskedPsnr(frame->bgr, views_[4].image));
+  EXPECT_GT(MaskedPsnr(frame->bgr, views_[4].image), 25.0);
+}
+
+TEST_F(CpuSceneRendererTest, ACameraLookingAwayGivesAnEmptyFrameNotAnError) {
+  auto renderer = Make();
+  ASSERT_NE(renderer, nullptr);
+  const Eigen::Quaterniond backwards(Eigen::AngleAxisd(M_PI, Eigen::Vector3d::UnitY()));
+  for (RenderQuality quality : {RenderQuality::kPreview, RenderQuality::kOffline}) {
+    RenderOptions options;
+    options.quality = quality;
+    auto r = Make(options);
+    StatusOr<FrameRender> frame = r->Render(At(kCamera, Rigid3(backwards, Eigen::Vector3d::Zero())));
+    ASSERT_TRUE(frame.ok()) << frame.status().ToString();
+    EXPECT_EQ(frame->holes.hole_ratio, 1.0);
+    EXPECT_GT(frame->holes.hole_score, 2.0);  // invalid for the direction stage
+    EXPECT_EQ(cv::countNonZero(frame->coverage), 0);
+  }
+}
+
+TEST_F(CpuSceneRendererTest, BadCamerasAreErrorsThatNameTheProblem) {
+  auto renderer = Make();
+  ASSERT_NE(renderer, nullptr);
+  const Rigid3 pose = views_[4].cam_from_world;
+  CameraModel zero = kCamera;
+  zero.width = 0;
+  StatusOr<FrameRender> frame = renderer->Render(At(zero, pose));
+  ASSERT_FALSE(frame.ok());
+  EXPECT_NE(frame.status().message().find("0x240"), std::string::npos) << frame.status().ToString();
+  EXPECT_FALSE(renderer->Coverage(zero, pose).ok());
+  Rigid3 nan_pose = pose;
+  nan_pose.translation.x() = std::numeric_limits<double>::quiet_NaN();
+  EXPECT_FALSE(renderer->Render(At(kCamera, nan_pose)).ok());
+  RenderOptions small;
+  small.max_output_pixels = 1000;
+  auto capped = Make(small);
+  frame = capped->Render(At(kCamera, pose));
+  ASSERT_FALSE(frame.ok());
+  EXPECT_NE(frame.status().message().find("max_output_pixels"), std::string::npos) << frame.status().ToString();
+  // Layered depth that does not match its view: named.
+  std::vector<LayeredDepthView> layers = layers_;
+  layers[3].layers[1].weight = cv::Mat(10, 10, CV_32F, cv::Scalar(0));
+  auto mismatched = CpuSceneRenderer::Create(views_, layers, RenderOptions());
+  ASSERT_FALSE(mismatched.ok());
+  EXPECT_NE(mismatched.status().message().find("layer 1 weight"), std::string::npos) << mismatched.status().ToString();
+}
+
+}  // namespace
+}  // namespace px

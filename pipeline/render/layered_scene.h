@@ -1,0 +1,89 @@
+// One captured scene prepared for rendering (ALGORITHM.md sections 1 and 2): every view's segment
+// images packed into texels, each segment's rectangle lifted onto its plane in world coordinates,
+// the view mesh over the views, and the soft z-buffer's depth range. Built once per shot and
+// shared by every frame and by every back end's CPU-side setup.
+//
+// Bad content is sanitised, not fatal: segments with non-finite planes or planes behind infinity,
+// and texels with bad weights or segment indices, count as uncovered; a view left without any
+// segment gets no view-mesh vertex. Each such repair is named in warnings().
+#pragma once
+
+#include <array>
+#include <cstddef>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "pipeline/core/camera_model.h"
+#include "pipeline/core/layered_depth.h"
+#include "pipeline/core/rigid3.h"
+#include "pipeline/core/status.h"
+#include "pipeline/core/view.h"
+#include "pipeline/render/render_options.h"
+#include "pipeline/render/soft_z.h"
+#include "pipeline/render/view_mesh.h"
+
+namespace px::render {
+
+// Both segment layers of one source pixel (ALGORITHM.md section 1: the CPU texel).
+struct SegmentTexel {
+  static constexpr float kWeightScale = 65535.0f;
+  std::array<int32_t, 2> segment = {SegmentLayer::kNoSegment, SegmentLayer::kNoSegment};
+  std::array<uint16_t, 2> weight = {0, 0};       // layer weight * kWeightScale
+  std::array<std::array<uint8_t, 3>, 2> colour{};  // BGR per layer
+  std::array<uint8_t, 2> pad{};
+};
+
+// A segment drawn as the rectangle of its bbox grown by one pixel centre, on its plane.
+struct SceneSegment {
+  std::array<float, 4> rect{};           // u_min, v_min, u_max, v_max in source pixels
+  std::array<double, 3> plane{};         // inverse depth a, b, c: 1/z = a u + b v + c
+  std::array<Eigen::Vector3d, 4> corners_in_world;  // (u_min,v_min), (u_max,v_min), (u_max,v_max), (u_min,v_max)
+  Eigen::Vector3d centre_in_world = Eigen::Vector3d::Zero();  // the bbox centre on the plane
+  bool drawn = false;                    // false: dropped (bad plane) or covering no pixel
+};
+
+struct SceneView {
+  ViewId id;
+  CameraModel camera;
+  Rigid3 cam_from_world;
+  // Row-major with an empty border of one texel on every side (so that a bilinear footprint
+  // reaching one pixel past the image needs no bounds checks): (width + 2) x (height + 2).
+  std::vector<SegmentTexel> texels;
+  std::vector<SceneSegment> segments;    // index = the LayeredDepthView's segment index
+
+  int TexelStride() const { return camera.width + 2; }
+  // Pixel (x, y), for -1 <= x <= width and -1 <= y <= height.
+  const SegmentTexel* TexelPtr(int x, int y) const {
+    return texels.data() + static_cast<ptrdiff_t>(y + 1) * TexelStride() + (x + 1);
+  }
+  const SegmentTexel& Texel(int x, int y) const { return *TexelPtr(x, y); }
+};
+
+class LayeredScene {
+ public:
+  // views[i] gives the pose of the layered view with the same id (its image is not used). Every
+  // layered view needs a view; sizes and types must match its camera (errors name the view and
+  // the image); cameras must be undistorted pinholes.
+  static StatusOr<LayeredScene> Create(const std::vector<View>& views, const std::vector<LayeredDepthView>& layers,
+                                       const RenderOptions& options);
+
+  // The views that take part (those with at least one drawable segment); the mesh's view index
+  // is the position here.
+  const std::vector<SceneView>& views() const { return views_; }
+  const ViewMesh& mesh() const { return mesh_; }
+  const SoftZ& soft_z() const { return soft_z_; }
+  double depth_range_m() const { return soft_z_.rho(); }
+  // Repairs and exclusions, one line each ("view 3: 12 segments dropped: plane not finite").
+  const std::vector<std::string>& warnings() const { return warnings_; }
+
+ private:
+  std::vector<SceneView> views_;
+  ViewMesh mesh_;
+  SoftZ soft_z_;
+  std::vector<std::string> warnings_;
+};
+
+}  // namespace px::render

@@ -1,0 +1,445 @@
+#include "pipeline/render/view_mesh.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <map>
+#include <string>
+#include <utility>
+
+#include <Eigen/Eigenvalues>
+#include <Eigen/LU>
+#include <opencv2/imgproc.hpp>
+
+namespace px::render {
+namespace {
+
+// Below this (metres) two centres count as one point, and a sequence of centres as one.
+constexpr double kSameCentreM = 1e-9;
+// Second eigenvalue of the centres' scatter below this fraction of the first: collinear.
+constexpr double kCollinearRatio = 1e-6;
+// Barycentric coordinates down to -kInsideTolerance count as inside (a point on an edge).
+constexpr double kInsideTolerance = 1e-9;
+
+double Cross2(const Eigen::Vector2d& a, const Eigen::Vector2d& b) { return a.x() * b.y() - a.y() * b.x(); }
+
+// Sums the weights of repeated views into one slot (a boundary vertex and its duplicate).
+ViewSlots Merge(std::array<int, 3> views, std::array<double, 3> weights) {
+  ViewSlots slots;
+  int used = 0;
+  for (int k = 0; k < 3; ++k) {
+    if (views[k] < 0) continue;
+    const double w = std::max(0.0, weights[k]);
+    int found = -1;
+    for (int j = 0; j < used; ++j) {
+      if (slots.view[j] == views[k]) found = j;
+    }
+    if (found >= 0) {
+      slots.weight[found] += static_cast<float>(w);
+    } else {
+      slots.view[used] = static_cast<uint8_t>(views[k]);
+      slots.weight[used] = static_cast<float>(w);
+      ++used;
+    }
+  }
+  float sum = 0;
+  for (int k = 0; k < used; ++k) sum += slots.weight[k];
+  if (sum > 0) {
+    for (int k = 0; k < used; ++k) slots.weight[k] /= sum;
+  } else if (used > 0) {
+    slots.weight[0] = 1;
+  }
+  return slots;
+}
+
+}  // namespace
+
+StatusOr<ViewMesh> ViewMesh::Build(const std::vector<Eigen::Vector3d>& centres_in_world,
+                                   const std::vector<Eigen::Matrix3d>& world_from_cam_rotations) {
+  const int n = static_cast<int>(centres_in_world.size());
+  if (n == 0) return InvalidArgumentError("view mesh: no views");
+  if (n > kMaxViews) {
+    return InvalidArgumentError("view mesh: " + std::to_string(n) + " views, at most " + std::to_string(kMaxViews));
+  }
+  if (world_from_cam_rotations.size() != centres_in_world.size()) {
+    return InvalidArgumentError("view mesh: " + std::to_string(world_from_cam_rotations.size()) + " rotations for " +
+                                std::to_string(n) + " centres");
+  }
+  for (int i = 0; i < n; ++i) {
+    if (!centres_in_world[i].allFinite() || !world_from_cam_rotations[i].allFinite()) {
+      return InvalidArgumentError("view mesh: view " + std::to_string(i) + " has a pose that is not finite");
+    }
+  }
+  ViewMesh mesh;
+  mesh.num_views_ = n;
+  Eigen::Vector3d mean_axis = Eigen::Vector3d::Zero(), mean_x = Eigen::Vector3d::Zero();
+  for (int i = 0; i < n; ++i) {
+    mesh.origin_ += centres_in_world[i] / n;
+    mean_axis += world_from_cam_rotations[i].col(2);
+    mean_x += world_from_cam_rotations[i].col(0);
+  }
+  if (mean_axis.norm() < 1e-9) mean_axis = Eigen::Vector3d::UnitZ();
+  mean_axis.normalize();
+  Eigen::Matrix3d scatter = Eigen::Matrix3d::Zero();
+  double spread = 0;
+  for (int i = 0; i < n; ++i) {
+    const Eigen::Vector3d d = centres_in_world[i] - mesh.origin_;
+    scatter += d * d.transpose();
+    spread = std::max(spread, d.norm());
+  }
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eigen(scatter);  // eigenvalues ascending
+  const Eigen::Vector3d eigenvalues = eigen.eigenvalues();
+
+  // In-plane x axis: the mean camera x axis with the normal's share removed (or any orthogonal one).
+  const auto set_axes = [&](const Eigen::Vector3d& normal, const Eigen::Vector3d& preferred_u) {
+    mesh.normal_ = normal.normalized();
+    Eigen::Vector3d u = preferred_u - preferred_u.dot(mesh.normal_) * mesh.normal_;
+    if (u.norm() < 1e-9) u = mesh.normal_.unitOrthogonal();
+    mesh.axis_u_ = u.normalized();
+    mesh.axis_v_ = mesh.normal_.cross(mesh.axis_u_);
+  };
+
+  if (n == 1 || spread < kSameCentreM) {
+    mesh.kind_ = Kind::kPoint;
+    set_axes(mean_axis, mean_x);
+    mesh.vertices_.push_back({Eigen::Vector2d::Zero(), 0});
+    return mesh;
+  }
+  if (eigenvalues(1) < kCollinearRatio * eigenvalues(2)) {
+    // Centres on a line: the plane holds the line and is as square to the views as it can be.
+    Eigen::Vector3d line = eigen.eigenvectors().col(2);
+    if (line.dot(mean_x) < 0) line = -line;
+    Eigen::Vector3d normal = mean_axis - mean_axis.dot(line) * line;
+    if (normal.norm() < 1e-9) normal = line.unitOrthogonal();
+    set_axes(normal, line);
+    mesh.kind_ = Kind::kLine;
+    for (int i = 0; i < n; ++i) mesh.vertices_.push_back({mesh.ToPlane(centres_in_world[i]), i});
+    mesh.line_order_.resize(n);
+    for (int i = 0; i < n; ++i) mesh.line_order_[i] = i;
+    std::sort(mesh.line_order_.begin(), mesh.line_order_.end(),
+              [&](int a, int b) { return mesh.vertices_[a].position.x() < mesh.vertices_[b].position.x(); });
+    return mesh;
+  }
+  Eigen::Vector3d normal = eigen.eigenvectors().col(0);
+  if (normal.dot(mean_axis) < 0) normal = -normal;
+  set_axes(normal, mean_x);
+  for (int i = 0; i < n; ++i) mesh.vertices_.push_back({mesh.ToPlane(centres_in_world[i]), i});
+
+  // Delaunay on coordinates scaled to about a thousand units (Subdiv2D works in float).
+  Eigen::Vector2d low = mesh.vertices_[0].position, high = low;
+  for (const Vertex& v : mesh.vertices_) {
+    low = low.cwiseMin(v.position);
+    high = high.cwiseMax(v.position);
+  }
+  const double scale = 1000.0 / std::max((high - low).maxCoeff(), 1e-12);
+  const auto scaled = [&](const Eigen::Vector2d& p) {
+    return cv::Point2f(static_cast<float>((p.x() - low.x()) * scale), static_cast<float>((p.y() - low.y()) * scale));
+  };
+  cv::Subdiv2D subdiv(cv::Rect(-10, -10, 1021, 1021));
+  std::map<std::pair<float, float>, int> index_of;
+  for (int i = 0; i < n; ++i) {
+    const cv::Point2f p = scaled(mesh.vertices_[i].position);
+    if (index_of.emplace(std::make_pair(p.x, p.y), i).second) subdiv.insert(p);
+  }
+  std::vector<cv::Vec6f> list;
+  subdiv.getTriangleList(list);
+  for (const cv::Vec6f& t : list) {
+    std::array<int, 3> tri{};
+    bool real = true;
+    for (int k = 0; k < 3; ++k) {
+      const auto it = index_of.find(std::make_pair(t[2 * k], t[2 * k + 1]));
+      if (it == index_of.end()) {
+        real = false;  // one of Subdiv2D's outer virtual vertices
+        break;
+      }
+      tri[k] = it->second;
+    }
+    if (!real) continue;
+    const Eigen::Vector2d& a = mesh.vertices_[tri[0]].position;
+    const double area = Cross2(mesh.vertices_[tri[1]].position - a, mesh.vertices_[tri[2]].position - a);
+    if (std::abs(area) < 1e-18) continue;
+    if (area < 0) std::swap(tri[1], tri[2]);
+    mesh.triangles_.push_back(tri);
+  }
+  if (mesh.triangles_.empty()) {
+    return InternalError("view mesh: Delaunay triangulation of " + std::to_string(n) +
+                         " non-collinear centres gave no triangle");
+  }
+  mesh.num_delaunay_triangles_ = static_cast<int>(mesh.triangles_.size());
+
+  // Boundary edges (one triangle each), oriented as in their counter-clockwise triangle: the
+  // outside lies to their right.
+  std::map<std::pair<int, int>, int> edge_count;
+  for (const auto& tri : mesh.triangles_) {
+    for (int k = 0; k < 3; ++k) {
+      const int a = tri[k], b = tri[(k + 1) % 3];
+      ++edge_count[{std::min(a, b), std::max(a, b)}];
+    }
+  }
+  Eigen::Vector2d centroid = Eigen::Vector2d::Zero();
+  for (int i = 0; i < n; ++i) centroid += mesh.vertices_[i].position / n;
+  std::map<int, int> duplicate_of;
+  const auto duplicate = [&](int i) {
+    auto it = duplicate_of.find(i);
+    if (it != duplicate_of.end()) return it->second;
+    const int index = static_cast<int>(mesh.vertices_.size());
+    mesh.vertices_.push_back({centroid + 4.0 * (mesh.vertices_[i].position - centroid), mesh.vertices_[i].view});
+    duplicate_of[i] = index;
+    return index;
+  };
+  for (int t = 0; t < mesh.num_delaunay_triangles_; ++t) {
+    const std::array<int, 3> tri = mesh.triangles_[t];
+    for (int k = 0; k < 3; ++k) {
+      const int a = tri[k], b = tri[(k + 1) % 3];
+      if (edge_count[{std::min(a, b), std::max(a, b)}] != 1) continue;
+      const int a2 = duplicate(a), b2 = duplicate(b);
+      // The ring quad (a, b, b', a') lies to the right of a->b: (a, b', b) and (a, a', b') are
+      // counter-clockwise.
+      mesh.triangles_.push_back({a, b2, b});
+      mesh.triangles_.push_back({a, a2, b2});
+    }
+  }
+  for (auto& tri : mesh.triangles_) {
+    const Eigen::Vector2d& a = mesh.vertices_[tri[0]].position;
+    if (Cross2(mesh.vertices_[tri[1]].position - a, mesh.vertices_[tri[2]].position - a) < 0) std::swap(tri[1], tri[2]);
+  }
+  mesh.kind_ = Kind::kTriangles;
+  mesh.BuildTriangleData();
+  return mesh;
+}
+
+void ViewMesh::BuildTriangleData() {
+  const int count = static_cast<int>(triangles_.size());
+  barycentric_.resize(count);
+  neighbours_.assign(count, {-1, -1, -1});
+  std::map<std::pair<int, int>, std::pair<int, int>> edge_owner;  // edge -> (triangle, opposite slot)
+  for (int t = 0; t < count; ++t) {
+    const auto& tri = triangles_[t];
+    const Eigen::Vector2d& p0 = vertices_[tri[0]].position;
+    Eigen::Matrix2d m;
+    m.col(0) = vertices_[tri[1]].position - p0;
+    m.col(1) = vertices_[tri[2]].position - p0;
+    barycentric_[t] = {p0, m.inverse()};
+    for (int k = 0; k < 3; ++k) {
+      // The edge opposite vertex k.
+      const int a = tri[(k + 1) % 3], b = tri[(k + 2) % 3];
+      const std::pair<int, int> key{std::min(a, b), std::max(a, b)};
+      auto it = edge_owner.find(key);
+      if (it == edge_owner.end()) {
+        edge_owner[key] = {t, k};
+      } else {
+        neighbours_[t][k] = it->second.first;
+        neighbours_[it->second.first][it->second.second] = t;
+      }
+    }
+  }
+  outer_edges_.clear();
+  for (int t = 0; t < count; ++t) {
+    for (int k = 0; k < 3; ++k) {
+      if (neighbours_[t][k] < 0) outer_edges_.push_back({triangles_[t][(k + 1) % 3], triangles_[t][(k + 2) % 3]});
+    }
+  }
+}
+
+Eigen::Vector2d ViewMesh::ToPlane(const Eigen::Vector3d& point_in_world) const {
+  const Eigen::Vector3d d = point_in_world - origin_;
+  return {d.dot(axis_u_), d.dot(axis_v_)};
+}
+
+ViewSlots ViewMesh::LineWeights(const Eigen::Vector2d& q) const {
+  const int first = line_order_.front(), last = line_order_.back();
+  const double x = q.x();
+  if (x <= vertices_[first].position.x()) return Merge({first, -1, -1}, {1, 0, 0});
+  if (x >= vertices_[last].position.x()) return Merge({last, -1, -1}, {1, 0, 0});
+  for (size_t i = 0; i + 1 < line_order_.size(); ++i) {
+    const int a = line_order_[i], b = line_order_[i + 1];
+    const double xa = vertices_[a].position.x(), xb = vertices_[b].position.x();
+    if (x > xb) continue;
+    const double span = xb - xa;
+    const double tb = span > 0 ? (x - xa) / span : 0.0;
+    return Merge({a, b, -1}, {1 - tb, tb, 0});
+  }
+  return Merge({last, -1, -1}, {1, 0, 0});
+}
+
+ViewSlots ViewMesh::OutsideWeights(const Eigen::Vector2d& q) const {
+  double best = std::numeric_limits<double>::infinity();
+  ViewSlots slots;
+  for (const auto& edge : outer_edges_) {
+    const Eigen::Vector2d& a = vertices_[edge[0]].position;
+    const Eigen::Vector2d ab = vertices_[edge[1]].position - a;
+    const double length2 = ab.squaredNorm();
+    const double t = length2 > 0 ? std::clamp((q - a).dot(ab) / length2, 0.0, 1.0) : 0.0;
+    const double d2 = (a + t * ab - q).squaredNorm();
+    if (d2 < best) {
+      best = d2;
+      slots = Merge({vertices_[edge[0]].view, vertices_[edge[1]].view, -1}, {1 - t, t, 0});
+    }
+  }
+  return slots;
+}
+
+std::array<double, 3> ViewMesh::Coordinates(int triangle, const Eigen::Vector2d& q) const {
+  const Barycentric& b = barycentric_[triangle];
+  const Eigen::Vector2d l12 = b.inverse * (q - b.p0);
+  return {1 - l12.x() - l12.y(), l12.x(), l12.y()};
+}
+
+int ViewMesh::Locate(const Eigen::Vector2d& q, int hint) const {
+  const int count = static_cast<int>(triangles_.size());
+  int t = (hint >= 0 && hint < count) ? hint : 0;
+  // Walk towards q across the edge of the most negative coordinate; a walk that takes more steps
+  // than there are triangles is cycling (the ring is not Delaunay), and the scan below settles it.
+  for (int step = 0; step <= count; ++step) {
+    const std::array<double, 3> l = Coordinates(t, q);
+    int worst = 0;
+    for (int k = 1; k < 3; ++k) {
+      if (l[k] < l[worst]) worst = k;
+    }
+    if (l[worst] >= -kInsideTolerance) return t;
+    const int next = neighbours_[t][worst];
+    if (next < 0) break;  // across the outer boundary: q may be outside the mesh
+    t = next;
+  }
+  for (int s = 0; s < count; ++s) {
+    const std::array<double, 3> l = Coordinates(s, q);
+    if (l[0] >= -kInsideTolerance && l[1] >= -kInsideTolerance && l[2] >= -kInsideTolerance) return s;
+  }
+  return -1;
+}
+
+ViewSlots ViewMesh::TriangleWeights(int triangle, const Eigen::Vector2d& q) const {
+  const auto& tri = triangles_[triangle];
+  return Merge({vertices_[tri[0]].view, vertices_[tri[1]].view, vertices_[tri[2]].view}, Coordinates(triangle, q));
+}
+
+ViewSlots ViewMesh::WeightsAt(const Eigen::Vector2d& q, int* hint) const {
+  if (kind_ == Kind::kPoint) return Merge({vertices_[0].view, -1, -1}, {1, 0, 0});
+  if (kind_ == Kind::kLine) return LineWeights(q);
+  const int t = Locate(q, hint != nullptr ? *hint : -1);
+  if (hint != nullptr) *hint = t;
+  return t >= 0 ? TriangleWeights(t, q) : OutsideWeights(q);
+}
+
+namespace {
+
+// Pixel (x, y) -> plane point, as q = q_o - h N(x, y) / s(x, y) with N and s linear in (x, y, 1)
+// (ALGORITHM.md section 3).
+struct PixelToPlane {
+  Eigen::Matrix<double, 2, 3> numerator;  // axes^T R^T K^-1
+  Eigen::RowVector3d denominator;         // n^T R^T K^-1
+  Eigen::Matrix3d k_inverse;
+  Eigen::Vector2d q_centre;               // the camera centre's projection onto the plane
+  double height = 0;                      // n . (o - m)
+
+  Eigen::Vector2d At(double x, double y) const {
+    const Eigen::Vector3d pixel(x, y, 1.0);
+    const double s = denominator.dot(pixel);
+    const double ray_norm = (k_inverse * pixel).norm();
+    if (std::abs(s) <= 1e-9 * ray_norm) return q_centre;
+    return q_centre - (height / s) * (numerator * pixel);
+  }
+};
+
+PixelToPlane MakePixelToPlane(const ViewMesh& mesh, const CameraModel& camera, const Rigid3& cam_from_world) {
+  PixelToPlane map;
+  map.k_inverse = camera.K().inverse();
+  const Eigen::Matrix3d world_from_cam = cam_from_world.RotationMatrix().transpose();
+  const Eigen::Matrix3d ray = world_from_cam * map.k_inverse;
+  map.numerator.row(0) = mesh.axis_u().transpose() * ray;
+  map.numerator.row(1) = mesh.axis_v().transpose() * ray;
+  map.denominator = mesh.normal().transpose() * ray;
+  const Eigen::Vector3d centre = CameraCentre(cam_from_world);
+  map.height = mesh.normal().dot(centre - mesh.origin());
+  map.q_centre = mesh.ToPlane(centre);
+  return map;
+}
+
+}  // namespace
+
+Eigen::Vector2d ViewMesh::PlanePointOfPixel(const CameraModel& camera, const Rigid3& cam_from_world, double x,
+                                            double y) const {
+  return MakePixelToPlane(*this, camera, cam_from_world).At(x, y);
+}
+
+void ViewMesh::ComputeWeights(const CameraModel& camera, const Rigid3& cam_from_world,
+                              std::vector<ViewSlots>* slots) const {
+  const int width = camera.width, height = camera.height;
+  slots->resize(static_cast<size_t>(width) * height);
+  if (kind_ == Kind::kPoint) {
+    std::fill(slots->begin(), slots->end(), WeightsAt(Eigen::Vector2d::Zero()));
+    return;
+  }
+  const PixelToPlane map = MakePixelToPlane(*this, camera, cam_from_world);
+  constexpr int kTile = 16;
+  const int tiles_x = (width + kTile - 1) / kTile;
+  const int tiles_y = (height + kTile - 1) / kTile;
+  cv::parallel_for_(cv::Range(0, tiles_y), [&](const cv::Range& tile_rows) {
+    int hint = -1;
+    for (int ty = tile_rows.start; ty < tile_rows.end; ++ty) {
+      const int y0 = ty * kTile, y1 = std::min(height, y0 + kTile) - 1;
+      for (int tx = 0; tx < tiles_x; ++tx) {
+        const int x0 = tx * kTile, x1 = std::min(width, x0 + kTile) - 1;
+        // Fast path: the tile's four corners lie in one triangle and no pixel's line is near
+        // parallel to the plane, so (the map being projective and the triangle convex) every
+        // pixel does, and its coordinates are ratios of linear functions of (x, y).
+        int triangle = -2;
+        bool regular = kind_ == Kind::kTriangles;
+        double s_sign = 0;
+        for (int corner = 0; corner < 4 && regular; ++corner) {
+          const double x = (corner & 1) ? x1 : x0, y = (corner & 2) ? y1 : y0;
+          const Eigen::Vector3d pixel(x, y, 1.0);
+          const double s = map.denominator.dot(pixel);
+          if (std::abs(s) <= 1e-6 * (map.k_inverse * pixel).norm() || s * s_sign < 0) {
+            regular = false;
+            break;
+          }
+          s_sign = s;
+          const int t = Locate(map.At(x, y), hint);
+          hint = t >= 0 ? t : hint;
+          if (t < 0 || (triangle != -2 && t != triangle)) regular = false;
+          triangle = t;
+        }
+        if (!regular) {
+          for (int y = y0; y <= y1; ++y) {
+            ViewSlots* row = slots->data() + static_cast<size_t>(y) * width;
+            for (int x = x0; x <= x1; ++x) row[x] = WeightsAt(map.At(x, y), &hint);
+          }
+          continue;
+        }
+        // lambda_{1,2} = alpha + (r . pixel) / (s . pixel), lambda_0 = 1 - lambda_1 - lambda_2.
+        const Barycentric& b = barycentric_[triangle];
+        const Eigen::Vector2d alpha = b.inverse * (map.q_centre - b.p0);
+        const Eigen::Matrix<double, 2, 3> r = -map.height * (b.inverse * map.numerator);
+        const auto& tri = triangles_[triangle];
+        const ViewSlots pattern = Merge({vertices_[tri[0]].view, vertices_[tri[1]].view, vertices_[tri[2]].view},
+                                        {1.0 / 3, 1.0 / 3, 1.0 / 3});
+        std::array<int, 3> slot_of_vertex{};
+        for (int k = 0; k < 3; ++k) {
+          for (int j = 0; j < 3; ++j) {
+            if (pattern.view[j] == vertices_[tri[k]].view) slot_of_vertex[k] = j;
+          }
+        }
+        for (int y = y0; y <= y1; ++y) {
+          ViewSlots* row = slots->data() + static_cast<size_t>(y) * width;
+          for (int x = x0; x <= x1; ++x) {
+            const Eigen::Vector3d pixel(x, y, 1.0);
+            const double inv_s = 1.0 / map.denominator.dot(pixel);
+            const double l1 = std::max(0.0, alpha.x() + r.row(0).dot(pixel) * inv_s);
+            const double l2 = std::max(0.0, alpha.y() + r.row(1).dot(pixel) * inv_s);
+            const double l0 = std::max(0.0, 1.0 - l1 - l2);
+            const double sum = l0 + l1 + l2;
+            ViewSlots out;
+            out.view = pattern.view;
+            out.weight[slot_of_vertex[0]] += static_cast<float>(l0 / sum);
+            out.weight[slot_of_vertex[1]] += static_cast<float>(l1 / sum);
+            out.weight[slot_of_vertex[2]] += static_cast<float>(l2 / sum);
+            row[x] = out;
+          }
+        }
+      }
+    }
+  });
+}
+
+}  // namespace px::render

@@ -1,0 +1,100 @@
+// The view mesh of paper section 6 (ALGORITHM.md sections 2 and 3): a triangle mesh over the input
+// views' centres of projection, extended past its boundary, that says for every ray of a novel
+// camera which three views contribute and with which weights (barycentric coordinates where the
+// ray's line meets the mesh plane).
+//
+// The GL back end takes its triangles from here (one triangulation for both back ends: OpenCV's
+// Delaunay breaks ties on a regular lattice in its own way).
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "pipeline/core/camera_model.h"
+#include "pipeline/core/rigid3.h"
+#include "pipeline/core/status.h"
+
+namespace px::render {
+
+// The (up to) three views blended at one pixel. A view appears at most once; unused slots hold
+// kNone with weight 0. Weights are >= 0 and sum to 1.
+struct ViewSlots {
+  static constexpr uint8_t kNone = 255;
+  std::array<uint8_t, 3> view = {kNone, kNone, kNone};  // index into the views the mesh was built on
+  std::array<float, 3> weight = {0, 0, 0};
+};
+
+class ViewMesh {
+ public:
+  // How many views a mesh may have (slots store a view in 8 bits).
+  static constexpr int kMaxViews = 254;
+  enum class Kind { kPoint, kLine, kTriangles };
+
+  struct Vertex {
+    Eigen::Vector2d position;  // in the mesh plane (metres along axis_u, axis_v from the origin)
+    int view = 0;              // the input view it carries (a boundary duplicate carries its original's)
+  };
+
+  // centres_in_world[i] and world_from_cam_rotations[i] describe view i (its COP and R^T, whose
+  // columns are the camera's x, y, z axes in the world). At least one view, at most kMaxViews.
+  static StatusOr<ViewMesh> Build(const std::vector<Eigen::Vector3d>& centres_in_world,
+                                  const std::vector<Eigen::Matrix3d>& world_from_cam_rotations);
+
+  Kind kind() const { return kind_; }
+  int NumViews() const { return num_views_; }
+  // The mesh plane: origin (mean COP), unit normal towards the scene, in-plane axes.
+  const Eigen::Vector3d& origin() const { return origin_; }
+  const Eigen::Vector3d& normal() const { return normal_; }
+  const Eigen::Vector3d& axis_u() const { return axis_u_; }
+  const Eigen::Vector3d& axis_v() const { return axis_v_; }
+  Eigen::Vector2d ToPlane(const Eigen::Vector3d& point_in_world) const;
+
+  // One vertex per view (index = view) that is part of the mesh, then the boundary duplicates.
+  const std::vector<Vertex>& vertices() const { return vertices_; }
+  // Counter-clockwise triangles into vertices(): the Delaunay ones, then the extension ring.
+  const std::vector<std::array<int, 3>>& triangles() const { return triangles_; }
+  int NumDelaunayTriangles() const { return num_delaunay_triangles_; }
+
+  // The weights at point q of the mesh plane. `hint` (may be null): the triangle to start the
+  // search from, updated to the one found (or -1 outside the mesh).
+  ViewSlots WeightsAt(const Eigen::Vector2d& q, int* hint = nullptr) const;
+  // The point of the mesh plane where pixel (x, y)'s line meets it (section 3).
+  Eigen::Vector2d PlanePointOfPixel(const CameraModel& camera, const Rigid3& cam_from_world, double x,
+                                    double y) const;
+  // Weights for every pixel of a pinhole camera, row-major (width * height entries), rows in
+  // parallel.
+  void ComputeWeights(const CameraModel& camera, const Rigid3& cam_from_world, std::vector<ViewSlots>* slots) const;
+
+ private:
+  struct Barycentric {  // lambda_1,2 = inverse * (q - p0), lambda_0 = 1 - lambda_1 - lambda_2
+    Eigen::Vector2d p0;
+    Eigen::Matrix2d inverse;
+  };
+
+  void BuildTriangleData();
+  // The triangle holding q (walking from `hint`), or -1 outside the mesh.
+  int Locate(const Eigen::Vector2d& q, int hint) const;
+  std::array<double, 3> Coordinates(int triangle, const Eigen::Vector2d& q) const;
+  ViewSlots TriangleWeights(int triangle, const Eigen::Vector2d& q) const;
+  ViewSlots OutsideWeights(const Eigen::Vector2d& q) const;
+  ViewSlots LineWeights(const Eigen::Vector2d& q) const;
+
+  Kind kind_ = Kind::kPoint;
+  int num_views_ = 0;
+  Eigen::Vector3d origin_ = Eigen::Vector3d::Zero();
+  Eigen::Vector3d normal_ = Eigen::Vector3d::UnitZ();
+  Eigen::Vector3d axis_u_ = Eigen::Vector3d::UnitX();
+  Eigen::Vector3d axis_v_ = Eigen::Vector3d::UnitY();
+  std::vector<Vertex> vertices_;
+  std::vector<std::array<int, 3>> triangles_;
+  int num_delaunay_triangles_ = 0;
+  std::vector<Barycentric> barycentric_;             // per triangle
+  std::vector<std::array<int, 3>> neighbours_;       // per triangle: across the edge opposite vertex k
+  std::vector<std::array<int, 2>> outer_edges_;      // vertex pairs on the extended mesh's boundary
+  std::vector<int> line_order_;                      // kLine: views sorted along axis_u
+};
+
+}  // namespace px::render

@@ -1,0 +1,127 @@
+#include "pipeline/render/view_mesh.h"
+
+#include <cmath>
+#include <set>
+
+#include <gtest/gtest.h>
+
+namespace px::render {
+namespace {
+
+// A 3x3 lattice 25 mm apart in the z = 0 plane, every camera looking down +z.
+ViewMesh Lattice3x3() {
+  std::vector<Eigen::Vector3d> centres;
+  std::vector<Eigen::Matrix3d> rotations;
+  for (int r = 0; r < 3; ++r) {
+    for (int c = 0; c < 3; ++c) {
+      centres.emplace_back((c - 1) * 0.025, (r - 1) * 0.025, 0.0);
+      rotations.push_back(Eigen::Matrix3d::Identity());
+    }
+  }
+  return ViewMesh::Build(centres, rotations).value();
+}
+
+double Sum(const ViewSlots& s) { return s.weight[0] + s.weight[1] + s.weight[2]; }
+
+double WeightOf(const ViewSlots& s, int view) {
+  for (int k = 0; k < 3; ++k) {
+    if (s.view[k] == view) return s.weight[k];
+  }
+  return 0;
+}
+
+TEST(ViewMeshTest, BuildsTheDelaunayMeshAndItsExtensionRing) {
+  const ViewMesh mesh = Lattice3x3();
+  EXPECT_EQ(mesh.kind(), ViewMesh::Kind::kTriangles);
+  EXPECT_EQ(mesh.NumViews(), 9);
+  // 3x3 points: 8 Delaunay triangles; the hull has 8 vertices and 8 edges, each adding two.
+  EXPECT_EQ(mesh.NumDelaunayTriangles(), 8);
+  EXPECT_EQ(mesh.triangles().size(), 8u + 16u);
+  ASSERT_EQ(mesh.vertices().size(), 9u + 8u);
+  // Duplicates sit radially outward at four times the distance from the centroid.
+  for (size_t i = 9; i < mesh.vertices().size(); ++i) {
+    const ViewMesh::Vertex& dup = mesh.vertices()[i];
+    const Eigen::Vector2d original = mesh.vertices()[dup.view].position;
+    EXPECT_NEAR((dup.position - 4.0 * original).norm(), 0.0, 1e-12) << "duplicate " << i;
+  }
+  EXPECT_NEAR(std::abs(mesh.normal().z()), 1.0, 1e-12);
+  EXPECT_GT(mesh.normal().z(), 0);  // towards the scene
+}
+
+TEST(ViewMeshTest, WeightsAreBarycentricAndSumToOneEverywhere) {
+  const ViewMesh mesh = Lattice3x3();
+  // At a lens: that lens alone.
+  for (int view = 0; view < 9; ++view) {
+    const ViewSlots at = mesh.WeightsAt(mesh.vertices()[view].position);
+    EXPECT_NEAR(WeightOf(at, view), 1.0, 1e-6) << "view " << view;
+  }
+  // Halfway between the centre (4) and its right neighbour (5).
+  const ViewSlots half = mesh.WeightsAt(Eigen::Vector2d(0.0125, 0.0));
+  EXPECT_NEAR(WeightOf(half, 4), 0.5, 1e-6);
+  EXPECT_NEAR(WeightOf(half, 5), 0.5, 1e-6);
+  // A grid of points inside, on the extension ring and far outside: weights in [0, 1], sum 1,
+  // each view at most once.
+  for (double u = -0.3; u <= 0.3; u += 0.0071) {
+    for (double v = -0.3; v <= 0.3; v += 0.0093) {
+      const ViewSlots s = mesh.WeightsAt(Eigen::Vector2d(u, v));
+      ASSERT_NEAR(Sum(s), 1.0, 1e-5) << u << "," << v;
+      std::set<int> seen;
+      for (int k = 0; k < 3; ++k) {
+        ASSERT_GE(s.weight[k], -1e-6);
+        if (s.view[k] == ViewSlots::kNone) continue;
+        ASSERT_LT(s.view[k], 9);
+        ASSERT_TRUE(seen.insert(s.view[k]).second) << "view twice at " << u << "," << v;
+      }
+    }
+  }
+  // Far outside the extended mesh the nearest boundary point decides: to the right only the
+  // right column's lenses contribute.
+  const ViewSlots far_right = mesh.WeightsAt(Eigen::Vector2d(1.0, 0.0));
+  EXPECT_NEAR(WeightOf(far_right, 2) + WeightOf(far_right, 5) + WeightOf(far_right, 8), 1.0, 1e-6);
+}
+
+TEST(ViewMeshTest, CameraInFrontOfTheMeshAndOnItUsesTheNearestPointOfTheMesh) {
+  const ViewMesh mesh = Lattice3x3();
+  const CameraModel camera = CameraModel::Pinhole(64, 48, 56);
+  // A camera on the mesh plane right at the centre lens: every pixel's line meets the plane at
+  // its centre, so every pixel takes the centre view alone (the near-mesh rule, no singularity).
+  std::vector<ViewSlots> slots;
+  const Eigen::Vector3d at_lens(0.0, 0.0, 0.0);
+  mesh.ComputeWeights(camera, Rigid3(Eigen::Quaterniond::Identity(), -at_lens), &slots);
+  ASSERT_EQ(slots.size(), 64u * 48u);
+  for (const ViewSlots& s : slots) ASSERT_NEAR(WeightOf(s, 4), 1.0, 1e-5);
+  // 1 mm in front of the mesh (towards the scene) at (5 mm, 0): lines meet the plane behind the
+  // camera ("backwards projection"); the image centre still gets the views around (5 mm, 0) and
+  // every pixel's weights sum to one.
+  const Eigen::Vector3d in_front(0.005, 0.0, 0.001);
+  mesh.ComputeWeights(camera, Rigid3(Eigen::Quaterniond::Identity(), -in_front), &slots);
+  for (const ViewSlots& s : slots) ASSERT_NEAR(Sum(s), 1.0, 1e-5);
+  const ViewSlots& centre_pixel = slots[24 * 64 + 32];
+  EXPECT_GT(WeightOf(centre_pixel, 4) + WeightOf(centre_pixel, 5), 0.95);
+  EXPECT_GT(WeightOf(centre_pixel, 4), WeightOf(centre_pixel, 5));  // 5 mm of 25 from lens 4
+  // Pixels to the right look right and, projected backwards, meet the plane to the left.
+  const ViewSlots& right_pixel = slots[24 * 64 + 63];
+  const ViewSlots& left_pixel = slots[24 * 64 + 0];
+  EXPECT_GT(WeightOf(right_pixel, 3) + WeightOf(right_pixel, 4), WeightOf(left_pixel, 3) + WeightOf(left_pixel, 4));
+}
+
+TEST(ViewMeshTest, DegenerateSetsStillGiveWeightsThatSumToOne) {
+  // One view: weight 1 everywhere.
+  const ViewMesh one = ViewMesh::Build({Eigen::Vector3d::Zero()}, {Eigen::Matrix3d::Identity()}).value();
+  EXPECT_EQ(one.kind(), ViewMesh::Kind::kPoint);
+  EXPECT_NEAR(WeightOf(one.WeightsAt(Eigen::Vector2d(3, 4)), 0), 1.0, 1e-9);
+  // A row of three: linear along the line.
+  const ViewMesh line = ViewMesh::Build({Eigen::Vector3d(-0.1, 0, 0), Eigen::Vector3d(0, 0, 0), Eigen::Vector3d(0.1, 0, 0)},
+                                        std::vector<Eigen::Matrix3d>(3, Eigen::Matrix3d::Identity()))
+                            .value();
+  EXPECT_EQ(line.kind(), ViewMesh::Kind::kLine);
+  const ViewSlots s = line.WeightsAt(Eigen::Vector2d(0.025, 0.3));
+  EXPECT_NEAR(Sum(s), 1.0, 1e-9);
+  EXPECT_NEAR(WeightOf(s, 1), 0.75, 1e-9);
+  EXPECT_NEAR(WeightOf(s, 2), 0.25, 1e-9);
+  // No views is an error, not a crash.
+  EXPECT_FALSE(ViewMesh::Build({}, {}).ok());
+}
+
+}  // namespace
+}  // namespace px::render
