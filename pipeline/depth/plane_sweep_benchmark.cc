@@ -49,7 +49,7 @@ double ProcessCpuMs() {
 void BM_ComputeDepthPop9(benchmark::State& state) {
   (void)SetLogLevels("depth=warn");
   const std::vector<View> views = TwoPlaneViews(state.range(2) != 0);
-  DepthOptions options;
+  PlaneSweepOptions options;
   options.min_depth_m = 0.5;
   options.max_depth_m = 8.0;
   options.num_threads = static_cast<int>(state.range(0));
@@ -57,7 +57,7 @@ void BM_ComputeDepthPop9(benchmark::State& state) {
   double cpu_ms = 0;
   for (auto _ : state) {
     const double start = ProcessCpuMs();
-    StatusOr<std::vector<DepthMap>> maps = ComputeDepth(views, options);
+    StatusOr<std::vector<DepthMap>> maps = ComputePlaneSweepDepth(views, options);
     cpu_ms += ProcessCpuMs() - start;
     if (!maps.ok()) state.SkipWithError(maps.status().ToString().c_str());
     benchmark::DoNotOptimize(maps);

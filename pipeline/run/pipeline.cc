@@ -10,7 +10,7 @@
 #include "pipeline/calib/make_views.h"
 #include "pipeline/core/log.h"
 #include "pipeline/core/pixel_format.h"
-#include "pipeline/depth/plane_sweep.h"
+#include "pipeline/depth/depth_stage.h"
 #include "pipeline/direct/plan_camera_path.h"
 #include "pipeline/lattice/split_lattice.h"
 #include "pipeline/render/novel_view_renderer.h"

@@ -1,5 +1,5 @@
 // The pipeline against the simulator's ground truth, at the product's size (Pop9, 640x480):
-// depth from the plane sweep, and novel views from the renderer, each compared with what the
+// depth from the depth stage, and novel views from the renderer, each compared with what the
 // ray caster says the scene really looks like.
 #include <algorithm>
 #include <cmath>
@@ -8,7 +8,7 @@
 #include <gtest/gtest.h>
 
 #include "pipeline/core/log.h"
-#include "pipeline/depth/plane_sweep.h"
+#include "pipeline/depth/depth_stage.h"
 #include "pipeline/render/novel_view_renderer.h"
 #include "pipeline/run/pipeline.h"
 #include "sim/synthetic/ray_caster.h"
