@@ -50,6 +50,10 @@ Status ValidateSegments(const SegmentOptions& s) {
   if (!(s.propagation_cost_margin >= 0 && s.propagation_cost_margin <= 1)) {
     return OutOfRange("segments.propagation_cost_margin", s.propagation_cost_margin, "[0, 1]");
   }
+  if (!(s.edge_disparity_px > 0 && s.edge_disparity_px <= 64)) {
+    return OutOfRange("segments.edge_disparity_px", s.edge_disparity_px, "(0, 64]");
+  }
+  if (s.band_radius_px < 1 || s.band_radius_px > 16) return OutOfRange("segments.band_radius_px", s.band_radius_px, "[1, 16]");
   return OkStatus();
 }
 
@@ -66,6 +70,12 @@ Status DepthOptions::Validate() const {
   if (!(working_scale > 0 && working_scale <= 1)) return OutOfRange("working_scale", working_scale, "(0, 1]");
   PX_RETURN_IF_ERROR(ValidateMatching(matching));
   PX_RETURN_IF_ERROR(ValidateSegments(segments));
+  if (!(consistency_tolerance_px > 0 && consistency_tolerance_px <= 16)) {
+    return OutOfRange("consistency_tolerance_px", consistency_tolerance_px, "(0, 16]");
+  }
+  if (!(max_view_match_cost > 0 && max_view_match_cost <= 2)) {
+    return OutOfRange("max_view_match_cost", max_view_match_cost, "(0, 2]");
+  }
   if (num_threads < 0 || num_threads > 256) return OutOfRange("num_threads", num_threads, "[0, 256]");
   return OkStatus();
 }

@@ -50,6 +50,11 @@ struct SegmentOptions {
   // preferred over a nearer one when assigning planes to unfitted segments.
   double propagation_cost_margin = 0.02;
   uint64_t random_seed = 1;
+  // Two layers at depth edges: touching segments whose planes differ by more than
+  // edge_disparity_px of disparity against the nearest neighbour (view resolution, (0, 64]) share
+  // a soft band band_radius_px wide on each side ([1, 16], view resolution).
+  double edge_disparity_px = 1.0;
+  int band_radius_px = 2;
 };
 
 struct DepthOptions {
@@ -62,6 +67,14 @@ struct DepthOptions {
   double working_scale = 0.5;
   MatchingOptions matching;
   SegmentOptions segments;
+  // Consistency between views: a pixel whose depth no other view confirms within this many
+  // pixels of disparity (view resolution, (0, 16]) keeps half its confidence and counts as
+  // unconfirmed in the report.
+  double consistency_tolerance_px = 1.0;
+  // A view whose median best matching cost over its textured pixels exceeds this ((0, 2]; 1 =
+  // uncorrelated) matches none of its neighbours (another scene, a black or saturated frame): it
+  // is reported and left out as a neighbour of the others.
+  double max_view_match_cost = 0.5;
   // Worker threads: 0 = OpenCV's default (all cores). [0, 256].
   int num_threads = 0;
 

@@ -101,4 +101,41 @@ Superpixels Oversegment(const cv::Mat& bgr, int region_size_px, float ruler, int
   return sp;
 }
 
+cv::Mat UpsampleLabels(const Superpixels& superpixels, const cv::Mat& bgr, double factor) {
+  PX_CHECK(bgr.type() == CV_8UC3 && factor > 0 && factor <= 1);
+  const cv::Mat& small = superpixels.labels;
+  cv::Mat blurred, lab;
+  cv::GaussianBlur(bgr, blurred, cv::Size(3, 3), 0);
+  cv::cvtColor(blurred, lab, cv::COLOR_BGR2Lab);
+  cv::Mat labels(bgr.size(), CV_32S);
+  cv::parallel_for_(cv::Range(0, bgr.rows), [&](const cv::Range& rows) {
+    for (int y = rows.start; y < rows.end; ++y) {
+      // Working-scale position of this pixel centre: x' + 0.5 = (x + 0.5) * factor.
+      const double ys = std::clamp((y + 0.5) * factor - 0.5, 0.0, small.rows - 1.0);
+      const int y0 = static_cast<int>(ys), y1 = std::min(y0 + 1, small.rows - 1);
+      const cv::Vec3b* c = lab.ptr<cv::Vec3b>(y);
+      int* out = labels.ptr<int>(y);
+      for (int x = 0; x < bgr.cols; ++x) {
+        const double xs = std::clamp((x + 0.5) * factor - 0.5, 0.0, small.cols - 1.0);
+        const int x0 = static_cast<int>(xs), x1 = std::min(x0 + 1, small.cols - 1);
+        const int candidates[4] = {small.at<int>(y0, x0), small.at<int>(y0, x1), small.at<int>(y1, x0),
+                                   small.at<int>(y1, x1)};
+        // The nearest working pixel's label unless another candidate's colour fits better.
+        int best = small.at<int>(std::lround(ys), std::lround(xs));
+        float best_distance = 1e30f;
+        for (int candidate : candidates) {
+          const cv::Vec3f d = superpixels.mean_lab[candidate] - cv::Vec3f(c[x]);
+          const float distance = d.dot(d);
+          if (distance < best_distance - 1e-3f) {
+            best_distance = distance;
+            best = candidate;
+          }
+        }
+        out[x] = best;
+      }
+    }
+  });
+  return labels;
+}
+
 }  // namespace px::depth

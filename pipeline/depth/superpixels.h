@@ -32,4 +32,10 @@ std::vector<std::vector<int>> SegmentPixels(const Superpixels& superpixels);
 // the Lab image they label.
 void ComputeSuperpixelStats(const cv::Mat& lab, Superpixels* superpixels);
 
+// Labels at the resolution of `bgr` (CV_8UC3, the view) from superpixels made at `factor`
+// (0, 1] of it: each pixel takes, of the labels of the up to four working pixels around it, the
+// one whose mean colour is closest to its own, so that segment borders follow the full-resolution
+// edges instead of the working grid.
+cv::Mat UpsampleLabels(const Superpixels& superpixels, const cv::Mat& bgr, double factor);
+
 }  // namespace px::depth
