@@ -159,6 +159,7 @@ Status RunEvalDepth(const EvalDepthArgs& args) {
     return InvalidArgumentError("--methods '" + args.methods + "' names none of ours, sweep, sgbm");
   }
   if (args.working_scale != 0) options.ours.working_scale = args.working_scale;
+  options.light_field_defaults = args.working_scale == 0 && args.overrides.empty();
   for (const std::string& text : args.overrides) PX_RETURN_IF_ERROR(ApplyOverride(text, &options.ours));
   options.ours.num_threads = args.threads;
   ProgressBar progress(args.json);

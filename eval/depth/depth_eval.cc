@@ -153,6 +153,16 @@ DepthMethodRun TimeMultiView(const std::string& name, const MultiViewSet& set, c
   return run;
 }
 
+// Our options for a light field: its disparities between neighbours are a few pixels, so match
+// at full resolution with finer plane steps, and use more of its many neighbours.
+DepthOptions LightFieldDepthOptions(const DepthOptions& ours) {
+  DepthOptions options = ours;
+  options.working_scale = 1.0;
+  options.matching.plane_step_px = 0.1;
+  options.matching.num_neighbors = 16;
+  return options;
+}
+
 // Our depth stage and the first plane sweep on a set, each as options ask.
 void AddMultiViewRuns(const MultiViewSet& set, const DepthEvalOptions& options,
                       const std::function<void(const std::vector<cv::Mat>&, DepthMethodRun*)>& score,
@@ -169,7 +179,9 @@ void AddMultiViewRuns(const MultiViewSet& set, const DepthEvalOptions& options,
 
 // ---- HCI light fields -------------------------------------------------------------------
 
-DepthSetResult EvaluateLightField(const HciLightField& lf, int radius, const DepthEvalOptions& options) {
+DepthSetResult EvaluateLightField(const HciLightField& lf, int radius, const DepthEvalOptions& given) {
+  DepthEvalOptions options = given;
+  if (options.light_field_defaults) options.ours = LightFieldDepthOptions(given.ours);
   const int side = 2 * radius + 1;
   DepthSetResult result;
   result.name = "hci/" + lf.scene + " " + std::to_string(side) + "x" + std::to_string(side);

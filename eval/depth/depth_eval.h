@@ -52,7 +52,11 @@ struct DepthEvalOptions {
   bool run_ours = true;
   bool run_plane_sweep = true;
   bool run_sgbm = true;
-  DepthOptions ours;               // depth range and scale are set per set; the rest is used as is
+  DepthOptions ours;               // depth range is set per set; the rest is used as is, except:
+  // Light fields (disparities of a few pixels between neighbours) get matching at full
+  // resolution, plane steps of 0.1 px and 16 neighbours (see LightFieldDepthOptions), unless
+  // this is false (the caller set its own options).
+  bool light_field_defaults = true;
   int num_threads = 0;             // 0 = OpenCV's default
   // When set, each method's estimate, the truth and an error picture per set go here
   // (depth_images.h): disparity for light fields and pairs, inverse depth for simulated sets.

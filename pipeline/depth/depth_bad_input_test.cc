@@ -44,6 +44,13 @@ void ExpectOthersStillGood(const DepthStageResult& result, const BadInputCase& i
   }
 }
 
+// Four neighbours per view (half the default) keep the five runs here quick.
+DepthOptions BadInputOptions() {
+  DepthOptions options = StageTestOptions();
+  options.matching.num_neighbors = 4;
+  return options;
+}
+
 bool HasReason(const ViewDepthReport& report, const std::string& words) {
   for (const std::string& reason : report.reasons) {
     if (reason.find(words) != std::string::npos) return true;
@@ -54,7 +61,7 @@ bool HasReason(const ViewDepthReport& report, const std::string& words) {
 TEST(DepthBadInputTest, AViewOfAnotherSceneIsReportedAndLeftOut) {
   const std::vector<View> other = RenderGridRig(3, 3, kStageBaselineM, SmallCamera(), {Wall(1.5, 99)});
   const BadInputCase input = WithReplacedView(other[8].image);
-  StatusOr<DepthStageResult> result = ComputeLayeredDepth(input.views, StageTestOptions());
+  StatusOr<DepthStageResult> result = ComputeLayeredDepth(input.views, BadInputOptions());
   ASSERT_TRUE(result.ok()) << result.status().ToString();
   ASSERT_EQ(result->report.disagreeing_views.size(), 1u);
   EXPECT_EQ(result->report.disagreeing_views[0].value, 8);
@@ -70,7 +77,7 @@ TEST(DepthBadInputTest, AViewOfAnotherSceneIsReportedAndLeftOut) {
 TEST(DepthBadInputTest, BlackAndSaturatedViewsAreReported) {
   for (const int level : {0, 255}) {
     const BadInputCase input = WithReplacedView(cv::Mat(240, 320, CV_8UC3, cv::Scalar::all(level)));
-    StatusOr<DepthStageResult> result = ComputeLayeredDepth(input.views, StageTestOptions());
+    StatusOr<DepthStageResult> result = ComputeLayeredDepth(input.views, BadInputOptions());
     ASSERT_TRUE(result.ok()) << result.status().ToString();
     const ViewDepthReport& report = result->report.views[8];
     EXPECT_TRUE(report.disagrees) << level;
@@ -86,7 +93,7 @@ TEST(DepthBadInputTest, ExposureDifferencesBetweenLensesDoNotMatter) {
   input.views = SquareBeforeWall(&input.truth);
   for (int i : {1, 5, 6}) input.views[i].image.convertTo(input.views[i].image, -1, 0.55, 10);
   input.views[3].image.convertTo(input.views[3].image, -1, 1.3, -5);
-  StatusOr<DepthStageResult> result = ComputeLayeredDepth(input.views, StageTestOptions());
+  StatusOr<DepthStageResult> result = ComputeLayeredDepth(input.views, BadInputOptions());
   ASSERT_TRUE(result.ok()) << result.status().ToString();
   EXPECT_TRUE(result->report.disagreeing_views.empty());
   ExpectOthersStillGood(*result, input, -1);
@@ -96,7 +103,7 @@ TEST(DepthBadInputTest, TexturelessSceneGetsLowConfidenceAndSaysWhy) {
   TexturedPlane grey = Wall(2.0, 1);
   grey.texture.setTo(cv::Scalar::all(128));
   const std::vector<View> views = RenderGridRig(3, 3, kStageBaselineM, SmallCamera(), {grey});
-  StatusOr<DepthStageResult> result = ComputeLayeredDepth(views, StageTestOptions());
+  StatusOr<DepthStageResult> result = ComputeLayeredDepth(views, BadInputOptions());
   ASSERT_TRUE(result.ok()) << result.status().ToString();
   // Nothing to match is not disagreement: the views are merely unconfident.
   EXPECT_TRUE(result->report.disagreeing_views.empty());

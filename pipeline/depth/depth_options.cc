@@ -19,7 +19,7 @@ Status ValidateMatching(const MatchingOptions& m) {
   }
   if (!(m.plane_step_px > 0 && m.plane_step_px <= 8)) return OutOfRange("matching.plane_step_px", m.plane_step_px, "(0, 8]");
   if (m.max_planes < 2 || m.max_planes > 1024) return OutOfRange("matching.max_planes", m.max_planes, "[2, 1024]");
-  if (m.num_neighbors < 1 || m.num_neighbors > 128) return OutOfRange("matching.num_neighbors", m.num_neighbors, "[1, 128]");
+  if (m.num_neighbors < 1 || m.num_neighbors > 16) return OutOfRange("matching.num_neighbors", m.num_neighbors, "[1, 16]");
   if (m.window_radius_px < 1 || m.window_radius_px > 15) {
     return OutOfRange("matching.window_radius_px", m.window_radius_px, "[1, 15]");
   }

@@ -16,7 +16,8 @@ struct MatchingOptions {
   int num_planes = 0;
   double plane_step_px = 1.0;  // (0, 8]
   int max_planes = 128;        // [2, 1024]
-  // Neighbour views per reference view, nearest camera centres first. [1, 128]; fewer are used
+  // Neighbour views per reference view, nearest camera centres first. [1, 16] (the best-half
+  // aggregation holds at most 16 costs per pixel); fewer are used
   // when the shot has fewer.
   int num_neighbors = 8;
   // ZNCC window radius in pixels at the working scale: the window is (2r+1)^2. [1, 15].

@@ -86,6 +86,10 @@ TEST(DepthStageTest, RejectsBadInputsNamingTheCulprit) {
   EXPECT_EQ(ComputeLayeredDepth(views, bad).status().message(),
             "depth options: segments.band_radius_px = 0 is outside [1, 16]");
   bad = options;
+  bad.matching.num_neighbors = 17;
+  EXPECT_EQ(ComputeLayeredDepth(views, bad).status().message(),
+            "depth options: matching.num_neighbors = 17 is outside [1, 16]");
+  bad = options;
   bad.max_view_match_cost = 3;
   EXPECT_NE(ComputeLayeredDepth(views, bad).status().message().find("max_view_match_cost"), std::string::npos);
   EXPECT_EQ(ComputeLayeredDepthForViews(views, {2}, options).status().code(), StatusCode::kOutOfRange);
