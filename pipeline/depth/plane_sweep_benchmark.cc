@@ -51,6 +51,24 @@ double ProcessCpuMs() {
   return ts.tv_sec * 1e3 + ts.tv_nsec * 1e-6;
 }
 
+// Runs `compute` (returning a StatusOr) once per iteration, recording process CPU ms per
+// iteration and peak RSS.
+template <typename Compute>
+void RunIterations(benchmark::State& state, const Compute& compute) {
+  double cpu_ms = 0;
+  for (auto _ : state) {
+    const double start = ProcessCpuMs();
+    auto result = compute();
+    cpu_ms += ProcessCpuMs() - start;
+    if (!result.ok()) state.SkipWithError(result.status().ToString().c_str());
+    benchmark::DoNotOptimize(result);
+  }
+  state.counters["process_cpu_ms"] = cpu_ms / static_cast<double>(state.iterations());
+  rusage usage{};
+  getrusage(RUSAGE_SELF, &usage);
+  state.counters["peak_rss_mib"] = usage.ru_maxrss / 1024.0;  // KiB on Linux
+}
+
 void BM_ComputeDepthPop9(benchmark::State& state) {
   (void)SetLogLevels("depth=warn");
   const std::vector<View> views = TwoPlaneViews(state.range(2) != 0);
@@ -59,15 +77,7 @@ void BM_ComputeDepthPop9(benchmark::State& state) {
   options.max_depth_m = 8.0;
   options.num_threads = static_cast<int>(state.range(0));
   options.working_scale = static_cast<double>(state.range(1)) / 100.0;
-  double cpu_ms = 0;
-  for (auto _ : state) {
-    const double start = ProcessCpuMs();
-    StatusOr<std::vector<DepthMap>> maps = ComputePlaneSweepDepth(views, options);
-    cpu_ms += ProcessCpuMs() - start;
-    if (!maps.ok()) state.SkipWithError(maps.status().ToString().c_str());
-    benchmark::DoNotOptimize(maps);
-  }
-  state.counters["process_cpu_ms"] = cpu_ms / static_cast<double>(state.iterations());
+  RunIterations(state, [&] { return ComputePlaneSweepDepth(views, options); });
   state.SetLabel("9 views 640x480, " + std::to_string(options.num_planes) + " planes, " +
                  std::to_string(options.num_neighbors) + " neighbours");
 }
@@ -81,12 +91,6 @@ BENCHMARK(BM_ComputeDepthPop9)
     ->UseRealTime()
     ->MinTime(2.0);
 
-double PeakRssMiB() {
-  rusage usage{};
-  getrusage(RUSAGE_SELF, &usage);
-  return usage.ru_maxrss / 1024.0;  // KiB on Linux
-}
-
 void BM_LayeredDepthPop9(benchmark::State& state) {
   (void)SetLogLevels("depth=warn");
   const std::vector<View> views = TwoPlaneViews(false);
@@ -95,16 +99,7 @@ void BM_LayeredDepthPop9(benchmark::State& state) {
   options.max_depth_m = 8.0;
   options.num_threads = static_cast<int>(state.range(0));
   options.working_scale = static_cast<double>(state.range(1)) / 100.0;
-  double cpu_ms = 0;
-  for (auto _ : state) {
-    const double start = ProcessCpuMs();
-    StatusOr<DepthStageResult> result = ComputeLayeredDepth(views, options);
-    cpu_ms += ProcessCpuMs() - start;
-    if (!result.ok()) state.SkipWithError(result.status().ToString().c_str());
-    benchmark::DoNotOptimize(result);
-  }
-  state.counters["process_cpu_ms"] = cpu_ms / static_cast<double>(state.iterations());
-  state.counters["peak_rss_mib"] = PeakRssMiB();
+  RunIterations(state, [&] { return ComputeLayeredDepth(views, options); });
   state.SetLabel("segment stereo, 9 views 640x480, layered output");
 }
 // Args: threads, working scale in percent.
@@ -130,12 +125,7 @@ void BM_LayeredDepthLightField9x9(benchmark::State& state) {
   options.working_scale = 1.0;
   options.num_threads = 2;
   options.matching.num_neighbors = static_cast<int>(state.range(0));
-  for (auto _ : state) {
-    StatusOr<DepthStageResult> result = ComputeLayeredDepthForViews(views, {40}, options);
-    if (!result.ok()) state.SkipWithError(result.status().ToString().c_str());
-    benchmark::DoNotOptimize(result);
-  }
-  state.counters["peak_rss_mib"] = PeakRssMiB();
+  RunIterations(state, [&] { return ComputeLayeredDepthForViews(views, {40}, options); });
   state.SetLabel("segment stereo, 9x9 views 512x512, centre view, " + std::to_string(state.range(0)) + " neighbours");
 }
 // Args: neighbours of the centre view.
