@@ -153,8 +153,8 @@ DepthMethodRun TimeMultiView(const std::string& name, const MultiViewSet& set, c
   return run;
 }
 
-// Our options for a light field: its disparities between neighbours are a few pixels, so match
-// at full resolution with finer plane steps, and use more of its many neighbours.
+}  // namespace
+
 DepthOptions LightFieldDepthOptions(const DepthOptions& ours) {
   DepthOptions options = ours;
   options.working_scale = 1.0;
@@ -162,6 +162,8 @@ DepthOptions LightFieldDepthOptions(const DepthOptions& ours) {
   options.matching.num_neighbors = 16;
   return options;
 }
+
+namespace {
 
 // Our depth stage and the first plane sweep on a set, each as options ask.
 void AddMultiViewRuns(const MultiViewSet& set, const DepthEvalOptions& options,

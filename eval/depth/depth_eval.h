@@ -65,6 +65,10 @@ struct DepthEvalOptions {
   std::function<void(const std::string& set, double fraction)> progress;
 };
 
+// Our options for a light field: its disparities between neighbours are a few pixels, so match
+// at full resolution with plane steps of 0.1 px, and use 16 of its many neighbours.
+DepthOptions LightFieldDepthOptions(const DepthOptions& ours);
+
 // Runs every set found. Fails only when the data folder holds a set that cannot be read (the
 // error names it) or when nothing matches the filter; a method that fails on a set is reported
 // in its run.
