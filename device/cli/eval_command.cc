@@ -1,6 +1,7 @@
 #include "device/cli/eval_command.h"
 
 #include "device/cli/eval_render_command.h"
+#include "device/cli/eval_depth_command.h"
 
 namespace px::cli {
 
@@ -9,6 +10,7 @@ void AddEvalCommand(CLI::App& app) {
   eval->require_subcommand(1);
   // Each tool adds its subcommand to `eval` here, one line each (e.g. AddEvalDepthCommand(*eval)).
   AddEvalRenderCommand(*eval);
+  AddEvalDepthCommand(*eval);
 }
 
 }  // namespace px::cli

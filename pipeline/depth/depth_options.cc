@@ -13,6 +13,50 @@ Status OutOfRange(const char* field, T value, const char* range) {
   return InvalidArgumentError(error.str());
 }
 
+Status ValidateMatching(const MatchingOptions& m) {
+  if (m.num_planes != 0 && (m.num_planes < 2 || m.num_planes > 1024)) {
+    return OutOfRange("matching.num_planes", m.num_planes, "0 or [2, 1024]");
+  }
+  if (!(m.plane_step_px > 0 && m.plane_step_px <= 8)) return OutOfRange("matching.plane_step_px", m.plane_step_px, "(0, 8]");
+  if (m.max_planes < 2 || m.max_planes > 1024) return OutOfRange("matching.max_planes", m.max_planes, "[2, 1024]");
+  if (m.num_neighbors < 1 || m.num_neighbors > 16) return OutOfRange("matching.num_neighbors", m.num_neighbors, "[1, 16]");
+  if (m.window_radius_px < 1 || m.window_radius_px > 15) {
+    return OutOfRange("matching.window_radius_px", m.window_radius_px, "[1, 15]");
+  }
+  if (m.cost_filter_radius_px < 0 || m.cost_filter_radius_px > 15) {
+    return OutOfRange("matching.cost_filter_radius_px", m.cost_filter_radius_px, "[0, 15]");
+  }
+  if (!(m.cost_filter_eps >= 1e-6 && m.cost_filter_eps <= 1)) {
+    return OutOfRange("matching.cost_filter_eps", m.cost_filter_eps, "[1e-6, 1]");
+  }
+  if (!(m.min_texture_stddev >= 0 && m.min_texture_stddev <= 0.5)) {
+    return OutOfRange("matching.min_texture_stddev", m.min_texture_stddev, "[0, 0.5]");
+  }
+  return OkStatus();
+}
+
+Status ValidateSegments(const SegmentOptions& s) {
+  if (s.region_size_px < 4 || s.region_size_px > 64) return OutOfRange("segments.region_size_px", s.region_size_px, "[4, 64]");
+  if (!(s.compactness >= 1 && s.compactness <= 100)) return OutOfRange("segments.compactness", s.compactness, "[1, 100]");
+  if (s.iterations < 1 || s.iterations > 20) return OutOfRange("segments.iterations", s.iterations, "[1, 20]");
+  if (!(s.min_confidence >= 0 && s.min_confidence <= 1)) {
+    return OutOfRange("segments.min_confidence", s.min_confidence, "[0, 1]");
+  }
+  if (!(s.inlier_px > 0 && s.inlier_px <= 8)) return OutOfRange("segments.inlier_px", s.inlier_px, "(0, 8]");
+  if (s.ransac_iterations < 1 || s.ransac_iterations > 1000) {
+    return OutOfRange("segments.ransac_iterations", s.ransac_iterations, "[1, 1000]");
+  }
+  if (!(s.min_support >= 0 && s.min_support <= 1)) return OutOfRange("segments.min_support", s.min_support, "[0, 1]");
+  if (!(s.propagation_cost_margin >= 0 && s.propagation_cost_margin <= 1)) {
+    return OutOfRange("segments.propagation_cost_margin", s.propagation_cost_margin, "[0, 1]");
+  }
+  if (!(s.edge_disparity_px > 0 && s.edge_disparity_px <= 64)) {
+    return OutOfRange("segments.edge_disparity_px", s.edge_disparity_px, "(0, 64]");
+  }
+  if (s.band_radius_px < 1 || s.band_radius_px > 16) return OutOfRange("segments.band_radius_px", s.band_radius_px, "[1, 16]");
+  return OkStatus();
+}
+
 }  // namespace
 
 Status DepthOptions::Validate() const {
@@ -23,21 +67,15 @@ Status DepthOptions::Validate() const {
     error << "depth options: max_depth_m = " << max_depth_m << " is not greater than min_depth_m = " << min_depth_m;
     return InvalidArgumentError(error.str());
   }
-  if (num_planes < 2 || num_planes > 1024) return OutOfRange("num_planes", num_planes, "[2, 1024]");
-  if (window_radius_px < 1 || window_radius_px > 15) return OutOfRange("window_radius_px", window_radius_px, "[1, 15]");
-  if (num_neighbors < 1 || num_neighbors > 16) return OutOfRange("num_neighbors", num_neighbors, "[1, 16]");
   if (!(working_scale > 0 && working_scale <= 1)) return OutOfRange("working_scale", working_scale, "(0, 1]");
-  if (cost_filter_radius_px < 0 || cost_filter_radius_px > 15) {
-    return OutOfRange("cost_filter_radius_px", cost_filter_radius_px, "[0, 15]");
+  PX_RETURN_IF_ERROR(ValidateMatching(matching));
+  PX_RETURN_IF_ERROR(ValidateSegments(segments));
+  if (!(consistency_tolerance_px > 0 && consistency_tolerance_px <= 16)) {
+    return OutOfRange("consistency_tolerance_px", consistency_tolerance_px, "(0, 16]");
   }
-  if (!(cost_filter_eps >= 1e-6 && cost_filter_eps <= 1)) return OutOfRange("cost_filter_eps", cost_filter_eps, "[1e-6, 1]");
-  if (!(min_texture_stddev >= 0 && min_texture_stddev <= 0.5)) {
-    return OutOfRange("min_texture_stddev", min_texture_stddev, "[0, 0.5]");
+  if (!(max_view_match_cost > 0 && max_view_match_cost <= 2)) {
+    return OutOfRange("max_view_match_cost", max_view_match_cost, "(0, 2]");
   }
-  if (speckle_max_size_px < 0 || speckle_max_size_px > 1000000) {
-    return OutOfRange("speckle_max_size_px", speckle_max_size_px, "[0, 1000000]");
-  }
-  if (!(fill_confidence >= 0 && fill_confidence <= 1)) return OutOfRange("fill_confidence", fill_confidence, "[0, 1]");
   if (num_threads < 0 || num_threads > 256) return OutOfRange("num_threads", num_threads, "[0, 256]");
   return OkStatus();
 }

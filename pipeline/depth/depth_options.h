@@ -1,45 +1,81 @@
-// Options for stage 3 (per-view depth by multi-view plane sweep). Every field has a default, a
-// unit and a range; Validate() names the first bad field and its value.
+// Options for stage 3, segment-based multi-view stereo (depth_stage.h). Every field has a
+// default, a unit and a range; Validate() names the first bad field and its value.
 #pragma once
+
+#include <cstdint>
 
 #include "pipeline/core/status.h"
 
 namespace px {
 
+// Plane-sweep matching of each reference view against its neighbours.
+struct MatchingOptions {
+  // Fronto-parallel planes, uniform in inverse depth. 0 = automatic: as many as make one plane
+  // step move the farthest neighbour used by about plane_step_px at the working scale, capped
+  // at max_planes. Else [2, 1024].
+  int num_planes = 0;
+  double plane_step_px = 1.0;  // (0, 8]
+  int max_planes = 128;        // [2, 1024]
+  // Neighbour views per reference view, nearest camera centres first. [1, 16] (the best-half
+  // aggregation holds at most 16 costs per pixel); fewer are used
+  // when the shot has fewer.
+  int num_neighbors = 8;
+  // ZNCC window radius in pixels at the working scale: the window is (2r+1)^2. [1, 15].
+  int window_radius_px = 2;
+  // Guided-filter aggregation of each cost slice (cost-volume filtering): radius in pixels at
+  // the working scale [0, 15] (0 = off), and the edge threshold eps in grey variance [1e-6, 1].
+  int cost_filter_radius_px = 4;
+  double cost_filter_eps = 1e-4;
+  // Grey standard deviation (images in [0, 1]) under which a window counts as textureless: its
+  // cost is neutral and its confidence 0. [0, 0.5].
+  double min_texture_stddev = 0.004;
+};
+
+// Over-segmentation and a plane per segment.
+struct SegmentOptions {
+  // SLIC superpixel side in pixels at the working scale [4, 64], compactness [1, 100] (higher =
+  // more regular, less edge-following) and k-means iterations [1, 20].
+  int region_size_px = 10;
+  double compactness = 10;
+  int iterations = 5;
+  // Pixels used in plane fits: confidence at least this [0, 1].
+  double min_confidence = 0.2;
+  // RANSAC inlier tolerance: disparity against the nearest neighbour, pixels at the working
+  // scale (0, 8].
+  double inlier_px = 0.25;
+  int ransac_iterations = 40;  // [1, 1000]
+  // A segment whose confident inliers cover less than this fraction of it takes a neighbour's
+  // plane instead (chosen by matching cost). [0, 1].
+  double min_support = 0.15;
+  // Matching-cost margin (ZNCC cost units, [0, 1]) within which a farther neighbour plane is
+  // preferred over a nearer one when assigning planes to unfitted segments.
+  double propagation_cost_margin = 0.02;
+  uint64_t random_seed = 1;
+  // Two layers at depth edges: touching segments whose planes differ by more than
+  // edge_disparity_px of disparity against the nearest neighbour (view resolution, (0, 64]) share
+  // a soft band band_radius_px wide on each side ([1, 16], view resolution).
+  double edge_disparity_px = 1.0;
+  int band_radius_px = 2;
+};
+
 struct DepthOptions {
-  // Scene depth range swept, in metres (z in the reference camera). 0 = not set: the caller
-  // fills it from the rig's nominal range (WithDefaultDepthRange). When set: 0 < min < max.
+  // Scene depth range swept, metres (z in the reference camera). 0 = not set: the caller fills
+  // it from the rig's nominal range (WithDefaultDepthRange). When set: 0 < min < max.
   double min_depth_m = 0;
   double max_depth_m = 0;
-  // Fronto-parallel planes sampled uniformly in inverse depth between the two. [2, 1024]. More
-  // planes cost linearly more time; sub-plane accuracy comes from parabolic refinement, so a
-  // step of about half a pixel of disparity between the nearest views is enough.
-  int num_planes = 64;
-  // Matching window radius in pixels at the working scale: the window is (2r+1)^2. [1, 15].
-  int window_radius_px = 3;
-  // Neighbour views each reference view is matched against, nearest camera centres first.
-  // [1, 16]; fewer are used when the shot has fewer other views.
-  int num_neighbors = 4;
-  // Depth is computed at this fraction of the view resolution, then upsampled edge-aware to full
-  // resolution. (0, 1]; 0.5 is about 4x faster than 1 with little loss on smooth surfaces.
+  // Matching runs at this fraction of the view resolution; segments and layers are made at full
+  // resolution. (0, 1].
   double working_scale = 0.5;
-  // Guided-filter aggregation of every cost slice, guided by the reference image (cost-volume
-  // filtering): radius in pixels at the working scale, [0, 15], 0 = off. It fills weakly
-  // textured areas from textured ones of the same surface and sharpens depth edges.
-  int cost_filter_radius_px = 4;
-  // Guided-filter edge threshold: grey variance (image in [0, 1]) above which a window keeps its
-  // own costs. [1e-6, 1].
-  double cost_filter_eps = 1e-4;
-  // Grey-level standard deviation (images scaled to [0, 1]) under which a window counts as
-  // textureless: its matching cost is neutral, so its confidence is 0. [0, 0.5].
-  double min_texture_stddev = 0.004;
-  // Connected regions of at most this many pixels (at the working scale) whose depth differs
-  // from their surroundings by more than two planes are speckles: they keep their depth but get
-  // low confidence. [0, 1e6]; 0 disables the check.
-  int speckle_max_size_px = 64;
-  // Confidence in [0, 1] under which a pixel's depth is replaced (blended) by an edge-aware fill
-  // from confident neighbours guided by the image. 0 disables the fill.
-  double fill_confidence = 0.15;
+  MatchingOptions matching;
+  SegmentOptions segments;
+  // Consistency between views: a pixel whose depth no other view confirms within this many
+  // pixels of disparity (view resolution, (0, 16]) keeps half its confidence and counts as
+  // unconfirmed in the report.
+  double consistency_tolerance_px = 1.0;
+  // A view whose median best matching cost over its textured pixels exceeds this ((0, 2]; 1 =
+  // uncorrelated) matches none of its neighbours (another scene, a black or saturated frame): it
+  // is reported and left out as a neighbour of the others.
+  double max_view_match_cost = 0.5;
   // Worker threads: 0 = OpenCV's default (all cores). [0, 256].
   int num_threads = 0;
 

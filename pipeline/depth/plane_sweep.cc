@@ -6,120 +6,33 @@
 #include <cmath>
 #include <sstream>
 #include <string>
-#include <mutex>
 
 #include <opencv2/imgproc.hpp>
 
 #include "pipeline/core/log.h"
 #include "pipeline/depth/depth_cleanup.h"
-#include "pipeline/depth/best_half_aggregation.h"
-#include "pipeline/depth/cost_filter.h"
+#include "pipeline/depth/cost_volume.h"
 #include "pipeline/depth/plane_homography.h"
-#include "pipeline/depth/plane_warp.h"
-#include "pipeline/depth/zncc_cost.h"
 #include "pipeline/depth/select_planes.h"
+#include "pipeline/depth/working_view.h"
 
 namespace px {
 namespace {
 
-using depth::kNoDataCost;
+using depth::MakeWorkingView;
+using depth::ScopedNumThreads;
+using depth::WorkingView;
 
-// A view reduced to what matching needs, at the working scale.
-struct WorkingView {
-  cv::Mat bgr;   // CV_8UC3, guide for edge-aware filtering
-  cv::Mat gray;  // CV_32F in [0, 1]
-  CameraModel camera;
-  Rigid3 cam_from_world;
-};
-
-// Sets OpenCV's worker count for the lifetime of the guard (0 leaves it alone).
-class ScopedNumThreads {
- public:
-  explicit ScopedNumThreads(int num_threads) : previous_(cv::getNumThreads()), active_(num_threads > 0) {
-    if (active_) cv::setNumThreads(num_threads);
-  }
-  ~ScopedNumThreads() {
-    if (active_) cv::setNumThreads(previous_);
-  }
-  ScopedNumThreads(const ScopedNumThreads&) = delete;
-  ScopedNumThreads& operator=(const ScopedNumThreads&) = delete;
-
- private:
-  int previous_;
-  bool active_;
-};
-
-std::string ViewName(const View& view) { return "view " + std::to_string(view.id.value); }
-
-Status CheckInputs(const std::vector<View>& views, const DepthOptions& options) {
+Status CheckInputs(const std::vector<View>& views, const PlaneSweepOptions& options) {
   PX_RETURN_IF_ERROR(options.Validate());
   if (!options.HasDepthRange()) {
     std::ostringstream error;
-    error << "depth options: depth range [" << options.min_depth_m << ", " << options.max_depth_m
+    error << "plane sweep options: depth range [" << options.min_depth_m << ", " << options.max_depth_m
           << "] m is not set (fill it from the rig with WithDefaultDepthRange)";
     return InvalidArgumentError(error.str());
   }
-  if (views.size() < 2) {
-    return InvalidArgumentError("depth needs at least 2 views, got " + std::to_string(views.size()));
-  }
-  for (const View& view : views) {
-    PX_RETURN_IF_ERROR(view.camera.Validate().WithContext(ViewName(view)));
-    if (view.camera.HasDistortion()) {
-      return InvalidArgumentError(ViewName(view) + ": camera has lens distortion; depth needs undistorted views");
-    }
-    if (view.image.type() != CV_8UC3 || view.image.cols != view.camera.width || view.image.rows != view.camera.height) {
-      std::ostringstream error;
-      error << ViewName(view) << ": image is " << view.image.cols << "x" << view.image.rows << " with "
-            << view.image.channels() << " channels, want " << view.camera.width << "x" << view.camera.height
-            << " CV_8UC3";
-      return InvalidArgumentError(error.str());
-    }
-    if (!view.cam_from_world.translation.allFinite() || !view.cam_from_world.rotation.coeffs().allFinite()) {
-      return InvalidArgumentError(ViewName(view) + ": pose is not finite");
-    }
-  }
-  // The working image must hold a matching window with its interpolation margin.
-  const int min_side = 2 * (options.window_radius_px + 2) + 1;
-  for (const View& view : views) {
-    const CameraModel working = options.working_scale < 1 ? view.camera.Scaled(options.working_scale) : view.camera;
-    if (working.width < min_side || working.height < min_side) {
-      std::ostringstream error;
-      error << ViewName(view) << ": " << view.camera.width << "x" << view.camera.height << " at working scale "
-            << options.working_scale << " is " << working.width << "x" << working.height << ", smaller than "
-            << min_side << "x" << min_side << " (window radius " << options.window_radius_px << ")";
-      return InvalidArgumentError(error.str());
-    }
-  }
-  for (int i = 0; i < static_cast<int>(views.size()); ++i) {
-    if (depth::NearestNeighbourViews(views, i, 1).empty()) {
-      return InvalidArgumentError(ViewName(views[i]) + ": every other view has the same camera centre (no parallax)");
-    }
-  }
-  return OkStatus();
+  return depth::CheckViews(views, options.working_scale, options.window_radius_px);
 }
-
-WorkingView MakeWorkingView(const View& view, double scale) {
-  WorkingView working;
-  working.cam_from_world = view.cam_from_world;
-  if (scale < 1) {
-    working.camera = view.camera.Scaled(scale);
-    cv::resize(view.image, working.bgr, cv::Size(working.camera.width, working.camera.height), 0, 0, cv::INTER_AREA);
-  } else {
-    working.camera = view.camera;
-    working.bgr = view.image;
-  }
-  cv::Mat gray8;
-  cv::cvtColor(working.bgr, gray8, cv::COLOR_BGR2GRAY);
-  gray8.convertTo(working.gray, CV_32F, 1.0 / 255.0);
-  return working;
-}
-
-// Inverse depth of plane p: planes run from the far end (p = 0) to the near end.
-struct PlaneSampling {
-  double far_inverse_m = 0;
-  double step_inverse_m = 0;
-  double InverseDepth(double plane) const { return far_inverse_m + plane * step_inverse_m; }
-};
 
 // Distance between the reference camera centre and its nearest neighbour's.
 double NearestBaselineM(const std::vector<View>& views, int reference, const std::vector<int>& neighbours) {
@@ -129,70 +42,20 @@ double NearestBaselineM(const std::vector<View>& views, int reference, const std
   return nearest;
 }
 
-PlaneSampling MakePlaneSampling(const DepthOptions& options) {
-  PlaneSampling sampling;
-  sampling.far_inverse_m = 1.0 / options.max_depth_m;
-  sampling.step_inverse_m = (1.0 / options.min_depth_m - sampling.far_inverse_m) / (options.num_planes - 1);
-  return sampling;
-}
-
-// The plane-sweep cost volume of one reference view: one aggregated, filtered cost slice per
-// plane, and which pixels any neighbour sampled at all.
-struct CostVolume {
-  std::vector<cv::Mat> slices;
-  cv::Mat sampled;  // CV_8U, 255 where some plane had a valid neighbour sample
-};
-
-CostVolume BuildCostVolume(const WorkingView& ref, const std::vector<const WorkingView*>& neighbours,
-                           const PlaneSampling& sampling, const DepthOptions& options) {
-  const cv::Size size = ref.gray.size();
-  const depth::ReferenceWindows windows =
-      depth::PrepareReferenceWindows(ref.gray, options.window_radius_px, options.min_texture_stddev);
-  const bool filter_costs = options.cost_filter_radius_px > 0;
-  const depth::CostFilterGuide guide =
-      filter_costs ? depth::PrepareCostFilterGuide(ref.gray, options.cost_filter_radius_px, options.cost_filter_eps)
-                   : depth::CostFilterGuide();
-  CostVolume volume;
-  volume.slices.resize(options.num_planes);
-  volume.sampled = cv::Mat::zeros(size, CV_8U);
-  std::mutex sampled_mutex;
-  // Planes are independent: each worker takes a range of them with its own buffers.
-  cv::parallel_for_(cv::Range(0, options.num_planes), [&](const cv::Range& planes) {
-    cv::Mat sampled_here = cv::Mat::zeros(size, CV_8U);
-    cv::Mat warped, valid;
-    depth::ZnccWorkspace zncc;
-    std::vector<cv::Mat> costs(neighbours.size());
-    depth::AggregationWorkspace aggregation;
-    depth::CostFilterWorkspace filter;
-    for (int p = planes.start; p < planes.end; ++p) {
-      const double depth_m = 1.0 / sampling.InverseDepth(p);
-      for (size_t k = 0; k < neighbours.size(); ++k) {
-        const WorkingView& src = *neighbours[k];
-        const Eigen::Matrix3d h =
-            depth::PlaneHomography(ref.camera, ref.cam_from_world, src.camera, src.cam_from_world, depth_m);
-        depth::WarpIntoReference(src.gray, h, size, &warped);
-        depth::ValidSampleMask(h, src.gray.size(), options.window_radius_px, size, &valid);
-        depth::ComputeZnccCost(windows, warped, valid, &zncc, &costs[k]);
-      }
-      cv::Mat& slice = volume.slices[p];
-      depth::AggregateBestHalf(costs, &aggregation, &slice);
-      cv::bitwise_or(sampled_here, slice < kNoDataCost, sampled_here);
-      if (filter_costs) depth::FilterCostSlice(guide, &filter, &slice);
-    }
-    const std::lock_guard<std::mutex> lock(sampled_mutex);
-    cv::bitwise_or(volume.sampled, sampled_here, volume.sampled);
-  });
-  return volume;
-}
-
 DepthMap SweepReference(const std::vector<View>& views, const std::vector<WorkingView>& working, int reference,
-                        const DepthOptions& options) {
+                        const PlaneSweepOptions& options) {
   const WorkingView& ref = working[reference];
   const std::vector<int> neighbour_ids = depth::NearestNeighbourViews(views, reference, options.num_neighbors);
   std::vector<const WorkingView*> neighbours;
   for (int k : neighbour_ids) neighbours.push_back(&working[k]);
-  const PlaneSampling sampling = MakePlaneSampling(options);
-  CostVolume volume = BuildCostVolume(ref, neighbours, sampling, options);
+  const depth::InverseDepthPlanes sampling =
+      depth::MakeInverseDepthPlanes(options.min_depth_m, options.max_depth_m, options.num_planes);
+  depth::CostVolumeOptions volume_options;
+  volume_options.window_radius_px = options.window_radius_px;
+  volume_options.min_texture_stddev = options.min_texture_stddev;
+  volume_options.filter_radius_px = options.cost_filter_radius_px;
+  volume_options.filter_eps = options.cost_filter_eps;
+  depth::CostVolume volume = depth::BuildCostVolume(ref, neighbours, sampling, volume_options);
 
   // Five-point sub-plane fits when two plane steps move the nearest neighbour's image by at most
   // 0.3 px (measured best on the HCI light field; on coarser sampling the three-point fit wins).
@@ -238,8 +101,8 @@ DepthMap SweepReference(const std::vector<View>& views, const std::vector<Workin
 
 }  // namespace
 
-StatusOr<std::vector<DepthMap>> ComputeDepth(const std::vector<View>& views, const DepthOptions& options,
-                                             const DepthProgressCallback& progress) {
+StatusOr<std::vector<DepthMap>> ComputePlaneSweepDepth(const std::vector<View>& views, const PlaneSweepOptions& options,
+                                             const PlaneSweepProgressCallback& progress) {
   const auto start = std::chrono::steady_clock::now();
   PX_RETURN_IF_ERROR(CheckInputs(views, options));
   const ScopedNumThreads threads(options.num_threads);
@@ -273,8 +136,8 @@ StatusOr<std::vector<DepthMap>> ComputeDepth(const std::vector<View>& views, con
   return maps;
 }
 
-StatusOr<DepthMap> ComputeDepthForView(const std::vector<View>& views, int reference_index,
-                                       const DepthOptions& options) {
+StatusOr<DepthMap> ComputePlaneSweepDepthForView(const std::vector<View>& views, int reference_index,
+                                       const PlaneSweepOptions& options) {
   PX_RETURN_IF_ERROR(CheckInputs(views, options));
   if (reference_index < 0 || reference_index >= static_cast<int>(views.size())) {
     return OutOfRangeError("reference view index " + std::to_string(reference_index) + " is outside [0, " +

@@ -15,24 +15,24 @@
 
 #include "pipeline/core/status.h"
 #include "pipeline/core/view.h"
-#include "pipeline/depth/depth_options.h"
+#include "pipeline/depth/plane_sweep_options.h"
 
 namespace px {
 
-// fraction in [0, 1] of the stage done; return false to cancel (ComputeDepth returns CANCELLED).
-using DepthProgressCallback = std::function<bool(double fraction)>;
+// fraction in [0, 1] of the stage done; return false to cancel (ComputePlaneSweepDepth returns CANCELLED).
+using PlaneSweepProgressCallback = std::function<bool(double fraction)>;
 
 // One DepthMap per view, in the views' order, each at its view's full resolution: depth_m > 0
 // everywhere (z in the view's camera, within the swept range), confidence in [0, 1] (0 where no
 // neighbour saw the pixel or the window is textureless; such pixels still get the best depth
 // available). Views must be undistorted pinhole views (calib's MakeViews) with CV_8UC3 images of
 // their camera's size, at least two of them at distinct centres. options must have a depth range
-// (see DepthOptions::WithDefaultDepthRange). Errors name the view or field at fault.
-StatusOr<std::vector<DepthMap>> ComputeDepth(const std::vector<View>& views, const DepthOptions& options,
-                                             const DepthProgressCallback& progress = {});
+// (see PlaneSweepOptions::WithDefaultDepthRange). Errors name the view or field at fault.
+StatusOr<std::vector<DepthMap>> ComputePlaneSweepDepth(const std::vector<View>& views, const PlaneSweepOptions& options,
+                                             const PlaneSweepProgressCallback& progress = {});
 
 // The depth map of views[reference_index] alone (the others serve as neighbours).
-StatusOr<DepthMap> ComputeDepthForView(const std::vector<View>& views, int reference_index,
-                                       const DepthOptions& options);
+StatusOr<DepthMap> ComputePlaneSweepDepthForView(const std::vector<View>& views, int reference_index,
+                                       const PlaneSweepOptions& options);
 
 }  // namespace px

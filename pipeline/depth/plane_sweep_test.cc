@@ -28,8 +28,8 @@ constexpr double kBaselineM = 0.025;
 constexpr double kFocalPx = 560.0;
 CameraModel LensCamera() { return CameraModel::Pinhole(640, 480, kFocalPx); }
 
-DepthOptions Pop9Options() {
-  DepthOptions options;
+PlaneSweepOptions Pop9Options() {
+  PlaneSweepOptions options;
   options.min_depth_m = 0.5;
   options.max_depth_m = 8.0;
   return options;
@@ -59,7 +59,7 @@ double MedianRelativeError(const cv::Mat& depth_m, const cv::Mat& true_depth_m, 
   return errors[errors.size() / 2];
 }
 
-void ExpectWellFormed(const DepthMap& map, const View& view, const DepthOptions& options) {
+void ExpectWellFormed(const DepthMap& map, const View& view, const PlaneSweepOptions& options) {
   EXPECT_EQ(map.id, view.id);
   ASSERT_EQ(map.depth_m.type(), CV_32F);
   ASSERT_EQ(map.confidence.type(), CV_32F);
@@ -113,8 +113,8 @@ TEST(PlaneHomographyTest, NeighboursAreNearestCentresFirstAndSkipSameCentre) {
 TEST(PlaneSweepTest, FrontoParallelPlaneAtKnownDepth) {
   std::vector<cv::Mat> truth;
   const std::vector<View> views = RenderGridRig(3, 3, kBaselineM, LensCamera(), {Wall(1.6, 11)}, &truth);
-  const DepthOptions options = Pop9Options();
-  StatusOr<std::vector<DepthMap>> maps = ComputeDepth(views, options);
+  const PlaneSweepOptions options = Pop9Options();
+  StatusOr<std::vector<DepthMap>> maps = ComputePlaneSweepDepth(views, options);
   ASSERT_TRUE(maps.ok()) << maps.status().ToString();
   ASSERT_EQ(maps->size(), 9u);
   for (int i = 0; i < 9; ++i) {
@@ -144,8 +144,8 @@ TEST(PlaneSweepTest, RotatedLensesUseTheGeneralHomography) {
   }
   std::vector<cv::Mat> truth;
   const std::vector<View> views = depth::testing::RenderViews(poses, LensCamera(), {Wall(1.6, 71)}, &truth);
-  const DepthOptions options = Pop9Options();
-  StatusOr<DepthMap> map = ComputeDepthForView(views, 4, options);
+  const PlaneSweepOptions options = Pop9Options();
+  StatusOr<DepthMap> map = ComputePlaneSweepDepthForView(views, 4, options);
   ASSERT_TRUE(map.ok()) << map.status().ToString();
   ExpectWellFormed(*map, views[4], options);
   const double error =
@@ -191,8 +191,8 @@ TwoPlaneScene MakeTwoPlaneScene() {
 
 TEST(PlaneSweepTest, TwoPlaneSceneAwayFromEdgesAndConfidenceOnTexture) {
   const TwoPlaneScene scene = MakeTwoPlaneScene();
-  const DepthOptions options = Pop9Options();
-  StatusOr<std::vector<DepthMap>> maps = ComputeDepth(scene.views, options);
+  const PlaneSweepOptions options = Pop9Options();
+  StatusOr<std::vector<DepthMap>> maps = ComputePlaneSweepDepth(scene.views, options);
   ASSERT_TRUE(maps.ok()) << maps.status().ToString();
   for (int i = 0; i < 9; ++i) {
     const DepthMap& map = (*maps)[i];
@@ -238,12 +238,12 @@ TEST(PlaneSweepTest, PixelsNoNeighbourSeesGetZeroConfidenceButADepth) {
   // the reference's leftmost columns are outside the neighbour at every depth in the range.
   const CameraModel camera = CameraModel::Pinhole(96, 64, 100.0);
   std::vector<View> views = RenderGridRig(1, 2, 0.1, camera, {Wall(2.0, 31)});
-  DepthOptions options;
+  PlaneSweepOptions options;
   options.min_depth_m = 0.5;
   options.max_depth_m = 8.0;
   options.working_scale = 1.0;
   options.fill_confidence = 0;
-  StatusOr<DepthMap> map = ComputeDepthForView(views, 0, options);
+  StatusOr<DepthMap> map = ComputePlaneSweepDepthForView(views, 0, options);
   ASSERT_TRUE(map.ok()) << map.status().ToString();
   ExpectWellFormed(*map, views[0], options);
   // Far plane: disparity 100 * 0.1 / 8 = 1.25 px; with a window radius of 3, the first
@@ -256,12 +256,12 @@ TEST(PlaneSweepTest, PixelsNoNeighbourSeesGetZeroConfidenceButADepth) {
 
 TEST(PlaneSweepTest, ProgressReportsAndCancels) {
   std::vector<View> views = RenderGridRig(1, 3, 0.05, CameraModel::Pinhole(64, 48, 60.0), {Wall(1.0, 41)});
-  DepthOptions options;
+  PlaneSweepOptions options;
   options.min_depth_m = 0.5;
   options.max_depth_m = 4.0;
   options.num_planes = 8;
   std::vector<double> fractions;
-  StatusOr<std::vector<DepthMap>> maps = ComputeDepth(views, options, [&](double fraction) {
+  StatusOr<std::vector<DepthMap>> maps = ComputePlaneSweepDepth(views, options, [&](double fraction) {
     fractions.push_back(fraction);
     return true;
   });
@@ -271,76 +271,76 @@ TEST(PlaneSweepTest, ProgressReportsAndCancels) {
   EXPECT_EQ(fractions.back(), 1.0);
 
   int calls = 0;
-  maps = ComputeDepth(views, options, [&](double) { return ++calls < 2; });
+  maps = ComputePlaneSweepDepth(views, options, [&](double) { return ++calls < 2; });
   ASSERT_FALSE(maps.ok());
   EXPECT_EQ(maps.status().code(), StatusCode::kCancelled);
 }
 
 TEST(PlaneSweepTest, RejectsBadInputsNamingTheCulprit) {
   std::vector<View> views = RenderGridRig(1, 2, 0.05, CameraModel::Pinhole(64, 48, 60.0), {Wall(1.0, 51)});
-  DepthOptions options;
+  PlaneSweepOptions options;
   options.min_depth_m = 0.5;
   options.max_depth_m = 4.0;
-  ASSERT_TRUE(ComputeDepth(views, options).ok());
+  ASSERT_TRUE(ComputePlaneSweepDepth(views, options).ok());
 
-  EXPECT_EQ(ComputeDepth({views[0]}, options).status().message(), "depth needs at least 2 views, got 1");
+  EXPECT_EQ(ComputePlaneSweepDepth({views[0]}, options).status().message(), "depth needs at least 2 views, got 1");
 
-  DepthOptions unset = options;
+  PlaneSweepOptions unset = options;
   unset.min_depth_m = 0;
-  StatusOr<std::vector<DepthMap>> result = ComputeDepth(views, unset);
+  StatusOr<std::vector<DepthMap>> result = ComputePlaneSweepDepth(views, unset);
   ASSERT_FALSE(result.ok());
   EXPECT_NE(result.status().message().find("not set"), std::string::npos) << result.status().message();
-  EXPECT_TRUE(ComputeDepth(views, unset.WithDefaultDepthRange(0.3, 10.0)).ok());
+  EXPECT_TRUE(ComputePlaneSweepDepth(views, unset.WithDefaultDepthRange(0.3, 10.0)).ok());
 
   std::vector<View> distorted = views;
   distorted[1].camera.distortion[0] = -0.1;
-  result = ComputeDepth(distorted, options);
+  result = ComputePlaneSweepDepth(distorted, options);
   ASSERT_FALSE(result.ok());
   EXPECT_EQ(result.status().message(), "view 1: camera has lens distortion; depth needs undistorted views");
 
   std::vector<View> wrong_size = views;
   wrong_size[0].image = cv::Mat(40, 64, CV_8UC3, cv::Scalar(0, 0, 0));
-  result = ComputeDepth(wrong_size, options);
+  result = ComputePlaneSweepDepth(wrong_size, options);
   ASSERT_FALSE(result.ok());
   EXPECT_EQ(result.status().message(), "view 0: image is 64x40 with 3 channels, want 64x48 CV_8UC3");
 
   std::vector<View> same_centre = views;
   same_centre[1].cam_from_world = same_centre[0].cam_from_world;
-  result = ComputeDepth(same_centre, options);
+  result = ComputePlaneSweepDepth(same_centre, options);
   ASSERT_FALSE(result.ok());
   EXPECT_NE(result.status().message().find("same camera centre"), std::string::npos) << result.status().message();
 
-  EXPECT_EQ(ComputeDepthForView(views, 2, options).status().code(), StatusCode::kOutOfRange);
+  EXPECT_EQ(ComputePlaneSweepDepthForView(views, 2, options).status().code(), StatusCode::kOutOfRange);
 }
 
-TEST(DepthOptionsTest, ValidateNamesTheBadField) {
-  EXPECT_TRUE(DepthOptions().Validate().ok());
+TEST(PlaneSweepOptionsTest, ValidateNamesTheBadField) {
+  EXPECT_TRUE(PlaneSweepOptions().Validate().ok());
   const auto message = [](auto mutate) {
-    DepthOptions options;
+    PlaneSweepOptions options;
     mutate(options);
     return options.Validate().message();
   };
-  EXPECT_EQ(message([](DepthOptions& o) { o.num_planes = 1; }), "depth options: num_planes = 1 is outside [2, 1024]");
-  EXPECT_NE(message([](DepthOptions& o) { o.min_depth_m = -1; }).find("min_depth_m"), std::string::npos);
-  EXPECT_NE(message([](DepthOptions& o) {
+  EXPECT_EQ(message([](PlaneSweepOptions& o) { o.num_planes = 1; }), "plane sweep options: num_planes = 1 is outside [2, 1024]");
+  EXPECT_NE(message([](PlaneSweepOptions& o) { o.min_depth_m = -1; }).find("min_depth_m"), std::string::npos);
+  EXPECT_NE(message([](PlaneSweepOptions& o) {
               o.min_depth_m = 2;
               o.max_depth_m = 1;
             }).find("max_depth_m = 1 is not greater than min_depth_m = 2"),
             std::string::npos);
-  EXPECT_NE(message([](DepthOptions& o) { o.window_radius_px = 0; }).find("window_radius_px"), std::string::npos);
-  EXPECT_NE(message([](DepthOptions& o) { o.num_neighbors = 17; }).find("num_neighbors"), std::string::npos);
-  EXPECT_NE(message([](DepthOptions& o) { o.working_scale = 0; }).find("working_scale"), std::string::npos);
-  EXPECT_NE(message([](DepthOptions& o) { o.working_scale = 1.5; }).find("working_scale"), std::string::npos);
-  EXPECT_NE(message([](DepthOptions& o) { o.min_texture_stddev = -0.1; }).find("min_texture_stddev"),
+  EXPECT_NE(message([](PlaneSweepOptions& o) { o.window_radius_px = 0; }).find("window_radius_px"), std::string::npos);
+  EXPECT_NE(message([](PlaneSweepOptions& o) { o.num_neighbors = 17; }).find("num_neighbors"), std::string::npos);
+  EXPECT_NE(message([](PlaneSweepOptions& o) { o.working_scale = 0; }).find("working_scale"), std::string::npos);
+  EXPECT_NE(message([](PlaneSweepOptions& o) { o.working_scale = 1.5; }).find("working_scale"), std::string::npos);
+  EXPECT_NE(message([](PlaneSweepOptions& o) { o.min_texture_stddev = -0.1; }).find("min_texture_stddev"),
             std::string::npos);
-  EXPECT_NE(message([](DepthOptions& o) { o.speckle_max_size_px = -1; }).find("speckle_max_size_px"),
+  EXPECT_NE(message([](PlaneSweepOptions& o) { o.speckle_max_size_px = -1; }).find("speckle_max_size_px"),
             std::string::npos);
-  EXPECT_NE(message([](DepthOptions& o) { o.fill_confidence = 2; }).find("fill_confidence"), std::string::npos);
-  EXPECT_NE(message([](DepthOptions& o) { o.num_threads = -1; }).find("num_threads"), std::string::npos);
+  EXPECT_NE(message([](PlaneSweepOptions& o) { o.fill_confidence = 2; }).find("fill_confidence"), std::string::npos);
+  EXPECT_NE(message([](PlaneSweepOptions& o) { o.num_threads = -1; }).find("num_threads"), std::string::npos);
 
-  DepthOptions partly_set;
+  PlaneSweepOptions partly_set;
   partly_set.max_depth_m = 5.0;
-  const DepthOptions resolved = partly_set.WithDefaultDepthRange(0.3, 10.0);
+  const PlaneSweepOptions resolved = partly_set.WithDefaultDepthRange(0.3, 10.0);
   EXPECT_EQ(resolved.min_depth_m, 0.3);
   EXPECT_EQ(resolved.max_depth_m, 5.0);
 }
@@ -421,22 +421,22 @@ TEST(PlaneSweepHciTest, AntinousCentreViewBadPix007) {
 
   // Default options, only the depth range set: cfg disp_min/max -3.3 / 2.8 px give
   // z = f b / (d + offset) in [6.17, 8.31] m; sweep [6.0, 8.5] m.
-  DepthOptions defaults;
+  PlaneSweepOptions defaults;
   defaults.min_depth_m = 6.0;
   defaults.max_depth_m = 8.5;
-  StatusOr<DepthMap> map = ComputeDepthForView(views, 4, defaults);
+  StatusOr<DepthMap> map = ComputePlaneSweepDepthForView(views, 4, defaults);
   ASSERT_TRUE(map.ok()) << map.status().ToString();
   double mse_default = 0;
   const double bad_default = BadPix007(map->depth_m, truth, &mse_default);
 
   // Options for this data: its disparities span only 6 px, so keep every pixel and use all
   // eight neighbours with slightly larger windows.
-  DepthOptions tuned = defaults;
+  PlaneSweepOptions tuned = defaults;
   tuned.working_scale = 1.0;
   tuned.num_neighbors = 8;
   tuned.window_radius_px = 4;
   tuned.cost_filter_radius_px = 6;
-  map = ComputeDepthForView(views, 4, tuned);
+  map = ComputePlaneSweepDepthForView(views, 4, tuned);
   ASSERT_TRUE(map.ok()) << map.status().ToString();
   double mse_tuned = 0;
   const double bad_tuned = BadPix007(map->depth_m, truth, &mse_tuned);

@@ -1,5 +1,6 @@
 #include "pipeline/run/pipeline.h"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -10,7 +11,7 @@
 #include "pipeline/calib/make_views.h"
 #include "pipeline/core/log.h"
 #include "pipeline/core/pixel_format.h"
-#include "pipeline/depth/plane_sweep.h"
+#include "pipeline/depth/depth_stage.h"
 #include "pipeline/direct/plan_camera_path.h"
 #include "pipeline/lattice/split_lattice.h"
 #include "pipeline/render/cpu_scene_renderer.h"
@@ -242,21 +243,18 @@ StatusOr<PipelineReport> RunPipeline(const FrameSet& capture, const RigCalibrati
   DepthOptions depth_options = options.depth.WithDefaultDepthRange(rig.nominal_depth_min_m, rig.nominal_depth_max_m);
   if (depth_options.num_threads == 0) depth_options.num_threads = options.num_threads;
   bool cancelled = false;
-  StatusOr<std::vector<DepthMap>> depths = ComputeDepth(views, depth_options, [&](double fraction) {
+  StatusOr<DepthStageResult> depth = ComputeLayeredDepth(views, depth_options, [&](double fraction) {
     cancelled = !report_progress("depth", fraction).ok();
     return !cancelled;
   });
   if (cancelled) return CancelledError("pipeline cancelled during depth");
-  if (!depths.ok()) return depths.status().WithContext("depth");
+  if (!depth.ok()) return depth.status().WithContext("depth");
   report.timings.push_back({"depth", MsSince(start)});
+  report.depth = depth->report;
+  for (const std::string& warning : depth->report.warnings) report.warnings.push_back(warning);
   {
-    double confident = 0, total = 0;
-    for (const DepthMap& map : *depths) {
-      confident += cv::countNonZero(map.confidence > 0.5);
-      total += static_cast<double>(map.confidence.total());
-    }
-    const double fraction = total > 0 ? confident / total : 0;
-    log->info("depth: {} maps, {:.0f} to {:.2f} m, {:.0f}% confident, in {:.0f} ms", depths->size(),
+    const double fraction = depth->report.confident_fraction;
+    log->info("depth: {} layered views, {:.0f} to {:.2f} m, {:.0f}% confident, in {:.0f} ms", depth->maps.size(),
               depth_options.min_depth_m, depth_options.max_depth_m, 100 * fraction, report.timings.back().ms);
     if (fraction < kLowConfidentDepthFraction) {
       char text[160];
@@ -267,6 +265,28 @@ StatusOr<PipelineReport> RunPipeline(const FrameSet& capture, const RigCalibrati
       log->warn("{}", text);
     }
   }
+  // Views that match none of the others (a lens that saw another scene, a black or saturated
+  // frame) would paint wrong colour at wrong depth: drop them while two views remain.
+  std::vector<DepthMap> depth_maps = std::move(depth->maps);
+  if (!depth->report.disagreeing_views.empty() &&
+      views.size() - depth->report.disagreeing_views.size() >= 2) {
+    std::vector<View> kept_views;
+    std::vector<DepthMap> kept_maps;
+    for (size_t i = 0; i < views.size(); ++i) {
+      const auto& bad = depth->report.disagreeing_views;
+      if (std::find(bad.begin(), bad.end(), views[i].id) != bad.end()) continue;
+      kept_views.push_back(std::move(views[i]));
+      kept_maps.push_back(std::move(depth_maps[i]));
+    }
+    const std::string text = "depth: dropped " + std::to_string(views.size() - kept_views.size()) +
+                             " view(s) that match none of the others before rendering";
+    report.warnings.push_back(text);
+    log->warn("{}", text);
+    views = std::move(kept_views);
+    depth_maps = std::move(kept_maps);
+    report.num_views = static_cast<int>(views.size());
+  }
+  const std::vector<DepthMap>* depths = &depth_maps;
 
   // Stage 4: the camera path.
   PX_RETURN_IF_ERROR(report_progress("direct", 0));

@@ -15,6 +15,7 @@
 #include "pipeline/core/rig_calibration.h"
 #include "pipeline/core/view.h"
 #include "pipeline/depth/depth_options.h"
+#include "pipeline/depth/depth_report.h"
 #include "pipeline/direct/camera_path.h"
 #include "pipeline/render/render_options.h"
 
@@ -49,6 +50,7 @@ struct PipelineReport {
   int frames_rendered = 0;
   double mean_hole_ratio = 0;   // fraction of pixels no source covered, before filling
   std::vector<CoverageReport> frame_coverage;  // per rendered frame: hole ratio and H(V) before filling
+  DepthReport depth;            // per view: confident fraction, low-confidence mask, disagreement
 };
 
 // stage: a short name; fraction: 0..1 within that stage. Return false to cancel.

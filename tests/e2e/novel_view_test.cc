@@ -1,5 +1,5 @@
 // The pipeline against the simulator's ground truth, at the product's size (Pop9, 640x480):
-// depth from the plane sweep, and novel views from the renderer, each compared with what the
+// depth from the depth stage, and novel views from the renderer, each compared with what the
 // ray caster says the scene really looks like.
 #include <algorithm>
 #include <cmath>
@@ -8,9 +8,8 @@
 #include <gtest/gtest.h>
 
 #include "pipeline/core/log.h"
-#include "pipeline/depth/plane_sweep.h"
+#include "pipeline/depth/depth_stage.h"
 #include "pipeline/render/cpu_scene_renderer.h"
-#include "pipeline/render/layered_from_depth.h"
 #include "pipeline/run/pipeline.h"
 #include "sim/synthetic/ray_caster.h"
 #include "sim/synthetic/scene_json.h"
@@ -35,9 +34,10 @@ class NovelViewTest : public ::testing::Test {
     DepthOptions depth_options;
     depth_options.min_depth_m = shot_->rig.nominal_depth_min_m;
     depth_options.max_depth_m = shot_->rig.nominal_depth_max_m;
-    auto depths = ComputeDepth(*views_, depth_options);
+    auto depths = ComputeLayeredDepth(*views_, depth_options);
     ASSERT_TRUE(depths.ok()) << depths.status().ToString();
-    depths_ = std::make_unique<std::vector<DepthMap>>(std::move(depths).value());
+    depths_ = std::make_unique<std::vector<DepthMap>>(depths->maps);
+    layered_ = std::make_unique<std::vector<LayeredDepthView>>(std::move(depths->layered));
     auto scene = sim::LoadScene(shot_->scene_file);
     ASSERT_TRUE(scene.ok()) << scene.status().ToString();
     scene_ = std::make_unique<sim::Scene>(std::move(scene).value());
@@ -46,21 +46,19 @@ class NovelViewTest : public ::testing::Test {
     shot_.reset();
     views_.reset();
     depths_.reset();
+    layered_.reset();
     scene_.reset();
   }
 
   // The CPU renderer over the views whose index is not `left_out` (-1: all), with layered depth
-  // made from the plane sweep's maps as the pipeline does.
+  // (segments in two layers) from the depth stage, as the pipeline does.
   static std::unique_ptr<CpuSceneRenderer> MakeRenderer(int left_out = -1) {
     std::vector<View> views;
     std::vector<LayeredDepthView> layers;
     for (int i = 0; i < static_cast<int>(views_->size()); ++i) {
       if (i == left_out) continue;
-      StatusOr<LayeredDepthView> layered = LayeredDepthFromDepthMap((*views_)[i], (*depths_)[i]);
-      EXPECT_TRUE(layered.ok()) << layered.status().ToString();
-      if (!layered.ok()) return nullptr;
       views.push_back((*views_)[i]);
-      layers.push_back(std::move(layered).value());
+      layers.push_back((*layered_)[i]);
     }
     auto renderer = CpuSceneRenderer::Create(views, layers, RenderOptions());
     EXPECT_TRUE(renderer.ok()) << renderer.status().ToString();
@@ -76,6 +74,7 @@ class NovelViewTest : public ::testing::Test {
   static inline std::unique_ptr<e2e::SimulatedShot> shot_;
   static inline std::unique_ptr<std::vector<View>> views_;
   static inline std::unique_ptr<std::vector<DepthMap>> depths_;
+  static inline std::unique_ptr<std::vector<LayeredDepthView>> layered_;
   static inline std::unique_ptr<sim::Scene> scene_;
 };
 

@@ -1,0 +1,65 @@
+#include "pipeline/depth/cost_volume.h"
+
+#include <mutex>
+
+#include "pipeline/core/check.h"
+#include "pipeline/depth/best_half_aggregation.h"
+#include "pipeline/depth/cost_filter.h"
+#include "pipeline/depth/plane_homography.h"
+#include "pipeline/depth/plane_warp.h"
+#include "pipeline/depth/zncc_cost.h"
+
+namespace px::depth {
+
+InverseDepthPlanes MakeInverseDepthPlanes(double min_depth_m, double max_depth_m, int count) {
+  PX_CHECK(count >= 2 && min_depth_m > 0 && max_depth_m > min_depth_m);
+  InverseDepthPlanes planes;
+  planes.count = count;
+  planes.far_inverse_m = 1.0 / max_depth_m;
+  planes.step_inverse_m = (1.0 / min_depth_m - planes.far_inverse_m) / (count - 1);
+  return planes;
+}
+
+CostVolume BuildCostVolume(const WorkingView& ref, const std::vector<const WorkingView*>& neighbours,
+                           const InverseDepthPlanes& planes, const CostVolumeOptions& options) {
+  const cv::Size size = ref.gray.size();
+  const ReferenceWindows windows =
+      PrepareReferenceWindows(ref.gray, options.window_radius_px, options.min_texture_stddev);
+  const bool filter_costs = options.filter_radius_px > 0;
+  const CostFilterGuide guide =
+      filter_costs ? PrepareCostFilterGuide(ref.gray, options.filter_radius_px, options.filter_eps)
+                   : CostFilterGuide();
+  CostVolume volume;
+  volume.slices.resize(planes.count);
+  volume.sampled = cv::Mat::zeros(size, CV_8U);
+  std::mutex sampled_mutex;
+  // Planes are independent: each worker takes a range of them with its own buffers.
+  cv::parallel_for_(cv::Range(0, planes.count), [&](const cv::Range& range) {
+    cv::Mat sampled_here = cv::Mat::zeros(size, CV_8U);
+    cv::Mat warped, valid;
+    ZnccWorkspace zncc;
+    std::vector<cv::Mat> costs(neighbours.size());
+    AggregationWorkspace aggregation;
+    CostFilterWorkspace filter;
+    for (int p = range.start; p < range.end; ++p) {
+      const double depth_m = 1.0 / planes.InverseDepth(p);
+      for (size_t k = 0; k < neighbours.size(); ++k) {
+        const WorkingView& src = *neighbours[k];
+        const Eigen::Matrix3d h =
+            PlaneHomography(ref.camera, ref.cam_from_world, src.camera, src.cam_from_world, depth_m);
+        WarpIntoReference(src.gray, h, size, &warped);
+        ValidSampleMask(h, src.gray.size(), options.window_radius_px, size, &valid);
+        ComputeZnccCost(windows, warped, valid, &zncc, &costs[k]);
+      }
+      cv::Mat& slice = volume.slices[p];
+      AggregateBestHalf(costs, &aggregation, &slice);
+      cv::bitwise_or(sampled_here, slice < kNoDataCost, sampled_here);
+      if (filter_costs) FilterCostSlice(guide, &filter, &slice);
+    }
+    const std::lock_guard<std::mutex> lock(sampled_mutex);
+    cv::bitwise_or(volume.sampled, sampled_here, volume.sampled);
+  });
+  return volume;
+}
+
+}  // namespace px::depth

@@ -1,0 +1,431 @@
+#include "pipeline/depth/depth_stage.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <sstream>
+
+#include <opencv2/imgproc.hpp>
+
+#include "pipeline/core/log.h"
+#include "pipeline/depth/consistency.h"
+#include "pipeline/depth/cost_volume.h"
+#include "pipeline/depth/plane_homography.h"
+#include "pipeline/depth/segment_planes.h"
+#include "pipeline/depth/select_planes.h"
+#include "pipeline/depth/superpixels.h"
+#include "pipeline/depth/two_layer.h"
+#include "pipeline/depth/zncc_cost.h"
+#include "pipeline/depth/working_view.h"
+
+namespace px {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+using depth::WorkingView;
+
+double MsSince(Clock::time_point start) {
+  return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
+}
+
+Status CheckInputs(const std::vector<View>& views, const DepthOptions& options) {
+  PX_RETURN_IF_ERROR(options.Validate());
+  if (!options.HasDepthRange()) {
+    std::ostringstream error;
+    error << "depth options: depth range [" << options.min_depth_m << ", " << options.max_depth_m
+          << "] m is not set (fill it from the rig with WithDefaultDepthRange)";
+    return InvalidArgumentError(error.str());
+  }
+  return depth::CheckViews(views, options.working_scale, options.matching.window_radius_px);
+}
+
+// Largest and smallest distance between the reference camera centre and its neighbours'.
+void BaselineRange(const std::vector<View>& views, int reference, const std::vector<int>& neighbours,
+                   double* nearest_m, double* farthest_m) {
+  const Eigen::Vector3d centre = CameraCentre(views[reference].cam_from_world);
+  *nearest_m = 1e300;
+  *farthest_m = 0;
+  for (int k : neighbours) {
+    const double d = (CameraCentre(views[k].cam_from_world) - centre).norm();
+    *nearest_m = std::min(*nearest_m, d);
+    *farthest_m = std::max(*farthest_m, d);
+  }
+}
+
+struct ReferenceDepth {
+  LayeredDepthView layered;
+  ViewDepthReport report;
+  std::vector<int> neighbours;
+};
+
+struct StageTimes {
+  double matching_ms = 0, segments_ms = 0, layers_ms = 0;
+};
+
+// Nearest neighbour views of `reference`, leaving out the `excluded` ones unless that leaves none.
+std::vector<int> UsableNeighbours(const std::vector<View>& views, int reference, const std::vector<char>& excluded,
+                                  int count) {
+  const std::vector<int> all = depth::NearestNeighbourViews(views, reference, static_cast<int>(views.size()));
+  std::vector<int> usable;
+  for (int k : all) {
+    if (!excluded[k] && static_cast<int>(usable.size()) < count) usable.push_back(k);
+  }
+  if (usable.empty()) {
+    for (int k : all) {
+      if (static_cast<int>(usable.size()) < count) usable.push_back(k);
+    }
+  }
+  return usable;
+}
+
+// 255 where the grey window of radius r has at least min_stddev of texture.
+cv::Mat TexturedPixels(const cv::Mat& gray, int radius_px, double min_stddev) {
+  cv::Mat mean, mean_sq;
+  const cv::Size window(2 * radius_px + 1, 2 * radius_px + 1);
+  cv::boxFilter(gray, mean, CV_32F, window, cv::Point(-1, -1), true, cv::BORDER_REFLECT);
+  cv::boxFilter(gray.mul(gray), mean_sq, CV_32F, window, cv::Point(-1, -1), true, cv::BORDER_REFLECT);
+  cv::Mat variance = mean_sq - mean.mul(mean);
+  return variance >= min_stddev * min_stddev + 1e-12;
+}
+
+double MedianOf(std::vector<float> values) {
+  if (values.empty()) return 0;
+  std::nth_element(values.begin(), values.begin() + values.size() / 2, values.end());
+  return values[values.size() / 2];
+}
+
+// Saturated (>= 250 in every channel) and dark (grey < 8) fractions of an image.
+void ExposureFractions(const cv::Mat& bgr, double* saturated, double* dark) {
+  cv::Mat gray;
+  cv::cvtColor(bgr, gray, cv::COLOR_BGR2GRAY);
+  std::vector<cv::Mat> channels;
+  cv::split(bgr, channels);
+  cv::Mat all_high = (channels[0] >= 250) & (channels[1] >= 250) & (channels[2] >= 250);
+  const double total = static_cast<double>(bgr.total());
+  *saturated = cv::countNonZero(all_high) / total;
+  *dark = cv::countNonZero(gray < 8) / total;
+}
+
+// A plane in working-scale pixels as a plane in view pixels: x' + 0.5 = (x + 0.5) * factor.
+depth::InversePlane ToViewPixels(const depth::InversePlane& plane, double factor) {
+  depth::InversePlane full;
+  full.a = plane.a * factor;
+  full.b = plane.b * factor;
+  full.c = plane.c + (plane.a + plane.b) * 0.5 * (factor - 1);
+  return full;
+}
+
+ReferenceDepth MatchReference(const std::vector<View>& views, const std::vector<WorkingView>& working, int reference,
+                              const std::vector<char>& excluded, const DepthOptions& options, StageTimes* times) {
+  Clock::time_point start = Clock::now();
+  const MatchingOptions& m = options.matching;
+  const WorkingView& ref = working[reference];
+  const View& view = views[reference];
+  ReferenceDepth result;
+  result.neighbours = UsableNeighbours(views, reference, excluded, m.num_neighbors);
+  std::vector<const WorkingView*> neighbours;
+  for (int k : result.neighbours) neighbours.push_back(&working[k]);
+  double nearest_m = 0, farthest_m = 0;
+  BaselineRange(views, reference, result.neighbours, &nearest_m, &farthest_m);
+  const double inverse_span = 1.0 / options.min_depth_m - 1.0 / options.max_depth_m;
+  int num_planes = m.num_planes;
+  if (num_planes == 0) {
+    const double span_px = ref.camera.fx * farthest_m * inverse_span;
+    num_planes = std::clamp(static_cast<int>(std::ceil(span_px / m.plane_step_px)) + 1, 2, m.max_planes);
+  }
+  const depth::InverseDepthPlanes planes =
+      depth::MakeInverseDepthPlanes(options.min_depth_m, options.max_depth_m, num_planes);
+  depth::CostVolumeOptions volume_options;
+  volume_options.window_radius_px = m.window_radius_px;
+  volume_options.min_texture_stddev = m.min_texture_stddev;
+  volume_options.filter_radius_px = m.cost_filter_radius_px;
+  volume_options.filter_eps = m.cost_filter_eps;
+  depth::CostVolume volume = depth::BuildCostVolume(ref, neighbours, planes, volume_options);
+  const double step_px = ref.camera.fx * nearest_m * planes.step_inverse_m;
+  const int fit_half_width = 2 * step_px <= 0.3 ? 2 : 1;
+  depth::PlaneSelection selection = depth::SelectPlanes(volume.slices, fit_half_width);
+  selection.confidence.setTo(0, volume.sampled == 0);
+  const cv::Size size = ref.gray.size();
+  cv::Mat pixel_inverse_depth(size, CV_32F);
+  for (int y = 0; y < size.height; ++y) {
+    const float* p = selection.plane.ptr<float>(y);
+    float* u = pixel_inverse_depth.ptr<float>(y);
+    for (int x = 0; x < size.width; ++x) u[x] = static_cast<float>(planes.InverseDepth(p[x]));
+  }
+  // How well the view matches its neighbours at all: the median best cost over textured pixels.
+  const cv::Mat textured = TexturedPixels(ref.gray, m.window_radius_px, m.min_texture_stddev);
+  {
+    cv::Mat best_cost = volume.slices[0].clone();
+    for (const cv::Mat& slice : volume.slices) cv::min(best_cost, slice, best_cost);
+    std::vector<float> costs;
+    costs.reserve(size.area());
+    for (int y = 0; y < size.height; ++y) {
+      const float* c = best_cost.ptr<float>(y);
+      const uint8_t* t = textured.ptr<uint8_t>(y);
+      for (int x = 0; x < size.width; ++x) {
+        if (t[x]) costs.push_back(c[x]);
+      }
+    }
+    result.report.median_match_cost = costs.empty() ? depth::kNeutralCost : MedianOf(std::move(costs));
+  }
+  result.report.textureless_fraction = 1.0 - cv::countNonZero(textured) / static_cast<double>(size.area());
+  times->matching_ms += MsSince(start);
+
+  // Segments and a plane each.
+  start = Clock::now();
+  const SegmentOptions& so = options.segments;
+  const depth::Superpixels segments =
+      depth::Oversegment(ref.bgr, so.region_size_px, static_cast<float>(so.compactness), so.iterations);
+  depth::PlaneFitOptions fit;
+  fit.min_weight = static_cast<float>(so.min_confidence);
+  fit.inlier_tolerance = so.inlier_px / (ref.camera.fx * nearest_m);
+  fit.ransac_iterations = so.ransac_iterations;
+  fit.min_support = so.min_support;
+  fit.seed = so.random_seed;
+  std::vector<depth::SegmentPlane> segment_planes =
+      depth::FitSegmentPlanes(segments, pixel_inverse_depth, selection.confidence, fit);
+  const std::vector<std::vector<int>> segment_pixels = depth::SegmentPixels(segments);
+  const auto plane_cost = [&](int s, const depth::InversePlane& plane) {
+    double sum = 0;
+    for (int index : segment_pixels[s]) {
+      const int x = index % size.width, y = index / size.width;
+      const double p = planes.PlaneOf(plane.At(x, y));
+      if (p < 0 || p > planes.count - 1) {
+        sum += depth::kNoDataCost;
+        continue;
+      }
+      const int p0 = std::min(static_cast<int>(p), planes.count - 2);
+      const double t = p - p0;
+      sum += (1 - t) * volume.slices[p0].at<float>(y, x) + t * volume.slices[p0 + 1].at<float>(y, x);
+    }
+    return sum / std::max<size_t>(segment_pixels[s].size(), 1);
+  };
+  depth::AssignUnfittedSegments(segments, plane_cost, {}, so.propagation_cost_margin, &segment_planes);
+  volume.slices.clear();
+  times->segments_ms += MsSince(start);
+
+  // The two-layer view at view resolution.
+  start = Clock::now();
+  const bool scaled = size != view.image.size();
+  const double factor = scaled ? ref.camera.fx / view.camera.fx : 1.0;
+  depth::SegmentImage image;
+  image.labels = scaled ? depth::UpsampleLabels(segments, view.image, factor) : segments.labels;
+  image.planes.resize(segments.count);
+  image.confidence.resize(segments.count);
+  for (int s = 0; s < segments.count; ++s) {
+    depth::InversePlane plane = segment_planes[s].plane;
+    if (segment_planes[s].source == depth::PlaneSource::kNone) {
+      // Nothing to go on: level at the per-pixel estimate at the segment's centre.
+      const cv::Point2f c = segments.centroids[s];
+      plane = depth::InversePlane();
+      plane.c = pixel_inverse_depth.at<float>(std::clamp(cvRound(c.y), 0, size.height - 1),
+                                              std::clamp(cvRound(c.x), 0, size.width - 1));
+    }
+    image.planes[s] = ToViewPixels(plane, factor);
+    image.confidence[s] = segment_planes[s].confidence;
+  }
+  cv::Mat confidence;
+  if (scaled) {
+    cv::resize(selection.confidence, confidence, view.image.size(), 0, 0, cv::INTER_LINEAR);
+  } else {
+    confidence = selection.confidence;
+  }
+  depth::TwoLayerOptions layer_options;
+  layer_options.edge_inverse_depth_m = so.edge_disparity_px / (view.camera.fx * nearest_m);
+  layer_options.band_radius_px = so.band_radius_px;
+  layer_options.min_inverse_depth_m = 0.5 / options.max_depth_m;
+  result.layered = depth::BuildTwoLayerView(view.id, view.camera, view.image, image, confidence, layer_options);
+  // Depth within the swept range (planes may extrapolate past it at a segment's far corner).
+  cv::max(result.layered.depth_m, options.min_depth_m, result.layered.depth_m);
+  cv::min(result.layered.depth_m, options.max_depth_m, result.layered.depth_m);
+  result.report.id = view.id;
+  result.report.computed = true;
+  result.report.num_segments = segments.count;
+  result.report.num_boundary_pixels = depth::CountBoundaryPixels(result.layered);
+  ExposureFractions(view.image, &result.report.saturated_fraction, &result.report.dark_fraction);
+  times->layers_ms += MsSince(start);
+  return result;
+}
+
+// Lowers the confidence of pixels (and segments) that no other computed view confirms.
+void ApplyConsistency(const std::vector<View>& views, const std::vector<int>& reference_indices,
+                      const DepthOptions& options, std::vector<ReferenceDepth>* references) {
+  std::vector<cv::Mat> depth_m(views.size());
+  for (size_t i = 0; i < reference_indices.size(); ++i) {
+    if (!(*references)[i].report.disagrees) depth_m[reference_indices[i]] = (*references)[i].layered.depth_m;
+  }
+  constexpr int kCheckedNeighbours = 4;
+  for (size_t i = 0; i < reference_indices.size(); ++i) {
+    ReferenceDepth& reference = (*references)[i];
+    std::vector<int> others;
+    for (int k : reference.neighbours) {
+      if (!depth_m[k].empty() && static_cast<int>(others.size()) < kCheckedNeighbours) others.push_back(k);
+    }
+    if (others.empty() || reference.report.disagrees) continue;
+    const cv::Mat consistent =
+        depth::ConsistentPixels(views, depth_m, reference_indices[i], others, options.consistency_tolerance_px);
+    LayeredDepthView& layered = reference.layered;
+    layered.confidence.setTo(0, layered.confidence < 0);  // keeps the mask ops below well-defined
+    cv::Mat halved = layered.confidence * 0.5;
+    halved.copyTo(layered.confidence, consistent == 0);
+    reference.report.consistent_fraction = cv::countNonZero(consistent) / static_cast<double>(consistent.total());
+    // A segment keeps confidence in proportion to how much of it is confirmed.
+    std::vector<int> total(layered.segments.size(), 0), confirmed(layered.segments.size(), 0);
+    for (int y = 0; y < consistent.rows; ++y) {
+      const int32_t* s = layered.layers[0].segment.ptr<int32_t>(y);
+      const uint8_t* c = consistent.ptr<uint8_t>(y);
+      for (int x = 0; x < consistent.cols; ++x) {
+        if (s[x] < 0) continue;
+        ++total[s[x]];
+        confirmed[s[x]] += c[x] ? 1 : 0;
+      }
+    }
+    for (size_t s = 0; s < layered.segments.size(); ++s) {
+      if (total[s] > 0) layered.segments[s].confidence *= 0.5f + 0.5f * confirmed[s] / static_cast<float>(total[s]);
+    }
+  }
+}
+
+// Whether a view matches none of its neighbours: its textured pixels match nothing, or it is a
+// black or saturated frame. A view with (nearly) no texture at all cannot tell, and is not
+// counted as disagreeing: its depth is merely unconfident.
+bool Disagrees(const ViewDepthReport& report, const DepthOptions& options) {
+  if (report.dark_fraction > 0.9 || report.saturated_fraction > 0.9) return true;
+  return report.textureless_fraction < 0.95 && report.median_match_cost > options.max_view_match_cost;
+}
+
+std::string Percent(double fraction) { return std::to_string(static_cast<int>(std::lround(100 * fraction))) + "%"; }
+
+// Confidence summaries, the low-confidence mask and the reasons a view's depth is degraded.
+void FinishReport(const DepthOptions& options, ReferenceDepth* reference) {
+  ViewDepthReport& report = reference->report;
+  const cv::Mat& confidence = reference->layered.confidence;
+  report.confident_fraction = cv::countNonZero(confidence >= 0.5f) / static_cast<double>(confidence.total());
+  report.low_confidence = confidence < 0.25f;
+  if (report.disagrees) {
+    std::ostringstream reason;
+    reason << "matches none of its neighbours (median matching cost " << report.median_match_cost << " > "
+           << options.max_view_match_cost << "): another scene, a black or saturated frame?";
+    report.reasons.push_back(reason.str());
+  }
+  if (report.textureless_fraction > 0.3) report.reasons.push_back(Percent(report.textureless_fraction) + " of pixels have no texture to match");
+  if (report.saturated_fraction > 0.2) report.reasons.push_back(Percent(report.saturated_fraction) + " of pixels are saturated");
+  if (report.dark_fraction > 0.5) report.reasons.push_back(Percent(report.dark_fraction) + " of pixels are nearly black");
+  if (report.consistent_fraction > 0 && report.consistent_fraction < 0.5) {
+    report.reasons.push_back("only " + Percent(report.consistent_fraction) + " of pixels agree with another view's depth");
+  }
+  if (report.confident_fraction < 0.3) report.reasons.push_back("only " + Percent(report.confident_fraction) + " of pixels have confident depth");
+}
+
+}  // namespace
+
+StatusOr<DepthStageResult> ComputeLayeredDepthForViews(const std::vector<View>& views,
+                                                       const std::vector<int>& reference_indices,
+                                                       const DepthOptions& options,
+                                                       const DepthProgressCallback& progress) {
+  const Clock::time_point start = Clock::now();
+  PX_RETURN_IF_ERROR(CheckInputs(views, options));
+  for (int index : reference_indices) {
+    if (index < 0 || index >= static_cast<int>(views.size())) {
+      return OutOfRangeError("reference view index " + std::to_string(index) + " is outside [0, " +
+                             std::to_string(views.size()) + ")");
+    }
+  }
+  const depth::ScopedNumThreads threads(options.num_threads);
+  std::vector<WorkingView> working;
+  working.reserve(views.size());
+  for (const View& view : views) working.push_back(depth::MakeWorkingView(view, options.working_scale));
+  StageTimes times;
+  std::vector<char> excluded(views.size(), 0);
+  std::vector<ReferenceDepth> references(reference_indices.size());
+  const auto match_all = [&](const std::vector<char>& redo) -> Status {
+    for (size_t i = 0; i < reference_indices.size(); ++i) {
+      if (!redo[i]) continue;
+      if (progress && !progress(0.9 * static_cast<double>(i) / reference_indices.size())) {
+        return CancelledError("depth cancelled after " + std::to_string(i) + " of " +
+                              std::to_string(reference_indices.size()) + " views");
+      }
+      references[i] = MatchReference(views, working, reference_indices[i], excluded, options, &times);
+    }
+    return OkStatus();
+  };
+  PX_RETURN_IF_ERROR(match_all(std::vector<char>(reference_indices.size(), 1)));
+
+  // Views that match none of their neighbours: reported, their depth not trusted, and (when
+  // the rest of the shot does match) left out as neighbours of the others, which are redone.
+  int num_disagreeing = 0;
+  for (size_t i = 0; i < reference_indices.size(); ++i) {
+    if (Disagrees(references[i].report, options)) {
+      references[i].report.disagrees = true;
+      ++num_disagreeing;
+    }
+  }
+  DepthStageResult result;
+  if (num_disagreeing > 0 && num_disagreeing < static_cast<int>(reference_indices.size())) {
+    std::vector<char> redo(reference_indices.size(), 0);
+    for (size_t i = 0; i < reference_indices.size(); ++i) {
+      if (references[i].report.disagrees) excluded[reference_indices[i]] = 1;
+    }
+    for (size_t i = 0; i < reference_indices.size(); ++i) {
+      if (references[i].report.disagrees) continue;
+      for (int k : references[i].neighbours) redo[i] = redo[i] || excluded[k];
+    }
+    PX_RETURN_IF_ERROR(match_all(redo));
+  } else if (num_disagreeing > 0) {
+    result.report.warnings.push_back("depth: no view matches its neighbours (all views of different scenes, or "
+                                     "all black or saturated): depth is guesswork everywhere");
+  }
+  for (size_t i = 0; i < reference_indices.size(); ++i) {
+    if (Disagrees(references[i].report, options)) {
+      references[i].report.disagrees = true;
+      references[i].layered.confidence.setTo(0);
+      for (DepthSegment& segment : references[i].layered.segments) segment.confidence = 0;
+    }
+  }
+  Clock::time_point consistency_start = Clock::now();
+  ApplyConsistency(views, reference_indices, options, &references);
+  result.report.consistency_ms = MsSince(consistency_start);
+
+  result.report.views.resize(views.size());
+  for (size_t k = 0; k < views.size(); ++k) result.report.views[k].id = views[k].id;
+  double confident_sum = 0;
+  for (size_t i = 0; i < reference_indices.size(); ++i) {
+    FinishReport(options, &references[i]);
+    ViewDepthReport& report = references[i].report;
+    confident_sum += report.confident_fraction;
+    if (report.disagrees) result.report.disagreeing_views.push_back(report.id);
+    for (const std::string& reason : report.reasons) {
+      result.report.warnings.push_back("depth: view " + std::to_string(report.id.value) + " " + reason);
+    }
+    result.report.views[reference_indices[i]] = report;
+    result.maps.push_back(references[i].layered.ToDepthMap());
+    result.layered.push_back(std::move(references[i].layered));
+  }
+  result.report.confident_fraction = reference_indices.empty() ? 0 : confident_sum / reference_indices.size();
+  result.report.matching_ms = times.matching_ms;
+  result.report.segments_ms = times.segments_ms;
+  result.report.layers_ms = times.layers_ms;
+  if (progress) progress(1.0);
+  Logger("depth")->info("{} layered depth views in {:.0f} ms (matching {:.0f}, segments {:.0f}, layers {:.0f}, "
+                        "consistency {:.0f}), {:.0f}% confident, {} disagreeing",
+                        result.maps.size(), MsSince(start), times.matching_ms, times.segments_ms, times.layers_ms,
+                        result.report.consistency_ms, 100 * result.report.confident_fraction,
+                        result.report.disagreeing_views.size());
+  for (const std::string& warning : result.report.warnings) Logger("depth")->warn("{}", warning);
+  return result;
+}
+
+StatusOr<DepthStageResult> ComputeLayeredDepth(const std::vector<View>& views, const DepthOptions& options,
+                                               const DepthProgressCallback& progress) {
+  std::vector<int> all(views.size());
+  for (int i = 0; i < static_cast<int>(views.size()); ++i) all[i] = i;
+  return ComputeLayeredDepthForViews(views, all, options, progress);
+}
+
+StatusOr<std::vector<DepthMap>> ComputeDepth(const std::vector<View>& views, const DepthOptions& options,
+                                             const DepthProgressCallback& progress) {
+  PX_ASSIGN_OR_RETURN(DepthStageResult result, ComputeLayeredDepth(views, options, progress));
+  return std::move(result.maps);
+}
+
+}  // namespace px

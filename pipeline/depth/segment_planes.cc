@@ -1,0 +1,236 @@
+#include "pipeline/depth/segment_planes.h"
+
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+
+#include <Eigen/Dense>
+
+#include "pipeline/core/check.h"
+
+namespace px::depth {
+namespace {
+
+struct Sample {
+  float x, y, u, w;
+};
+
+// Weighted least squares u = a (x - mx) + b (y - my) + c' over the samples flagged in `use`,
+// with a small ridge on the slopes so that a segment thin in one direction gets a level plane
+// along it instead of a wild slope.
+bool FitWeighted(const std::vector<Sample>& samples, const std::vector<char>& use, InversePlane* plane) {
+  double sw = 0, sx = 0, sy = 0;
+  for (size_t i = 0; i < samples.size(); ++i) {
+    if (!use[i]) continue;
+    const Sample& s = samples[i];
+    sw += s.w;
+    sx += s.w * s.x;
+    sy += s.w * s.y;
+  }
+  if (sw <= 0) return false;
+  const double mx = sx / sw, my = sy / sw;
+  Eigen::Matrix3d ata = Eigen::Matrix3d::Zero();
+  Eigen::Vector3d atb = Eigen::Vector3d::Zero();
+  for (size_t i = 0; i < samples.size(); ++i) {
+    if (!use[i]) continue;
+    const Sample& s = samples[i];
+    const Eigen::Vector3d row(s.x - mx, s.y - my, 1.0);
+    ata += s.w * row * row.transpose();
+    atb += s.w * s.u * row;
+  }
+  constexpr double kRidgePx2 = 1.0;  // as if one pixel of spread in each direction held the slope at 0
+  ata(0, 0) += kRidgePx2 * sw;
+  ata(1, 1) += kRidgePx2 * sw;
+  const Eigen::Vector3d solution = ata.ldlt().solve(atb);
+  if (!solution.allFinite()) return false;
+  plane->a = solution(0);
+  plane->b = solution(1);
+  plane->c = solution(2) - solution(0) * mx - solution(1) * my;
+  return true;
+}
+
+// Plane through three samples; false when they are (nearly) collinear.
+bool PlaneThrough(const Sample& p, const Sample& q, const Sample& r, InversePlane* plane) {
+  const double x1 = q.x - p.x, y1 = q.y - p.y, x2 = r.x - p.x, y2 = r.y - p.y;
+  const double det = x1 * y2 - x2 * y1;
+  if (std::abs(det) < 1.0) return false;  // twice the triangle area below 0.5 px^2
+  const double u1 = q.u - p.u, u2 = r.u - p.u;
+  plane->a = (u1 * y2 - u2 * y1) / det;
+  plane->b = (x1 * u2 - x2 * u1) / det;
+  plane->c = p.u - plane->a * p.x - plane->b * p.y;
+  return true;
+}
+
+double WeightedMedianU(std::vector<Sample> samples) {
+  std::sort(samples.begin(), samples.end(), [](const Sample& l, const Sample& r) { return l.u < r.u; });
+  double total = 0;
+  for (const Sample& s : samples) total += s.w;
+  double acc = 0;
+  for (const Sample& s : samples) {
+    acc += s.w;
+    if (acc >= 0.5 * total) return s.u;
+  }
+  return samples.back().u;
+}
+
+// xorshift64*: a small deterministic generator per segment.
+uint64_t NextRandom(uint64_t* state) {
+  *state ^= *state >> 12;
+  *state ^= *state << 25;
+  *state ^= *state >> 27;
+  return *state * 0x2545F4914F6CDD1DULL;
+}
+
+SegmentPlane FitOne(const std::vector<Sample>& samples, int segment_size, const PlaneFitOptions& options,
+                    uint64_t seed) {
+  SegmentPlane result;
+  const int n = static_cast<int>(samples.size());
+  if (n < options.min_pixels) return result;
+  const double tolerance = options.inlier_tolerance;
+  uint64_t state = seed * 0x9E3779B97F4A7C15ULL + 1;
+  InversePlane best;
+  double best_score = -1;
+  std::vector<char> inliers(n, 0), best_inliers(n, 0);
+  const auto score_of = [&](const InversePlane& plane, std::vector<char>* flags) {
+    double score = 0;
+    for (int i = 0; i < n; ++i) {
+      const Sample& s = samples[i];
+      const bool in = std::abs(s.u - plane.At(s.x, s.y)) <= tolerance;
+      (*flags)[i] = in ? 1 : 0;
+      score += in ? s.w : 0.0;
+    }
+    return score;
+  };
+  // The fronto-parallel plane at the weighted median is always a candidate.
+  InversePlane fronto;
+  fronto.c = WeightedMedianU(samples);
+  best = fronto;
+  best_score = score_of(fronto, &best_inliers);
+  for (int it = 0; it < options.ransac_iterations; ++it) {
+    const Sample& p = samples[NextRandom(&state) % n];
+    const Sample& q = samples[NextRandom(&state) % n];
+    const Sample& r = samples[NextRandom(&state) % n];
+    InversePlane candidate;
+    if (!PlaneThrough(p, q, r, &candidate)) continue;
+    const double score = score_of(candidate, &inliers);
+    if (score > best_score) {
+      best_score = score;
+      best = candidate;
+      best_inliers.swap(inliers);
+    }
+  }
+  // Refit on the inliers, then once more on the refit's own inliers.
+  for (int round = 0; round < 2; ++round) {
+    InversePlane refit;
+    if (!FitWeighted(samples, best_inliers, &refit)) break;
+    std::vector<char> refit_inliers(n, 0);
+    const double score = score_of(refit, &refit_inliers);
+    if (score + 1e-9 < best_score * 0.98) break;  // the refit lost support: keep the sample plane
+    best = refit;
+    best_score = score;
+    best_inliers.swap(refit_inliers);
+  }
+  int count = 0;
+  double weight_sum = 0;
+  for (int i = 0; i < n; ++i) {
+    count += best_inliers[i];
+    weight_sum += best_inliers[i] ? samples[i].w : 0.0;
+  }
+  result.plane = best;
+  result.support = static_cast<float>(count) / static_cast<float>(segment_size);
+  result.confidence = count > 0 ? static_cast<float>(result.support * weight_sum / count) : 0.0f;
+  result.confidence = std::clamp(result.confidence, 0.0f, 1.0f);
+  if (result.support < options.min_support) {
+    result.source = PlaneSource::kFronto;  // weak: a candidate for propagation
+    result.plane = fronto;
+  } else {
+    result.source = best.a == 0 && best.b == 0 ? PlaneSource::kFronto : PlaneSource::kFitted;
+  }
+  return result;
+}
+
+}  // namespace
+
+std::vector<SegmentPlane> FitSegmentPlanes(const Superpixels& segments, const cv::Mat& inverse_depth,
+                                           const cv::Mat& weight, const PlaneFitOptions& options) {
+  PX_CHECK(inverse_depth.type() == CV_32F && weight.type() == CV_32F && inverse_depth.size() == segments.labels.size() &&
+           weight.size() == segments.labels.size());
+  PX_CHECK(options.inlier_tolerance > 0);
+  const std::vector<std::vector<int>> pixels = SegmentPixels(segments);
+  const int cols = segments.labels.cols;
+  std::vector<SegmentPlane> planes(segments.count);
+  cv::parallel_for_(cv::Range(0, segments.count), [&](const cv::Range& range) {
+    std::vector<Sample> samples;
+    for (int s = range.start; s < range.end; ++s) {
+      samples.clear();
+      for (int index : pixels[s]) {
+        const int x = index % cols, y = index / cols;
+        const float w = weight.at<float>(y, x);
+        if (w >= options.min_weight) samples.push_back({static_cast<float>(x), static_cast<float>(y),
+                                                         inverse_depth.at<float>(y, x), w});
+      }
+      planes[s] = FitOne(samples, segments.sizes[s], options, options.seed + static_cast<uint64_t>(s));
+    }
+  });
+  return planes;
+}
+
+void AssignUnfittedSegments(const Superpixels& segments, const PlaneCost& cost,
+                            const std::vector<float>& occluded_fraction, double cost_margin,
+                            std::vector<SegmentPlane>* planes) {
+  const int n = segments.count;
+  // Segments that need a plane, most-supported neighbours first: repeat sweeps until no segment
+  // changes, each sweep taking segments with at least one settled neighbour.
+  std::vector<char> settled(n, 0);
+  for (int s = 0; s < n; ++s) settled[s] = (*planes)[s].source == PlaneSource::kFitted;
+  bool any_settled = std::any_of(settled.begin(), settled.end(), [](char c) { return c != 0; });
+  if (!any_settled) {
+    // Nothing fitted anywhere: keep the weak fronto-parallel planes as they are.
+    for (int s = 0; s < n; ++s) settled[s] = (*planes)[s].source != PlaneSource::kNone;
+  }
+  for (int sweep = 0; sweep < n; ++sweep) {
+    std::vector<std::pair<float, int>> pending;  // (best neighbour support, segment)
+    for (int s = 0; s < n; ++s) {
+      if (settled[s]) continue;
+      float best_support = -1;
+      for (int t : segments.adjacent[s]) {
+        if (settled[t]) best_support = std::max(best_support, (*planes)[t].support);
+      }
+      if (best_support >= 0) pending.emplace_back(best_support, s);
+    }
+    if (pending.empty()) break;
+    std::sort(pending.begin(), pending.end(), [](const auto& l, const auto& r) { return l.first > r.first; });
+    std::vector<std::pair<int, SegmentPlane>> updates;
+    for (const auto& [support, s] : pending) {
+      (void)support;
+      const cv::Point2f centre = segments.centroids[s];
+      std::vector<std::pair<double, InversePlane>> candidates;  // (cost, plane)
+      if ((*planes)[s].source == PlaneSource::kFronto) candidates.emplace_back(cost(s, (*planes)[s].plane), (*planes)[s].plane);
+      for (int t : segments.adjacent[s]) {
+        if (settled[t]) candidates.emplace_back(cost(s, (*planes)[t].plane), (*planes)[t].plane);
+      }
+      if (candidates.empty()) continue;
+      const bool occluded = !occluded_fraction.empty() && occluded_fraction[s] > 0.5f;
+      double best_cost = 1e300;
+      for (const auto& candidate : candidates) best_cost = std::min(best_cost, candidate.first);
+      // Among the candidates within the margin of the best (all of them for an occluded
+      // segment), the farthest: smallest inverse depth at the segment's centre.
+      const InversePlane* chosen = nullptr;
+      for (const auto& [c, plane] : candidates) {
+        if (!occluded && c > best_cost + cost_margin) continue;
+        if (chosen == nullptr || plane.At(centre.x, centre.y) < chosen->At(centre.x, centre.y)) chosen = &plane;
+      }
+      SegmentPlane assigned = (*planes)[s];
+      assigned.plane = *chosen;
+      assigned.source = PlaneSource::kPropagated;
+      assigned.confidence = std::min(assigned.confidence, 0.25f);
+      updates.emplace_back(s, assigned);
+    }
+    for (auto& [s, plane] : updates) {
+      (*planes)[s] = plane;
+      settled[s] = 1;
+    }
+  }
+}
+
+}  // namespace px::depth
