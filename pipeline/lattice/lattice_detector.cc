@@ -178,6 +178,9 @@ EdgeResult FitPlannedEdge(const cv::Mat& grey, bool transposed, const AxisPlan& 
   // Leaving a dark band into a tile, brightness rises: the start edge of the next tile rises, the
   // end edge of the previous one falls (the reverse for a bright band).
   search.sign = start ? -b.polarity : b.polarity;
+  // Dark gaps (a sensor mask) are clean: the tile starts at the first strong transition out of
+  // them. Bright, irregular borders (film scans) hold transitions of their own: take the strongest.
+  search.gap_side = b.polarity < 0 ? (start ? -1 : 1) : 0;
   result.fit = lattice::FitEdge(grey, search);
   if (!result.fit.found && search.sign != 0) {
     search.sign = 0;  // a plain step between touching tiles has one sign for both of them
@@ -588,6 +591,7 @@ StatusOr<LatticeDetection> DetectNearPrior(const GreyFrame& frame, const Lattice
       search.max_slope = max_slope;
       const bool start = side == lattice::kLeft || side == lattice::kTop;
       search.sign = start ? -polarity : polarity;
+      search.gap_side = polarity < 0 ? (start ? -1 : 1) : 0;  // as in FitPlannedEdge
       search.transposed = !vertical;
       e.fit = lattice::FitEdge(frame.grey, search);
       if (e.fit.found) e.line = e.fit.line;

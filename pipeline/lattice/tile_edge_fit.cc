@@ -16,6 +16,8 @@ constexpr int kMaxCuts = 160;
 // A fit needs this fraction of the cuts, and at least kMinInliers of them, on its line.
 constexpr double kMinInlierFraction = 0.35;
 constexpr int kMinInliers = 8;
+// With the gap's side known, the first transition reaching this fraction of the cut's strongest.
+constexpr float kFirstOfStrongest = 0.4f;
 
 struct Transition {
   double along = 0;     // y of the cut
@@ -27,7 +29,7 @@ struct Transition {
 // columns, transposed), the peak refined by a parabola. False when the window leaves the frame
 // or holds no such transition.
 bool StrongestTransition(const cv::Mat& grey, bool transposed, int y, double x_begin, double x_end, int sign,
-                         Transition* out) {
+                         int gap_side, Transition* out) {
   const int across_size = transposed ? grey.rows : grey.cols, along_size = transposed ? grey.cols : grey.rows;
   const int x0 = std::max(1, static_cast<int>(std::floor(x_begin)));
   const int x1 = std::min(across_size - 2, static_cast<int>(std::ceil(x_end)));
@@ -45,8 +47,21 @@ bool StrongestTransition(const cv::Mat& grey, bool transposed, int y, double x_b
   const float norm = 1.0f / static_cast<float>(y1 - y0 + 1);
   std::vector<float> d(x1 - x0 + 1);
   for (int x = x0; x <= x1; ++x) d[x - x0] = sign * 0.5f * (row[x - x0 + 2] - row[x - x0]) * norm;
-  const int peak = static_cast<int>(std::max_element(d.begin(), d.end()) - d.begin());
+  int peak = static_cast<int>(std::max_element(d.begin(), d.end()) - d.begin());
   if (d[peak] <= 0) return false;
+  if (gap_side != 0) {
+    // The first local maximum from the gap's side that is strong enough.
+    const int n = static_cast<int>(d.size());
+    const float strong = kFirstOfStrongest * d[peak];
+    for (int k = 0; k < n; ++k) {
+      const int x = gap_side < 0 ? k : n - 1 - k;
+      const bool local_max = (x == 0 || d[x] >= d[x - 1]) && (x + 1 == n || d[x] >= d[x + 1]);
+      if (d[x] >= strong && local_max) {
+        peak = x;
+        break;
+      }
+    }
+  }
   double offset = 0;
   if (peak > 0 && peak + 1 < static_cast<int>(d.size())) {
     const double l = d[peak - 1], c = d[peak], r = d[peak + 1];
@@ -128,7 +143,7 @@ EdgeFit FitWithSign(const cv::Mat& grey, const EdgeSearch& search, int sign) {
     ++cuts;
     const double x = search.expected.XAt(y);
     Transition t;
-    if (StrongestTransition(grey, search.transposed, y, x - search.behind_px, x + search.ahead_px, sign, &t)) {
+    if (StrongestTransition(grey, search.transposed, y, x - search.behind_px, x + search.ahead_px, sign, search.gap_side, &t)) {
       points.push_back(t);
     }
   }
@@ -144,7 +159,7 @@ EdgeFit FitWithSign(const cv::Mat& grey, const EdgeSearch& search, int sign) {
     if (y < 0 || y >= along_size) continue;
     const double x = narrow.expected.XAt(y);
     Transition t;
-    if (StrongestTransition(grey, search.transposed, y, x - narrow.behind_px, x + narrow.ahead_px, sign, &t)) {
+    if (StrongestTransition(grey, search.transposed, y, x - narrow.behind_px, x + narrow.ahead_px, sign, narrow.gap_side, &t)) {
       points.push_back(t);
     }
   }

@@ -24,6 +24,11 @@ struct EdgeSearch {
   double max_slope = 0.07; // |b| allowed (tan of the largest tilt)
   int sign = 0;            // +1: brighter at larger x, -1: darker, 0: try both and keep the better
   bool transposed = false; // the edge runs along x instead: read "x" as y and "y" as x throughout
+  // Where the gap lies: -1 at smaller x (a tile's left/top edge), +1 at larger x, 0 unknown. When
+  // known, each cut takes the first strong transition met coming from the gap (at least
+  // kFirstOfStrongest of the cut's strongest), not the strongest: a bright object's outline just
+  // inside the tile must not be taken for the tile's edge.
+  int gap_side = 0;
 };
 
 struct EdgeFit {
