@@ -84,7 +84,8 @@ std::vector<SimLatticeCase> StandardSimLatticeCases(double scale) {
   uint64_t seed = 11;
   for (const auto& [name, preset] : specs) {
     SimCameraSpec spec = WithDefects(Scaled(preset, scale));
-    spec.gap_px = std::max(spec.gap_px, 16);
+    // Room for tiles turned by 1 degree and offset by 3 px (a 640 px tile's corner moves 5.6 px).
+    spec.gap_px = std::max({spec.gap_px, 16, static_cast<int>(std::lround(24 * scale))});
     cases.push_back({"sim " + name + " regular", spec, {}, false, {0, 0}});
     cases.push_back({"sim " + name + " varied", spec, Varied(seed++), false, {0, 0}});
   }
