@@ -1,5 +1,5 @@
-// Lattice detection time on full-size simulated frames (Pop9 3x3: 1984x1504; integral 5x4:
-// 1696x1072), blind and near a prior, and on the real ActionSampler scan when ../shared/data is
+// Lattice detection time on full-size simulated frames with varied tiles (Pop9 3x3: 2016x1536;
+// integral 5x4: 1744x1080), blind and near a prior, and on the real ActionSampler scan when ../shared/data is
 // there. The frame is rendered once, outside the timing. PX_BENCH_THREADS sets OpenCV's threads
 // (default 2, the target).
 #include <benchmark/benchmark.h>
