@@ -2,6 +2,7 @@
 #include <CLI/CLI.hpp>
 
 #include "device/cli/bench_command.h"
+#include "device/cli/calibrate_command.h"
 #include "device/cli/clip_command.h"
 #include "device/cli/eval_command.h"
 #include "device/cli/sim_command.h"
@@ -20,6 +21,7 @@ int main(int argc, char** argv) {
   px::cli::AddClipCommand(app);
   px::cli::AddBenchCommand(app);
   px::cli::AddEvalCommand(app);
+  px::cli::AddCalibrateCommand(app);
   CLI11_PARSE(app, argc, argv);
   return 0;
 }

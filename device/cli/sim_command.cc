@@ -13,6 +13,7 @@
 #include "pipeline/core/log.h"
 #include "pipeline/core/rig_calibration_json.h"
 #include "sim/replay/recording.h"
+#include "sim/synthetic/board_scene.h"
 #include "sim/synthetic/sim_camera.h"
 #include "sim/synthetic/synthetic_source.h"
 
@@ -34,6 +35,7 @@ struct SimArgs {
   std::vector<int> tile_size;  // {width, height}; empty = the preset's
   std::string output;
   bool ground_truth = false;
+  int board_captures = 0;  // > 0: render this many checkerboard captures instead of the scene
 };
 
 // Depth as 16-bit PNG in millimetres (0 = nothing hit): lossless, viewable, good to 65 m.
@@ -73,6 +75,38 @@ Status WriteGroundTruth(const std::filesystem::path& dir, const sim::GroundTruth
   return OkStatus();
 }
 
+// `--board N`: N sensor frames of the default 7x5 x 20 mm checkerboard at varied poses, as
+// capture_NN.png (raw sensor pixels, BGR) in the output folder, with the rig's true calibration
+// (ground_truth_rig.json) and the board poses (board_poses.json) beside them.
+Status WriteBoardCaptures(const SimCameraSpec& spec, const SimArgs& args) {
+  const sim::SimBoard board;
+  const std::vector<Rigid3> poses = sim::BoardPoses(board, spec, args.board_captures, args.seed);
+  Logger("sim")->info("rendering {} board captures through {}", poses.size(), spec.name);
+  PX_ASSIGN_OR_RETURN(std::vector<sim::BoardCapture> captures, sim::RenderBoardCaptures(spec, board, poses, args.seed));
+  const std::filesystem::path dir(args.output);
+  std::error_code error;
+  std::filesystem::create_directories(dir, error);
+  if (error) return InternalError("cannot create " + dir.string() + ": " + error.message());
+  nlohmann::json pose_json = nlohmann::json::array();
+  for (size_t k = 0; k < captures.size(); ++k) {
+    char name[32];
+    std::snprintf(name, sizeof(name), "capture_%02zu.png", k);
+    if (!cv::imwrite((dir / name).string(), captures[k].sensor_bgr)) {
+      return InternalError("cannot write " + (dir / name).string());
+    }
+    pose_json.push_back({{"image", name}, {"rig_from_board", Rigid3ToJson(captures[k].rig_from_board)}});
+  }
+  std::ofstream rig(dir / "ground_truth_rig.json");
+  rig << RigCalibrationToJsonText(spec.Calibration()) << "\n";
+  std::ofstream poses_out(dir / "board_poses.json");
+  poses_out << nlohmann::json{{"inner_cols", board.inner_cols}, {"inner_rows", board.inner_rows},
+                              {"square_m", board.square_m}, {"captures", pose_json}}.dump(2)
+            << "\n";
+  if (!rig || !poses_out) return InternalError("cannot write the ground truth in " + dir.string());
+  std::printf("%s\n", std::filesystem::absolute(dir).c_str());
+  return OkStatus();
+}
+
 Status RunSim(const SimArgs& args) {
   SyntheticSourceOptions options;
   if (args.camera == "pop9") {
@@ -97,6 +131,7 @@ Status RunSim(const SimArgs& args) {
     options.camera.tile_height = args.tile_size[1];
   }
   PX_RETURN_IF_ERROR(options.camera.Validate());
+  if (args.board_captures > 0) return WriteBoardCaptures(options.camera, args);
   options.seed = args.seed;
   PX_ASSIGN_OR_RETURN(options.scene_file, ResolveScenePath(args.scene));
 
@@ -149,6 +184,10 @@ void AddSimCommand(CLI::App& app) {
   sim->add_option("--supersampling", args->supersampling, "Rays per pixel side, 1..8 (default: the preset's)");
   sim->add_flag("--ground-truth", args->ground_truth,
                 "Also write ground_truth/: clean views, depth (16-bit PNG, mm), cameras and poses");
+  sim->add_option("--board", args->board_captures,
+                  "Render N captures of a 7x5 (inner corners) x 20 mm checkerboard at varied poses instead of the "
+                  "scene: capture_NN.png sensor frames, ground_truth_rig.json and board_poses.json in --output "
+                  "(for `parallax calibrate`)");
   sim->add_option("-o,--output", args->output, "Recording folder to create (must not exist or be empty)")
       ->required();
   sim->callback([args]() {

@@ -1,5 +1,6 @@
 #include "pipeline/core/lattice_layout.h"
 
+#include <cmath>
 #include <sstream>
 
 namespace px {
@@ -21,6 +22,37 @@ StatusOr<TileOrientation> ParseTileOrientation(std::string_view name) {
   }
   return InvalidArgumentError("tile orientation '" + std::string(name) +
                               "' is not one of upright, rotated180, mirrored_x, mirrored_y");
+}
+
+cv::Point2d TileCentre(const Tile& tile) {
+  return {tile.rect.x + (tile.rect.width - 1) * 0.5, tile.rect.y + (tile.rect.height - 1) * 0.5};
+}
+
+cv::Matx23d SensorFromTile(const Tile& tile) {
+  const double angle = tile.rotation_deg * CV_PI / 180.0;
+  const double c = std::cos(angle), s = std::sin(angle);
+  const cv::Point2d centre = TileCentre(tile);
+  const double u0 = (tile.rect.width - 1) * 0.5, v0 = (tile.rect.height - 1) * 0.5;
+  // sensor = centre + R * ((u, v) - (u0, v0))
+  return {c, -s, centre.x - (c * u0 - s * v0), s, c, centre.y - (s * u0 + c * v0)};
+}
+
+std::array<cv::Point2d, 4> TileCorners(const Tile& tile) {
+  const cv::Matx23d m = SensorFromTile(tile);
+  const double w = tile.rect.width, h = tile.rect.height;
+  std::array<cv::Point2d, 4> corners;
+  const cv::Point2d uv[4] = {{-0.5, -0.5}, {w - 0.5, -0.5}, {w - 0.5, h - 0.5}, {-0.5, h - 0.5}};
+  for (int i = 0; i < 4; ++i) {
+    corners[i] = {m(0, 0) * uv[i].x + m(0, 1) * uv[i].y + m(0, 2), m(1, 0) * uv[i].x + m(1, 1) * uv[i].y + m(1, 2)};
+  }
+  return corners;
+}
+
+bool LatticeLayout::HasRotatedTiles() const {
+  for (const Tile& tile : tiles) {
+    if (tile.rotation_deg != 0.0) return true;
+  }
+  return false;
 }
 
 LatticeLayout LatticeLayout::Regular(int rows, int cols, int tile_width, int tile_height, int gap_px,
@@ -60,6 +92,9 @@ Status LatticeLayout::Validate() const {
       error << "tile " << i << " is at row " << t.row << " col " << t.col << ", want row-major order";
     } else if (t.rect.width <= 0 || t.rect.height <= 0) {
       error << "tile " << i << " has size " << t.rect.width << "x" << t.rect.height;
+    } else if (!std::isfinite(t.rotation_deg) || std::abs(t.rotation_deg) > Tile::kMaxRotationDeg) {
+      error << "tile " << i << " rotation " << t.rotation_deg << " deg is outside [-" << Tile::kMaxRotationDeg << ", "
+            << Tile::kMaxRotationDeg << "]";
     } else if ((t.rect & sensor) != t.rect) {
       error << "tile " << i << " at (" << t.rect.x << "," << t.rect.y << ") " << t.rect.width << "x"
             << t.rect.height << " leaves the " << sensor_width << "x" << sensor_height << " sensor";

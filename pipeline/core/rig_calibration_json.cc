@@ -55,10 +55,13 @@ StatusOr<Rigid3> Rigid3FromJson(const Json& j, const std::string& path) {
 Json LatticeLayoutToJson(const LatticeLayout& layout) {
   Json tiles = Json::array();
   for (const Tile& t : layout.tiles) {
-    tiles.push_back({{"row", t.row},
-                     {"col", t.col},
-                     {"rect_xywh", {t.rect.x, t.rect.y, t.rect.width, t.rect.height}},
-                     {"orientation", std::string(TileOrientationName(t.orientation))}});
+    Json tile{{"row", t.row},
+              {"col", t.col},
+              {"rect_xywh", {t.rect.x, t.rect.y, t.rect.width, t.rect.height}},
+              {"orientation", std::string(TileOrientationName(t.orientation))}};
+    // Written only when set, so layouts of axis-aligned tiles read the same as before.
+    if (t.rotation_deg != 0.0) tile["rotation_deg"] = t.rotation_deg;
+    tiles.push_back(std::move(tile));
   }
   return Json{{"rows", layout.rows},
               {"cols", layout.cols},
@@ -95,6 +98,7 @@ StatusOr<LatticeLayout> LatticeLayoutFromJson(const Json& j, const std::string& 
     auto parsed = ParseTileOrientation(orientation);
     if (!parsed.ok()) return parsed.status().WithContext(FieldPath(tile_path, "orientation"));
     tile.orientation = *parsed;
+    PX_ASSIGN_OR_RETURN(tile.rotation_deg, json::GetNumberOr(tj, "rotation_deg", tile_path, 0.0));
     layout.tiles.push_back(tile);
   }
   PX_RETURN_IF_ERROR(layout.Validate().WithContext(path.empty() ? "lattice" : path));

@@ -39,6 +39,46 @@ TEST(RigCalibrationJsonTest, RoundTripsExactly) {
   }
 }
 
+TEST(RigCalibrationJsonTest, TileRotationRoundTripsAndIsOmittedWhenZero) {
+  RigCalibration rig = Pop9Rig();
+  rig.lattice.tiles[5].rotation_deg = -1.25;
+  const nlohmann::json j = RigCalibrationToJson(rig);
+  EXPECT_FALSE(j["lattice"]["tiles"][4].contains("rotation_deg"));  // older readers see no change
+  EXPECT_EQ(j["lattice"]["tiles"][5]["rotation_deg"], -1.25);
+  StatusOr<RigCalibration> back = RigCalibrationFromJson(j);
+  ASSERT_TRUE(back.ok()) << back.status().ToString();
+  EXPECT_EQ(back->lattice.tiles[5].rotation_deg, -1.25);
+  EXPECT_EQ(back->lattice.tiles[4].rotation_deg, 0.0);
+
+  nlohmann::json bad = j;
+  bad["lattice"]["tiles"][5]["rotation_deg"] = 60;
+  EXPECT_NE(RigCalibrationFromJson(bad).status().message().find("tile 5 rotation 60 deg is outside [-45, 45]"),
+            std::string::npos)
+      << RigCalibrationFromJson(bad).status().message();
+  bad["lattice"]["tiles"][5]["rotation_deg"] = "tilted";
+  EXPECT_EQ(RigCalibrationFromJson(bad).status().message(),
+            "lattice.tiles[5].rotation_deg: want a number, got string");
+}
+
+TEST(LatticeLayoutTest, RotatedTileGeometry) {
+  Tile tile;
+  tile.rect = cv::Rect(100, 50, 41, 21);  // centre (120, 60)
+  EXPECT_EQ(TileCentre(tile), cv::Point2d(120, 60));
+  // Unrotated: the plain offset by the rect's top-left corner.
+  cv::Matx23d m = SensorFromTile(tile);
+  EXPECT_NEAR(m(0, 2), 100, 1e-12);
+  EXPECT_NEAR(m(1, 2), 50, 1e-12);
+  // Turned by 90 degrees clockwise (as displayed, y down): the tile's +u axis points down the sensor.
+  tile.rotation_deg = 90;
+  m = SensorFromTile(tile);
+  const cv::Point2d right_of_centre(m(0, 0) * 30 + m(0, 1) * 10 + m(0, 2), m(1, 0) * 30 + m(1, 1) * 10 + m(1, 2));
+  EXPECT_NEAR(right_of_centre.x, 120, 1e-9);
+  EXPECT_NEAR(right_of_centre.y, 70, 1e-9);
+  const std::array<cv::Point2d, 4> corners = TileCorners(tile);
+  EXPECT_NEAR(corners[0].x, 120 + 10.5, 1e-9);  // top-left of the stored tile, now top-right on screen
+  EXPECT_NEAR(corners[0].y, 60 - 20.5, 1e-9);
+}
+
 TEST(RigCalibrationJsonTest, ErrorsNameTheField) {
   nlohmann::json j = RigCalibrationToJson(Pop9Rig());
   j["lenses"][3]["camera"].erase("fx");

@@ -2,6 +2,8 @@
 
 #include <sstream>
 
+#include <opencv2/imgproc.hpp>
+
 namespace px {
 
 cv::Mat MakeTileUpright(const cv::Mat& stored_tile, TileOrientation orientation) {
@@ -33,9 +35,18 @@ StatusOr<std::vector<cv::Mat>> SplitLattice(const cv::Mat& sensor_bgr, const Lat
   std::vector<cv::Mat> tiles;
   tiles.reserve(layout.tiles.size());
   for (const Tile& tile : layout.tiles) {
-    tiles.push_back(MakeTileUpright(sensor_bgr(tile.rect), tile.orientation));
+    tiles.push_back(MakeTileUpright(CutStoredTile(sensor_bgr, tile), tile.orientation));
   }
   return tiles;
+}
+
+cv::Mat CutStoredTile(const cv::Mat& sensor, const Tile& tile) {
+  if (tile.rotation_deg == 0.0) return sensor(tile.rect);
+  cv::Mat stored;
+  // dst (u, v) samples the sensor at SensorFromTile * (u, v, 1); pixels past the frame repeat its edge.
+  cv::warpAffine(sensor, stored, cv::Mat(SensorFromTile(tile)), tile.rect.size(),
+                 cv::INTER_LINEAR | cv::WARP_INVERSE_MAP, cv::BORDER_REPLICATE);
+  return stored;
 }
 
 }  // namespace px

@@ -1,5 +1,7 @@
 #include "pipeline/lattice/split_lattice.h"
 
+#include <cmath>
+
 #include <gtest/gtest.h>
 
 namespace px {
@@ -85,6 +87,55 @@ TEST(SplitLatticeTest, MixedOrientationsAndIrregularTiles) {
   for (int id = 0; id < 3; ++id) {
     const cv::Rect& rect = layout.tiles[id].rect;
     EXPECT_EQ(cv::norm((*tiles)[id], CodedTile(rect.width, rect.height, id), cv::NORM_INF), 0.0) << "view " << id;
+  }
+}
+
+// A rotated tile whose content is linear in its own coordinates (B = 3u, G = 5v, R = id): bilinear
+// resampling reproduces a linear function exactly, so the cut tile must match to rounding. The
+// sensor is drawn by inverting the rotation here, written out independently of SensorFromTile.
+TEST(SplitLatticeTest, RotatedTilesAreResampledUpright) {
+  LatticeLayout layout;
+  layout.rows = 1;
+  layout.cols = 2;
+  layout.sensor_width = 160;
+  layout.sensor_height = 80;
+  layout.tiles = {{0, 0, cv::Rect(10, 12, 50, 40), TileOrientation::kUpright, 2.0},
+                  {0, 1, cv::Rect(90, 15, 60, 44), TileOrientation::kRotated180, -1.5}};
+  cv::Mat sensor(layout.sensor_height, layout.sensor_width, CV_8UC3, cv::Scalar(9, 9, 9));
+  for (int id = 0; id < 2; ++id) {
+    const Tile& tile = layout.tiles[id];
+    const double a = tile.rotation_deg * CV_PI / 180, cx = tile.rect.x + (tile.rect.width - 1) / 2.0,
+                 cy = tile.rect.y + (tile.rect.height - 1) / 2.0;
+    for (int y = 0; y < sensor.rows; ++y) {
+      for (int x = 0; x < sensor.cols; ++x) {
+        // Turn the sensor offset back by -a (clockwise-positive angles, y down).
+        const double du = std::cos(a) * (x - cx) + std::sin(a) * (y - cy);
+        const double dv = -std::sin(a) * (x - cx) + std::cos(a) * (y - cy);
+        const double u = du + (tile.rect.width - 1) / 2.0, v = dv + (tile.rect.height - 1) / 2.0;
+        if (u < -0.5 || v < -0.5 || u > tile.rect.width - 0.5 || v > tile.rect.height - 0.5) continue;
+        sensor.at<cv::Vec3b>(y, x) = cv::Vec3b(cv::saturate_cast<uchar>(3 * u), cv::saturate_cast<uchar>(5 * v),
+                                               static_cast<uchar>(id));
+      }
+    }
+  }
+  StatusOr<std::vector<cv::Mat>> tiles = SplitLattice(sensor, layout);
+  ASSERT_TRUE(tiles.ok()) << tiles.status().ToString();
+  for (int id = 0; id < 2; ++id) {
+    const Tile& tile = layout.tiles[id];
+    const cv::Mat& upright = (*tiles)[id];
+    ASSERT_EQ(upright.size(), tile.rect.size());
+    int checked = 0;
+    for (int v = 1; v < tile.rect.height - 1; ++v) {
+      for (int u = 1; u < tile.rect.width - 1; ++u) {
+        const cv::Point s = StoredPosition(u, v, tile.rect.width, tile.rect.height, tile.orientation);
+        const cv::Vec3b got = upright.at<cv::Vec3b>(v, u);
+        ASSERT_NEAR(got[0], 3 * s.x, 1.01) << "view " << id << " at " << u << "," << v;
+        ASSERT_NEAR(got[1], 5 * s.y, 1.01) << "view " << id << " at " << u << "," << v;
+        ASSERT_EQ(got[2], id);
+        ++checked;
+      }
+    }
+    EXPECT_GT(checked, 1000);
   }
 }
 

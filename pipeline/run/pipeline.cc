@@ -13,6 +13,7 @@
 #include "pipeline/core/pixel_format.h"
 #include "pipeline/depth/depth_stage.h"
 #include "pipeline/direct/plan_camera_path.h"
+#include "pipeline/lattice/lattice_detector.h"
 #include "pipeline/lattice/split_lattice.h"
 #include "pipeline/render/cpu_scene_renderer.h"
 #include "pipeline/render/layered_from_depth.h"
@@ -35,6 +36,38 @@ constexpr double kBlankTileStddev = 1.0;
 constexpr double kLowConfidentDepthFraction = 0.3;
 // Holes inpainted over more than this fraction of a frame, on average, show.
 constexpr double kHighHoleRatio = 0.05;
+
+// Tiles found further than this from the rig calibration's layout count as moved.
+constexpr double kLatticeMovedPx = 1.5;
+
+// The rig's layout checked against the frame: the lattice is searched near it (tens of ms) and,
+// when it has moved (a knock, a re-seated lens mask), each tile keeps its calibrated size (its
+// intrinsics are for that size) at the position and rotation found, with a warning. A frame whose
+// lattice cannot be confirmed keeps the calibrated layout (logged: dark or blank tiles hide edges).
+LatticeLayout CheckedLattice(const cv::Mat& sensor, const RigCalibration& rig, std::vector<std::string>* warnings) {
+  StatusOr<LatticeDetection> found = DetectLattice(sensor, LatticeOptions(), &rig.lattice);
+  if (!found.ok()) {
+    Logger("pipeline")->info("lattice check inconclusive, using the calibrated layout: {}", found.status().message());
+    return rig.lattice;
+  }
+  if (found->report.max_prior_shift_px <= kLatticeMovedPx) return rig.lattice;
+  LatticeLayout moved = rig.lattice;
+  for (size_t i = 0; i < moved.tiles.size(); ++i) {
+    Tile& tile = moved.tiles[i];
+    const cv::Point2d centre = TileCentre(found->layout.tiles[i]);
+    tile.rect.x = static_cast<int>(std::lround(centre.x - 0.5 * (tile.rect.width - 1)));
+    tile.rect.y = static_cast<int>(std::lround(centre.y - 0.5 * (tile.rect.height - 1)));
+    tile.rotation_deg = found->layout.tiles[i].rotation_deg;
+  }
+  if (!moved.Validate().ok()) return rig.lattice;
+  char text[240];
+  std::snprintf(text, sizeof(text),
+                "lattice moved: tiles found up to %.1f px from the rig calibration's layout (confidence %.2f); "
+                "cut at the found positions with the calibrated intrinsics",
+                found->report.max_prior_shift_px, found->report.confidence);
+  warnings->push_back(text);
+  return moved;
+}
 
 std::string FrameName(const FrameSet& capture, size_t index) {
   const Frame& frame = capture.frames[index];
@@ -141,7 +174,9 @@ StatusOr<std::vector<View>> LatticeViews(const FrameSet& capture, const RigCalib
   }
   StatusOr<cv::Mat> sensor = salvaged.empty() ? ToBgr(capture.frames[chosen].image) : StatusOr<cv::Mat>(salvaged);
   if (!sensor.ok()) return sensor.status().WithContext(FrameName(capture, chosen));
-  StatusOr<std::vector<cv::Mat>> tiles = SplitLattice(*sensor, rig.lattice);
+  // A salvaged frame lacks rows: its lattice cannot be checked as a whole.
+  const LatticeLayout lattice = salvaged.empty() ? CheckedLattice(*sensor, rig, warnings) : rig.lattice;
+  StatusOr<std::vector<cv::Mat>> tiles = SplitLattice(*sensor, lattice);
   if (!tiles.ok()) return tiles.status().WithContext(FrameName(capture, chosen));
   timings->push_back({"lattice", MsSince(lattice_start)});
 

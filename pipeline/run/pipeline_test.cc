@@ -217,6 +217,21 @@ TEST_F(PipelineTest, SkipsBadFramesAndBlankLenses) {
   EXPECT_EQ(cv::norm((*views)[0].image, want, cv::NORM_INF), 0.0);
 }
 
+TEST_F(PipelineTest, ALatticeThatMovedIsCutWhereItIsNow) {
+  // The whole lattice 3 px right and 2 px down of where the rig calibration puts it (a knock).
+  RigCalibration moved_rig = rig_;
+  for (Tile& tile : moved_rig.lattice.tiles) tile.rect += cv::Point(3, 2);
+  const cv::Mat moved = SensorFrame(moved_rig, scene_);
+  std::vector<std::string> warnings;
+  StatusOr<std::vector<View>> views = MakeViewsFromCapture(Capture(moved), rig_, &warnings);
+  ASSERT_TRUE(views.ok()) << views.status().ToString();
+  ASSERT_EQ(warnings.size(), 1u);
+  EXPECT_NE(warnings[0].find("lattice moved: tiles found up to 3.6 px"), std::string::npos) << warnings[0];
+  cv::Mat want, want_depth;
+  scene_.Render(rig_.lenses[4].camera, rig_.lenses[4].cam_from_rig, &want, &want_depth);
+  EXPECT_EQ(cv::norm((*views)[4].image, want, cv::NORM_INF), 0.0);
+}
+
 TEST_F(PipelineTest, TruncatedFrameGivesTheViewsThatArrivedWhole) {
   FrameSet capture = Capture(sensor_);
   // A short transfer: the buffer stops inside the third row of tiles (as a camera's DMA would).
