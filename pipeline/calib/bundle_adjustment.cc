@@ -120,6 +120,10 @@ Status BundleAdjustmentOptions::Validate() const {
     return InvalidArgumentError("bundle adjustment: loss_scale_px = " + std::to_string(loss_scale_px) +
                                 " is outside (0, 100]");
   }
+  if (!(function_tolerance > 0 && function_tolerance < 1)) {
+    return InvalidArgumentError("bundle adjustment: function_tolerance = " + std::to_string(function_tolerance) +
+                                " is outside (0, 1)");
+  }
   if (max_iterations < 1 || max_iterations > 1000) {
     return InvalidArgumentError("bundle adjustment: max_iterations = " + std::to_string(max_iterations) +
                                 " is outside [1, 1000]");
@@ -296,7 +300,7 @@ StatusOr<BundleAdjustmentReport> BundleAdjust(BaProblem* problem, const std::vec
   solver_options.max_num_iterations = options.max_iterations;
   solver_options.num_threads = options.num_threads;
   solver_options.logging_type = ceres::SILENT;
-  solver_options.function_tolerance = 1e-8;
+  solver_options.function_tolerance = options.function_tolerance;
   solver_options.parameter_tolerance = 1e-10;
   ceres::Solver::Summary summary;
   if (ceres_problem.NumResidualBlocks() > 0) ceres::Solve(solver_options, &ceres_problem, &summary);

@@ -60,6 +60,8 @@ struct BundleAdjustmentOptions {
   // Cauchy loss scale in pixels, (0, 100]: residuals well above it count little (outliers).
   double loss_scale_px = 2.0;
   int max_iterations = 100;            // [1, 1000]
+  // Stop when an iteration lowers the cost by less than this fraction, (0, 1).
+  double function_tolerance = 1e-6;
   int num_threads = 1;                 // [1, 64]
   // Keeps the distance between two camera centres fixed (the gauge of an SfM's scale):
   // indices of the two cameras, or -1 for none.

@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <string>
 
+#include <opencv2/core/utility.hpp>
 #include <opencv2/features2d.hpp>
 #include <opencv2/imgproc.hpp>
 
@@ -96,6 +97,22 @@ StatusOr<Features> DetectFeatures(const cv::Mat& image, const FeatureOptions& op
   if (features.descriptors.empty()) {
     features.descriptors = cv::Mat(0, options.detector == FeatureOptions::Detector::kSift ? 128 : 32,
                                    options.detector == FeatureOptions::Detector::kSift ? CV_32F : CV_8U);
+  }
+  return features;
+}
+
+StatusOr<std::vector<Features>> DetectFeaturesInImages(const std::vector<cv::Mat>& images,
+                                                       const FeatureOptions& options) {
+  PX_RETURN_IF_ERROR(options.Validate());
+  std::vector<StatusOr<Features>> detected(images.size(), InternalError("not run"));
+  cv::parallel_for_(cv::Range(0, static_cast<int>(images.size())), [&](const cv::Range& range) {
+    for (int i = range.start; i < range.end; ++i) detected[i] = DetectFeatures(images[i], options);
+  });
+  std::vector<Features> features;
+  features.reserve(images.size());
+  for (size_t i = 0; i < detected.size(); ++i) {
+    if (!detected[i].ok()) return detected[i].status().WithContext("view " + std::to_string(i));
+    features.push_back(std::move(detected[i]).value());
   }
   return features;
 }

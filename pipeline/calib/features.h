@@ -45,6 +45,11 @@ struct Features {
 // error: callers report it); an empty or non-8-bit image is INVALID_ARGUMENT.
 StatusOr<Features> DetectFeatures(const cv::Mat& image, const FeatureOptions& options);
 
+// DetectFeatures on every image, in parallel on OpenCV's thread pool; fails naming the first
+// image that cannot be processed.
+StatusOr<std::vector<Features>> DetectFeaturesInImages(const std::vector<cv::Mat>& images,
+                                                       const FeatureOptions& options);
+
 // Grey-level statistics that explain a view with few features: mean and standard deviation of
 // the grey image, and the fractions of pixels at or below 5 and at or above 250.
 struct ImageExposure {
