@@ -145,4 +145,9 @@ std::string DescribeFewFeatures(const ImageExposure& exposure) {
   return text;
 }
 
+std::string DescribeExposureProblem(const ImageExposure& exposure) {
+  if (exposure.stddev >= 8.0 && exposure.saturated_fraction <= 0.5 && exposure.dark_fraction <= 0.5) return "";
+  return DescribeFewFeatures(exposure);
+}
+
 }  // namespace px::calib

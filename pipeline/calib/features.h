@@ -62,5 +62,8 @@ ImageExposure MeasureExposure(const cv::Mat& image);
 // "blank (grey stddev 0.4)", "overexposed (93% of pixels saturated)", "too dark (...)" or
 // "textureless (grey stddev 3.1)": why an image with few features has them, for messages.
 std::string DescribeFewFeatures(const ImageExposure& exposure);
+// The same, but "" for an image that looks normally exposed and textured (stddev >= 8, less
+// than half of it black or saturated): for messages about images that match nothing.
+std::string DescribeExposureProblem(const ImageExposure& exposure);
 
 }  // namespace px::calib

@@ -336,10 +336,13 @@ StatusOr<RigRefinementResult> RefineRigCalibration(const std::vector<cv::Mat>& u
     }
     held[v] = 1;
     if (report.views[v].note.empty()) {
+      const std::string exposure = DescribeExposureProblem(MeasureExposure(upright_tiles[v]));
       report.views[v].note = std::to_string(observations_per_view[v]) + " matched points (need " +
                              std::to_string(options.min_observations_per_view) +
-                             "): the view shares too little with its neighbours (another scene, or " +
-                             DescribeFewFeatures(MeasureExposure(upright_tiles[v])) + "?)";
+                             "): the view shares too little with its neighbours (" +
+                             (exposure.empty() ? "a different scene, or a lens far off its calibration?"
+                                               : "it is " + exposure) +
+                             ")";
     }
   }
   std::erase_if(problem.observations, [&](const BaObservation& o) { return held[o.camera] != 0; });
