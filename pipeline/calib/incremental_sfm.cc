@@ -27,6 +27,9 @@ constexpr int kMinFeatures = 30;
 // Triangulated points must be seen at least this far apart (degrees): below, their depth is
 // noise. Small on purpose: 3 cm at 3 m is 0.57 degrees.
 constexpr double kMinTriangulationAngleDeg = 0.05;
+// A homography that explains a pair's matches to within this many times their epipolar noise
+// means a plane or a scene at infinity (pure noise gives ~1.3).
+constexpr double kPlanarHomographyRatio = 3.0;
 
 double MsSince(Clock::time_point start) {
   return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
@@ -318,9 +321,7 @@ PairGeometry PairPose(const std::vector<ImageState>& images, const PairMatches& 
   ransac.max_error_px = options.max_error_px;
   ransac.seed = options.ransac.seed * 7919ULL + static_cast<uint64_t>(index);
   geometry.pose = EstimateRelativePose(rays_a, rays_b, RelativePoseSolver::kFivePoint, ransac);
-  if (geometry.pose.success && geometry.pose.median_epipolar_error_px > 0) {
-    geometry.parallax_ratio = geometry.pose.median_parallax_px / geometry.pose.median_epipolar_error_px;
-  }
+  if (geometry.pose.success) geometry.parallax_ratio = geometry.pose.ParallaxRatio();
   return geometry;
 }
 
@@ -551,7 +552,7 @@ StatusOr<SfmResult> RunIncrementalSfm(const std::vector<SfmImage>& input, const 
   report.initial_image_b = initial_pair.view_b;
   report.initial_parallax_px = initial->pose.median_parallax_px;
   report.initial_parallax_ratio = initial->parallax_ratio;
-  report.initial_homography_fraction = initial->pose.homography_inlier_fraction;
+  report.initial_homography_ratio = initial->pose.HomographyRatio();
 
   Reconstruction reconstruction(images, std::move(tracks), options);
   StatusOr<BundleAdjustmentReport> two_view = InitialisePair(&reconstruction, initial_pair, initial->pose);
@@ -683,10 +684,11 @@ StatusOr<SfmResult> RunIncrementalSfm(const std::vector<SfmImage>& input, const 
                                        best_focal, first, last));
     }
   }
-  if (report.initial_homography_fraction >= 0.95) {
-    report.warnings.push_back(Printf("the initial pair is nearly planar or distant (one homography explains %.0f%% of "
-                                     "its matches): poses hold, but a self-calibrated focal length is unreliable",
-                                     100 * report.initial_homography_fraction));
+  if (report.initial_homography_ratio < kPlanarHomographyRatio) {
+    report.warnings.push_back(Printf("the initial pair sees a plane or a distant scene (one homography explains its "
+                                     "matches to %.1f times their noise): poses hold, but a self-calibrated focal "
+                                     "length is unreliable",
+                                     report.initial_homography_ratio));
   }
   if (report.num_registered < 2) return fail("fewer than two images registered");
   report.success = true;

@@ -60,7 +60,7 @@ struct SfmReport {
   int initial_image_b = -1;
   double initial_parallax_px = 0;      // rotation-compensated, median, of the initial pair
   double initial_parallax_ratio = 0;   // the same over the pair's epipolar noise
-  double initial_homography_fraction = 0;
+  double initial_homography_ratio = 0;  // its homography residual over its noise (~1.3 planar)
   std::string focal_source;            // "metadata", "self-calibrated", or a mix
   std::vector<std::pair<double, double>> focal_sweep;  // (focal px, two-view RMS px) when swept
   std::vector<SfmPair> pairs;

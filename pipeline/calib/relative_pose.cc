@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <memory>
 
 #include <opencv2/calib3d.hpp>
@@ -27,41 +28,56 @@ double Median(std::vector<double> values) {
   return values[middle];
 }
 
+double Percentile(std::vector<double> values, double fraction) {
+  if (values.empty()) return 0;
+  const size_t k = std::min(values.size() - 1, static_cast<size_t>(fraction * values.size()));
+  std::nth_element(values.begin(), values.begin() + k, values.end());
+  return values[k];
+}
+
 // Angle between two rays, accurate for small angles (atan2 of the cross and dot products).
 double AngleBetween(const Eigen::Vector3d& u, const Eigen::Vector3d& v) {
   return std::atan2(u.cross(v).norm(), u.dot(v));
 }
 
-// Fraction of `subset` that one homography explains (points in pixels at `focal_px`, where
-// OpenCV's conditioning and threshold work as intended).
-double HomographyFraction(const std::vector<Eigen::Vector3d>& rays_a, const std::vector<Eigen::Vector3d>& rays_b,
-                          const std::vector<int>& subset, double focal_px, double max_error_px) {
+// How well one homography explains `subset`: the fraction within `threshold_px` and the 90th
+// percentile of the transfer error (points in pixels at `focal_px`, where OpenCV's conditioning works as meant).
+// The homography is RANSAC's at `ransac_threshold_px`, refined by OpenCV on its inliers.
+void FitHomography(const std::vector<Eigen::Vector3d>& rays_a, const std::vector<Eigen::Vector3d>& rays_b,
+                   const std::vector<int>& subset, double focal_px, double ransac_threshold_px, double threshold_px,
+                   double* fraction, double* p90_error_px) {
+  *fraction = 0;
+  *p90_error_px = std::numeric_limits<double>::infinity();
   std::vector<cv::Point2d> a, b;
   for (int i : subset) {
     if (rays_a[i].z() <= 0 || rays_b[i].z() <= 0) continue;
     a.emplace_back(focal_px * rays_a[i].x() / rays_a[i].z(), focal_px * rays_a[i].y() / rays_a[i].z());
     b.emplace_back(focal_px * rays_b[i].x() / rays_b[i].z(), focal_px * rays_b[i].y() / rays_b[i].z());
   }
-  if (a.size() < 8) return 0;
+  if (a.size() < 8) return;
   std::vector<uchar> mask;
-  const cv::Mat h = cv::findHomography(a, b, cv::RANSAC, max_error_px, mask, 2000, 0.999);
-  if (h.empty()) return 0;
-  // Count against the returned (least-squares refined) homography: RANSAC's own mask comes from
-  // a minimal-sample model and misses a few inliers.
+  const cv::Mat h = cv::findHomography(a, b, cv::RANSAC, ransac_threshold_px, mask, 2000, 0.999);
+  if (h.empty()) return;
+  // Measured against the returned (least-squares refined) homography: RANSAC's own mask comes
+  // from a minimal-sample model and misses a few inliers.
   const cv::Matx33d hm(h);
+  std::vector<double> errors;
   int explained = 0;
   for (size_t i = 0; i < a.size(); ++i) {
     const cv::Vec3d p = hm * cv::Vec3d(a[i].x, a[i].y, 1.0);
-    if (p[2] == 0) continue;
-    explained += std::hypot(p[0] / p[2] - b[i].x, p[1] / p[2] - b[i].y) < max_error_px ? 1 : 0;
+    const double error = p[2] == 0 ? std::numeric_limits<double>::infinity()
+                                   : std::hypot(p[0] / p[2] - b[i].x, p[1] / p[2] - b[i].y);
+    errors.push_back(error);
+    explained += error < threshold_px ? 1 : 0;
   }
-  return static_cast<double>(explained) / static_cast<double>(subset.size());
+  *fraction = static_cast<double>(explained) / static_cast<double>(subset.size());
+  *p90_error_px = Percentile(errors, 0.9);
 }
 
-// Median Sampson distance of the inliers to the essential matrix of (R, t) = b_from_a, in
-// normalised units: the first-order distance of a correspondence to its epipolar constraint.
-double MedianSampsonError(const opengv::bearingVectors_t& bearings_b, const opengv::bearingVectors_t& bearings_a,
-                          const opengv::transformation_t& b_from_a, const std::vector<int>& inliers) {
+// Sampson distances of the inliers to the essential matrix of (R, t) = b_from_a, in normalised
+// units: each correspondence's first-order distance to its epipolar constraint.
+std::vector<double> SampsonErrors(const opengv::bearingVectors_t& bearings_b, const opengv::bearingVectors_t& bearings_a,
+                                  const opengv::transformation_t& b_from_a, const std::vector<int>& inliers) {
   const Eigen::Vector3d t = b_from_a.col(3).normalized();
   Eigen::Matrix3d t_cross;
   t_cross << 0, -t.z(), t.y(), t.z(), 0, -t.x(), -t.y(), t.x(), 0;
@@ -75,10 +91,18 @@ double MedianSampsonError(const opengv::bearingVectors_t& bearings_b, const open
     if (denominator <= 0) continue;
     errors.push_back(std::abs(xb.dot(ea)) / std::sqrt(denominator));
   }
-  return Median(errors);
+  return errors;
 }
 
 }  // namespace
+
+double RelativePoseResult::ParallaxRatio() const {
+  return median_epipolar_error_px > 0 ? median_parallax_px / median_epipolar_error_px : 0.0;
+}
+
+double RelativePoseResult::HomographyRatio() const {
+  return p90_epipolar_error_px > 0 ? p90_homography_error_px / p90_epipolar_error_px : 0.0;
+}
 
 RelativePoseResult EstimateRelativePose(const std::vector<Eigen::Vector3d>& rays_a,
                                         const std::vector<Eigen::Vector3d>& rays_b, RelativePoseSolver solver,
@@ -135,7 +159,9 @@ RelativePoseResult EstimateRelativePose(const std::vector<Eigen::Vector3d>& rays
   parallax.reserve(inliers.size());
   for (int i : inliers) parallax.push_back(AngleBetween(bearings_b[i], best_rotation * bearings_a[i]));
   result.median_parallax_px = options.focal_px * std::tan(Median(parallax));
-  result.median_epipolar_error_px = options.focal_px * MedianSampsonError(bearings_b, bearings_a, model, inliers);
+  const std::vector<double> sampson = SampsonErrors(bearings_b, bearings_a, model, inliers);
+  result.median_epipolar_error_px = options.focal_px * Median(sampson);
+  result.p90_epipolar_error_px = options.focal_px * Percentile(sampson, 0.9);
 
   auto rotation_problem = std::make_shared<RotationOnlySacProblem>(adapter, /*randomSeed=*/false);
   opengv::rotation_t rotation_only;
@@ -144,8 +170,13 @@ RelativePoseResult EstimateRelativePose(const std::vector<Eigen::Vector3d>& rays
                           &rotation_inliers)) {
     result.rotation_only_inliers = static_cast<int>(rotation_inliers.size());
   }
-  result.homography_inlier_fraction =
-      HomographyFraction(rays_a, rays_b, inliers, options.focal_px, options.max_error_px);
+  // The homography's threshold follows the matches' own noise (5x the median Sampson error,
+  // within [0.5 px, max_error_px]): at the RANSAC threshold alone, a low-resolution view of a
+  // deep scene would pass for a plane.
+  const double homography_threshold_px =
+      std::clamp(5.0 * result.median_epipolar_error_px, std::min(0.5, options.max_error_px), options.max_error_px);
+  FitHomography(rays_a, rays_b, inliers, options.focal_px, options.max_error_px, homography_threshold_px,
+                &result.homography_inlier_fraction, &result.p90_homography_error_px);
   result.success = true;
   return result;
 }

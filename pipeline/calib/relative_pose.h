@@ -35,9 +35,21 @@ struct RelativePoseResult {
   // length: the matches' own noise. For pure noise the parallax above is about 1.75 times it
   // (a 2D residual against a 1D one), so a ratio well above 2 means real parallax.
   double median_epipolar_error_px = 0;
-  // Fraction of the inliers that one homography (RANSAC, same threshold) also explains:
-  // close to 1 when the scene is a plane (or at infinity).
+  // Fraction of the inliers that one homography also explains within 5 times the epipolar
+  // noise below: close to 1 when the scene is a plane, at infinity, or too far for the baseline.
   double homography_inlier_fraction = 0;
+  // 90th percentiles of the inliers' transfer error under that homography and of their
+  // Sampson error, pixels at the focal length. A high percentile, because a wall behind the
+  // objects can hold most matches: the objects' parallax shows in the tail. Their ratio is
+  // ~1.3 for pure noise; under about 3 only a plane (or a scene at infinity) is seen, and the
+  // translation's direction and the lens positions are not observable.
+  double p90_homography_error_px = 0;
+  double p90_epipolar_error_px = 0;
+
+  // median_parallax_px / median_epipolar_error_px and p90 homography / p90 epipolar error
+  // (0 when the noise is 0).
+  double ParallaxRatio() const;
+  double HomographyRatio() const;
 };
 
 // rays_a[i] and rays_b[i] are the same point's viewing rays (any positive length, z > 0 for the

@@ -86,6 +86,7 @@ PairMatches MatchPair(const ViewData& a, const ViewData& b, int ia, int ib, cons
   figures->median_parallax_px = pose.median_parallax_px;
   figures->median_epipolar_error_px = pose.median_epipolar_error_px;
   figures->homography_fraction = pose.homography_inlier_fraction;
+  figures->homography_ratio = pose.HomographyRatio();
   for (int i : pose.inliers) verified.matches.push_back(matches[i]);
   return verified;
 }
@@ -259,15 +260,14 @@ StatusOr<RigRefinementResult> RefineRigCalibration(const std::vector<cv::Mat>& u
     }
   });
   report.num_pairs = static_cast<int>(pair_list.size());
-  std::vector<double> homography_fractions;
+  std::vector<double> homography_ratios;
   for (const PairRefinement& pair : report.pairs) {
     report.num_matches += pair.matches;
     report.num_inliers += pair.inliers;
-    if (pair.inliers >= kMinPairMatches) homography_fractions.push_back(pair.homography_fraction);
+    if (pair.inliers >= kMinPairMatches) homography_ratios.push_back(pair.homography_ratio);
   }
-  report.median_homography_fraction = Median(homography_fractions);
-  report.centres_held = !homography_fractions.empty() &&
-                        report.median_homography_fraction >= options.planar_homography_fraction;
+  report.median_homography_ratio = Median(homography_ratios);
+  report.centres_held = !homography_ratios.empty() && report.median_homography_ratio < options.planar_homography_ratio;
 
   // 3. Tracks, triangulated with the factory calibration.
   std::vector<int> feature_counts(n);
@@ -442,10 +442,10 @@ StatusOr<RigRefinementResult> RefineRigCalibration(const std::vector<cv::Mat>& u
     }
   }
   if (report.centres_held) {
-    report.warnings.push_back(Format("the scene is planar or too far for the baseline (one homography explains "
-                                     "%.0f%% of the matches of the median lens pair): lens centres are held at the "
-                                     "factory calibration",
-                                     100 * report.median_homography_fraction));
+    report.warnings.push_back(Format("the scene is planar or too far for the baseline (one homography explains the "
+                                     "matches of the median lens pair to %.1f times their noise): lens centres are "
+                                     "held at the factory calibration",
+                                     report.median_homography_ratio));
   }
   if (!std::isfinite(report.rms_after_px) || !std::isfinite(report.rms_before_px)) {
     return finish("bundle adjustment failed: " + second.message);

@@ -40,6 +40,7 @@ struct PairRefinement {
   double median_parallax_px = 0;
   double median_epipolar_error_px = 0;
   double homography_fraction = 0;
+  double homography_ratio = 0;   // median homography residual over the epipolar noise
 };
 
 struct RigRefinementReport {
@@ -56,7 +57,7 @@ struct RigRefinementReport {
   double rms_before_px = 0;
   double rms_after_px = 0;
   bool centres_held = false;     // the scene could not fix lens positions (planar or too far)
-  double median_homography_fraction = 0;
+  double median_homography_ratio = 0;  // over the pairs: ~1.3 for a plane, more with depth
   double max_rotation_change_deg = 0;
   double max_centre_change_m = 0;
   double max_focal_change_relative = 0;

@@ -52,8 +52,8 @@ Status RigRefinementOptions::Validate() const {
   if (!InOpenClosed(max_focal_change_relative, 0, 1)) {
     return OutOfRange("max_focal_change_relative", max_focal_change_relative, "(0, 1]");
   }
-  if (!InOpenClosed(planar_homography_fraction, 0, 1)) {
-    return OutOfRange("planar_homography_fraction", planar_homography_fraction, "(0, 1]");
+  if (!(planar_homography_ratio >= 1 && planar_homography_ratio <= 100)) {
+    return OutOfRange("planar_homography_ratio", planar_homography_ratio, "[1, 100]");
   }
   if (num_threads < 1 || num_threads > 64) return OutOfRange("num_threads", num_threads, "[1, 64]");
   return OkStatus();

@@ -58,9 +58,10 @@ struct RigRefinementOptions {
   double max_rotation_change_deg = 2.0;
   double max_centre_change_spacings = 0.25;
   double max_focal_change_relative = 0.05;
-  // Pairs with a median homography inlier fraction at or above this see a plane (or a scene
-  // too far for the baseline): lens centres are then held at the factory's, (0, 1].
-  double planar_homography_fraction = 0.95;
+  // When the median lens pair's matches leave, after the best homography, residuals (90th
+  // percentile) under this many times their epipolar noise, the scene is a plane or too far for the
+  // baseline (pure noise gives ~1.3): lens centres are then held at the factory's, [1, 100].
+  double planar_homography_ratio = 3.0;
 
   uint64_t seed = 1;     // RANSAC sampling: the same seed and shot give the same calibration
   int num_threads = 1;   // Ceres threads [1, 64]; features and pairs use OpenCV's pool

@@ -3,6 +3,7 @@
 // truth (perturbed lenses) the views were rendered through.
 #pragma once
 
+#include <filesystem>
 #include <string>
 #include <vector>
 
@@ -23,6 +24,14 @@ struct LatticeShot {
 // given lens perturbation seed (0 = lenses as calibrated).
 SimCameraSpec RealisticSpec(SimCameraSpec spec, uint64_t perturb_lenses_seed);
 
+// The preset at half the tile size (same field of view and baseline): four times cheaper.
+SimCameraSpec HalfSize(SimCameraSpec spec);
+
+// `scene` names a scene in sim/scenes or is a path to a scene JSON.
 StatusOr<LatticeShot> CaptureLatticeShot(const SimCameraSpec& spec, const std::string& scene, uint64_t seed = 1);
+
+// One textured or flat plane facing the camera at `distance_m` (for degenerate scenes): writes
+// the scene JSON to `file`. `material_json` is a scene material object.
+void WritePlaneScene(const std::filesystem::path& file, double distance_m, const std::string& material_json);
 
 }  // namespace px::sim_calib
