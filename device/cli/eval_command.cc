@@ -1,12 +1,14 @@
 #include "device/cli/eval_command.h"
 
+#include "device/cli/eval_calib_command.h"
+
 namespace px::cli {
 
 void AddEvalCommand(CLI::App& app) {
   CLI::App* eval = app.add_subcommand("eval", "Evaluate a stage against ground truth (depth, calib, render)");
   eval->require_subcommand(1);
   // Each tool adds its subcommand to `eval` here, one line each (e.g. AddEvalDepthCommand(*eval)).
-  (void)eval;
+  AddEvalCalibCommand(*eval);
 }
 
 }  // namespace px::cli

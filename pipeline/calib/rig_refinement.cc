@@ -456,6 +456,12 @@ StatusOr<RigRefinementResult> RefineRigCalibration(const std::vector<cv::Mat>& u
                          "%.3f px refined)",
                          report.rms_before_px, report.rms_after_px));
   }
+  if (report.rms_before_px - report.rms_after_px < options.min_rms_gain_px) {
+    // Not a failure: the lenses have not moved measurably, and the factory's values are exact.
+    report.factory_fits = true;
+    return finish(Format("the factory calibration already fits the shot (reprojection RMS %.3f px; refined %.3f px)",
+                         report.rms_before_px, report.rms_after_px));
+  }
   result.rig = std::move(refined);
   return finish("");
 }

@@ -62,6 +62,9 @@ struct RigRefinementOptions {
   // percentile) under this many times their epipolar noise, the scene is a plane or too far for the
   // baseline (pure noise gives ~1.3): lens centres are then held at the factory's, [1, 100].
   double planar_homography_ratio = 3.0;
+  // The refined calibration is used only when it lowers the reprojection RMS by at least this
+  // many pixels, [0, 10]: below, the lenses have not measurably moved and the factory's stand.
+  double min_rms_gain_px = 0.05;
 
   uint64_t seed = 1;     // RANSAC sampling: the same seed and shot give the same calibration
   int num_threads = 1;   // Ceres threads [1, 64]; features and pairs use OpenCV's pool

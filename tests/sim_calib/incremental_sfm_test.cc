@@ -8,6 +8,8 @@
 #include <gtest/gtest.h>
 
 #include "eval/calib/pose_alignment.h"
+#include "pipeline/core/pixel_format.h"
+#include "pipeline/run/pipeline.h"
 #include "sim/synthetic/data_paths.h"
 #include "sim/synthetic/ray_caster.h"
 #include "sim/synthetic/scene_json.h"
@@ -128,6 +130,45 @@ TEST(IncrementalSfmSimTest, TinyBaselineSelfCalibrated) {
   EXPECT_EQ(result->report.focal_source, "self-calibrated");
   EXPECT_LT(figures.rotation_deg, 0.2);
   EXPECT_LT(figures.focal, 0.05);
+}
+
+class CountingSink : public FrameSink {
+ public:
+  Status Consume(int, const cv::Mat&) override {
+    ++frames;
+    return OkStatus();
+  }
+  int frames = 0;
+};
+
+// The hand-held set as a tethered camera delivers it (an image set, intrinsics from a
+// calibration with one lens per image, no poses): structure from motion, depth and a clip.
+TEST(IncrementalSfmSimTest, ImageSetRunsThroughThePipeline) {
+  const ImageSet set = HandHeld(/*known_focal=*/true);
+  FrameSet capture;
+  capture.kind = FrameSetKind::kImageSet;
+  capture.capture_id = 4;
+  RigCalibration intrinsics;
+  for (const calib::SfmImage& image : set.images) {
+    Frame frame;
+    frame.image = FromBgr(image.image, PixelFormat::kRgb888).value();
+    capture.frames.push_back(std::move(frame));
+    intrinsics.lenses.push_back(LensCalibration{});
+    intrinsics.lenses.back().camera = set.camera;
+  }
+  PipelineOptions options;
+  options.direct.fps = 5;
+  options.direct.duration_s = 1;
+  CountingSink sink;
+  StatusOr<PipelineReport> report = RunPipeline(capture, intrinsics, options, &sink);
+  ASSERT_TRUE(report.ok()) << report.status().ToString();
+  std::printf("pipeline: %s: %s\n", report->calibration.c_str(), report->calibration_summary.c_str());
+  for (const std::string& warning : report->warnings) std::printf("  warning: %s\n", warning.c_str());
+  EXPECT_EQ(report->calibration, "structure from motion");
+  EXPECT_NE(report->calibration_summary.find("4 of 4 images registered"), std::string::npos);
+  EXPECT_EQ(report->num_views, 4);
+  EXPECT_EQ(sink.frames, 5);
+  EXPECT_LT(report->mean_hole_ratio, 0.05);
 }
 
 TEST(IncrementalSfmSimTest, PureRotationFailsWithNoParallax) {

@@ -10,11 +10,17 @@
 #include <gtest/gtest.h>
 
 #include "eval/calib/pose_alignment.h"
-#include "tests/sim_calib/sim_calib_shot.h"
+#include "eval/calib/sim_lattice_shot.h"
 #include "tests/testing/temp_dir.h"
 
 namespace px::sim_calib {
 namespace {
+
+using eval::CaptureLatticeShot;
+using eval::HalfSize;
+using eval::LatticeShot;
+using eval::RealisticSpec;
+using eval::WritePlaneScene;
 
 struct Errors {
   double max_rotation_deg = 0;

@@ -1,4 +1,4 @@
-// A simulated lattice shot for the calibration tests: the upright tiles as the lattice stage
+// A simulated lattice shot for calibration tests and evaluation: the upright tiles as the lattice stage
 // cuts them from the noisy sensor frame, the factory calibration the recording carries, and the
 // truth (perturbed lenses) the views were rendered through.
 #pragma once
@@ -12,7 +12,7 @@
 #include "pipeline/core/rig_calibration.h"
 #include "sim/synthetic/sim_camera.h"
 
-namespace px::sim_calib {
+namespace px::eval {
 
 struct LatticeShot {
   std::vector<cv::Mat> tiles;  // upright, as the lenses saw them (noise, vignetting, gains)
@@ -34,4 +34,4 @@ StatusOr<LatticeShot> CaptureLatticeShot(const SimCameraSpec& spec, const std::s
 // the scene JSON to `file`. `material_json` is a scene material object.
 void WritePlaneScene(const std::filesystem::path& file, double distance_m, const std::string& material_json);
 
-}  // namespace px::sim_calib
+}  // namespace px::eval

@@ -1,4 +1,4 @@
-#include "tests/sim_calib/sim_calib_shot.h"
+#include "eval/calib/sim_lattice_shot.h"
 
 #include <chrono>
 #include <fstream>
@@ -8,7 +8,7 @@
 #include "sim/synthetic/data_paths.h"
 #include "sim/synthetic/synthetic_source.h"
 
-namespace px::sim_calib {
+namespace px::eval {
 
 SimCameraSpec RealisticSpec(SimCameraSpec spec, uint64_t perturb_lenses_seed) {
   spec.noise_sigma = 2.0;
@@ -54,4 +54,4 @@ void WritePlaneScene(const std::filesystem::path& file, double distance_m, const
       << "], \"width_m\": " << size << ", \"height_m\": " << size << ", \"material\": " << material_json << "}]}\n";
 }
 
-}  // namespace px::sim_calib
+}  // namespace px::eval
