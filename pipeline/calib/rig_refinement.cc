@@ -23,6 +23,9 @@ using Clock = std::chrono::steady_clock;
 constexpr int kMinFeaturesPerView = 30;
 // Below this many descriptor matches a pair is not worth a RANSAC.
 constexpr int kMinPairMatches = 16;
+// A factory calibration whose reprojection RMS on the shot is at most this (pixels) fits it:
+// refinement that cannot improve on it leaves it without a warning.
+constexpr double kFactoryFitsRmsPx = 1.0;
 
 double MsSince(Clock::time_point start) {
   return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
@@ -451,15 +454,16 @@ StatusOr<RigRefinementResult> RefineRigCalibration(const std::vector<cv::Mat>& u
     return finish("bundle adjustment failed: " + second.message);
   }
   if (!implausible.empty()) return finish("implausible change: " + implausible);
-  if (!(report.rms_after_px < report.rms_before_px)) {
+  if (!(report.rms_before_px - report.rms_after_px >= options.min_rms_gain_px)) {
+    // No measurable gain. When the factory calibration explains the matches to within a pixel
+    // the lenses have not measurably moved: not a failure, and no warning is due.
+    report.factory_fits = report.rms_before_px <= kFactoryFitsRmsPx;
+    if (report.factory_fits) {
+      return finish(Format("the factory calibration already fits the shot (reprojection RMS %.3f px; refined %.3f px)",
+                           report.rms_before_px, report.rms_after_px));
+    }
     return finish(Format("refinement did not lower the reprojection error (%.3f px with the factory calibration, "
                          "%.3f px refined)",
-                         report.rms_before_px, report.rms_after_px));
-  }
-  if (report.rms_before_px - report.rms_after_px < options.min_rms_gain_px) {
-    // Not a failure: the lenses have not moved measurably, and the factory's values are exact.
-    report.factory_fits = true;
-    return finish(Format("the factory calibration already fits the shot (reprojection RMS %.3f px; refined %.3f px)",
                          report.rms_before_px, report.rms_after_px));
   }
   result.rig = std::move(refined);
