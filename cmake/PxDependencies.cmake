@@ -6,6 +6,8 @@ find_package(OpenCV 4 REQUIRED COMPONENTS core imgproc imgcodecs calib3d feature
 find_package(nlohmann_json 3 REQUIRED)
 find_package(CLI11 REQUIRED)
 find_package(spdlog REQUIRED)
+find_package(Ceres 2 REQUIRED)  # pipeline/calib: bundle adjustment
+find_package(opengv REQUIRED)   # pipeline/calib: minimal relative and absolute pose solvers with RANSAC
 pkg_check_modules(LIBAV REQUIRED IMPORTED_TARGET libavcodec libavformat libavutil libswscale)
 pkg_check_modules(LIBCAMERA REQUIRED IMPORTED_TARGET libcamera)  # drivers/libcamera (0.0.3 on Debian 12)
 if(NOT TARGET PkgConfig::LIBUSB)

@@ -2,6 +2,7 @@
 
 #include "device/cli/eval_render_command.h"
 #include "device/cli/eval_depth_command.h"
+#include "device/cli/eval_calib_command.h"
 
 namespace px::cli {
 
@@ -11,6 +12,7 @@ void AddEvalCommand(CLI::App& app) {
   // Each tool adds its subcommand to `eval` here, one line each (e.g. AddEvalDepthCommand(*eval)).
   AddEvalRenderCommand(*eval);
   AddEvalDepthCommand(*eval);
+  AddEvalCalibCommand(*eval);
 }
 
 }  // namespace px::cli

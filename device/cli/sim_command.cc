@@ -14,6 +14,7 @@
 #include "pipeline/core/rig_calibration_json.h"
 #include "sim/replay/recording.h"
 #include "sim/synthetic/board_scene.h"
+#include "sim/synthetic/lens_perturbation.h"
 #include "sim/synthetic/sim_camera.h"
 #include "sim/synthetic/synthetic_source.h"
 
@@ -36,6 +37,7 @@ struct SimArgs {
   std::string output;
   bool ground_truth = false;
   int board_captures = 0;  // > 0: render this many checkerboard captures instead of the scene
+  uint64_t perturb_lenses_seed = 0;  // 0 = lenses as calibrated
 };
 
 // Depth as 16-bit PNG in millimetres (0 = nothing hit): lossless, viewable, good to 65 m.
@@ -130,6 +132,7 @@ Status RunSim(const SimArgs& args) {
     options.camera.tile_width = args.tile_size[0];
     options.camera.tile_height = args.tile_size[1];
   }
+  options.camera.perturb_lenses_seed = args.perturb_lenses_seed;
   PX_RETURN_IF_ERROR(options.camera.Validate());
   if (args.board_captures > 0) return WriteBoardCaptures(options.camera, args);
   options.seed = args.seed;
@@ -182,6 +185,16 @@ void AddSimCommand(CLI::App& app) {
   sim->add_option("--tile", args->tile_size, "Tile size in pixels: --tile 640 480 (default: the preset's)")
       ->expected(2);
   sim->add_option("--supersampling", args->supersampling, "Rays per pixel side, 1..8 (default: the preset's)");
+  const LensPerturbation magnitudes;
+  char perturb_help[400];
+  std::snprintf(perturb_help, sizeof(perturb_help),
+                "Render through lenses that moved off their calibration, drawn from this seed (0 = none); the "
+                "recording keeps the factory calibration, --ground-truth has the true lenses. Per lens, uniform: "
+                "focal +-%g %%, principal point +-%g px, rotation +-%g deg about each axis, centre +-%g mm along "
+                "each axis",
+                100 * magnitudes.focal_relative, magnitudes.principal_point_px, magnitudes.rotation_deg,
+                1000 * magnitudes.centre_m);
+  sim->add_option("--perturb-lenses", args->perturb_lenses_seed, perturb_help)->capture_default_str();
   sim->add_flag("--ground-truth", args->ground_truth,
                 "Also write ground_truth/: clean views, depth (16-bit PNG, mm), cameras and poses");
   sim->add_option("--board", args->board_captures,

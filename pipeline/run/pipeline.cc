@@ -8,7 +8,10 @@
 
 #include <opencv2/imgproc.hpp>
 
+#include "pipeline/calib/incremental_sfm.h"
 #include "pipeline/calib/make_views.h"
+#include "pipeline/calib/rig_refinement.h"
+#include "pipeline/calib/undistort_cache.h"
 #include "pipeline/core/log.h"
 #include "pipeline/core/pixel_format.h"
 #include "pipeline/depth/depth_stage.h"
@@ -131,15 +134,141 @@ size_t SalvageFrame(const FrameSet& capture, const LatticeLayout& lattice, cv::M
   return capture.frames.size();
 }
 
-// Splits the lattice frame and makes the views, timing both stages.
-StatusOr<std::vector<View>> LatticeViews(const FrameSet& capture, const RigCalibration& rig,
-                                         const CalibOptions& calib, std::vector<std::string>* warnings,
-                                         std::vector<StageTiming>* timings) {
+// Views with the calibration they came from and the depth range they support.
+struct CalibratedViews {
+  std::vector<View> views;
+  double depth_min_m = 0;
+  double depth_max_m = 0;
+  std::string calibration;  // PipelineReport::calibration
+  std::string summary;
+};
+
+// Refines the factory calibration from the tiles when enabled; the factory's otherwise or
+// when refinement is not trustworthy (the reason in `warnings`).
+RigCalibration RefinedRig(const std::vector<cv::Mat>& tiles, const RigCalibration& rig,
+                          const calib::RigRefinementOptions& refinement, std::vector<std::string>* warnings,
+                          CalibratedViews* out) {
+  out->calibration = "factory";
+  if (!refinement.enabled) return rig;
+  const auto log = Logger("calib");
+  StatusOr<calib::RigRefinementResult> refined = calib::RefineRigCalibration(tiles, rig, refinement);
+  if (!refined.ok()) {
+    warnings->push_back("calib: per-shot refinement failed (" + refined.status().ToString() +
+                        "); the factory calibration is used");
+    log->warn("{}", warnings->back());
+    return rig;
+  }
+  const calib::RigRefinementReport& report = refined->report;
+  char text[256];
+  std::snprintf(text, sizeof(text),
+                "%d lens pairs, %d matches, %d inliers, %d tracks, reprojection RMS %.2f -> %.2f px, max change "
+                "%.3f deg, %.2f mm, focal %.2f %%, %.0f ms",
+                report.num_pairs, report.num_matches, report.num_inliers, report.num_tracks, report.rms_before_px,
+                report.rms_after_px, report.max_rotation_change_deg, 1000 * report.max_centre_change_m,
+                100 * report.max_focal_change_relative, report.total_ms);
+  out->summary = text;
+  if (report.factory_fits) {
+    out->calibration = "factory (confirmed by refinement)";
+    log->info("calib: {}: {}", report.fallback_reason, out->summary);
+    return rig;
+  }
+  for (const std::string& warning : report.warnings) warnings->push_back("calib: " + warning);
+  if (!report.refined) {
+    warnings->push_back("calib: per-shot refinement not used (" + report.fallback_reason +
+                        "); the factory calibration is used");
+    log->warn("{}", warnings->back());
+    return rig;
+  }
+  out->calibration = "refined";
+  log->info("calib: refined: {}", out->summary);
+  return refined->rig;
+}
+
+// An image set's views: poses and focal lengths from structure from motion. Images that
+// cannot be used (bad frames, unregistered) are named in `warnings`.
+StatusOr<CalibratedViews> ImageSetViews(const FrameSet& capture, const RigCalibration& rig,
+                                        const CalibOptions& calib_options, const calib::SfmOptions& sfm,
+                                        std::vector<std::string>* warnings, std::vector<StageTiming>* timings) {
+  const std::string name = "capture " + std::to_string(capture.capture_id);
+  if (capture.frames.size() < 2) {
+    return InvalidArgumentError(name + ": an image set needs at least 2 images, got " +
+                                std::to_string(capture.frames.size()));
+  }
+  const Clock::time_point start = Clock::now();
+  std::vector<calib::SfmImage> images;
+  std::vector<size_t> frame_of_image;
+  for (size_t i = 0; i < capture.frames.size(); ++i) {
+    const Frame& frame = capture.frames[i];
+    StatusOr<cv::Mat> bgr = frame.status == FrameStatus::kOk ? ToBgr(frame.image) : StatusOr<cv::Mat>(
+                                                                    UnusableFrameError(capture, i));
+    if (!bgr.ok()) {
+      warnings->push_back(FrameName(capture, i) + " skipped: " + bgr.status().ToString());
+      continue;
+    }
+    calib::SfmImage image;
+    image.image = *bgr;
+    // A rig with one lens per image (a replayed, calibrated set) gives the intrinsics.
+    if (rig.NumViews() == static_cast<int>(capture.frames.size())) {
+      const CameraModel& lens = rig.lenses[i].camera;
+      if (lens.width == bgr->cols && lens.height == bgr->rows) image.intrinsics = lens;
+    }
+    images.push_back(std::move(image));
+    frame_of_image.push_back(i);
+  }
+  timings->push_back({"lattice", MsSince(start)});  // decoding, for an image set
+  const Clock::time_point calib_start = Clock::now();
+  if (images.size() < 2) {
+    return FailedPreconditionError(name + ": only " + std::to_string(images.size()) + " of " +
+                                   std::to_string(capture.frames.size()) + " images are usable");
+  }
+  PX_ASSIGN_OR_RETURN(calib::SfmResult sfm_result, calib::RunIncrementalSfm(images, sfm));
+  const calib::SfmReport& report = sfm_result.report;
+  if (!report.success) {
+    return FailedPreconditionError(name + ": structure from motion failed: " + report.failure);
+  }
+  for (const std::string& warning : report.warnings) warnings->push_back("calib: " + warning);
+  CalibratedViews out;
+  out.calibration = "structure from motion";
+  char text[256];
+  std::snprintf(text, sizeof(text), "%d of %d images registered, %d points, reprojection RMS %.2f px, focal %s, %.0f ms",
+                report.num_registered, report.num_images, report.num_points, report.rms_px,
+                report.focal_source.c_str(), report.total_ms);
+  out.summary = text;
+  std::vector<double> nears, fars;
+  UndistortCache cache;
+  for (size_t i = 0; i < images.size(); ++i) {
+    const calib::SfmView& sfm_view = sfm_result.views[i];
+    const size_t frame = frame_of_image[i];
+    if (!sfm_view.registered) {
+      warnings->push_back(FrameName(capture, frame) + " not registered: " + sfm_view.note + "; dropped");
+      continue;
+    }
+    PX_ASSIGN_OR_RETURN(View view, MakeView(ViewId{static_cast<int>(frame)}, images[i].image, sfm_view.camera,
+                                            sfm_view.cam_from_world, calib_options, &cache));
+    out.views.push_back(std::move(view));
+    if (sfm_view.depth_near > 0) nears.push_back(sfm_view.depth_near);
+    if (sfm_view.depth_far > 0) fars.push_back(sfm_view.depth_far);
+  }
+  if (out.views.size() < 2 || nears.empty()) {
+    return FailedPreconditionError(name + ": structure from motion registered " + std::to_string(out.views.size()) +
+                                   " images with depth; at least 2 are needed");
+  }
+  // Scene units (SfmOptions::median_depth): the views' near and far points, with a margin.
+  out.depth_min_m = 0.8 * *std::min_element(nears.begin(), nears.end());
+  out.depth_max_m = 1.25 * *std::max_element(fars.begin(), fars.end());
+  timings->push_back({"calib", MsSince(calib_start)});
+  Logger("calib")->info("calib: structure from motion: {}", out.summary);
+  return out;
+}
+
+// Splits the lattice frame and makes the views, timing both stages. Image sets go through
+// structure from motion instead.
+StatusOr<CalibratedViews> CalibrateCapture(const FrameSet& capture, const RigCalibration& rig,
+                                           const CalibOptions& calib, const calib::RigRefinementOptions& refinement,
+                                           const calib::SfmOptions& sfm, std::vector<std::string>* warnings,
+                                           std::vector<StageTiming>* timings) {
   if (capture.kind == FrameSetKind::kImageSet) {
-    return UnimplementedError("capture " + std::to_string(capture.capture_id) + ": an image set of " +
-                              std::to_string(capture.frames.size()) +
-                              " images needs per-shot calibration (structure from motion); hand-held mode comes "
-                              "with calibration");
+    return ImageSetViews(capture, rig, calib, sfm, warnings, timings);
   }
   if (capture.frames.empty()) {
     return InvalidArgumentError("capture " + std::to_string(capture.capture_id) + " holds no frames");
@@ -181,7 +310,11 @@ StatusOr<std::vector<View>> LatticeViews(const FrameSet& capture, const RigCalib
   timings->push_back({"lattice", MsSince(lattice_start)});
 
   const Clock::time_point calib_start = Clock::now();
-  PX_ASSIGN_OR_RETURN(std::vector<View> views, MakeViews(*tiles, rig, calib));
+  CalibratedViews out;
+  out.depth_min_m = rig.nominal_depth_min_m;
+  out.depth_max_m = rig.nominal_depth_max_m;
+  const RigCalibration shot_rig = RefinedRig(*tiles, rig, refinement, warnings, &out);
+  PX_ASSIGN_OR_RETURN(std::vector<View> views, MakeViews(*tiles, shot_rig, calib));
   // Drop blank views: they match nothing and would only add wrong depth and colour.
   std::vector<View> usable;
   std::vector<std::string> blank;
@@ -213,7 +346,8 @@ StatusOr<std::vector<View>> LatticeViews(const FrameSet& capture, const RigCalib
   }
   for (std::string& text : blank) warnings->push_back(std::move(text) + "; dropped");
   timings->push_back({"calib", MsSince(calib_start)});
-  return usable;
+  out.views = std::move(usable);
+  return out;
 }
 
 // Sets OpenCV's worker count for the run and restores it after.
@@ -234,6 +368,8 @@ class ThreadCountScope {
 
 Status PipelineOptions::Validate() const {
   PX_RETURN_IF_ERROR(calib.Validate());
+  PX_RETURN_IF_ERROR(refinement.Validate().WithContext("pipeline.refinement"));
+  PX_RETURN_IF_ERROR(sfm.Validate().WithContext("pipeline.sfm"));
   PX_RETURN_IF_ERROR(depth.Validate());
   PX_RETURN_IF_ERROR(direct.Validate());
   PX_RETURN_IF_ERROR(render.Validate());
@@ -244,11 +380,17 @@ Status PipelineOptions::Validate() const {
 }
 
 StatusOr<std::vector<View>> MakeViewsFromCapture(const FrameSet& capture, const RigCalibration& rig,
-                                                 std::vector<std::string>* warnings, const CalibOptions& calib) {
+                                                 std::vector<std::string>* warnings, const CalibOptions& calib,
+                                                 const calib::RigRefinementOptions& refinement,
+                                                 const calib::SfmOptions& sfm) {
   std::vector<std::string> ignored;
   std::vector<StageTiming> timings;
   PX_RETURN_IF_ERROR(calib.Validate());
-  return LatticeViews(capture, rig, calib, warnings != nullptr ? warnings : &ignored, &timings);
+  PX_RETURN_IF_ERROR(refinement.Validate().WithContext("refinement"));
+  PX_RETURN_IF_ERROR(sfm.Validate().WithContext("sfm"));
+  PX_ASSIGN_OR_RETURN(CalibratedViews out, CalibrateCapture(capture, rig, calib, refinement, sfm,
+                                                            warnings != nullptr ? warnings : &ignored, &timings));
+  return std::move(out.views);
 }
 
 StatusOr<PipelineReport> RunPipeline(const FrameSet& capture, const RigCalibration& rig,
@@ -266,16 +408,19 @@ StatusOr<PipelineReport> RunPipeline(const FrameSet& capture, const RigCalibrati
 
   // Stages 1 and 2: lattice and calibrated views.
   PX_RETURN_IF_ERROR(report_progress("lattice", 0));
-  PX_ASSIGN_OR_RETURN(std::vector<View> views, LatticeViews(capture, rig, options.calib, &report.warnings,
-                                                            &report.timings));
+  PX_ASSIGN_OR_RETURN(CalibratedViews calibrated, CalibrateCapture(capture, rig, options.calib, options.refinement,
+                                                                   options.sfm, &report.warnings, &report.timings));
+  std::vector<View> views = std::move(calibrated.views);
   report.num_views = static_cast<int>(views.size());
+  report.calibration = calibrated.calibration;
+  report.calibration_summary = calibrated.summary;
   log->info("lattice: {} views of {}x{} in {:.0f} ms, calib in {:.0f} ms", views.size(), views.front().camera.width,
             views.front().camera.height, report.timings[0].ms, report.timings[1].ms);
   PX_RETURN_IF_ERROR(report_progress("calib", 1));
 
   // Stage 3: depth.
   Clock::time_point start = Clock::now();
-  DepthOptions depth_options = options.depth.WithDefaultDepthRange(rig.nominal_depth_min_m, rig.nominal_depth_max_m);
+  DepthOptions depth_options = options.depth.WithDefaultDepthRange(calibrated.depth_min_m, calibrated.depth_max_m);
   if (depth_options.num_threads == 0) depth_options.num_threads = options.num_threads;
   bool cancelled = false;
   StatusOr<DepthStageResult> depth = ComputeLayeredDepth(views, depth_options, [&](double fraction) {

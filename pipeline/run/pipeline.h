@@ -11,6 +11,8 @@
 
 #include "pipeline/calib/calib_options.h"
 #include "pipeline/core/coverage_report.h"
+#include "pipeline/calib/rig_refinement_options.h"
+#include "pipeline/calib/sfm_options.h"
 #include "pipeline/core/frame_set.h"
 #include "pipeline/core/rig_calibration.h"
 #include "pipeline/core/view.h"
@@ -21,8 +23,17 @@
 
 namespace px {
 
+// Refinement options with refinement off: views from the factory calibration alone.
+inline calib::RigRefinementOptions NoRefinement() {
+  calib::RigRefinementOptions options;
+  options.enabled = false;
+  return options;
+}
+
 struct PipelineOptions {
   CalibOptions calib;     // undistortion
+  calib::RigRefinementOptions refinement;  // per-shot refinement of a lattice shot
+  calib::SfmOptions sfm;  // structure from motion for image sets (hand-held)
   DepthOptions depth;     // depth range 0 = the rig's nominal range
   DirectOptions direct;   // move, duration, fps
   RenderOptions render;
@@ -44,6 +55,10 @@ struct StageTiming {
 
 struct PipelineReport {
   int num_views = 0;            // usable views after splitting and checks
+  // Calibration: "factory", "factory (confirmed by refinement)", "refined" (per-shot
+  // refinement) or "structure from motion"; the refinement's or SfM's figures in one line (matches, inliers, RMS before and after).
+  std::string calibration;
+  std::string calibration_summary;
   std::vector<std::string> warnings;  // degraded results, for the log and the clip's JSON
   std::vector<StageTiming> timings;
   CameraPath path;              // the path rendered
@@ -59,10 +74,16 @@ using ProgressCallback = std::function<bool(const std::string& stage, double fra
 // Builds calibrated, undistorted views from a capture and its rig calibration. A lattice capture
 // uses its first frame whose status is ok (others are named in `warnings`) and fails, naming the
 // frame, when none is; views whose tile is blank (a covered or dead lens) are dropped with a
-// warning while at least two remain. Image sets (hand-held) fail with UNIMPLEMENTED for now.
+// warning while at least two remain. The lattice's calibration is the factory's (`rig`) unless
+// per-shot refinement is enabled in `refinement` (off by default here; RunPipeline refines).
+// Image sets (hand-held) get their poses and focal lengths from structure from motion (`sfm`):
+// `rig` then gives intrinsics only when it has one lens per image of the image's size; a set
+// that cannot be reconstructed fails with FAILED_PRECONDITION and the reason.
 StatusOr<std::vector<View>> MakeViewsFromCapture(const FrameSet& capture, const RigCalibration& rig,
                                                  std::vector<std::string>* warnings,
-                                                 const CalibOptions& calib = {});
+                                                 const CalibOptions& calib = {},
+                                                 const calib::RigRefinementOptions& refinement = NoRefinement(),
+                                                 const calib::SfmOptions& sfm = {});
 
 // Runs every stage and hands each rendered frame to `sink` in order. Timings: "lattice",
 // "calib", "depth", "direct", "render" (rendering only) and "encode" (time inside the sink).

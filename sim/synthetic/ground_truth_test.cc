@@ -27,6 +27,12 @@ SimCameraSpec Distorted(SimCameraSpec spec) {
   return spec;
 }
 
+// Lenses moved off the factory calibration (default magnitudes): the views follow the true lenses.
+SimCameraSpec Perturbed(SimCameraSpec spec) {
+  spec.perturb_lenses_seed = 4;
+  return spec;
+}
+
 template <typename T>
 T Bilinear(const cv::Mat& image, double x, double y) {
   const int x0 = static_cast<int>(x), y0 = static_cast<int>(y);
@@ -161,8 +167,68 @@ INSTANTIATE_TEST_SUITE_P(Lattices,
                          ::testing::Values(Case{"pop9", SimCameraSpec::Pop9()},
                                            Case{"pop9_distorted", Distorted(SimCameraSpec::Pop9())},
                                            Case{"integral5x4", SimCameraSpec::Integral5x4()},
-                                           Case{"integral5x4_distorted", Distorted(SimCameraSpec::Integral5x4())}),
+                                           Case{"integral5x4_distorted", Distorted(SimCameraSpec::Integral5x4())},
+                                           Case{"pop9_perturbed_distorted", Perturbed(Distorted(SimCameraSpec::Pop9()))}),
                          [](const auto& param_info) { return param_info.param.name; });
+
+// With perturbed lenses the views are rendered through the true lenses, which the factory
+// calibration does not describe: the same comparison made with the factory's cameras fails.
+TEST(PerturbedLensesTest, ViewsDisagreeWithTheFactoryCalibration) {
+  auto scene = LoadScene(testing::SceneFile("still_life"));
+  ASSERT_TRUE(scene.ok()) << scene.status().ToString();
+  const SimCameraSpec spec = testing::Quartered(Perturbed(SimCameraSpec::Pop9()));
+  auto views = RenderLatticeViews(*scene, spec);
+  ASSERT_TRUE(views.ok()) << views.status().ToString();
+  const RigCalibration factory = spec.Calibration();
+  std::vector<ViewTruth> as_factory = *views;
+  for (size_t i = 0; i < as_factory.size(); ++i) {
+    as_factory[i].camera = factory.lenses[i].camera;
+    as_factory[i].cam_from_rig = factory.lenses[i].cam_from_rig;
+    EXPECT_FALSE(as_factory[i].camera.fx == (*views)[i].camera.fx) << "lens " << i << " was not perturbed";
+  }
+  cv::Mat corner_f;
+  (*views)[0].bgr.convertTo(corner_f, CV_32FC3);
+  const int step = spec.tile_width / 40;
+  const Agreement truthful = Compare((*views)[4], (*views)[0], corner_f, Eigen::Vector3d::Zero(), step);
+  const Agreement factory_view = Compare(as_factory[4], as_factory[0], corner_f, Eigen::Vector3d::Zero(), step);
+  // Up to 0.3 degrees of rotation and 1 % of focal length move points by about a pixel here.
+  EXPECT_GT(Percentile(factory_view.depth_rel_errors, 0.8), 20 * Percentile(truthful.depth_rel_errors, 0.8));
+  EXPECT_GT(Percentile(factory_view.colour_errors, 0.8), 1.5 * Percentile(truthful.colour_errors, 0.8));
+}
+
+TEST(PerturbedLensesTest, DrawsAreSeededAndWithinTheMagnitudes) {
+  SimCameraSpec spec = SimCameraSpec::Pop9();
+  const RigCalibration factory = spec.Calibration();
+  const LensPerturbation magnitudes;
+  const RigCalibration a = PerturbLenses(factory, magnitudes, 7);
+  const RigCalibration b = PerturbLenses(factory, magnitudes, 7);
+  const RigCalibration c = PerturbLenses(factory, magnitudes, 8);
+  double max_rotation = 0, max_focal = 0, max_pp = 0, max_centre = 0;
+  for (int i = 0; i < factory.NumViews(); ++i) {
+    EXPECT_EQ(a.lenses[i].camera.fx, b.lenses[i].camera.fx);
+    EXPECT_NE(a.lenses[i].camera.fx, c.lenses[i].camera.fx);
+    EXPECT_EQ(a.lenses[i].camera.fy / a.lenses[i].camera.fx, factory.lenses[i].camera.fy / factory.lenses[i].camera.fx);
+    max_focal = std::max(max_focal, std::abs(a.lenses[i].camera.fx / factory.lenses[i].camera.fx - 1));
+    max_pp = std::max({max_pp, std::abs(a.lenses[i].camera.cx - factory.lenses[i].camera.cx),
+                       std::abs(a.lenses[i].camera.cy - factory.lenses[i].camera.cy)});
+    max_rotation = std::max(max_rotation, RotationErrorDeg(a.lenses[i].cam_from_rig, factory.lenses[i].cam_from_rig));
+    max_centre = std::max(max_centre, (CameraCentre(a.lenses[i].cam_from_rig) -
+                                       CameraCentre(factory.lenses[i].cam_from_rig)).cwiseAbs().maxCoeff());
+  }
+  EXPECT_LE(max_focal, magnitudes.focal_relative);
+  EXPECT_GT(max_focal, 0.3 * magnitudes.focal_relative);
+  EXPECT_LE(max_pp, magnitudes.principal_point_px);
+  EXPECT_LE(max_rotation, std::sqrt(3.0) * magnitudes.rotation_deg);  // up to the limit on each axis
+  EXPECT_GT(max_rotation, 0.3 * magnitudes.rotation_deg);
+  EXPECT_LE(max_centre, magnitudes.centre_m + 1e-12);
+  EXPECT_TRUE(a.Validate().ok());
+
+  spec.perturbation.rotation_deg = -1;
+  spec.perturb_lenses_seed = 1;
+  const Status invalid = spec.Validate();
+  ASSERT_FALSE(invalid.ok());
+  EXPECT_NE(invalid.message().find("rotation_deg = -1"), std::string::npos) << invalid.message();
+}
 
 }  // namespace
 }  // namespace px::sim

@@ -60,6 +60,7 @@ Status SimCameraSpec::Validate() const {
     return Invalid("depth range",
                    "[" + Str(depth_min_m) + ", " + Str(depth_max_m) + "] m is not positive and increasing");
   }
+  PX_RETURN_IF_ERROR(perturbation.Validate().WithContext("sim camera spec"));
   const LatticeLayout layout = Layout();
   StatusOr<size_t> bytes = PackedImageBytes(pixel_format, layout.sensor_width, layout.sensor_height);
   if (!bytes.ok()) return bytes.status().WithContext("sim camera spec: pixel_format");
@@ -88,6 +89,11 @@ RigCalibration SimCameraSpec::Calibration() const {
     }
   }
   return rig;
+}
+
+RigCalibration SimCameraSpec::TrueCalibration() const {
+  if (perturb_lenses_seed == 0) return Calibration();
+  return PerturbLenses(Calibration(), perturbation, perturb_lenses_seed);
 }
 
 }  // namespace px

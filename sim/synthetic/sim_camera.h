@@ -10,6 +10,7 @@
 #include "pipeline/core/lattice_layout.h"
 #include "pipeline/core/pixel_format.h"
 #include "pipeline/core/rig_calibration.h"
+#include "sim/synthetic/lens_perturbation.h"
 
 namespace px {
 
@@ -33,6 +34,11 @@ struct SimCameraSpec {
   PixelFormat pixel_format = PixelFormat::kRgb888;
   double depth_min_m = 0.5;  // nominal depth range written into the rig calibration
   double depth_max_m = 8.0;
+  // 0: the lenses are exactly as Calibration() says. Otherwise the seed of per-lens deviations
+  // (`perturbation`): views are rendered through TrueCalibration(), recordings still carry
+  // Calibration() (the factory's), the ground truth holds the true lenses.
+  uint64_t perturb_lenses_seed = 0;
+  LensPerturbation perturbation;
 
   static SimCameraSpec Pop9();         // 3x3 lattice, 640x480 tiles, 25 mm baseline
   static SimCameraSpec Integral5x4();  // 5 columns x 4 rows, 320x240 tiles, 12 mm baseline
@@ -43,6 +49,9 @@ struct SimCameraSpec {
   // The ideal (factory) calibration: lens (r, c) at x = (c - (cols-1)/2) * baseline, y likewise,
   // all looking down +z, with the spec's intrinsics and distortion.
   RigCalibration Calibration() const;
+  // The lenses the views are rendered through: Calibration(), perturbed when
+  // perturb_lenses_seed != 0.
+  RigCalibration TrueCalibration() const;
 };
 
 }  // namespace px

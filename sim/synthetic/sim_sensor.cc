@@ -3,6 +3,7 @@
 #include <chrono>
 #include <cmath>
 #include <opencv2/core.hpp>
+#include <optional>
 
 #include "pipeline/core/log.h"
 #include "sim/synthetic/ray_caster.h"
@@ -67,12 +68,20 @@ uint64_t CaptureNoiseSeed(uint64_t seed, uint64_t sequence) { return StreamSeed(
 StatusOr<std::vector<ViewTruth>> RenderLatticeViews(const Scene& scene, const SimCameraSpec& spec) {
   PX_RETURN_IF_ERROR(spec.Validate());
   const auto start = std::chrono::steady_clock::now();
-  const RigCalibration rig = spec.Calibration();
-  // All lenses share intrinsics: the (possibly distorted) rays are computed once.
-  PX_ASSIGN_OR_RETURN(CameraRays rays, CameraRays::Make(rig.lenses[0].camera, spec.supersampling));
+  const RigCalibration rig = spec.TrueCalibration();
+  // Lenses with equal intrinsics (all of them, unless perturbed) share one table of rays; a
+  // perturbed lens gets its own, made when its turn comes (a distorted table is ~12 MB).
+  std::optional<CameraRays> rays;
   std::vector<ViewTruth> views;
   for (int i = 0; i < rig.NumViews(); ++i) {
-    RenderedView rendered = RenderView(scene, rays, rig.lenses[i].cam_from_rig);
+    const CameraModel& camera = rig.lenses[i].camera;
+    if (!rays || rays->camera().fx != camera.fx || rays->camera().fy != camera.fy ||
+        rays->camera().cx != camera.cx || rays->camera().cy != camera.cy ||
+        rays->camera().distortion != camera.distortion) {
+      PX_ASSIGN_OR_RETURN(CameraRays table, CameraRays::Make(camera, spec.supersampling));
+      rays = std::move(table);
+    }
+    RenderedView rendered = RenderView(scene, *rays, rig.lenses[i].cam_from_rig);
     ViewTruth view;
     view.id = ViewId{i};
     view.camera = rig.lenses[i].camera;
@@ -145,7 +154,7 @@ StatusOr<SensorFrame> RenderSensorFrame(const Scene& scene, const SimCameraSpec&
   PX_ASSIGN_OR_RETURN(std::vector<ViewTruth> views, RenderLatticeViews(scene, spec));
   SensorFrame frame;
   frame.truth.scene_name = scene.name;
-  frame.truth.rig = spec.Calibration();
+  frame.truth.rig = spec.TrueCalibration();
   frame.truth.exposure_gains = DrawExposureGains(spec, seed);
   frame.truth.noise_seed = CaptureNoiseSeed(seed, 0);
   frame.truth.views = std::move(views);

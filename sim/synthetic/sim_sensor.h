@@ -29,7 +29,7 @@ struct ViewTruth {
 
 struct GroundTruth {
   std::string scene_name;
-  RigCalibration rig;                  // the spec's ideal calibration (what the views used)
+  RigCalibration rig;                  // the lenses the views used: spec.TrueCalibration()
   std::vector<ViewTruth> views;        // one per lens, row-major
   std::vector<double> exposure_gains;  // per view, applied on the sensor
   uint64_t noise_seed = 0;             // the seed of this frame's noise
@@ -40,7 +40,8 @@ struct SensorFrame {
   GroundTruth truth;
 };
 
-// Renders each lens's clean upright view (spec.supersampling). Fails on an invalid spec.
+// Renders each lens's clean upright view (spec.supersampling) through spec.TrueCalibration().
+// Fails on an invalid spec.
 StatusOr<std::vector<ViewTruth>> RenderLatticeViews(const Scene& scene, const SimCameraSpec& spec);
 
 // Per-lens exposure gains in [1 - s, 1 + s], s = spec.exposure_spread, drawn from `seed`.

@@ -61,7 +61,7 @@ class SyntheticSource final : public FrameSource {
     const uint64_t sequence = next_sequence_++;
     sim::GroundTruth truth;
     truth.scene_name = scene_.name;
-    truth.rig = options_.camera.Calibration();
+    truth.rig = options_.camera.TrueCalibration();
     truth.views = *views_;
     truth.exposure_gains = exposure_gains_;
     truth.noise_seed = sim::CaptureNoiseSeed(options_.seed, sequence);

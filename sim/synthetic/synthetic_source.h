@@ -23,7 +23,8 @@ struct SyntheticSourceOptions {
 
 // Loads the scene now (errors name the file and field) and renders on the first Next(); the
 // clean render is cached, each capture adds its own noise (seed, sequence). Describe() gives
-// model "sim:<camera.name>", a lattice frame and camera.Calibration(). Configure grants any
+// model "sim:<camera.name>", a lattice frame and camera.Calibration() (the factory's: with
+// perturbed lenses the views differ from it; LastGroundTruth has the truth). Configure grants any
 // pixel format that fits the sensor and always the native sensor size (kAdjusted otherwise).
 // Next() never times out: rendering is not a camera that can miss a frame.
 StatusOr<std::unique_ptr<FrameSource>> MakeSyntheticSource(const SyntheticSourceOptions& options);
