@@ -13,8 +13,9 @@
 #include "pipeline/depth/plane_sweep.h"
 #include "pipeline/direct/plan_camera_path.h"
 #include "pipeline/lattice/split_lattice.h"
-#include "pipeline/render/novel_view_renderer.h"
+#include "pipeline/direct/pan_zoom_2d.h"
 #include "pipeline/run/frame_salvage.h"
+#include "pipeline/run/novel_view_scene_renderer.h"
 
 namespace px {
 
@@ -193,6 +194,147 @@ class ThreadCountScope {
   int previous_;
 };
 
+
+// Logs the direction stage's decision and copies its fallbacks and notes into the warnings
+// (they reach the clip's JSON there and in the camera path's notes).
+void LogDirection(const PipelineReport& report, std::vector<std::string>* warnings) {
+  const auto log = Logger("pipeline");
+  const DirectionReport& d = report.direction;
+  log->info("direct: {} ({}), {} frames; subjects: {} ({}); {} coverage probes in {:.0f} ms; {:.1f} ms in all",
+            report.path.move, report.path.effect, report.path.NumFrames(), d.num_subjects, d.detector,
+            d.coverage_probes, d.coverage_ms, report.timings.back().ms);
+  log->info("direct: {}", report.path.reason);
+  for (const std::string& note : report.path.notes) {
+    if (d.fell_back) {
+      log->warn("direct: {}", note);
+    } else {
+      log->info("direct: {}", note);
+    }
+    warnings->push_back("direct: " + note);
+  }
+}
+
+// Renders every frame of report->path (novel views, a morph or a flat pan and zoom) into `sink`.
+Status RenderFrames(const std::vector<View>& views, SceneRenderer* renderer, FrameSink* sink,
+                    const std::function<Status(const char*, double)>& report_progress, PipelineReport* report) {
+  const auto log = Logger("pipeline");
+  const Clock::time_point start = Clock::now();
+  const CameraPath& path = report->path;
+  const View* flat_source = nullptr;
+  if (path.kind == PathKind::kPanZoom2d) {
+    for (const View& view : views) {
+      if (view.id.value == path.source_views.front()) flat_source = &view;
+    }
+    if (flat_source == nullptr) {
+      return InternalError("render: the pan and zoom's view " + std::to_string(path.source_views.front()) +
+                           " is not among the views");
+    }
+  }
+  if (path.kind == PathKind::kMorph && report->direction.morph == nullptr) {
+    return InternalError("render: a morph path without its correspondences");
+  }
+  if (path.kind == PathKind::kNovelView && renderer == nullptr) {
+    return InternalError("render: a novel-view path without a renderer");
+  }
+  const int num_frames = path.NumFrames();
+  double sink_ms = 0, hole_sum = 0;
+  PX_RETURN_IF_ERROR(report_progress("render", 0));
+  for (int i = 0; i < num_frames; ++i) {
+    const double t = path.FrameTime(i);
+    cv::Mat bgr;
+    switch (path.kind) {
+      case PathKind::kNovelView: {
+        StatusOr<FrameRender> frame = renderer->Render(path.FrameAt(t));
+        if (!frame.ok()) return frame.status().WithContext("render frame " + std::to_string(i));
+        hole_sum += frame->holes.hole_ratio;
+        bgr = std::move(frame->bgr);
+        break;
+      }
+      case PathKind::kMorph:
+        bgr = report->direction.morph->FrameAt(t);
+        break;
+      case PathKind::kPanZoom2d:
+        cv::warpPerspective(flat_source->image, bgr,
+                            direct::FlatFrameHomography(*flat_source, path.CameraAt(t), path.PoseAt(t)),
+                            cv::Size(path.width, path.height), cv::INTER_LINEAR, cv::BORDER_REPLICATE);
+        break;
+    }
+    const Clock::time_point sink_start = Clock::now();
+    const Status consumed = sink->Consume(i, bgr);
+    sink_ms += MsSince(sink_start);
+    if (!consumed.ok()) return consumed.WithContext("frame sink, frame " + std::to_string(i));
+    report->frames_rendered = i + 1;
+    PX_RETURN_IF_ERROR(report_progress("render", static_cast<double>(i + 1) / num_frames));
+  }
+  report->mean_hole_ratio = hole_sum / num_frames;
+  report->timings.push_back({"render", MsSince(start) - sink_ms});
+  report->timings.push_back({"encode", sink_ms});
+  log->info("render: {} frames of {}x{} ({}), {:.1f} ms each, {:.2f}% holes on average; sink {:.0f} ms", num_frames,
+            path.width, path.height, PathKindName(path.kind),
+            report->timings[report->timings.size() - 2].ms / num_frames, 100 * report->mean_hole_ratio, sink_ms);
+  if (report->mean_hole_ratio > kHighHoleRatio) {
+    char text[160];
+    std::snprintf(text, sizeof(text), "render: %.1f%% of each frame on average was inpainted (no source saw it)",
+                  100 * report->mean_hole_ratio);
+    report->warnings.push_back(text);
+    log->warn("{}", text);
+  }
+  return OkStatus();
+}
+
+// An image set that cannot be calibrated: its usable images become views without poses or
+// depth, and the direction stage morphs between two of them (or pans over one).
+StatusOr<PipelineReport> RunUncalibrated(const FrameSet& capture, const Status& why, const PipelineOptions& options,
+                                         FrameSink* sink,
+                                         const std::function<Status(const char*, double)>& report_progress,
+                                         PipelineReport report) {
+  const auto log = Logger("pipeline");
+  Clock::time_point start = Clock::now();
+  std::vector<View> views;
+  for (size_t i = 0; i < capture.frames.size(); ++i) {
+    const Frame& frame = capture.frames[i];
+    if (frame.status != FrameStatus::kOk) {
+      report.warnings.push_back(FrameName(capture, i) + " skipped: " + std::string(FrameStatusName(frame.status)));
+      continue;
+    }
+    StatusOr<cv::Mat> bgr = ToBgr(frame.image);
+    if (!bgr.ok()) {
+      report.warnings.push_back(FrameName(capture, i) + " skipped: " + bgr.status().message());
+      continue;
+    }
+    View view;
+    view.id.value = static_cast<int32_t>(i);
+    view.image = *bgr;
+    if (!views.empty() && view.image.size() != views.front().image.size()) {
+      cv::resize(view.image, view.image, views.front().image.size(), 0, 0, cv::INTER_AREA);
+      report.warnings.push_back(FrameName(capture, i) + " resized to the first image's size for the morph");
+    }
+    // No calibration: a nominal pinhole (a 53 degree field of view) at the origin; a morph and
+    // a flat pan and zoom need only the image.
+    view.camera = CameraModel::Pinhole(view.image.cols, view.image.rows, std::max(view.image.cols, view.image.rows));
+    views.push_back(std::move(view));
+  }
+  if (views.empty()) return FailedPreconditionError("capture " + std::to_string(capture.capture_id) + ": no usable image; " + why.message());
+  report.num_views = static_cast<int>(views.size());
+  report.timings.push_back({"decode", MsSince(start)});
+  const std::string reason = "image set without calibration (" + why.message() + ")";
+  report.warnings.push_back(reason);
+  log->warn("{}: morphing instead", reason);
+
+  PX_RETURN_IF_ERROR(report_progress("direct", 0));
+  start = Clock::now();
+  DirectionContext direction;
+  direction.depth_trusted = false;
+  direction.distrust_reason = "no calibration";
+  direction.face_detector = options.face_detector.get();
+  StatusOr<CameraPath> path = PlanCameraPath(views, {}, options.direct, direction, &report.direction);
+  if (!path.ok()) return path.status().WithContext("direct");
+  report.path = *path;
+  report.timings.push_back({"direct", MsSince(start)});
+  LogDirection(report, &report.warnings);
+  PX_RETURN_IF_ERROR(RenderFrames(views, nullptr, sink, report_progress, &report));
+  return report;
+}
 }  // namespace
 
 Status PipelineOptions::Validate() const {
@@ -229,8 +371,14 @@ StatusOr<PipelineReport> RunPipeline(const FrameSet& capture, const RigCalibrati
 
   // Stages 1 and 2: lattice and calibrated views.
   PX_RETURN_IF_ERROR(report_progress("lattice", 0));
-  PX_ASSIGN_OR_RETURN(std::vector<View> views, LatticeViews(capture, rig, options.calib, &report.warnings,
-                                                            &report.timings));
+  StatusOr<std::vector<View>> made = LatticeViews(capture, rig, options.calib, &report.warnings, &report.timings);
+  if (!made.ok() && capture.kind == FrameSetKind::kImageSet &&
+      (made.status().code() == StatusCode::kUnimplemented || made.status().code() == StatusCode::kFailedPrecondition)) {
+    // Never fail the button: images that cannot be calibrated still morph (paper 4.5).
+    return RunUncalibrated(capture, made.status(), options, sink, report_progress, std::move(report));
+  }
+  if (!made.ok()) return made.status();
+  std::vector<View> views = std::move(made).value();
   report.num_views = static_cast<int>(views.size());
   log->info("lattice: {} views of {}x{} in {:.0f} ms, calib in {:.0f} ms", views.size(), views.front().camera.width,
             views.front().camera.height, report.timings[0].ms, report.timings[1].ms);
@@ -248,6 +396,7 @@ StatusOr<PipelineReport> RunPipeline(const FrameSet& capture, const RigCalibrati
   if (cancelled) return CancelledError("pipeline cancelled during depth");
   if (!depths.ok()) return depths.status().WithContext("depth");
   report.timings.push_back({"depth", MsSince(start)});
+  DirectionContext direction;
   {
     double confident = 0, total = 0;
     for (const DepthMap& map : *depths) {
@@ -265,50 +414,34 @@ StatusOr<PipelineReport> RunPipeline(const FrameSet& capture, const RigCalibrati
       report.warnings.push_back(text);
       log->warn("{}", text);
     }
+    if (fraction < options.direct.min_confident_fraction) {
+      direction.depth_trusted = false;
+      char text[160];
+      std::snprintf(text, sizeof(text), "%.0f%% of the depth is confident, want %.0f%%", 100 * fraction,
+                    100 * options.direct.min_confident_fraction);
+      direction.distrust_reason = text;
+    }
   }
 
-  // Stage 4: the camera path.
+  // Stage 4: the camera path, its viewpoints checked against what the renderer can cover.
   PX_RETURN_IF_ERROR(report_progress("direct", 0));
   start = Clock::now();
-  StatusOr<CameraPath> path = PlanCameraPath(views, *depths, options.direct);
+  PX_ASSIGN_OR_RETURN(std::unique_ptr<NovelViewSceneRenderer> renderer,
+                      NovelViewSceneRenderer::Create(views, *depths, options.render));
+  direction.coverage = [&renderer](const CameraModel& camera, const Rigid3& cam_from_world) {
+    return renderer->Coverage(camera, cam_from_world);
+  };
+  direction.face_detector = options.face_detector.get();
+  direction.shot = options.shot.get();
+  StatusOr<CameraPath> path = PlanCameraPath(views, *depths, options.direct, direction, &report.direction);
   if (!path.ok()) return path.status().WithContext("direct");
   report.path = *path;
   report.timings.push_back({"direct", MsSince(start)});
-  log->info("direct: {} ({}), {} frames, in {:.1f} ms", report.path.move, report.path.reason,
-            report.path.NumFrames(), report.timings.back().ms);
+  LogDirection(report, &report.warnings);
+  PX_RETURN_IF_ERROR(report_progress("direct", 1));
 
   // Stage 5: render every frame and hand it on.
-  start = Clock::now();
-  PX_ASSIGN_OR_RETURN(std::unique_ptr<NovelViewRenderer> renderer,
-                      NovelViewRenderer::Create(views, *depths, options.render));
-  const int num_frames = report.path.NumFrames();
-  double sink_ms = 0, hole_sum = 0;
-  PX_RETURN_IF_ERROR(report_progress("render", 0));
-  for (int i = 0; i < num_frames; ++i) {
-    const double t = report.path.FrameTime(i);
-    StatusOr<RenderResult> frame = renderer->Render(report.path.CameraAt(t), report.path.PoseAt(t));
-    if (!frame.ok()) return frame.status().WithContext("render frame " + std::to_string(i));
-    hole_sum += frame->hole_ratio;
-    const Clock::time_point sink_start = Clock::now();
-    const Status consumed = sink->Consume(i, frame->bgr);
-    sink_ms += MsSince(sink_start);
-    if (!consumed.ok()) return consumed.WithContext("frame sink, frame " + std::to_string(i));
-    report.frames_rendered = i + 1;
-    PX_RETURN_IF_ERROR(report_progress("render", static_cast<double>(i + 1) / num_frames));
-  }
-  report.mean_hole_ratio = hole_sum / num_frames;
-  report.timings.push_back({"render", MsSince(start) - sink_ms});
-  report.timings.push_back({"encode", sink_ms});
-  log->info("render: {} frames of {}x{}, {:.1f} ms each, {:.2f}% holes on average; sink {:.0f} ms", num_frames,
-            report.path.width, report.path.height, report.timings[report.timings.size() - 2].ms / num_frames,
-            100 * report.mean_hole_ratio, sink_ms);
-  if (report.mean_hole_ratio > kHighHoleRatio) {
-    char text[160];
-    std::snprintf(text, sizeof(text), "render: %.1f%% of each frame on average was inpainted (no source saw it)",
-                  100 * report.mean_hole_ratio);
-    report.warnings.push_back(text);
-    log->warn("{}", text);
-  }
+  PX_RETURN_IF_ERROR(RenderFrames(views, renderer.get(), sink, report_progress, &report));
   return report;
 }
 

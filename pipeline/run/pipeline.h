@@ -4,6 +4,7 @@
 #pragma once
 
 #include <functional>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -15,6 +16,9 @@
 #include "pipeline/core/view.h"
 #include "pipeline/depth/depth_options.h"
 #include "pipeline/direct/camera_path.h"
+#include "pipeline/direct/face_detector.h"
+#include "pipeline/direct/plan_camera_path.h"
+#include "pipeline/direct/shot_file.h"
 #include "pipeline/render/render_options.h"
 
 namespace px {
@@ -22,9 +26,12 @@ namespace px {
 struct PipelineOptions {
   CalibOptions calib;     // undistortion
   DepthOptions depth;     // depth range 0 = the rig's nominal range
-  DirectOptions direct;   // move, duration, fps
+  DirectOptions direct;   // move, effect, seed, duration, fps, subjects, search
   RenderOptions render;
   int num_threads = 0;    // 0 = all cores
+  // Loaded by device/ (the pipeline opens no files) and shared between runs.
+  std::shared_ptr<const direct::FaceDetector> face_detector;  // null: no face detection
+  std::shared_ptr<const direct::Shot> shot;                    // null: the taxonomy chooses
   Status Validate() const;
 };
 
@@ -45,6 +52,7 @@ struct PipelineReport {
   std::vector<std::string> warnings;  // degraded results, for the log and the clip's JSON
   std::vector<StageTiming> timings;
   CameraPath path;              // the path rendered
+  DirectionReport direction;    // subjects, the move's choice, fallbacks, search figures
   int frames_rendered = 0;
   double mean_hole_ratio = 0;   // fraction of pixels no source covered, before filling
 };
@@ -55,13 +63,17 @@ using ProgressCallback = std::function<bool(const std::string& stage, double fra
 // Builds calibrated, undistorted views from a capture and its rig calibration. A lattice capture
 // uses its first frame whose status is ok (others are named in `warnings`) and fails, naming the
 // frame, when none is; views whose tile is blank (a covered or dead lens) are dropped with a
-// warning while at least two remain. Image sets (hand-held) fail with UNIMPLEMENTED for now.
+// warning while at least two remain. Image sets (hand-held) fail with UNIMPLEMENTED for now
+// (RunPipeline then morphs between their first two images: see below).
 StatusOr<std::vector<View>> MakeViewsFromCapture(const FrameSet& capture, const RigCalibration& rig,
                                                  std::vector<std::string>* warnings,
                                                  const CalibOptions& calib = {});
 
 // Runs every stage and hands each rendered frame to `sink` in order. Timings: "lattice",
 // "calib", "depth", "direct", "render" (rendering only) and "encode" (time inside the sink).
+// Never fails the button for untrustworthy input: with depth it cannot trust, or an image set it
+// cannot calibrate, the direction stage falls back to a morph between two views or a flat pan
+// and zoom, and the report's warnings say why.
 // progress is called at each stage's start and end and after each rendered frame; returning
 // false stops the run with CANCELLED.
 StatusOr<PipelineReport> RunPipeline(const FrameSet& capture, const RigCalibration& rig,

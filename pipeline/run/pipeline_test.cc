@@ -110,11 +110,31 @@ class PipelineTest : public ::testing::Test {
   cv::Mat sensor_;
 };
 
+// An authored linear dolly across the middle row, converging on the background (the median
+// depth), through the rig's own positions, so the frames can be held to the exact renders.
+std::shared_ptr<const direct::Shot> MiddleRowShot() {
+  auto shot = std::make_shared<direct::Shot>();
+  direct::ShotSegment segment;
+  segment.interpolation = direct::Interpolation::kLinear;
+  for (double x : {-kBaselineM, kBaselineM}) {
+    direct::ShotKeyframe key;
+    key.t = x < 0 ? 0 : 1;
+    key.position_m = Eigen::Vector3d(x, 0, 0);
+    key.look_at_m = Eigen::Vector3d(0, 0, 3.0);
+    key.focal_px = kFocalPx;
+    segment.keyframes.push_back(key);
+  }
+  shot->segments.push_back(segment);
+  return shot;
+}
+
 TEST_F(PipelineTest, RendersTheDollyFromALatticeFrame) {
   CollectingSink sink;
   std::map<std::string, std::vector<double>> progress;
+  PipelineOptions options = ShortClip();
+  options.shot = MiddleRowShot();
   StatusOr<PipelineReport> report =
-      RunPipeline(Capture(sensor_), rig_, ShortClip(), &sink, [&](const std::string& stage, double fraction) {
+      RunPipeline(Capture(sensor_), rig_, options, &sink, [&](const std::string& stage, double fraction) {
         progress[stage].push_back(fraction);
         return true;
       });
@@ -134,9 +154,9 @@ TEST_F(PipelineTest, RendersTheDollyFromALatticeFrame) {
   for (const char* stage : {"lattice", "depth", "direct", "render"}) EXPECT_FALSE(progress[stage].empty()) << stage;
   EXPECT_EQ(progress["render"].back(), 1.0);
 
-  // The establishing dolly across the middle row, converging on the median depth.
+  // The authored dolly across the middle row.
   const CameraPath& path = report->path;
-  EXPECT_EQ(path.move, "establishing_dolly");
+  EXPECT_EQ(path.kind, PathKind::kNovelView);
   EXPECT_LT((CameraCentre(path.PoseAt(0)) - Eigen::Vector3d(-kBaselineM, 0, 0)).norm(), 1e-9);
   EXPECT_LT((CameraCentre(path.PoseAt(1)) - Eigen::Vector3d(kBaselineM, 0, 0)).norm(), 1e-9);
   EXPECT_EQ(path.width, kTileWidth);
@@ -157,6 +177,22 @@ TEST_F(PipelineTest, RendersTheDollyFromALatticeFrame) {
     EXPECT_GT(cv::PSNR(sink.frames[i], want), 32.0) << "frame " << i;
   }
   // The dolly stays within the rig: hardly anything to inpaint.
+  EXPECT_LT(report->mean_hole_ratio, 0.01);
+}
+
+// Without a shot the taxonomy decides: no faces (no detector here), so an establishing move
+// (row 0 of table 1) through viewpoints the renderer covers.
+TEST_F(PipelineTest, ChoosesAnEstablishingMoveThroughValidViewpoints) {
+  CollectingSink sink;
+  StatusOr<PipelineReport> report = RunPipeline(Capture(sensor_), rig_, ShortClip(), &sink);
+  ASSERT_TRUE(report.ok()) << report.status().ToString();
+  EXPECT_EQ(report->path.kind, PathKind::kNovelView);
+  EXPECT_TRUE(report->path.move == "establishing_dolly" || report->path.move == "establishing_dolly_out")
+      << report->path.move;
+  EXPECT_FALSE(report->direction.fell_back) << report->path.reason;
+  EXPECT_LT(report->direction.plan.max_hole_score, 2.0);
+  EXPECT_GT(report->direction.coverage_probes, 0);
+  EXPECT_EQ(report->frames_rendered, 10);
   EXPECT_LT(report->mean_hole_ratio, 0.01);
 }
 
@@ -272,10 +308,15 @@ TEST_F(PipelineTest, RejectsWhatItCannotDo) {
   CollectingSink sink;
   FrameSet image_set = Capture(sensor_);
   image_set.kind = FrameSetKind::kImageSet;
-  const Status hand_held = RunPipeline(image_set, rig_, ShortClip(), &sink).status();
-  EXPECT_EQ(hand_held.code(), StatusCode::kUnimplemented);
-  EXPECT_NE(hand_held.message().find("hand-held mode comes with calibration"), std::string::npos)
-      << hand_held.message();
+  // An image set cannot be calibrated yet: never fail the button, pan and zoom over its one
+  // image, and say why.
+  StatusOr<PipelineReport> hand_held = RunPipeline(image_set, rig_, ShortClip(), &sink);
+  ASSERT_TRUE(hand_held.ok()) << hand_held.status().ToString();
+  EXPECT_EQ(hand_held->path.kind, PathKind::kPanZoom2d);
+  EXPECT_EQ(hand_held->frames_rendered, 10);
+  ASSERT_FALSE(hand_held->warnings.empty());
+  EXPECT_NE(hand_held->warnings.front().find("hand-held mode comes with calibration"), std::string::npos)
+      << hand_held->warnings.front();
 
   EXPECT_EQ(RunPipeline(Capture(sensor_), rig_, ShortClip(), nullptr).status().code(), StatusCode::kInvalidArgument);
 
