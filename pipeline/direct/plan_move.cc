@@ -203,6 +203,7 @@ StatusOr<CameraPath> PlanMove(const MoveChoice& choice, const PlanContext& conte
   const Subject* first = needed >= 1 ? &context.subjects[0] : nullptr;
   const Subject* second = needed >= 2 ? &context.subjects[1] : nullptr;
   if (needed >= 2 && choice.swap_subjects) std::swap(first, second);
+  if (needed == 1 && choice.swap_subjects && context.subjects.size() >= 2) first = &context.subjects[1];
   for (const Subject* s : {first, second}) {
     if (s != nullptr && !s->depth_known) {
       return FailedPreconditionError(name + ": a subject has no known depth to plan a 3D move around");
@@ -270,7 +271,7 @@ StatusOr<CameraPath> PlanMove(const MoveChoice& choice, const PlanContext& conte
   PX_ASSIGN_OR_RETURN(ValidRegion start_region, FindValidViewpoints(scene, start_rule, context.search, options.search,
                                                                     sweep, start_front, !start_front));
   report->valid_cells_start = start_region.valid_cells;
-  const std::vector<Candidate>& starts = start_front ? start_region.front : start_region.back;
+  std::vector<Candidate> starts = start_front ? start_region.front : start_region.back;
   if (starts.empty()) {
     return FailedPreconditionError(name + ": no valid viewpoint frames the start (" + start_what + ") among " +
                                    std::to_string(start_region.cells) + " positions");
@@ -278,6 +279,22 @@ StatusOr<CameraPath> PlanMove(const MoveChoice& choice, const PlanContext& conte
   if (dolly_zoom) {
     // The far end keeps the subject at the start's size: focal grows with the distance, up to
     // max_dolly_zoom (beyond it the rule declines to frame, which ends the search).
+    // The start may be so near the subject that even the capture plane needs more than
+    // max_dolly_zoom to keep its size: then start farther back (still between z = 0 and the
+    // front surface, inside the valid region along the axis), so the zoom has room to run.
+    const Eigen::Vector3d start_in_rig = scene.RigFromWorld(starts.front().framing.centre_in_world);
+    const double subject_z = scene.RigFromWorld(first->CentreInWorld()).z();
+    const double nearest_z = subject_z - (subject_z - std::min(0.0, start_in_rig.z())) / (0.9 * options.max_dolly_zoom);
+    if (start_in_rig.z() > nearest_z && nearest_z > 0) {
+      starts.front().framing = start_rule(scene.WorldFromRig(Eigen::Vector3d(start_in_rig.x(), start_in_rig.y(), nearest_z)));
+      PX_ASSIGN_OR_RETURN(starts.front().hole_score,
+                          context.search->HoleScore(scene.OutputWithFocal(starts.front().framing.focal_px),
+                                                    starts.front().framing.cam_from_world));
+      if (!(starts.front().hole_score < context.search->valid_hole_score())) {
+        return FailedPreconditionError(name + ": the start " + Mm(scene.RigFromWorld(starts.front().framing.centre_in_world)) +
+                                       " far enough back for the zoom to keep the subject's size is not valid");
+      }
+    }
     const Framing start = starts.front().framing;
     const Subject subject = *first;
     const double start_height = ProjectedHeightPx(subject, scene.OutputWithFocal(1.0), start.cam_from_world);

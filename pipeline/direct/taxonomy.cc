@@ -189,13 +189,21 @@ std::vector<MoveChoice> FallbackMoves(const MoveChoice& first, int num_subjects)
   const int top = std::min(std::clamp(num_subjects, 0, 2), SubjectsNeeded(first.move));
   for (int row = top; row >= 0; --row) {
     for (Move move : MovesOfRow(row)) {
-      if (move == first.move) continue;
-      MoveChoice choice;
-      choice.move = move;
-      choice.effect = Effect::kNone;
-      choice.swap_subjects = first.swap_subjects;
-      choice.reason = "fallback: " + std::string(MoveName(move)) + " (row " + std::to_string(row) + ")";
-      fallbacks.push_back(choice);
+      // With two subjects a subject move is tried on each: a close-up of one may leave the
+      // views' field where the other's holds (a subject near the frame's edge).
+      const int orders = row >= 1 && num_subjects >= 2 ? 2 : 1;
+      for (int order = 0; order < orders; ++order) {
+        const bool swap = order == 1 ? !first.swap_subjects : first.swap_subjects;
+        if (move == first.move && swap == first.swap_subjects) continue;
+        MoveChoice choice;
+        choice.move = move;
+        choice.effect = Effect::kNone;
+        choice.swap_subjects = swap;
+        choice.reason = "fallback: " + std::string(MoveName(move)) + " (row " + std::to_string(row) + ")" +
+                        (order == 1 ? (row == 2 ? ", from the second subject to the first" : ", on the second subject")
+                                    : "");
+        fallbacks.push_back(choice);
+      }
     }
   }
   return fallbacks;

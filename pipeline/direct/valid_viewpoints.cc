@@ -148,10 +148,13 @@ StatusOr<ValidRegion> FindValidViewpoints(const SceneGeometry& scene, const Fram
     // try its neighbour's forward answer before giving it up.
     if (!origin.valid && search_front && front_hint && *front_hint > z.precision_m) {
       PX_ASSIGN_OR_RETURN(Probed ahead, column.At(*front_hint));
-      if (ahead.valid) {
-        origin = ahead;
-        origin.valid = true;
-      }
+      if (ahead.valid) origin = ahead;
+    }
+    // A view turned towards a subject off the axis lacks rays at its far edge from z = 0, but
+    // nearer the scene the same edge falls on surfaces the inputs saw: step forwards, doubling.
+    for (double ahead_m = z.first_step_m; !origin.valid && search_front && ahead_m <= z.forward_m; ahead_m *= 2) {
+      PX_ASSIGN_OR_RETURN(Probed ahead, column.At(ahead_m));
+      if (ahead.valid) origin = ahead;
     }
     if (!origin.valid) {
       region.probes += column.probes();
