@@ -5,13 +5,12 @@
 // two nearest input views. Depth is the simulator's truth, so the checks measure direction alone.
 #include <cmath>
 #include <filesystem>
-#include <fstream>
 #include <map>
 #include <memory>
-#include <sstream>
 
 #include <gtest/gtest.h>
 
+#include "device/face_cascades.h"
 #include "pipeline/direct/framing.h"
 #include "pipeline/direct/parallax_measure.h"
 #include "pipeline/direct/plan_camera_path.h"
@@ -23,23 +22,6 @@
 
 namespace px {
 namespace {
-
-constexpr char kCascadeDir[] = "/usr/share/opencv4/haarcascades/";
-
-std::shared_ptr<const direct::FaceDetector> LoadDetector() {
-  std::vector<direct::CascadeText> cascades;
-  for (const auto& [name, profile] : std::vector<std::pair<std::string, bool>>{
-           {"haarcascade_frontalface_default", false}, {"haarcascade_frontalface_alt2", false},
-           {"haarcascade_profileface", true}}) {
-    std::ifstream in(std::string(kCascadeDir) + name + ".xml");
-    if (!in) return nullptr;
-    std::stringstream text;
-    text << in.rdbuf();
-    cascades.push_back({name, text.str(), profile});
-  }
-  auto detector = direct::FaceDetector::Create(cascades);
-  return detector.ok() ? std::shared_ptr<const direct::FaceDetector>(std::move(detector).value()) : nullptr;
-}
 
 // One simulated shot with its views, true depth and a renderer for coverage.
 struct Shot {
@@ -141,8 +123,9 @@ void CheckPath(Shot* shot, const Planned& planned, int subjects_expected, bool f
 class DirectionTest : public ::testing::Test {
  protected:
   void SetUp() override {
-    detector_ = LoadDetector();
-    if (detector_ == nullptr) GTEST_SKIP() << "no face cascades in " << kCascadeDir << " (Debian: opencv-data)";
+    auto detector = device::LoadFaceDetector();
+    if (!detector.ok()) GTEST_SKIP() << detector.status().message();
+    detector_ = *detector;
   }
   // The face scenes are textured from real photos in ../shared/data (faces_dlib_pascalvoc).
   void NeedFacePhotos() {
