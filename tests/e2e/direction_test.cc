@@ -115,9 +115,10 @@ void CheckPath(Shot* shot, const Planned& planned, int subjects_expected, bool f
                                                        path.CameraAt(1).Scaled(0.25), path.PoseAt(1));
   EXPECT_GE(chosen_parallax, input_parallax);
   std::printf("[figures] %s (%d subjects): max H(V) %.3f over %d frames; parallax %.4f vs %.4f between the nearest "
-              "views; %d coverage probes in %.0f ms, %.0f ms in all\n",
+              "views; %d coverage probes in %.0f ms, subjects %.0f ms, %.0f ms in all\n",
               path.move.c_str(), subjects_expected, worst_hole_score, path.NumFrames(), chosen_parallax,
-              input_parallax, planned.report.coverage_probes, planned.report.coverage_ms, planned.report.total_ms);
+              input_parallax, planned.report.coverage_probes, planned.report.coverage_ms, planned.report.subjects_ms,
+              planned.report.total_ms);
 }
 
 class DirectionTest : public ::testing::Test {
