@@ -542,7 +542,8 @@ TEST_F(DaemonTest, SetMoveAppliesToJobsPressedAfterIt) {
   const std::string before = Call(R"({"cmd":"capture"})")["job"];
   nlohmann::json bad = Call(R"({"cmd":"set_move","move":"barrel_roll"})");
   EXPECT_EQ(bad["code"], "INVALID_ARGUMENT");
-  EXPECT_THAT(bad["error"].get<std::string>(), HasSubstr("unknown move \"barrel_roll\", want one of auto establishing_dolly"));
+  EXPECT_THAT(bad["error"].get<std::string>(),
+              HasSubstr("unknown move \"barrel_roll\", want one of auto, dolly_zoom, morph, pan_zoom_2d, establishing_dolly"));
   EXPECT_EQ(Call(R"({"cmd":"status"})")["move"], nullptr);
   nlohmann::json set = Call(R"({"cmd":"set_move","move":"establishing_dolly"})");
   EXPECT_EQ(set["ok"], true);

@@ -5,8 +5,15 @@
 #include <memory>
 
 #include "device/cli/progress_bar.h"
+#include <filesystem>
+
+#include <nlohmann/json.hpp>
+
 #include "device/clip_job.h"
+#include "device/face_cascades.h"
+#include "pipeline/core/durable_file.h"
 #include "pipeline/core/log.h"
+#include "pipeline/direct/shot_file.h"
 
 namespace px::cli {
 namespace {
@@ -15,6 +22,11 @@ struct ClipArgs {
   std::string recording;
   std::string output;
   std::string move = "auto";
+  std::string effect = "auto";
+  uint64_t seed = 1;
+  std::string shot;                   // a shot file (pipeline/direct/SHOT_FORMAT.md)
+  std::vector<double> subject_px;     // x y w h, repeated: user subjects in the centre view
+  bool no_faces = false;
   double duration_s = 5.0;
   double fps = 30.0;
   std::string format = "auto";
@@ -46,6 +58,32 @@ Status RunClip(const ClipArgs& args) {
   std::filesystem::path output(args.output);
   if (!output.has_filename()) output = output.parent_path();  // "frames/" names the folder "frames"
   options.pipeline.direct.move = args.move;
+  options.pipeline.direct.effect = args.effect;
+  options.pipeline.direct.seed = args.seed;
+  if (args.subject_px.size() % 4 != 0) {
+    return InvalidArgumentError("--subject: " + std::to_string(args.subject_px.size()) +
+                                " numbers, want x y w h for each subject");
+  }
+  for (size_t i = 0; i + 3 < args.subject_px.size(); i += 4) {
+    options.pipeline.direct.subject_boxes_px.emplace_back(args.subject_px[i], args.subject_px[i + 1],
+                                                          args.subject_px[i + 2], args.subject_px[i + 3]);
+  }
+  auto log = Logger("clip");
+  if (!args.no_faces) {
+    StatusOr<std::shared_ptr<const direct::FaceDetector>> detector = device::LoadFaceDetector();
+    if (detector.ok()) {
+      options.pipeline.face_detector = *detector;
+    } else {
+      log->warn("no face detection: {}", detector.status().message());
+    }
+  }
+  if (!args.shot.empty()) {
+    PX_ASSIGN_OR_RETURN(std::string text, ReadFileToString(args.shot));
+    const nlohmann::json j = nlohmann::json::parse(text, nullptr, /*allow_exceptions=*/false);
+    if (j.is_discarded()) return InvalidArgumentError("--shot " + args.shot + ": not valid JSON");
+    PX_ASSIGN_OR_RETURN(direct::Shot shot, direct::ShotFromJson(j));
+    options.pipeline.shot = std::make_shared<const direct::Shot>(std::move(shot));
+  }
   options.pipeline.direct.duration_s = args.duration_s;
   options.pipeline.direct.fps = args.fps;
   options.pipeline.num_threads = args.threads;
@@ -64,7 +102,12 @@ Status RunClip(const ClipArgs& args) {
                                            return true;
                                          }));
   progress.Finish();
-  auto log = Logger("clip");
+  // The shot that reproduces this clip, for replaying or editing it (--shot).
+  std::filesystem::path shot_path = report.clip_path;
+  shot_path.replace_extension(".shot.json");
+  PX_RETURN_IF_ERROR(
+      WriteFileAtomically(shot_path, direct::ShotToJson(direct::ShotFromPath(report.pipeline.path)).dump(2) + "\n"));
+  log->info("shot written to {}", shot_path.string());
   for (const std::string& warning : report.pipeline.warnings) log->warn("{}", warning);
   for (const StageTiming& t : report.pipeline.timings) log->info("{:<8} {:8.1f} ms", t.stage, t.ms);
   log->info("{} {} frames {}x{}, {:.1f} KiB, {:.1f} ms in all; report {}", report.format, report.frames_written,
@@ -84,7 +127,15 @@ void AddClipCommand(CLI::App& app) {
   clip->add_option("-o,--output", args->output,
                    "Clip to write (a folder for --format png); its camera path and report (JSON) go beside it")
       ->required();
-  clip->add_option("--move", args->move, "Camera move: auto or establishing_dolly")->capture_default_str();
+  clip->add_option("--move", args->move, "Camera move: " + KnownMovesText())
+      ->capture_default_str();
+  clip->add_option("--effect", args->effect, "Image effect: " + KnownEffectsText())->capture_default_str();
+  clip->add_option("--seed", args->seed, "Seed of the automatic choice (same seed, same clip)")->capture_default_str();
+  clip->add_option("--shot", args->shot, "Authored shot (JSON, pipeline/direct/SHOT_FORMAT.md) instead of the choice")
+      ->check(CLI::ExistingFile);
+  clip->add_option("--subject", args->subject_px,
+                   "A subject as x y w h in centre-view pixels (repeatable); replaces face detection");
+  clip->add_flag("--no-faces", args->no_faces, "Do not detect faces (only --subject regions are subjects)");
   clip->add_option("--duration", args->duration_s, "Clip length in seconds")->capture_default_str();
   clip->add_option("--fps", args->fps, "Frames per second")->capture_default_str();
   clip->add_option("--format", args->format,

@@ -1,20 +1,400 @@
 #include "pipeline/direct/plan_camera_path.h"
 
-#include "pipeline/direct/establishing_dolly.h"
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <limits>
+#include <optional>
+
+#include "pipeline/direct/pan_zoom_2d.h"
+#include "pipeline/direct/scene_geometry.h"
+#include "pipeline/direct/subjects.h"
+#include "pipeline/direct/taxonomy.h"
 
 namespace px {
 
-StatusOr<CameraPath> PlanCameraPath(const std::vector<View>& views, const std::vector<DepthMap>& depths,
-                                    const DirectOptions& options) {
-  PX_RETURN_IF_ERROR(options.Validate());
-  // Validate() admits only known moves; both lead to the establishing dolly for now.
-  PX_ASSIGN_OR_RETURN(CameraPath path, PlanEstablishingDolly(views, depths, options));
-  if (options.move == "auto") {
-    path.reason = "auto: no subject of interest detected (subject detection is not implemented), so the "
-                  "establishing dolly; " + path.reason;
-  } else {
-    path.reason = "requested: " + path.reason;
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double MsSince(Clock::time_point start) {
+  return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
+}
+
+// A morph needs most of the frame matched both ways to look like one scene moving.
+constexpr double kMinMorphConsistency = 0.5;
+
+// The pair to morph between: the centre view and its nearest neighbour (the smallest baseline
+// gives the most reliable flow); with two views, those two.
+std::pair<int, int> MorphPair(const std::vector<View>& views, int centre) {
+  int best = centre == 0 ? 1 : 0;
+  double best_distance = std::numeric_limits<double>::infinity();
+  const Eigen::Vector3d c = CameraCentre(views[centre].cam_from_world);
+  for (size_t i = 0; i < views.size(); ++i) {
+    if (static_cast<int>(i) == centre) continue;
+    const double d = (CameraCentre(views[i].cam_from_world) - c).norm();
+    if (d < best_distance) {
+      best_distance = d;
+      best = static_cast<int>(i);
+    }
   }
+  return {std::min(centre, best), std::max(centre, best)};
+}
+
+CameraPath MorphPath(const View& a, const View& b, const std::vector<Subject>& subjects,
+                     const DirectOptions& options) {
+  CameraPath path = BlankPath(PathKind::kMorph, "morph", a.camera, options.fps, options.duration_s);
+  path.source_views = {a.id.value, b.id.value};
+  path.subjects = subjects;
+  for (const View* view : {&a, &b}) {
+    CameraKeyframe key;
+    key.t = view == &a ? 0.0 : 1.0;
+    key.centre_in_world = CameraCentre(view->cam_from_world);
+    key.cam_from_world_rotation = view->cam_from_world.rotation;
+    key.focal_px = view->camera.fx;
+    path.keyframes.push_back(key);
+  }
+  return path;
+}
+
+struct Planner {
+  const std::vector<View>& views;
+  const std::vector<DepthMap>& depths;
+  const DirectOptions& options;
+  const DirectionContext& context;
+  DirectionReport& report;
+  int centre = 0;
+  std::vector<Subject> subjects;
+
+  // The morph between two views, if its correspondences hold; else the flat pan and zoom.
+  StatusOr<CameraPath> Flat(const std::string& why) {
+    report.fell_back = true;
+    if (!why.empty()) report.notes.push_back(why);
+    if (views.size() >= 2 && options.move != "pan_zoom_2d") {
+      const auto [ia, ib] = MorphPair(views, centre);
+      direct::MorphOptions morph_options;
+      StatusOr<std::unique_ptr<direct::ViewMorph>> morph =
+          direct::ViewMorph::Create(views[ia].image, views[ib].image, morph_options);
+      if (morph.ok() && (*morph)->report().consistent_fraction >= kMinMorphConsistency) {
+        const direct::MorphReport& m = (*morph)->report();
+        CameraPath path = MorphPath(views[ia], views[ib], subjects, options);
+        char reason[300];
+        std::snprintf(reason, sizeof(reason),
+                      "morph from view %d to view %d along dense correspondences (%.0f%% consistent both ways, "
+                      "%s, %.0f%% of matches moving off their epipolar lines)",
+                      views[ia].id.value, views[ib].id.value, 100 * m.consistent_fraction,
+                      m.epipolar ? "soft epipolar constraint" : "no epipolar geometry found", 100 * m.moving_fraction);
+        path.reason = reason;
+        report.morph = std::move(morph).value();
+        return path;
+      }
+      report.notes.push_back(morph.ok() ? "morph not used: only " +
+                                              std::to_string(static_cast<int>(
+                                                  100 * (*morph)->report().consistent_fraction)) +
+                                              "% of the views' correspondences agree both ways"
+                                        : "morph not used: " + morph.status().message());
+    }
+    return direct::PlanPanZoom2d(views[centre], subjects, options);
+  }
+
+  // The 3D move for the subjects found, with the taxonomy's fallbacks.
+  StatusOr<CameraPath> ThreeD(const direct::SceneGeometry& scene, const direct::SceneSamples& samples,
+                              direct::CoverageProbe* search, direct::CoverageProbe* verify, const std::string& move,
+                              const std::string& effect, const std::vector<Subject>& move_subjects,
+                              std::string* failure) {
+    PX_ASSIGN_OR_RETURN(direct::MoveChoice choice,
+                        direct::ChooseMove(static_cast<int>(move_subjects.size()), move, effect, options.seed));
+    report.choice = choice.reason;
+    direct::PlanContext plan;
+    plan.scene = &scene;
+    plan.samples = &samples;
+    plan.subjects = move_subjects;
+    plan.search = search;
+    plan.verify = verify;
+    plan.options = &options;
+    std::vector<direct::MoveChoice> tries = {choice};
+    for (const direct::MoveChoice& fallback : direct::FallbackMoves(choice, static_cast<int>(move_subjects.size()))) {
+      tries.push_back(fallback);
+    }
+    std::string failures;
+    for (size_t i = 0; i < tries.size(); ++i) {
+      StatusOr<CameraPath> path = direct::PlanMove(tries[i], plan, &report.plan);
+      if (path.ok()) {
+        if (i > 0) {
+          report.fell_back = true;
+          report.notes.push_back(std::string(direct::MoveName(choice.move)) + " could not be planned (" + failures +
+                                 "); " + tries[i].reason);
+        }
+        path->reason = (i == 0 ? choice.reason : tries[i].reason) + "; " + path->reason;
+        return path;
+      }
+      failures += (failures.empty() ? "" : "; ") + path.status().message();
+    }
+    *failure = failures;
+    return FailedPreconditionError(failures);
+  }
+
+  StatusOr<CameraPath> Shot(const direct::Shot& shot, const direct::SceneGeometry* scene,
+                            const direct::SceneSamples* samples, direct::CoverageProbe* search,
+                            direct::CoverageProbe* verify);
+};
+
+// Merges the segments' colour-effect layers: each key carries every segment's layers, neutral
+// (amount 1) outside the segment that defines them, so that all keys list the same layers.
+void HarmoniseEffects(const std::vector<int>& segment_of_key, CameraPath* path) {
+  std::vector<std::pair<int, size_t>> slots;  // (segment, layer)
+  std::vector<ColorEffect> first_definition;
+  int last_segment = -1;
+  for (size_t k = 0; k < path->keyframes.size(); ++k) {
+    if (segment_of_key[k] == last_segment) continue;
+    last_segment = segment_of_key[k];
+    for (size_t l = 0; l < path->keyframes[k].effects.size(); ++l) {
+      slots.emplace_back(last_segment, l);
+      first_definition.push_back(path->keyframes[k].effects[l]);
+    }
+  }
+  for (size_t k = 0; k < path->keyframes.size(); ++k) {
+    std::vector<ColorEffect> merged;
+    for (size_t s = 0; s < slots.size(); ++s) {
+      const auto& [segment, layer] = slots[s];
+      if (segment == segment_of_key[k] && layer < path->keyframes[k].effects.size()) {
+        merged.push_back(path->keyframes[k].effects[layer]);
+      } else {
+        ColorEffect neutral = first_definition[s];
+        neutral.amount = 1.0;
+        merged.push_back(neutral);
+      }
+    }
+    path->keyframes[k].effects = merged;
+  }
+}
+
+StatusOr<CameraPath> Planner::Shot(const direct::Shot& shot, const direct::SceneGeometry* scene,
+                                   const direct::SceneSamples* samples, direct::CoverageProbe* search,
+                                   direct::CoverageProbe* verify) {
+  DirectOptions shot_options = options;
+  if (shot.fps > 0) shot_options.fps = shot.fps;
+  if (shot.seed) shot_options.seed = *shot.seed;
+  double total = shot.duration_s;
+  if (!(total > 0)) {
+    for (const direct::ShotSegment& s : shot.segments) total += s.duration_s;
+  }
+  if (!(total > 0)) total = options.duration_s;
+  shot_options.duration_s = total;
+  const std::vector<double> durations = shot.SegmentDurations(total);
+  const double capture_focal = scene != nullptr ? scene->focal_px : views[centre].camera.fx;
+
+  CameraPath path = BlankPath(PathKind::kNovelView, "shot", scene != nullptr ? scene->output : views[centre].camera,
+                              shot_options.fps, total);
+  path.interpolation = direct::Interpolation::kLinear;
+  std::vector<int> segment_of_key;
+  std::string summary;
+  double t0 = 0;
+  for (size_t s = 0; s < shot.segments.size(); ++s) {
+    const direct::ShotSegment& segment = shot.segments[s];
+    const std::string where = "shot.segments[" + std::to_string(s) + "]";
+    const double span = durations[s] / total;
+    std::vector<CameraKeyframe> keys;
+    char part[160];
+    if (segment.authored()) {
+      PX_ASSIGN_OR_RETURN(keys, direct::ResolveKeyframes(segment, capture_focal, where));
+      if (segment.interpolation == direct::Interpolation::kCatmullRom) path.interpolation = segment.interpolation;
+      std::snprintf(part, sizeof(part), "%zu keyframes over %.1f s", keys.size(), durations[s]);
+    } else {
+      if (scene == nullptr || samples == nullptr) {
+        return FailedPreconditionError(where + ": move " + segment.move +
+                                       " needs depth the pipeline can trust, and has none");
+      }
+      std::vector<Subject> move_subjects = subjects;
+      if (!segment.subjects_px.empty()) {
+        DirectOptions boxes = options;
+        boxes.subject_boxes_px = segment.subjects_px;
+        boxes.subject_view = segment.subject_view;
+        PX_ASSIGN_OR_RETURN(direct::SubjectSearch found, direct::FindSubjects(views, depths, centre, nullptr, boxes));
+        move_subjects = found.subjects;
+      }
+      std::vector<Subject> with_depth;
+      for (const Subject& subject : move_subjects) {
+        if (subject.depth_known) with_depth.push_back(subject);
+      }
+      DirectOptions segment_options = shot_options;
+      segment_options.duration_s = std::max(1e-3, durations[s]);
+      Planner sub{views, depths, segment_options, context, report, centre, with_depth};
+      std::string failure;
+      StatusOr<CameraPath> planned =
+          sub.ThreeD(*scene, *samples, search, verify, segment.move, segment.effect, with_depth, &failure);
+      if (!planned.ok()) return planned.status().WithContext(where);
+      keys = planned->keyframes;
+      for (const std::string& note : planned->notes) path.notes.push_back(note);
+      for (const Subject& subject : planned->subjects) path.subjects.push_back(subject);
+      std::snprintf(part, sizeof(part), "%s (%s) over %.1f s", planned->move.c_str(), planned->effect.c_str(),
+                    durations[s]);
+    }
+    summary += (summary.empty() ? "" : ", then ") + std::string(part);
+    for (size_t k = 0; k < keys.size(); ++k) {
+      CameraKeyframe key = keys[k];
+      key.t = t0 + key.t * span;
+      if (k == 0 && !path.keyframes.empty()) {
+        // A chained segment starts where the previous one ended.
+        const double jump = (key.centre_in_world - path.keyframes.back().centre_in_world).norm();
+        if (jump > 1e-3 && segment.authored()) {
+          char note[160];
+          std::snprintf(note, sizeof(note), "%s starts %.0f mm from where the previous segment ended; it starts there",
+                        where.c_str(), 1000 * jump);
+          path.notes.push_back(note);
+        }
+        continue;
+      }
+      path.keyframes.push_back(key);
+      segment_of_key.push_back(static_cast<int>(s));
+    }
+    t0 += span;
+  }
+  path.keyframes.front().t = 0.0;
+  path.keyframes.back().t = 1.0;
+  HarmoniseEffects(segment_of_key, &path);
+  PX_RETURN_IF_ERROR(path.Validate().WithContext("shot"));
+  path.reason = "authored shot: " + summary;
+  // Authored paths are the user's to choose, but say where they leave the valid viewpoints.
+  if (verify != nullptr) {
+    double worst = 0, worst_t = 0;
+    const int frames = std::max(options.search.verify_frames, 4 * static_cast<int>(shot.segments.size()) + 1);
+    for (int i = 0; i < frames; ++i) {
+      const double t = static_cast<double>(i) / (frames - 1);
+      StatusOr<double> score = verify->HoleScore(path.CameraAt(t), path.PoseAt(t));
+      if (score.ok() && *score > worst) {
+        worst = *score;
+        worst_t = t;
+      }
+    }
+    report.plan.max_hole_score = worst;
+    if (worst >= verify->valid_hole_score()) {
+      char note[200];
+      std::snprintf(note, sizeof(note),
+                    "the authored path leaves the valid viewpoints: H(V) %.1f at t = %.2f (valid below %.1f); "
+                    "its holes are inpainted",
+                    worst, worst_t, verify->valid_hole_score());
+      path.notes.push_back(note);
+    }
+  }
+  return path;
+}
+
+}  // namespace
+
+double ConfidentDepthFraction(const View& view, const std::vector<DepthMap>& depths) {
+  const DepthMap* depth = direct::FindDepth(depths, view.id);
+  if (depth == nullptr || depth->depth_m.empty()) return 0.0;
+  const bool has_confidence = depth->confidence.size() == depth->depth_m.size() && depth->confidence.type() == CV_32F;
+  const cv::Mat known = depth->depth_m > 0;
+  const cv::Mat sure = has_confidence ? (known & (depth->confidence >= 0.5)) : known;
+  return static_cast<double>(cv::countNonZero(sure)) / static_cast<double>(depth->depth_m.total());
+}
+
+StatusOr<CameraPath> PlanCameraPath(const std::vector<View>& views, const std::vector<DepthMap>& depths,
+                                    const DirectOptions& options, const DirectionContext& context,
+                                    DirectionReport* report_out) {
+  const Clock::time_point start = Clock::now();
+  PX_RETURN_IF_ERROR(options.Validate());
+  if (views.empty()) return InvalidArgumentError("direction: no views");
+  DirectionReport local;
+  DirectionReport& report = report_out != nullptr ? *report_out : local;
+  report = DirectionReport{};
+  Planner planner{views, depths, options, context, report};
+  planner.centre = direct::CentreViewIndex(views);
+
+  StatusOr<direct::SubjectSearch> found =
+      direct::FindSubjects(views, depths, planner.centre, context.face_detector, options);
+  if (found.ok()) {
+    report.detector = found->detector;
+    report.faces_detected = found->detections;
+    report.subjects_ms = found->ms;
+    planner.subjects = found->subjects;
+    for (const std::string& note : found->notes) report.notes.push_back(note);
+  } else {
+    report.notes.push_back("subjects ignored: " + found.status().message());
+    report.detector = "none (bad subject input)";
+  }
+  report.num_subjects = static_cast<int>(planner.subjects.size());
+
+  // Why a 3D move is not attempted, if it is not.
+  std::string no_3d;
+  const double confident = ConfidentDepthFraction(views[planner.centre], depths);
+  if (!context.depth_trusted) {
+    no_3d = "depth or calibration not trusted: " + context.distrust_reason;
+  } else if (views.size() < 2) {
+    no_3d = "one view: no parallax to show";
+  } else if (!context.coverage) {
+    no_3d = "no renderer coverage to check viewpoints with";
+  } else if (confident < options.min_confident_fraction) {
+    char text[160];
+    std::snprintf(text, sizeof(text), "only %.0f%% of the centre view's depth is confident (want %.0f%%)",
+                  100 * confident, 100 * options.min_confident_fraction);
+    no_3d = text;
+  } else if (views.size() == 2 && options.move == "auto" && context.shot == nullptr) {
+    no_3d = "two views: the paper morphs between them (4.5)";
+  }
+  if (options.move == "morph" || options.move == "pan_zoom_2d") no_3d = "requested " + options.move;
+
+  StatusOr<CameraPath> path = FailedPreconditionError("not planned");
+  std::optional<direct::SceneGeometry> scene;
+  std::optional<direct::SceneSamples> samples;
+  direct::CoverageProbe search(&context.coverage, options.search.search_scale, options.search.valid_hole_score);
+  direct::CoverageProbe verify(&context.coverage, options.search.verify_scale, options.search.valid_hole_score);
+  if (no_3d.empty()) {
+    StatusOr<direct::SceneGeometry> described = direct::DescribeScene(views, depths);
+    if (described.ok()) {
+      scene = *described;
+      samples = direct::SceneSamples::FromDepths(views, depths);
+    } else {
+      no_3d = described.status().message();
+    }
+  }
+  // 3D moves need each subject's depth; a subject without it still frames a flat clip.
+  std::vector<Subject> with_depth;
+  for (const Subject& subject : planner.subjects) {
+    if (subject.depth_known) with_depth.push_back(subject);
+  }
+  if (context.shot != nullptr) {
+    if (!no_3d.empty() && !(views.size() == 2 && options.move == "auto")) {
+      bool authored_only = true;
+      for (const direct::ShotSegment& s : context.shot->segments) authored_only = authored_only && s.authored();
+      if (!authored_only) {
+        path = planner.Flat("shot not followed: its taxonomy moves need depth, and " + no_3d);
+      }
+    }
+    if (!path.ok() && path.status().message() == "not planned") {
+      StatusOr<CameraPath> shot_path = planner.Shot(*context.shot, scene ? &*scene : nullptr,
+                                                    samples ? &*samples : nullptr, scene ? &search : nullptr,
+                                                    scene ? &verify : nullptr);
+      if (shot_path.ok()) {
+        path = std::move(shot_path);
+      } else {
+        path = planner.Flat("shot not followed: " + shot_path.status().message());
+      }
+    }
+  } else if (no_3d.empty()) {
+    std::string failure;
+    StatusOr<CameraPath> planned =
+        planner.ThreeD(*scene, *samples, &search, &verify, options.move, options.effect, with_depth, &failure);
+    path = planned.ok() ? std::move(planned) : planner.Flat("no 3D move could be planned: " + failure);
+  } else {
+    const bool asked_flat = options.move == "morph" || options.move == "pan_zoom_2d";
+    const bool paper_morph = views.size() == 2 && options.move == "auto";
+    path = planner.Flat(asked_flat || paper_morph ? "" : "no 3D move: " + no_3d);
+    if (path.ok()) {
+      if (asked_flat || paper_morph) report.fell_back = false;
+      path->reason = (asked_flat || paper_morph ? no_3d : "fallback") + std::string(": ") + path->reason;
+    }
+  }
+  if (!path.ok()) return path.status().WithContext("direction");
+  if (path->subjects.empty()) path->subjects = path->kind == PathKind::kNovelView ? with_depth : planner.subjects;
+  for (const std::string& note : report.notes) path->notes.push_back(note);
+  report.coverage_probes = search.calls() + verify.calls();
+  report.coverage_ms = search.ms() + verify.ms();
+  report.total_ms = MsSince(start);
+  PX_RETURN_IF_ERROR(path->Validate().WithContext("direction"));
   return path;
 }
 

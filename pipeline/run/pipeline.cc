@@ -18,8 +18,8 @@
 #include "pipeline/direct/plan_camera_path.h"
 #include "pipeline/lattice/lattice_detector.h"
 #include "pipeline/lattice/split_lattice.h"
+#include "pipeline/direct/pan_zoom_2d.h"
 #include "pipeline/render/cpu_scene_renderer.h"
-#include "pipeline/render/layered_from_depth.h"
 #include "pipeline/run/frame_salvage.h"
 
 namespace px {
@@ -191,7 +191,7 @@ StatusOr<CalibratedViews> ImageSetViews(const FrameSet& capture, const RigCalibr
                                         std::vector<std::string>* warnings, std::vector<StageTiming>* timings) {
   const std::string name = "capture " + std::to_string(capture.capture_id);
   if (capture.frames.size() < 2) {
-    return InvalidArgumentError(name + ": an image set needs at least 2 images, got " +
+    return FailedPreconditionError(name + ": an image set needs at least 2 images, got " +
                                 std::to_string(capture.frames.size()));
   }
   const Clock::time_point start = Clock::now();
@@ -364,6 +364,151 @@ class ThreadCountScope {
   int previous_;
 };
 
+
+// Logs the direction stage's decision and copies its fallbacks and notes into the warnings
+// (they reach the clip's JSON there and in the camera path's notes).
+void LogDirection(const PipelineReport& report, std::vector<std::string>* warnings) {
+  const auto log = Logger("pipeline");
+  const DirectionReport& d = report.direction;
+  log->info("direct: {} ({}), {} frames; subjects: {} ({}); {} coverage probes in {:.0f} ms; {:.1f} ms in all",
+            report.path.move, report.path.effect, report.path.NumFrames(), d.num_subjects, d.detector,
+            d.coverage_probes, d.coverage_ms, report.timings.back().ms);
+  log->info("direct: {}", report.path.reason);
+  for (const std::string& note : report.path.notes) {
+    if (d.fell_back) {
+      log->warn("direct: {}", note);
+    } else {
+      log->info("direct: {}", note);
+    }
+    warnings->push_back("direct: " + note);
+  }
+}
+
+// Renders every frame of report->path (novel views, a morph or a flat pan and zoom) into `sink`.
+Status RenderFrames(const std::vector<View>& views, SceneRenderer* renderer, FrameSink* sink,
+                    const std::function<Status(const char*, double)>& report_progress, PipelineReport* report) {
+  const auto log = Logger("pipeline");
+  const Clock::time_point start = Clock::now();
+  const CameraPath& path = report->path;
+  const View* flat_source = nullptr;
+  if (path.kind == PathKind::kPanZoom2d) {
+    for (const View& view : views) {
+      if (view.id.value == path.source_views.front()) flat_source = &view;
+    }
+    if (flat_source == nullptr) {
+      return InternalError("render: the pan and zoom's view " + std::to_string(path.source_views.front()) +
+                           " is not among the views");
+    }
+  }
+  if (path.kind == PathKind::kMorph && report->direction.morph == nullptr) {
+    return InternalError("render: a morph path without its correspondences");
+  }
+  if (path.kind == PathKind::kNovelView && renderer == nullptr) {
+    return InternalError("render: a novel-view path without a renderer");
+  }
+  const int num_frames = path.NumFrames();
+  double sink_ms = 0, hole_sum = 0;
+  report->frame_coverage.clear();
+  report->frame_coverage.reserve(num_frames);
+  PX_RETURN_IF_ERROR(report_progress("render", 0));
+  for (int i = 0; i < num_frames; ++i) {
+    const double t = path.FrameTime(i);
+    cv::Mat bgr;
+    switch (path.kind) {
+      case PathKind::kNovelView: {
+        StatusOr<FrameRender> frame = renderer->Render(path.FrameAt(t));
+        if (!frame.ok()) return frame.status().WithContext("render frame " + std::to_string(i));
+        hole_sum += frame->holes.hole_ratio;
+        report->frame_coverage.push_back(frame->holes);
+        bgr = std::move(frame->bgr);
+        break;
+      }
+      case PathKind::kMorph:
+        bgr = report->direction.morph->FrameAt(t);
+        break;
+      case PathKind::kPanZoom2d:
+        cv::warpPerspective(flat_source->image, bgr,
+                            direct::FlatFrameHomography(*flat_source, path.CameraAt(t), path.PoseAt(t)),
+                            cv::Size(path.width, path.height), cv::INTER_LINEAR, cv::BORDER_REPLICATE);
+        break;
+    }
+    const Clock::time_point sink_start = Clock::now();
+    const Status consumed = sink->Consume(i, bgr);
+    sink_ms += MsSince(sink_start);
+    if (!consumed.ok()) return consumed.WithContext("frame sink, frame " + std::to_string(i));
+    report->frames_rendered = i + 1;
+    PX_RETURN_IF_ERROR(report_progress("render", static_cast<double>(i + 1) / num_frames));
+  }
+  report->mean_hole_ratio = hole_sum / num_frames;
+  report->timings.push_back({"render", MsSince(start) - sink_ms});
+  report->timings.push_back({"encode", sink_ms});
+  log->info("render ({}): {} frames of {}x{} ({}), {:.1f} ms each, {:.2f}% holes on average; sink {:.0f} ms",
+            renderer != nullptr ? std::string(renderer->BackendName()) : std::string("2d"), num_frames,
+            path.width, path.height, PathKindName(path.kind),
+            report->timings[report->timings.size() - 2].ms / num_frames, 100 * report->mean_hole_ratio, sink_ms);
+  if (report->mean_hole_ratio > kHighHoleRatio) {
+    char text[160];
+    std::snprintf(text, sizeof(text), "render: %.1f%% of each frame on average was inpainted (no source saw it)",
+                  100 * report->mean_hole_ratio);
+    report->warnings.push_back(text);
+    log->warn("{}", text);
+  }
+  return OkStatus();
+}
+
+// An image set that cannot be calibrated: its usable images become views without poses or
+// depth, and the direction stage morphs between two of them (or pans over one).
+StatusOr<PipelineReport> RunUncalibrated(const FrameSet& capture, const Status& why, const PipelineOptions& options,
+                                         FrameSink* sink,
+                                         const std::function<Status(const char*, double)>& report_progress,
+                                         PipelineReport report) {
+  const auto log = Logger("pipeline");
+  Clock::time_point start = Clock::now();
+  std::vector<View> views;
+  for (size_t i = 0; i < capture.frames.size(); ++i) {
+    const Frame& frame = capture.frames[i];
+    if (frame.status != FrameStatus::kOk) {
+      report.warnings.push_back(FrameName(capture, i) + " skipped: " + std::string(FrameStatusName(frame.status)));
+      continue;
+    }
+    StatusOr<cv::Mat> bgr = ToBgr(frame.image);
+    if (!bgr.ok()) {
+      report.warnings.push_back(FrameName(capture, i) + " skipped: " + bgr.status().message());
+      continue;
+    }
+    View view;
+    view.id.value = static_cast<int32_t>(i);
+    view.image = *bgr;
+    if (!views.empty() && view.image.size() != views.front().image.size()) {
+      cv::resize(view.image, view.image, views.front().image.size(), 0, 0, cv::INTER_AREA);
+      report.warnings.push_back(FrameName(capture, i) + " resized to the first image's size for the morph");
+    }
+    // No calibration: a nominal pinhole (a 53 degree field of view) at the origin; a morph and
+    // a flat pan and zoom need only the image.
+    view.camera = CameraModel::Pinhole(view.image.cols, view.image.rows, std::max(view.image.cols, view.image.rows));
+    views.push_back(std::move(view));
+  }
+  if (views.empty()) return FailedPreconditionError("capture " + std::to_string(capture.capture_id) + ": no usable image; " + why.message());
+  report.num_views = static_cast<int>(views.size());
+  report.timings.push_back({"decode", MsSince(start)});
+  const std::string reason = "image set without calibration (" + why.message() + ")";
+  report.warnings.push_back(reason);
+  log->warn("{}: morphing instead", reason);
+
+  PX_RETURN_IF_ERROR(report_progress("direct", 0));
+  start = Clock::now();
+  DirectionContext direction;
+  direction.depth_trusted = false;
+  direction.distrust_reason = "no calibration";
+  direction.face_detector = options.face_detector.get();
+  StatusOr<CameraPath> path = PlanCameraPath(views, {}, options.direct, direction, &report.direction);
+  if (!path.ok()) return path.status().WithContext("direct");
+  report.path = *path;
+  report.timings.push_back({"direct", MsSince(start)});
+  LogDirection(report, &report.warnings);
+  PX_RETURN_IF_ERROR(RenderFrames(views, nullptr, sink, report_progress, &report));
+  return report;
+}
 }  // namespace
 
 Status PipelineOptions::Validate() const {
@@ -408,8 +553,15 @@ StatusOr<PipelineReport> RunPipeline(const FrameSet& capture, const RigCalibrati
 
   // Stages 1 and 2: lattice and calibrated views.
   PX_RETURN_IF_ERROR(report_progress("lattice", 0));
-  PX_ASSIGN_OR_RETURN(CalibratedViews calibrated, CalibrateCapture(capture, rig, options.calib, options.refinement,
-                                                                   options.sfm, &report.warnings, &report.timings));
+  StatusOr<CalibratedViews> made = CalibrateCapture(capture, rig, options.calib, options.refinement, options.sfm,
+                                                    &report.warnings, &report.timings);
+  if (!made.ok() && capture.kind == FrameSetKind::kImageSet &&
+      (made.status().code() == StatusCode::kUnimplemented || made.status().code() == StatusCode::kFailedPrecondition)) {
+    // Never fail the button: images that cannot be calibrated still morph (paper 4.5).
+    return RunUncalibrated(capture, made.status(), options, sink, report_progress, std::move(report));
+  }
+  if (!made.ok()) return made.status();
+  CalibratedViews calibrated = std::move(made).value();
   std::vector<View> views = std::move(calibrated.views);
   report.num_views = static_cast<int>(views.size());
   report.calibration = calibrated.calibration;
@@ -432,6 +584,7 @@ StatusOr<PipelineReport> RunPipeline(const FrameSet& capture, const RigCalibrati
   report.timings.push_back({"depth", MsSince(start)});
   report.depth = depth->report;
   for (const std::string& warning : depth->report.warnings) report.warnings.push_back(warning);
+  DirectionContext direction;
   {
     const double fraction = depth->report.confident_fraction;
     log->info("depth: {} layered views, {:.0f} to {:.2f} m, {:.0f}% confident, in {:.0f} ms", depth->maps.size(),
@@ -444,19 +597,29 @@ StatusOr<PipelineReport> RunPipeline(const FrameSet& capture, const RigCalibrati
       report.warnings.push_back(text);
       log->warn("{}", text);
     }
+    if (fraction < options.direct.min_confident_fraction) {
+      direction.depth_trusted = false;
+      char text[160];
+      std::snprintf(text, sizeof(text), "%.0f%% of the depth is confident, want %.0f%%", 100 * fraction,
+                    100 * options.direct.min_confident_fraction);
+      direction.distrust_reason = text;
+    }
   }
   // Views that match none of the others (a lens that saw another scene, a black or saturated
   // frame) would paint wrong colour at wrong depth: drop them while two views remain.
   std::vector<DepthMap> depth_maps = std::move(depth->maps);
+  std::vector<LayeredDepthView> layers = std::move(depth->layered);
   if (!depth->report.disagreeing_views.empty() &&
       views.size() - depth->report.disagreeing_views.size() >= 2) {
     std::vector<View> kept_views;
     std::vector<DepthMap> kept_maps;
+    std::vector<LayeredDepthView> kept_layers;
     for (size_t i = 0; i < views.size(); ++i) {
       const auto& bad = depth->report.disagreeing_views;
       if (std::find(bad.begin(), bad.end(), views[i].id) != bad.end()) continue;
       kept_views.push_back(std::move(views[i]));
       kept_maps.push_back(std::move(depth_maps[i]));
+      kept_layers.push_back(std::move(layers[i]));
     }
     const std::string text = "depth: dropped " + std::to_string(views.size() - kept_views.size()) +
                              " view(s) that match none of the others before rendering";
@@ -464,68 +627,31 @@ StatusOr<PipelineReport> RunPipeline(const FrameSet& capture, const RigCalibrati
     log->warn("{}", text);
     views = std::move(kept_views);
     depth_maps = std::move(kept_maps);
+    layers = std::move(kept_layers);
     report.num_views = static_cast<int>(views.size());
   }
   const std::vector<DepthMap>* depths = &depth_maps;
 
-  // Stage 4: the camera path.
+  // Stage 4: the camera path, its viewpoints checked against what the renderer can cover.
   PX_RETURN_IF_ERROR(report_progress("direct", 0));
   start = Clock::now();
-  StatusOr<CameraPath> path = PlanCameraPath(views, *depths, options.direct);
-  if (!path.ok()) return path.status().WithContext("direct");
-  report.path = *path;
-  report.timings.push_back({"direct", MsSince(start)});
-  log->info("direct: {} ({}), {} frames, in {:.1f} ms", report.path.move, report.path.reason,
-            report.path.NumFrames(), report.timings.back().ms);
-
-  // Stage 5: render every frame and hand it on.
-  start = Clock::now();
-  // Until the depth stage produces segments, its per-pixel maps become layered depth here.
-  std::vector<LayeredDepthView> layers;
-  layers.reserve(views.size());
-  for (size_t i = 0; i < views.size(); ++i) {
-    StatusOr<LayeredDepthView> layered = LayeredDepthFromDepthMap(views[i], (*depths)[i]);
-    if (!layered.ok()) return layered.status().WithContext("render: layered depth of view " + std::to_string(i));
-    layers.push_back(std::move(layered).value());
-  }
   PX_ASSIGN_OR_RETURN(std::unique_ptr<CpuSceneRenderer> renderer,
                       CpuSceneRenderer::Create(views, layers, options.render));
   for (const std::string& warning : renderer->warnings()) report.warnings.push_back("render: " + warning);
-  const int num_frames = report.path.NumFrames();
-  double sink_ms = 0, hole_sum = 0;
-  report.frame_coverage.clear();
-  report.frame_coverage.reserve(num_frames);
-  PX_RETURN_IF_ERROR(report_progress("render", 0));
-  for (int i = 0; i < num_frames; ++i) {
-    const double t = report.path.FrameTime(i);
-    VirtualCamera camera;
-    camera.camera = report.path.CameraAt(t);
-    camera.cam_from_world = report.path.PoseAt(t);
-    StatusOr<FrameRender> frame = renderer->Render(camera);
-    if (!frame.ok()) return frame.status().WithContext("render frame " + std::to_string(i));
-    hole_sum += frame->holes.hole_ratio;
-    report.frame_coverage.push_back(frame->holes);
-    const Clock::time_point sink_start = Clock::now();
-    const Status consumed = sink->Consume(i, frame->bgr);
-    sink_ms += MsSince(sink_start);
-    if (!consumed.ok()) return consumed.WithContext("frame sink, frame " + std::to_string(i));
-    report.frames_rendered = i + 1;
-    PX_RETURN_IF_ERROR(report_progress("render", static_cast<double>(i + 1) / num_frames));
-  }
-  report.mean_hole_ratio = hole_sum / num_frames;
-  report.timings.push_back({"render", MsSince(start) - sink_ms});
-  report.timings.push_back({"encode", sink_ms});
-  log->info("render ({} {}): {} frames of {}x{}, {:.1f} ms each, {:.2f}% holes on average; sink {:.0f} ms",
-            renderer->BackendName(), RenderQualityName(options.render.quality), num_frames,
-            report.path.width, report.path.height, report.timings[report.timings.size() - 2].ms / num_frames,
-            100 * report.mean_hole_ratio, sink_ms);
-  if (report.mean_hole_ratio > kHighHoleRatio) {
-    char text[160];
-    std::snprintf(text, sizeof(text), "render: %.1f%% of each frame on average was inpainted (no source saw it)",
-                  100 * report.mean_hole_ratio);
-    report.warnings.push_back(text);
-    log->warn("{}", text);
-  }
+  direction.coverage = [&renderer](const CameraModel& camera, const Rigid3& cam_from_world) {
+    return renderer->Coverage(camera, cam_from_world);
+  };
+  direction.face_detector = options.face_detector.get();
+  direction.shot = options.shot.get();
+  StatusOr<CameraPath> path = PlanCameraPath(views, *depths, options.direct, direction, &report.direction);
+  if (!path.ok()) return path.status().WithContext("direct");
+  report.path = *path;
+  report.timings.push_back({"direct", MsSince(start)});
+  LogDirection(report, &report.warnings);
+  PX_RETURN_IF_ERROR(report_progress("direct", 1));
+
+  // Stage 5: render every frame and hand it on.
+  PX_RETURN_IF_ERROR(RenderFrames(views, renderer.get(), sink, report_progress, &report));
   return report;
 }
 

@@ -4,6 +4,7 @@
 #pragma once
 
 #include <functional>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -19,6 +20,9 @@
 #include "pipeline/depth/depth_options.h"
 #include "pipeline/depth/depth_report.h"
 #include "pipeline/direct/camera_path.h"
+#include "pipeline/direct/face_detector.h"
+#include "pipeline/direct/plan_camera_path.h"
+#include "pipeline/direct/shot_file.h"
 #include "pipeline/render/render_options.h"
 
 namespace px {
@@ -35,9 +39,12 @@ struct PipelineOptions {
   calib::RigRefinementOptions refinement;  // per-shot refinement of a lattice shot
   calib::SfmOptions sfm;  // structure from motion for image sets (hand-held)
   DepthOptions depth;     // depth range 0 = the rig's nominal range
-  DirectOptions direct;   // move, duration, fps
+  DirectOptions direct;   // move, effect, seed, duration, fps, subjects, search
   RenderOptions render;
   int num_threads = 0;    // 0 = all cores
+  // Loaded by device/ (the pipeline opens no files) and shared between runs.
+  std::shared_ptr<const direct::FaceDetector> face_detector;  // null: no face detection
+  std::shared_ptr<const direct::Shot> shot;                    // null: the taxonomy chooses
   Status Validate() const;
 };
 
@@ -62,6 +69,7 @@ struct PipelineReport {
   std::vector<std::string> warnings;  // degraded results, for the log and the clip's JSON
   std::vector<StageTiming> timings;
   CameraPath path;              // the path rendered
+  DirectionReport direction;    // subjects, the move's choice, fallbacks, search figures
   int frames_rendered = 0;
   double mean_hole_ratio = 0;   // fraction of pixels no source covered, before filling
   std::vector<CoverageReport> frame_coverage;  // per rendered frame: hole ratio and H(V) before filling
@@ -79,6 +87,7 @@ using ProgressCallback = std::function<bool(const std::string& stage, double fra
 // Image sets (hand-held) get their poses and focal lengths from structure from motion (`sfm`):
 // `rig` then gives intrinsics only when it has one lens per image of the image's size; a set
 // that cannot be reconstructed fails with FAILED_PRECONDITION and the reason.
+// (RunPipeline then morphs between two images or pans over one: see below).
 StatusOr<std::vector<View>> MakeViewsFromCapture(const FrameSet& capture, const RigCalibration& rig,
                                                  std::vector<std::string>* warnings,
                                                  const CalibOptions& calib = {},
@@ -87,6 +96,9 @@ StatusOr<std::vector<View>> MakeViewsFromCapture(const FrameSet& capture, const 
 
 // Runs every stage and hands each rendered frame to `sink` in order. Timings: "lattice",
 // "calib", "depth", "direct", "render" (rendering only) and "encode" (time inside the sink).
+// Never fails the button for untrustworthy input: with depth it cannot trust, or an image set it
+// cannot calibrate, the direction stage falls back to a morph between two views or a flat pan
+// and zoom, and the report's warnings say why.
 // progress is called at each stage's start and end and after each rendered frame; returning
 // false stops the run with CANCELLED.
 StatusOr<PipelineReport> RunPipeline(const FrameSet& capture, const RigCalibration& rig,

@@ -3,6 +3,8 @@
 #include <cmath>
 #include <map>
 
+#include <algorithm>
+
 #include <gtest/gtest.h>
 #include <opencv2/imgproc.hpp>
 
@@ -110,11 +112,31 @@ class PipelineTest : public ::testing::Test {
   cv::Mat sensor_;
 };
 
+// An authored linear dolly across the middle row, converging on the background (the median
+// depth), through the rig's own positions, so the frames can be held to the exact renders.
+std::shared_ptr<const direct::Shot> MiddleRowShot() {
+  auto shot = std::make_shared<direct::Shot>();
+  direct::ShotSegment segment;
+  segment.interpolation = direct::Interpolation::kLinear;
+  for (double x : {-kBaselineM, kBaselineM}) {
+    direct::ShotKeyframe key;
+    key.t = x < 0 ? 0 : 1;
+    key.position_m = Eigen::Vector3d(x, 0, 0);
+    key.look_at_m = Eigen::Vector3d(0, 0, 3.0);
+    key.focal_px = kFocalPx;
+    segment.keyframes.push_back(key);
+  }
+  shot->segments.push_back(segment);
+  return shot;
+}
+
 TEST_F(PipelineTest, RendersTheDollyFromALatticeFrame) {
   CollectingSink sink;
   std::map<std::string, std::vector<double>> progress;
+  PipelineOptions options = ShortClip();
+  options.shot = MiddleRowShot();
   StatusOr<PipelineReport> report =
-      RunPipeline(Capture(sensor_), rig_, ShortClip(), &sink, [&](const std::string& stage, double fraction) {
+      RunPipeline(Capture(sensor_), rig_, options, &sink, [&](const std::string& stage, double fraction) {
         progress[stage].push_back(fraction);
         return true;
       });
@@ -136,9 +158,9 @@ TEST_F(PipelineTest, RendersTheDollyFromALatticeFrame) {
   for (const char* stage : {"lattice", "depth", "direct", "render"}) EXPECT_FALSE(progress[stage].empty()) << stage;
   EXPECT_EQ(progress["render"].back(), 1.0);
 
-  // The establishing dolly across the middle row, converging on the median depth.
+  // The authored dolly across the middle row.
   const CameraPath& path = report->path;
-  EXPECT_EQ(path.move, "establishing_dolly");
+  EXPECT_EQ(path.kind, PathKind::kNovelView);
   EXPECT_LT((CameraCentre(path.PoseAt(0)) - Eigen::Vector3d(-kBaselineM, 0, 0)).norm(), 1e-9);
   EXPECT_LT((CameraCentre(path.PoseAt(1)) - Eigen::Vector3d(kBaselineM, 0, 0)).norm(), 1e-9);
   EXPECT_EQ(path.width, kTileWidth);
@@ -167,6 +189,22 @@ TEST_F(PipelineTest, RendersTheDollyFromALatticeFrame) {
     EXPECT_LT(frame.hole_ratio, 0.05);
     EXPECT_LT(frame.hole_score, 2.0);  // a valid viewpoint by the paper's rule
   }
+}
+
+// Without a shot the taxonomy decides: no faces (no detector here), so an establishing move
+// (row 0 of table 1) through viewpoints the renderer covers.
+TEST_F(PipelineTest, ChoosesAnEstablishingMoveThroughValidViewpoints) {
+  CollectingSink sink;
+  StatusOr<PipelineReport> report = RunPipeline(Capture(sensor_), rig_, ShortClip(), &sink);
+  ASSERT_TRUE(report.ok()) << report.status().ToString();
+  EXPECT_EQ(report->path.kind, PathKind::kNovelView);
+  EXPECT_TRUE(report->path.move == "establishing_dolly" || report->path.move == "establishing_dolly_out")
+      << report->path.move;
+  EXPECT_FALSE(report->direction.fell_back) << report->path.reason;
+  EXPECT_LT(report->direction.plan.max_hole_score, 2.0);
+  EXPECT_GT(report->direction.coverage_probes, 0);
+  EXPECT_EQ(report->frames_rendered, 10);
+  EXPECT_LT(report->mean_hole_ratio, 0.01);
 }
 
 TEST_F(PipelineTest, CancelsWhenProgressSaysSo) {
@@ -332,8 +370,14 @@ TEST_F(PipelineTest, RejectsWhatItCannotDo) {
   CollectingSink sink;
   FrameSet image_set = Capture(sensor_);
   image_set.kind = FrameSetKind::kImageSet;
-  const Status one_image = RunPipeline(image_set, rig_, ShortClip(), &sink).status();
-  EXPECT_EQ(one_image.message(), "capture 7: an image set needs at least 2 images, got 1");
+  // One image cannot be calibrated: never fail the button, pan and zoom over it, and say why.
+  StatusOr<PipelineReport> hand_held = RunPipeline(image_set, rig_, ShortClip(), &sink);
+  ASSERT_TRUE(hand_held.ok()) << hand_held.status().ToString();
+  EXPECT_EQ(hand_held->path.kind, PathKind::kPanZoom2d);
+  EXPECT_EQ(hand_held->frames_rendered, 10);
+  EXPECT_TRUE(std::any_of(hand_held->warnings.begin(), hand_held->warnings.end(), [](const std::string& w) {
+    return w.find("an image set needs at least 2 images, got 1") != std::string::npos;
+  })) << ::testing::PrintToString(hand_held->warnings);
 
   EXPECT_EQ(RunPipeline(Capture(sensor_), rig_, ShortClip(), nullptr).status().code(), StatusCode::kInvalidArgument);
 

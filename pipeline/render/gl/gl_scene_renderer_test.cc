@@ -95,7 +95,7 @@ TEST_P(GlSceneRendererTest, NovelViewMatchesTheExactRender) {
   std::printf("novel view: %.1f dB interior, %.1f dB whole, holes %.4f, H %.4f\n", interior, whole,
               frame->holes.hole_ratio, frame->holes.hole_score);
   // Bilinear resampling of ~15 px sinusoids and 8-bit rounding: measured 50.1 dB interior and
-  // 40.1 dB whole (the CPU NovelViewRenderer: 49.9 and 40.0 on the same view); half a pixel of
+  // 40.1 dB whole (the former CPU z-buffer renderer: 49.9 and 40.0 on the same view); half a pixel of
   // misplacement drops the background to ~34 dB (render_test), so 44 dB tells right from wrong.
   EXPECT_GT(interior, 44.0);
   EXPECT_GT(whole, 36.0);

@@ -1,0 +1,32 @@
+#include "pipeline/direct/coverage_probe.h"
+
+#include <chrono>
+#include <cmath>
+#include <string>
+
+namespace px::direct {
+
+double ThinHoleBias(double scale) { return std::pow(2.0 / (1.0 + scale), 3); }
+
+StatusOr<double> CoverageProbe::HoleScore(const CameraModel& output_camera, const Rigid3& cam_from_world) {
+  if (coverage_ == nullptr || !*coverage_) return FailedPreconditionError("direction: no coverage function");
+  const auto start = std::chrono::steady_clock::now();
+  const CameraModel camera = scale_ < 1.0 ? output_camera.Scaled(scale_) : output_camera;
+  StatusOr<CoverageReport> report = (*coverage_)(camera, cam_from_world);
+  ++calls_;
+  ms_ += std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+  if (!report.ok()) return report.status().WithContext("coverage");
+  if (report->width <= 0) {
+    return InternalError("coverage: report without a size (width " + std::to_string(report->width) + ")");
+  }
+  const double measured_scale = static_cast<double>(report->width) / output_camera.width;
+  const double at_output = report->hole_score / std::pow(measured_scale, 3);
+  return at_output / ThinHoleBias(std::min(1.0, measured_scale));
+}
+
+StatusOr<bool> CoverageProbe::Valid(const CameraModel& output_camera, const Rigid3& cam_from_world) {
+  PX_ASSIGN_OR_RETURN(double score, HoleScore(output_camera, cam_from_world));
+  return score < valid_hole_score_;
+}
+
+}  // namespace px::direct

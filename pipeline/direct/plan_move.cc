@@ -1,0 +1,474 @@
+#include "pipeline/direct/plan_move.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <limits>
+
+#include "pipeline/direct/aperture_search.h"
+#include "pipeline/direct/framing.h"
+#include "pipeline/direct/valid_viewpoints.h"
+
+namespace px::direct {
+
+namespace {
+
+// Keyframes of a dolly zoom: dense enough that linear focal between them keeps the subject's
+// height within 0.1 % (the exact focal varies with the distance to the subject, not linearly).
+constexpr int kDollyZoomKeys = 9;
+// Scale at which the parallax of candidate paths is measured (of the output size).
+constexpr double kParallaxScale = 0.25;
+// Framing may narrow a move's zoom to keep subjects inside, but not below this share of the
+// focal length the move asks for: past that the move is not what it claims to be.
+constexpr double kMinFocalShare = 0.5;
+
+FramingRule Aim(const SceneGeometry& scene, const Eigen::Vector3d& target, double focal_px) {
+  return [&scene, target, focal_px](const Eigen::Vector3d& centre) {
+    Framing framing;
+    framing.centre_in_world = centre;
+    framing.cam_from_world = Rigid3::LookAt(centre, target, scene.up_in_world);
+    framing.focal_px = focal_px;
+    return framing;
+  };
+}
+
+CameraKeyframe Key(double t, const Framing& framing) {
+  CameraKeyframe key;
+  key.t = t;
+  key.centre_in_world = framing.centre_in_world;
+  key.cam_from_world_rotation = framing.cam_from_world.rotation;
+  key.focal_px = framing.focal_px;
+  return key;
+}
+
+std::string Mm(const Eigen::Vector3d& p_in_rig) {
+  char text[64];
+  std::snprintf(text, sizeof(text), "(%.0f, %.0f, %.0f) mm", 1000 * p_in_rig.x(), 1000 * p_in_rig.y(),
+                1000 * p_in_rig.z());
+  return text;
+}
+
+// Narrows focal lengths until every subject is wholly inside every frame. `uniform` scales all
+// keys alike (a dolly zoom keeps its size ratio); otherwise each key first takes the most its
+// own view allows. Fails when the subjects need less than kMinFocalShare of a key's focal.
+Status KeepSubjectsInFrame(const std::vector<Subject>& subjects, double margin_px, bool uniform, CameraPath* path,
+                           double* scale) {
+  *scale = 1.0;
+  if (subjects.empty()) return OkStatus();
+  std::vector<double> wanted;
+  for (const CameraKeyframe& key : path->keyframes) wanted.push_back(key.focal_px);
+  double uniform_scale = 1.0;
+  for (CameraKeyframe& key : path->keyframes) {
+    const double most = MaxFocalKeepingInside(subjects, path->CameraAt(key.t), key.CamFromWorld(), margin_px);
+    if (uniform) {
+      uniform_scale = std::min(uniform_scale, most / key.focal_px);
+    } else {
+      key.focal_px = std::min(key.focal_px, most);
+    }
+  }
+  if (uniform) {
+    for (CameraKeyframe& key : path->keyframes) key.focal_px *= uniform_scale;
+  }
+  // Between keys the subjects move on their own curves: check every frame, narrow all keys by
+  // the worst frame's shortfall, and repeat (it converges in one or two rounds).
+  for (int round = 0; round < 4; ++round) {
+    double worst = 1.0;
+    for (int i = 0; i < path->NumFrames(); ++i) {
+      const double t = path->FrameTime(i);
+      const double most = MaxFocalKeepingInside(subjects, path->CameraAt(t), path->PoseAt(t), margin_px);
+      worst = std::min(worst, most / path->FocalAt(t));
+    }
+    if (worst >= 1.0) break;
+    for (CameraKeyframe& key : path->keyframes) key.focal_px *= 0.995 * worst;
+  }
+  for (size_t i = 0; i < path->keyframes.size(); ++i) {
+    const double share = path->keyframes[i].focal_px / wanted[i];
+    *scale = std::min(*scale, share);
+    if (!(share >= kMinFocalShare)) {
+      char text[200];
+      std::snprintf(text, sizeof(text),
+                    "the subjects fit in frame only at %.0f%% of the move's focal length at keyframe %zu", 100 * share,
+                    i);
+      return FailedPreconditionError(text);
+    }
+  }
+  for (int i = 0; i < path->NumFrames(); ++i) {
+    const double t = path->FrameTime(i);
+    if (!SubjectsInside(subjects, path->CameraAt(t), path->PoseAt(t), 0.5 * margin_px)) {
+      return FailedPreconditionError("a subject leaves frame " + std::to_string(i) + " however the zoom is narrowed");
+    }
+  }
+  return OkStatus();
+}
+
+// The largest H(V) over `frames` frames evenly spread along the path, at the probe's size.
+StatusOr<double> WorstHoleScore(const CameraPath& path, int frames, CoverageProbe* probe) {
+  double worst = 0;
+  for (int i = 0; i < frames; ++i) {
+    const double t = frames > 1 ? static_cast<double>(i) / (frames - 1) : 0.0;
+    PX_ASSIGN_OR_RETURN(double score, probe->HoleScore(path.CameraAt(t), path.PoseAt(t)));
+    worst = std::max(worst, score);
+    if (worst >= probe->valid_hole_score()) break;  // early exit: this path is out
+  }
+  return worst;
+}
+
+Framing FramingOfKey(const CameraKeyframe& key) {
+  Framing framing;
+  framing.centre_in_world = key.centre_in_world;
+  framing.cam_from_world = key.CamFromWorld();
+  framing.focal_px = key.focal_px;
+  return framing;
+}
+
+// The largest aperture valid at every key in `keys` (searched at the search size, confirmed at
+// the verify size, halved until confirmed).
+StatusOr<double> PathAperture(const CameraPath& path, const std::vector<size_t>& keys, const PlanContext& context) {
+  const DirectOptions& options = *context.options;
+  double aperture = options.max_aperture_m;
+  for (size_t k : keys) {
+    PX_ASSIGN_OR_RETURN(ApertureResult found,
+                        LargestValidAperture(FramingOfKey(path.keyframes[k]), *context.scene, context.search,
+                                             options.max_aperture_m, 0.02 * options.max_aperture_m));
+    aperture = std::min(aperture, found.aperture_m);
+  }
+  for (int attempt = 0; attempt < 4 && aperture > 0; ++attempt) {
+    bool valid = true;
+    for (size_t k : keys) {
+      const Framing key = FramingOfKey(path.keyframes[k]);
+      const CameraModel camera = context.scene->OutputWithFocal(key.focal_px);
+      for (const Framing& corner : ApertureCorners(key, aperture)) {
+        PX_ASSIGN_OR_RETURN(bool ok, context.verify->Valid(camera, corner.cam_from_world));
+        valid = valid && ok;
+        if (!valid) break;
+      }
+      if (!valid) break;
+    }
+    if (valid) return aperture;
+    aperture *= 0.5;
+  }
+  return 0.0;
+}
+
+// A colour-effect layer on the subject: its box around the face quadrilateral, a quarter of the
+// face width wider on each side and half a face width deep each way.
+ColorEffect SubjectLayer(const Subject& subject, Effect effect, double amount) {
+  ColorEffect layer;
+  layer.kind = (effect == Effect::kSaturation || effect == Effect::kDesaturateBackground) ? ColorEffectKind::kSaturation
+                                                                                         : ColorEffectKind::kBrightness;
+  layer.invert = effect == Effect::kDesaturateBackground || effect == Effect::kDimBackground;
+  layer.amount = amount;
+  Eigen::Vector3d lo = subject.corners_in_world[0], hi = lo;
+  for (const Eigen::Vector3d& c : subject.corners_in_world) {
+    lo = lo.cwiseMin(c);
+    hi = hi.cwiseMax(c);
+  }
+  const double width = std::max(subject.WidthM(), 1e-3);
+  const Eigen::Vector3d pad(0.25 * width, 0.25 * width, 0.5 * width);
+  layer.region_min_in_world = lo - pad;
+  layer.region_max_in_world = hi + pad;
+  layer.falloff_m = 0.25 * width;
+  return layer;
+}
+
+double EffectTarget(Effect effect) {
+  switch (effect) {
+    case Effect::kSaturation:
+      return 1.6;
+    case Effect::kBrightness:
+      return 1.35;
+    case Effect::kDesaturateBackground:
+      return 0.2;
+    case Effect::kDimBackground:
+      return 0.55;
+    default:
+      return 1.0;
+  }
+}
+
+}  // namespace
+
+StatusOr<CameraPath> PlanMove(const MoveChoice& choice, const PlanContext& context, MovePlanReport* report) {
+  MovePlanReport ignored;
+  if (report == nullptr) report = &ignored;
+  *report = MovePlanReport{};
+  const SceneGeometry& scene = *context.scene;
+  const DirectOptions& options = *context.options;
+  const std::string name(MoveName(choice.move));
+  const int needed = SubjectsNeeded(choice.move);
+  if (static_cast<int>(context.subjects.size()) < needed) {
+    return FailedPreconditionError(name + " needs " + std::to_string(needed) + " subjects, have " +
+                                   std::to_string(context.subjects.size()));
+  }
+  const Subject* first = needed >= 1 ? &context.subjects[0] : nullptr;
+  const Subject* second = needed >= 2 ? &context.subjects[1] : nullptr;
+  if (needed >= 2 && choice.swap_subjects) std::swap(first, second);
+  if (needed == 1 && choice.swap_subjects && context.subjects.size() >= 2) first = &context.subjects[1];
+  for (const Subject* s : {first, second}) {
+    if (s != nullptr && !s->depth_known) {
+      return FailedPreconditionError(name + ": a subject has no known depth to plan a 3D move around");
+    }
+  }
+
+  const double f = scene.focal_px;
+  const double zoomed = options.zoom_in * f;
+  const Eigen::Vector3d& centroid = scene.centroid_in_world;
+  Sweep sweep = Sweep::kGrid;
+  FramingRule start_rule, end_rule;
+  bool start_front = true, end_front = true, reverse = false, dolly_zoom = false;
+  std::string start_what, end_what;
+  switch (choice.move) {
+    case Move::kEstablishingDolly:
+      start_rule = end_rule = Aim(scene, centroid, f);
+      start_what = end_what = "the scene centroid at f";
+      break;
+    case Move::kEstablishingDollyOut:
+      sweep = Sweep::kAxis;
+      start_rule = Aim(scene, centroid, zoomed);
+      end_rule = Aim(scene, centroid, f);
+      end_front = false;
+      start_what = "the scene centroid at " + std::to_string(options.zoom_in).substr(0, 4) + "f";
+      end_what = "the scene centroid at f";
+      break;
+    case Move::kDollyOut:
+      start_rule = Aim(scene, first->LowerHalfCentreInWorld(), zoomed);
+      end_rule = Aim(scene, centroid, f);
+      end_front = false;
+      start_what = "the " + first->source + " at " + std::to_string(options.zoom_in).substr(0, 4) + "f";
+      end_what = "the scene centroid at f";
+      break;
+    case Move::kDollyIn:
+      start_rule = Aim(scene, centroid, f);
+      end_rule = Aim(scene, first->LowerHalfCentreInWorld(), zoomed);
+      start_front = false;
+      start_what = "the scene centroid at f";
+      end_what = "the " + first->source + " at " + std::to_string(options.zoom_in).substr(0, 4) + "f";
+      break;
+    case Move::kDollyZoomIn:
+      reverse = true;
+      [[fallthrough]];
+    case Move::kDollyZoomOut:
+      sweep = Sweep::kAxis;
+      dolly_zoom = true;
+      start_rule = Aim(scene, first->LowerHalfCentreInWorld(), f);
+      end_front = false;
+      start_what = "the " + first->source + " at f";
+      end_what = "the " + first->source + ", zoomed to keep its size";
+      break;
+    case Move::kDolly: {
+      start_rule = Aim(scene, first->LowerHalfCentreInWorld(), zoomed);
+      // The paper's size ratio from the reference view; the exact ratio is set once the
+      // endpoints are known.
+      const double ratio = first->box_px.height / std::max(1.0, second->box_px.height);
+      end_rule = Aim(scene, second->LowerHalfCentreInWorld(), zoomed * ratio);
+      start_what = "the first subject at " + std::to_string(options.zoom_in).substr(0, 4) + "f";
+      end_what = "the second subject at its size";
+      break;
+    }
+  }
+
+  // 1-2. Valid regions and candidate endpoints.
+  PX_ASSIGN_OR_RETURN(ValidRegion start_region, FindValidViewpoints(scene, start_rule, context.search, options.search,
+                                                                    sweep, start_front, !start_front));
+  report->valid_cells_start = start_region.valid_cells;
+  std::vector<Candidate> starts = start_front ? start_region.front : start_region.back;
+  if (starts.empty()) {
+    return FailedPreconditionError(name + ": no valid viewpoint frames the start (" + start_what + ") among " +
+                                   std::to_string(start_region.cells) + " positions");
+  }
+  if (dolly_zoom) {
+    // The far end keeps the subject at the start's size: focal grows with the distance, up to
+    // max_dolly_zoom (beyond it the rule declines to frame, which ends the search).
+    // The start may be so near the subject that even the capture plane needs more than
+    // max_dolly_zoom to keep its size: then start farther back (still between z = 0 and the
+    // front surface, inside the valid region along the axis), so the zoom has room to run.
+    const Eigen::Vector3d start_in_rig = scene.RigFromWorld(starts.front().framing.centre_in_world);
+    const double subject_z = scene.RigFromWorld(first->CentreInWorld()).z();
+    const double nearest_z = subject_z - (subject_z - std::min(0.0, start_in_rig.z())) / (0.9 * options.max_dolly_zoom);
+    if (start_in_rig.z() > nearest_z && nearest_z > 0) {
+      starts.front().framing = start_rule(scene.WorldFromRig(Eigen::Vector3d(start_in_rig.x(), start_in_rig.y(), nearest_z)));
+      PX_ASSIGN_OR_RETURN(starts.front().hole_score,
+                          context.search->HoleScore(scene.OutputWithFocal(starts.front().framing.focal_px),
+                                                    starts.front().framing.cam_from_world));
+      if (!(starts.front().hole_score < context.search->valid_hole_score())) {
+        return FailedPreconditionError(name + ": the start " + Mm(scene.RigFromWorld(starts.front().framing.centre_in_world)) +
+                                       " far enough back for the zoom to keep the subject's size is not valid");
+      }
+    }
+    const Framing start = starts.front().framing;
+    const Subject subject = *first;
+    const double start_height = ProjectedHeightPx(subject, scene.OutputWithFocal(1.0), start.cam_from_world);
+    const double target_height = start_height * start.focal_px;
+    const double limit = options.max_dolly_zoom * start.focal_px;
+    const FramingRule aim = Aim(scene, first->LowerHalfCentreInWorld(), 1.0);
+    end_rule = [&scene, aim, subject, target_height, limit](const Eigen::Vector3d& centre) {
+      Framing framing = aim(centre);
+      const double unit = ProjectedHeightPx(subject, scene.OutputWithFocal(1.0), framing.cam_from_world);
+      framing.focal_px = unit > 0 ? target_height / unit : 0.0;
+      if (framing.focal_px > limit) framing.focal_px = 0;  // past the zoom range
+      return framing;
+    };
+  }
+  ValidRegion end_region;
+  const bool shared = choice.move == Move::kEstablishingDolly;
+  if (shared) {
+    end_region = start_region;
+  } else {
+    PX_ASSIGN_OR_RETURN(end_region,
+                        FindValidViewpoints(scene, end_rule, context.search, options.search, sweep, end_front, !end_front));
+  }
+  report->valid_cells_end = end_region.valid_cells;
+  const std::vector<Candidate>& ends = end_front ? end_region.front : end_region.back;
+  if (ends.empty()) {
+    return FailedPreconditionError(name + ": no valid viewpoint frames the end (" + end_what + ") among " +
+                                   std::to_string(end_region.cells) + " positions");
+  }
+
+  // 3. The longest candidate paths, most parallax first.
+  struct Pair {
+    size_t a = 0, b = 0;
+    double length = 0, parallax = 0;
+  };
+  std::vector<Pair> pairs;
+  const double min_length = 1e-3;
+  for (size_t a = 0; a < starts.size(); ++a) {
+    for (size_t b = shared ? a + 1 : 0; b < ends.size(); ++b) {
+      const double length = (starts[a].framing.centre_in_world - ends[b].framing.centre_in_world).norm();
+      if (length >= min_length) pairs.push_back({a, b, length, 0});
+    }
+  }
+  report->candidate_paths = static_cast<int>(pairs.size());
+  if (pairs.empty()) return FailedPreconditionError(name + ": every candidate path is shorter than 1 mm");
+  const size_t keep = std::min(pairs.size(), static_cast<size_t>(options.search.num_longest));
+  std::partial_sort(pairs.begin(), pairs.begin() + static_cast<std::ptrdiff_t>(keep), pairs.end(),
+                    [](const Pair& x, const Pair& y) { return x.length > y.length; });
+  pairs.resize(keep);
+  for (Pair& pair : pairs) {
+    const Framing& a = starts[pair.a].framing;
+    const Framing& b = ends[pair.b].framing;
+    pair.parallax = ParallaxScore(*context.samples, scene.OutputWithFocal(a.focal_px).Scaled(kParallaxScale),
+                                  a.cam_from_world, scene.OutputWithFocal(b.focal_px).Scaled(kParallaxScale),
+                                  b.cam_from_world);
+  }
+  report->paths_measured = static_cast<int>(pairs.size());
+  std::stable_sort(pairs.begin(), pairs.end(), [](const Pair& x, const Pair& y) { return x.parallax > y.parallax; });
+
+  // Subjects that framing keeps in view: every subject with a known depth.
+  std::vector<Subject> framed;
+  for (const Subject& s : context.subjects) {
+    if (s.depth_known) framed.push_back(s);
+  }
+  const double margin_px = options.framing_margin * scene.output.width;
+
+  // 4. The first (most parallax) path that keeps its subjects in frame and all its frames valid.
+  std::string last_failure = "no candidate";
+  for (const Pair& pair : pairs) {
+    ++report->paths_verified;
+    Framing start = starts[pair.a].framing;
+    Framing end = ends[pair.b].framing;
+    CameraPath path = BlankPath(PathKind::kNovelView, name, scene.output, options.fps, options.duration_s);
+    if (choice.move == Move::kDolly) {
+      // The second subject ends at the size the first started at.
+      const double h1 = ProjectedHeightPx(*first, scene.OutputWithFocal(start.focal_px), start.cam_from_world);
+      const double h2_unit = ProjectedHeightPx(*second, scene.OutputWithFocal(1.0), end.cam_from_world);
+      if (h1 > 0 && h2_unit > 0) end.focal_px = h1 / h2_unit;
+    }
+    if (dolly_zoom) {
+      for (int k = 0; k < kDollyZoomKeys; ++k) {
+        const double t = static_cast<double>(k) / (kDollyZoomKeys - 1);
+        const Eigen::Vector3d centre = (1 - t) * start.centre_in_world + t * end.centre_in_world;
+        Framing framing = end_rule(centre);
+        if (k == 0) framing = start;
+        if (!(framing.focal_px > 0)) framing.focal_px = end.focal_px;
+        path.keyframes.push_back(Key(t, framing));
+      }
+    } else {
+      path.keyframes = {Key(0, start), Key(1, end)};
+    }
+    if (reverse) {
+      std::reverse(path.keyframes.begin(), path.keyframes.end());
+      for (CameraKeyframe& key : path.keyframes) key.t = 1.0 - key.t;
+      path.keyframes.front().t = 0.0;
+      path.keyframes.back().t = 1.0;
+    }
+    Status framed_ok = KeepSubjectsInFrame(framed, margin_px, dolly_zoom, &path, &report->focal_scale);
+    if (!framed_ok.ok()) {
+      last_failure = framed_ok.message();
+      continue;
+    }
+    PX_ASSIGN_OR_RETURN(double worst, WorstHoleScore(path, options.search.verify_frames, context.verify));
+    if (worst >= context.verify->valid_hole_score()) {
+      char text[160];
+      std::snprintf(text, sizeof(text), "a frame of the path has H(V) %.2f at the verify size", worst);
+      last_failure = text;
+      continue;
+    }
+    report->parallax = pair.parallax;
+    report->length_m = pair.length;
+    report->max_hole_score = worst;
+
+    // 5. The image effect.
+    Effect effect = choice.effect;
+    const size_t last = path.keyframes.size() - 1;
+    if (effect == Effect::kDofChange || effect == Effect::kFocusPull) {
+      // The end framing a subject close up carries the full aperture of a depth-of-field change.
+      size_t subject_end = last;
+      if (choice.move == Move::kDollyOut || choice.move == Move::kDollyZoomIn) subject_end = 0;
+      std::vector<size_t> keys = {0, last};
+      PX_ASSIGN_OR_RETURN(double aperture, PathAperture(path, keys, context));
+      report->aperture_m = aperture;
+      if (!(aperture >= 1e-4)) {
+        path.notes.push_back(std::string(EffectName(effect)) +
+                             " dropped: no aperture of 0.1 mm or more keeps both ends valid");
+        effect = Effect::kNone;
+      } else {
+        for (size_t k = 0; k < path.keyframes.size(); ++k) {
+          CameraKeyframe& key = path.keyframes[k];
+          const double t = key.t;
+          if (effect == Effect::kFocusPull) {
+            key.aperture_m = aperture;
+            key.focus_depth_m = SubjectDepthIn(t < 0.5 ? *first : *second, key.CamFromWorld());
+          } else {
+            key.aperture_m = aperture * (subject_end == 0 ? 1.0 - t : t);
+            key.focus_depth_m = SubjectDepthIn(second != nullptr ? *second : *first, key.CamFromWorld());
+          }
+        }
+        if (effect == Effect::kFocusPull) {
+          path.keyframes.front().focus_depth_m = SubjectDepthIn(*first, path.keyframes.front().CamFromWorld());
+          path.keyframes.back().focus_depth_m = SubjectDepthIn(*second, path.keyframes.back().CamFromWorld());
+        }
+      }
+    } else if (effect != Effect::kNone && first != nullptr) {
+      for (CameraKeyframe& key : path.keyframes) {
+        key.effects = {SubjectLayer(*first, effect, 1.0 + key.t * (EffectTarget(effect) - 1.0))};
+      }
+    }
+    path.effect = std::string(EffectName(effect));
+    if (report->focal_scale < 0.999) {
+      char text[160];
+      std::snprintf(text, sizeof(text), "framing narrowed the zoom to %.0f%% to keep every subject wholly in frame",
+                    100 * report->focal_scale);
+      path.notes.push_back(text);
+    }
+    for (const Subject* s : {first, second}) {
+      if (s != nullptr) path.subjects.push_back(*s);
+    }
+    char text[400];
+    std::snprintf(text, sizeof(text),
+                  "%s from %s aimed at %s to %s aimed at %s (%.0f mm); %d/%d valid cells; parallax %.2f%% "
+                  "(best of %d longest of %d paths); H(V) <= %.2f over %d frames",
+                  name.c_str(), Mm(scene.RigFromWorld(path.keyframes.front().centre_in_world)).c_str(),
+                  (reverse ? end_what : start_what).c_str(),
+                  Mm(scene.RigFromWorld(path.keyframes.back().centre_in_world)).c_str(),
+                  (reverse ? start_what : end_what).c_str(), 1000 * pair.length, report->valid_cells_start,
+                  start_region.cells, 100 * pair.parallax, report->paths_measured, report->candidate_paths, worst,
+                  options.search.verify_frames);
+    path.reason = text;
+    PX_RETURN_IF_ERROR(path.Validate());
+    return path;
+  }
+  return FailedPreconditionError(name + ": none of the " + std::to_string(pairs.size()) +
+                                 " longest candidate paths holds (last: " + last_failure + ")");
+}
+
+}  // namespace px::direct

@@ -1,0 +1,187 @@
+#include "pipeline/direct/valid_viewpoints.h"
+
+#include <algorithm>
+#include <cmath>
+#include <optional>
+#include <string>
+
+namespace px::direct {
+
+namespace {
+
+struct Probed {
+  bool valid = false;
+  double hole_score = 0;
+  Framing framing;
+};
+
+class ColumnSearch {
+ public:
+  ColumnSearch(const SceneGeometry& scene, const FramingRule& rule, CoverageProbe* probe, Eigen::Vector2d xy)
+      : scene_(scene), rule_(rule), probe_(probe), xy_(std::move(xy)) {}
+
+  StatusOr<Probed> At(double z) {
+    Probed result;
+    result.framing = rule_(scene_.WorldFromRig(Eigen::Vector3d(xy_.x(), xy_.y(), z)));
+    if (!(result.framing.focal_px > 0)) return result;  // the rule cannot frame from here
+    PX_ASSIGN_OR_RETURN(result.hole_score, probe_->HoleScore(scene_.OutputWithFocal(result.framing.focal_px),
+                                                             result.framing.cam_from_world));
+    result.valid = result.hole_score < probe_->valid_hole_score();
+    ++probes_;
+    return result;
+  }
+
+  // The farthest valid z in direction `sign` (+1 forwards, -1 backwards) from the valid `start`
+  // at z = `base`, at most `limit` away: double the step while valid, then halve between the last
+  // valid and the first invalid distance. `hint` (a distance from a neighbour's answer) is tried
+  // first. Sets last_z() to the answer's z.
+  StatusOr<Probed> Extreme(const Probed& start, double base, double sign, double limit, const ZLimits& z,
+                           std::optional<double> hint) {
+    Probed best = start;
+    double lo = 0;                   // distance of `best` from z = 0 along sign
+    std::optional<double> hi;        // first invalid distance found
+    double step = z.first_step_m;
+    if (hint && *hint > z.precision_m) {
+      PX_ASSIGN_OR_RETURN(Probed at, At(base + sign * std::min(*hint, limit)));
+      if (at.valid) {
+        best = at;
+        lo = std::min(*hint, limit);
+        step = 2 * z.precision_m;
+      } else {
+        hi = std::min(*hint, limit);
+      }
+    }
+    while (!hi && lo < limit - 1e-9) {
+      const double next = std::min(limit, lo + step);
+      PX_ASSIGN_OR_RETURN(Probed at, At(base + sign * next));
+      if (at.valid) {
+        best = at;
+        lo = next;
+        step *= 2;
+      } else {
+        hi = next;
+      }
+    }
+    while (hi && *hi - lo > z.precision_m) {
+      const double mid = 0.5 * (lo + *hi);
+      PX_ASSIGN_OR_RETURN(Probed at, At(base + sign * mid));
+      if (at.valid) {
+        best = at;
+        lo = mid;
+      } else {
+        hi = mid;
+      }
+    }
+    last_z_ = base + sign * lo;
+    return best;
+  }
+
+  int probes() const { return probes_; }
+  double last_z() const { return last_z_; }
+
+ private:
+  const SceneGeometry& scene_;
+  const FramingRule& rule_;
+  CoverageProbe* probe_;
+  Eigen::Vector2d xy_;
+  int probes_ = 0;
+  double last_z_ = 0;
+};
+
+}  // namespace
+
+ZLimits SearchLimits(const SceneGeometry& scene, const ViewpointSearchOptions& options) {
+  ZLimits z;
+  z.forward_m = options.max_forward * scene.near_depth_m;
+  z.back_m = options.max_back * scene.median_depth_m;
+  z.first_step_m = options.z_first_step * scene.median_depth_m;
+  z.precision_m = options.z_precision * scene.median_depth_m;
+  return z;
+}
+
+StatusOr<std::vector<Eigen::Vector2d>> GridPositions(const SceneGeometry& scene, const ViewpointSearchOptions& options) {
+  Eigen::Vector2d extent = scene.box_max - scene.box_min;
+  const double longer = extent.maxCoeff();
+  if (!(longer >= 1e-3)) {
+    return FailedPreconditionError("direction: the viewpoints span " + std::to_string(longer * 1000) +
+                                   " mm, want at least 1 mm to search a path across");
+  }
+  for (int axis = 0; axis < 2; ++axis) extent[axis] = std::max(extent[axis], 0.5 * longer);
+  const Eigen::Vector2d centre = 0.5 * (scene.box_min + scene.box_max);
+  const Eigen::Vector2d half = 0.5 * options.grid_extent * extent;
+  const int n = options.grid_size;
+  std::vector<Eigen::Vector2d> positions;
+  for (int r = 0; r < n; ++r) {
+    for (int c = 0; c < n; ++c) {
+      const double fx = n > 1 ? static_cast<double>(c) / (n - 1) : 0.5;
+      const double fy = n > 1 ? static_cast<double>(r) / (n - 1) : 0.5;
+      positions.emplace_back(centre.x() - half.x() + 2 * half.x() * fx, centre.y() - half.y() + 2 * half.y() * fy);
+    }
+  }
+  return positions;
+}
+
+StatusOr<ValidRegion> FindValidViewpoints(const SceneGeometry& scene, const FramingRule& rule, CoverageProbe* probe,
+                                          const ViewpointSearchOptions& options, Sweep sweep, bool search_front,
+                                          bool search_back) {
+  ValidRegion region;
+  const ZLimits z = SearchLimits(scene, options);
+  std::vector<Eigen::Vector2d> positions;
+  std::vector<int> order;
+  if (sweep == Sweep::kAxis) {
+    positions.push_back(0.5 * (scene.box_min + scene.box_max));
+    order.push_back(0);
+  } else {
+    PX_ASSIGN_OR_RETURN(positions, GridPositions(scene, options));
+    // Serpentine: each cell follows a neighbour, whose answer seeds its search.
+    const int n = options.grid_size;
+    for (int r = 0; r < n; ++r) {
+      for (int k = 0; k < n; ++k) order.push_back(r * n + (r % 2 == 0 ? k : n - 1 - k));
+    }
+  }
+  std::optional<double> front_hint, back_hint;
+  for (int cell : order) {
+    ++region.cells;
+    ColumnSearch column(scene, rule, probe, positions[cell]);
+    PX_ASSIGN_OR_RETURN(Probed origin, column.At(0.0));
+    // A cell invalid at z = 0 may still be valid a little forwards (zooming in narrows the view):
+    // try its neighbour's forward answer before giving it up.
+    if (!origin.valid && search_front && front_hint && *front_hint > z.precision_m) {
+      PX_ASSIGN_OR_RETURN(Probed ahead, column.At(*front_hint));
+      if (ahead.valid) origin = ahead;
+    }
+    // A view turned towards a subject off the axis lacks rays at its far edge from z = 0, but
+    // nearer the scene the same edge falls on surfaces the inputs saw: step forwards, doubling.
+    for (double ahead_m = z.first_step_m; !origin.valid && search_front && ahead_m <= z.forward_m; ahead_m *= 2) {
+      PX_ASSIGN_OR_RETURN(Probed ahead, column.At(ahead_m));
+      if (ahead.valid) origin = ahead;
+    }
+    if (!origin.valid) {
+      region.probes += column.probes();
+      continue;
+    }
+    ++region.valid_cells;
+    const double origin_z = scene.RigFromWorld(origin.framing.centre_in_world).z();
+    // Hints are the neighbour's answers (z); each search takes the distance to it.
+    const auto distance_to = [&](const std::optional<double>& hint_z, double sign) -> std::optional<double> {
+      if (!hint_z || sign * (*hint_z - origin_z) <= 0) return std::nullopt;
+      return sign * (*hint_z - origin_z);
+    };
+    if (search_front) {
+      PX_ASSIGN_OR_RETURN(Probed front, column.Extreme(origin, origin_z, +1.0, z.forward_m - origin_z, z,
+                                                       distance_to(front_hint, +1.0)));
+      front_hint = column.last_z();
+      region.front.push_back({front.framing, front.hole_score, cell});
+    }
+    if (search_back) {
+      PX_ASSIGN_OR_RETURN(Probed back, column.Extreme(origin, origin_z, -1.0, z.back_m + origin_z, z,
+                                                      distance_to(back_hint, -1.0)));
+      back_hint = column.last_z();
+      region.back.push_back({back.framing, back.hole_score, cell});
+    }
+    region.probes += column.probes();
+  }
+  return region;
+}
+
+}  // namespace px::direct
