@@ -2,6 +2,11 @@
 // (control_protocol.h) and, optionally, a file descriptor (stdin) where each line is one press.
 // One thread polls everything; replies may come later from any thread (a "wait" is answered
 // when its job finishes), and each connection gets its replies in request order.
+// Security (README "Security of the control socket"): the socket file is 0600, or 0660 for a
+// configured group; every connection's peer is checked (peer_access.h) and others are refused
+// with a logged reason; request lines are limited to kMaxControlLineBytes; at most
+// kMaxControlConnections are open at once; a client that does not read its replies gets no
+// further requests served (its unsent replies never pile up).
 #pragma once
 
 #include <filesystem>
@@ -12,7 +17,8 @@
 #include <thread>
 #include <vector>
 
-#include "device/loop_input.h"
+#include "device/control/loop_input.h"
+#include "device/control/peer_access.h"
 #include "pipeline/core/status.h"
 
 namespace px::device {
@@ -32,6 +38,8 @@ class ControlServer {
     // Served on the loop thread too (input-device buttons, the systemd watchdog); each press
     // they report goes to on_trigger with the input's description as the line.
     std::vector<std::shared_ptr<LoopInput>> inputs;
+    // Who may connect; the socket file gets the matching mode (and group).
+    ControlAccess access = OwnerAccess();
   };
   struct Handlers {
     RequestHandler on_request;  // a request line from the socket
@@ -40,7 +48,8 @@ class ControlServer {
   };
 
   // Binds the socket (creating its folder; replacing a stale socket file, refusing when another
-  // process is listening there: ALREADY_EXISTS). Nothing is read until Start.
+  // process is listening there: ALREADY_EXISTS), restricts the file to options.access before it
+  // listens (PERMISSION_DENIED when the group cannot be set). Nothing is read until Start.
   static StatusOr<std::unique_ptr<ControlServer>> Open(const Options& options, Handlers handlers);
   ~ControlServer();  // Stop(), then closes and unlinks the socket
 

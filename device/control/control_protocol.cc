@@ -1,11 +1,22 @@
-#include "device/control_protocol.h"
+#include "device/control/control_protocol.h"
 
 #include <algorithm>
 #include <nlohmann/json.hpp>
 
+#include "device/storage/job_journal.h"
 #include "pipeline/core/json_fields.h"
 
 namespace px::device {
+namespace {
+
+// A client's text inside an error message, cut short so a reply never echoes a huge request.
+std::string Quoted(std::string_view text) {
+  constexpr size_t kMaxEcho = 40;
+  if (text.size() <= kMaxEcho) return "'" + std::string(text) + "'";
+  return "'" + std::string(text.substr(0, kMaxEcho)) + "...' (" + std::to_string(text.size()) + " bytes)";
+}
+
+}  // namespace
 
 std::string_view ControlCommandName(ControlCommand command) {
   switch (command) {
@@ -53,8 +64,8 @@ StatusOr<ControlRequest> ParseControlRequest(std::string_view line) {
     }
   }
   if (!found) {
-    return InvalidArgumentError("cmd: '" + name +
-                                "' is not one of capture, status, list, wait, quit, fetch, set_move, cancel");
+    return InvalidArgumentError("cmd: " + Quoted(name) +
+                                " is not one of capture, status, list, wait, quit, fetch, set_move, cancel");
   }
 
   std::vector<std::string> allowed = {"cmd"};
@@ -62,6 +73,10 @@ StatusOr<ControlRequest> ParseControlRequest(std::string_view line) {
       request.command == ControlCommand::kCancel) {
     if (!j.contains("job")) return InvalidArgumentError("job: missing (" + name + " needs a job id)");
     PX_ASSIGN_OR_RETURN(request.job, json::GetString(j, "job", ""));
+    // Ids name files (captures/<id>, clips/<id>.mp4): only digits get near a path.
+    if (!ParseJobId(request.job)) {
+      return InvalidArgumentError("job: " + Quoted(request.job) + " is not a job id (1 to 18 digits, e.g. \"000042\")");
+    }
     allowed.push_back("job");
   }
   if (request.command == ControlCommand::kFetch) {
@@ -79,15 +94,21 @@ StatusOr<ControlRequest> ParseControlRequest(std::string_view line) {
   }
   for (const auto& [key, value] : j.items()) {
     if (std::find(allowed.begin(), allowed.end(), key) == allowed.end()) {
-      return InvalidArgumentError(name + ": unknown field '" + key + "'");
+      return InvalidArgumentError(name + ": unknown field " + Quoted(key));
     }
   }
   return request;
 }
 
 std::string ControlErrorReply(const Status& status) {
+  std::string message = status.message();
+  if (message.size() > kMaxControlErrorBytes) {
+    const size_t full = message.size();
+    message.resize(kMaxControlErrorBytes);
+    message += "... (" + std::to_string(full) + " bytes)";
+  }
   nlohmann::json reply = {
-      {"ok", false}, {"error", status.message()}, {"code", std::string(StatusCodeName(status.code()))}};
+      {"ok", false}, {"error", message}, {"code", std::string(StatusCodeName(status.code()))}};
   // Replace invalid UTF-8 (a garbled request echoed in the message) instead of throwing.
   return reply.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
 }

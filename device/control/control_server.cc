@@ -1,4 +1,4 @@
-#include "device/control_server.h"
+#include "device/control/control_server.h"
 
 #include <fcntl.h>
 #include <poll.h>
@@ -18,7 +18,7 @@
 #include <utility>
 #include <vector>
 
-#include "device/control_protocol.h"
+#include "device/control/control_protocol.h"
 #include "pipeline/core/log.h"
 
 namespace px::device {
@@ -63,7 +63,7 @@ bool SomeoneListens(const sockaddr_un& address) {
   return listening;
 }
 
-StatusOr<int> BindSocket(const fs::path& path) {
+StatusOr<int> BindSocket(const fs::path& path, const ControlAccess& access) {
   sockaddr_un address;
   if (!FillAddress(path, &address)) {
     return InvalidArgumentError("control socket " + path.string() + ": path is longer than " +
@@ -89,6 +89,12 @@ StatusOr<int> BindSocket(const fs::path& path) {
     int err = errno;
     ::close(fd);
     return SocketError("bind", path, err);
+  }
+  // Before listen(): until then every connect is refused, so no peer ever sees a looser mode.
+  if (Status restricted = RestrictSocketFile(path, access); !restricted.ok()) {
+    ::close(fd);
+    ::unlink(path.c_str());
+    return restricted;
   }
   if (::listen(fd, 16) != 0) {
     int err = errno;
@@ -120,12 +126,19 @@ bool TakeLine(std::string* buffer, std::string* line) {
 
 bool IsBlank(const std::string& line) { return line.find_first_not_of(" \t\r") == std::string::npos; }
 
+// Answers a connection we will not serve with one error line and closes it.
+void Refuse(int fd, const Status& status) {
+  const std::string reply = ControlErrorReply(status) + "\n";
+  (void)!::send(fd, reply.data(), reply.size(), MSG_NOSIGNAL | MSG_DONTWAIT);
+  ::close(fd);
+}
+
 }  // namespace
 
 StatusOr<std::unique_ptr<ControlServer>> ControlServer::Open(const Options& options, Handlers handlers) {
   int listen_fd = -1;
   if (!options.socket_path.empty()) {
-    PX_ASSIGN_OR_RETURN(listen_fd, BindSocket(options.socket_path));
+    PX_ASSIGN_OR_RETURN(listen_fd, BindSocket(options.socket_path, options.access));
   }
   int wake[2];
   if (::pipe2(wake, O_CLOEXEC | O_NONBLOCK) != 0) {
@@ -222,12 +235,14 @@ void ControlServer::Loop() {
   auto dispatch = [&] {
     for (auto& [id, c] : connections) {
       std::string line;
-      while (!c.awaiting_reply && !c.broken && TakeLine(&c.in, &line)) {
+      // One request at a time, and only once the last reply has gone out: a client that stops
+      // reading gets nothing more served, so unsent replies cannot pile up in memory.
+      while (!c.awaiting_reply && !c.broken && c.out.empty() && TakeLine(&c.in, &line)) {
         if (IsBlank(line)) continue;
         c.awaiting_reply = true;
         handlers_.on_request(line, make_respond(id));
       }
-      if (!c.awaiting_reply && c.in.size() > kMaxControlLineBytes) {
+      if (c.in.size() > kMaxControlLineBytes && c.in.find('\n') == std::string::npos) {
         // No newline within the limit: answer once and drop the connection's input.
         c.out += ControlErrorReply(InvalidArgumentError("request line longer than " +
                                                         std::to_string(kMaxControlLineBytes) + " bytes")) +
@@ -245,6 +260,8 @@ void ControlServer::Loop() {
       stop_requested = shared_->stop_requested;
     }
     deliver_replies();
+    // Flush first: a reply that has gone out lets that connection's next request through.
+    for (auto& [id, c] : connections) flush(c);
     dispatch();
     for (auto& [id, c] : connections) flush(c);
     for (auto it = connections.begin(); it != connections.end();) {
@@ -283,7 +300,7 @@ void ControlServer::Loop() {
     std::vector<uint64_t> ids;
     for (auto& [id, c] : connections) {
       short events = 0;
-      if (!c.peer_closed && !c.awaiting_reply) events |= POLLIN;
+      if (!c.peer_closed && !c.awaiting_reply && c.out.empty()) events |= POLLIN;
       if (!c.out.empty()) events |= POLLOUT;
       // A connection waiting for its reply is not polled: POLLHUP from a gone peer would spin.
       if (events == 0) continue;
@@ -304,6 +321,22 @@ void ControlServer::Loop() {
       while (true) {
         int fd = ::accept4(listen_fd_, nullptr, nullptr, SOCK_CLOEXEC | SOCK_NONBLOCK);
         if (fd < 0) break;
+        StatusOr<PeerCredentials> peer = ReadPeerCredentials(fd);
+        Status allowed = peer.ok() ? CheckPeer(*peer, options_.access) : peer.status();
+        if (!allowed.ok()) {
+          log->warn("control: refused a connection: {}", allowed.message());
+          Refuse(fd, allowed);
+          continue;
+        }
+        if (connections.size() >= kMaxControlConnections) {
+          log->warn("control: refused a connection from pid {}: {} connections are open already",
+                    peer->pid,
+                    connections.size());
+          Refuse(fd,
+                 ResourceExhaustedError("too many control connections (" + std::to_string(connections.size()) +
+                                        " open, the limit is " + std::to_string(kMaxControlConnections) + ")"));
+          continue;
+        }
         Connection c;
         c.fd = fd;
         connections.emplace(next_id++, std::move(c));

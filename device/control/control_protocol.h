@@ -35,6 +35,10 @@ struct ControlRequest {
 
 // The longest request line accepted; longer lines are answered with an error and dropped.
 inline constexpr size_t kMaxControlLineBytes = 64 * 1024;
+// Connections open at once; more are answered with RESOURCE_EXHAUSTED and closed.
+inline constexpr size_t kMaxControlConnections = 32;
+// Error messages in replies are cut to this many bytes (a malformed request is never echoed whole).
+inline constexpr size_t kMaxControlErrorBytes = 1024;
 // The largest clip a "fetch" with "inline":true sends in the reply (base64 makes it 4/3 larger);
 // larger clips are refused with OUT_OF_RANGE and should be read from their path.
 inline constexpr uint64_t kMaxInlineClipBytes = 16 * 1000 * 1000;
@@ -42,10 +46,13 @@ inline constexpr uint64_t kMaxInlineClipBytes = 16 * 1000 * 1000;
 // Parses one line (without its newline). Errors say what is wrong:
 //   "malformed JSON at byte 7: ...", "cmd: missing",
 //   "cmd: 'fly' is not one of capture, status, list, wait, quit, fetch, set_move, cancel",
-//   "job: missing (wait needs a job id)", "capture: unknown field 'jbo'".
+//   "job: missing (wait needs a job id)", "capture: unknown field 'jbo'",
+//   "job: '../x' is not a job id (1 to 18 digits, e.g. "000042")". Client text quoted in an
+//   error is cut to 40 bytes.
 StatusOr<ControlRequest> ParseControlRequest(std::string_view line);
 
-// {"ok":false,"error":"<message>","code":"INVALID_ARGUMENT"} as one line without the newline.
+// {"ok":false,"error":"<message>","code":"INVALID_ARGUMENT"} as one line without the newline;
+// the message is cut to kMaxControlErrorBytes and invalid UTF-8 replaced.
 std::string ControlErrorReply(const Status& status);
 
 }  // namespace px::device

@@ -1,4 +1,4 @@
-#include "device/control_protocol.h"
+#include "device/control/control_protocol.h"
 
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
@@ -60,6 +60,34 @@ TEST(ControlProtocolTest, ErrorsSayWhatIsWrong) {
             "drain: want true or false, got string");
   EXPECT_THAT(ParseControlRequest(std::string(kMaxControlLineBytes + 1, ' ')).status().message(),
               HasSubstr("is longer than"));
+}
+
+TEST(ControlProtocolTest, JobIdsAreDigitsOnlySoNoPathTrickReachesAFile) {
+  for (const std::string& trick : {std::string("../000001"), std::string("/etc/passwd"), std::string("000001/../../x"),
+                                   std::string(".."), std::string(""), std::string("000001.mp4"),
+                                   std::string("0000001\0", 8), std::string(" 000001"), std::string("-1"),
+                                   std::string("1234567890123456789")}) {
+    for (const char* cmd : {"wait", "fetch", "cancel"}) {
+      const nlohmann::json request = {{"cmd", cmd}, {"job", trick}};
+      auto parsed = ParseControlRequest(request.dump());
+      ASSERT_FALSE(parsed.ok()) << request.dump();
+      EXPECT_EQ(parsed.status().code(), StatusCode::kInvalidArgument);
+      EXPECT_THAT(parsed.status().message(), HasSubstr("is not a job id (1 to 18 digits")) << request.dump();
+    }
+  }
+  EXPECT_EQ(ParseControlRequest(R"({"cmd":"fetch","job":"000042"})")->job, "000042");
+  EXPECT_EQ(ParseControlRequest(R"({"cmd":"fetch","job":"123456789012345678"})")->job, "123456789012345678");
+}
+
+TEST(ControlProtocolTest, ClientTextInErrorsIsCutShort) {
+  const std::string long_name(5000, 'a');
+  auto parsed = ParseControlRequest(R"({"cmd":")" + long_name + R"("})");
+  ASSERT_FALSE(parsed.ok());
+  EXPECT_LT(parsed.status().message().size(), 200u);
+  EXPECT_THAT(parsed.status().message(), HasSubstr("...' (5000 bytes)"));
+  const std::string reply = ControlErrorReply(InvalidArgumentError(std::string(100000, 'z')));
+  EXPECT_LT(reply.size(), kMaxControlErrorBytes + 100);
+  EXPECT_THAT(reply, HasSubstr("... (100000 bytes)"));
 }
 
 TEST(ControlProtocolTest, ErrorReplyIsOneJsonLine) {

@@ -1,4 +1,4 @@
-#include "device/control_client.h"
+#include "device/control/control_client.h"
 
 #include <poll.h>
 #include <sys/socket.h>
