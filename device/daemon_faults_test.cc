@@ -4,7 +4,9 @@
 // error or note names the problem, the raw capture is saved whenever a frame set arrived (even a
 // bad one), the daemon answers status, and the next press works; where the pipeline can honestly
 // still make a clip (a blank tile, a silently garbled frame), the clip exists and its report
-// says what was lost. Image-set faults (drop an image, reorder) run on a replayed image set.
+// says what was lost. The image-set faults (an image dropped, images reordered) run on a
+// replayed hand-held image set: the capture is saved as it came, and the job fails naming why
+// (the pipeline has no hand-held mode yet). Image-set faults (drop an image, reorder) run on a replayed image set.
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
@@ -155,6 +157,55 @@ TEST_F(DaemonFaultsTest, LatticeCameraFaultsOneAfterAnother) {
   const nlohmann::json status = Call(R"({"cmd":"status"})");
   EXPECT_EQ(status["jobs"]["done"], 4) << status.dump();
   EXPECT_EQ(status["jobs"]["failed"], 4) << status.dump();
+  Stop();
+}
+
+// Five 32x24 BGR images, a hand-held shot as a PTP tether delivers it.
+Recording ImageSetRecording() {
+  Recording recording;
+  recording.source = {"test:handheld", FrameSetKind::kImageSet, std::nullopt};
+  recording.frames.kind = FrameSetKind::kImageSet;
+  recording.frames.capture_id = 1;
+  for (int k = 0; k < 5; ++k) {
+    cv::Mat bgr(24, 32, CV_8UC3, cv::Scalar(40 * k, 7 * k, 200 - 30 * k));
+    Frame frame;
+    frame.image = FromBgr(bgr, PixelFormat::kBgr888).value();
+    frame.sequence = static_cast<uint64_t>(k);
+    recording.frames.frames.push_back(std::move(frame));
+  }
+  recording.created_by = "daemon_faults_test";
+  return recording;
+}
+
+TEST_F(DaemonFaultsTest, ImageSetFaultsKeepTheCaptureAsItCame) {
+  ASSERT_TRUE(WriteRecording(dir() / "handheld", ImageSetRecording()).ok());
+  DaemonConfig config = SmallConfig(R"([
+    {"kind": "drop", "capture": 1, "view": 2},
+    {"kind": "reorder", "capture": 2, "seed": 7}
+  ])");
+  config.source.kind = "replay";
+  config.source.replay.path = dir() / "handheld";
+  Start(config);
+  if (HasFatalFailure()) return;
+  std::vector<Outcome> outcomes;
+  for (int press = 1; press <= 3; ++press) outcomes.push_back(PressAndWait());
+  for (const Outcome& outcome : outcomes) {
+    ExpectCaptureSaved(outcome);
+    EXPECT_EQ(outcome.job.value("state", ""), "failed") << outcome.job.dump();
+    EXPECT_THAT(outcome.job.value("error", ""), HasSubstr("an image set of 5 images needs per-shot calibration"));
+  }
+  // 1: image 2 never arrived; the recording says so.
+  auto dropped = ReadRecording(daemon_->layout().CaptureDir(outcomes[0].id));
+  ASSERT_TRUE(dropped.ok());
+  EXPECT_EQ(dropped->frames.frames.at(2).status, FrameStatus::kDropped);
+  EXPECT_THAT(outcomes[0].job.value("note", ""), HasSubstr("1 of 5 frames unusable"));
+  // 2: the images arrived out of order, each with its own sequence number, as recorded.
+  auto reordered = ReadRecording(daemon_->layout().CaptureDir(outcomes[1].id));
+  ASSERT_TRUE(reordered.ok());
+  std::vector<uint64_t> sequences;
+  for (const Frame& frame : reordered->frames.frames) sequences.push_back(frame.sequence);
+  EXPECT_NE(sequences, (std::vector<uint64_t>{0, 1, 2, 3, 4}));
+  EXPECT_TRUE(std::is_permutation(sequences.begin(), sequences.end(), std::vector<uint64_t>{0, 1, 2, 3, 4}.begin()));
   Stop();
 }
 

@@ -65,7 +65,8 @@ std::string SoakReport::ToText() const {
       << "clips evicted by the quota: " << evicted << "\n"
       << "daemon RSS at start: " << rss_start_bytes / 1e6 << " MB (after the first clip)\n"
       << "daemon RSS at end: " << rss_end_bytes / 1e6 << " MB\n"
-      << "daemon RSS growth: " << RssGrowthMb() << " MB\n"
+      << "daemon RSS growth: " << RssGrowthMb() << " MB (" << RssSecondHalfGrowthMb()
+      << " MB over the second half of the presses)\n"
       << "daemon RSS peak: " << rss_peak_bytes / 1e6 << " MB\n"
       << "storage at end: " << store_bytes / 1e6 << " MB\n"
       << "time: " << seconds << " s (" << (presses > 0 ? seconds / presses : 0.0) << " s per press)\n"
@@ -143,6 +144,7 @@ StatusOr<SoakReport> RunSoak(const SoakOptions& options) {
     while (!waiting.empty() && (press == 1 || waiting.size() >= static_cast<size_t>(options.in_flight))) {
       PX_RETURN_IF_ERROR(finish_oldest());
     }
+    if (press == (options.presses + 1) / 2) report.rss_half_bytes = report.rss_end_bytes;
     if (options.progress_every > 0 && press % options.progress_every == 0) {
       log->info("soak: {} presses, {} clips, {} lost, RSS {:.1f} MB", press, report.clips, report.lost,
                 report.rss_end_bytes / 1e6);
