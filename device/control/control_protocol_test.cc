@@ -79,6 +79,14 @@ TEST(ControlProtocolTest, JobIdsAreDigitsOnlySoNoPathTrickReachesAFile) {
   EXPECT_EQ(ParseControlRequest(R"({"cmd":"fetch","job":"123456789012345678"})")->job, "123456789012345678");
 }
 
+TEST(ControlProtocolTest, NumbersTooLargeForADoubleAreAnErrorNotACrash) {
+  // Found by the control_request fuzzer: nlohmann's out_of_range escaped the parser.
+  auto parsed = ParseControlRequest(R"({"cmd":"capture","x":9e9499})");
+  ASSERT_FALSE(parsed.ok());
+  EXPECT_EQ(parsed.status().code(), StatusCode::kInvalidArgument);
+  EXPECT_THAT(parsed.status().message(), HasSubstr("number overflow parsing '9e9499'"));
+}
+
 TEST(ControlProtocolTest, ClientTextInErrorsIsCutShort) {
   const std::string long_name(5000, 'a');
   auto parsed = ParseControlRequest(R"({"cmd":")" + long_name + R"("})");
