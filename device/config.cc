@@ -1,5 +1,7 @@
 #include "device/config.h"
 
+#include <algorithm>
+#include <cctype>
 #include <nlohmann/json.hpp>
 #include <set>
 #include <sstream>
@@ -188,6 +190,19 @@ Status DaemonConfig::Validate() const {
   if (control_socket.string().size() > 107) {
     return InvalidArgumentError("control.socket: '" + control_socket.string() + "' is longer than 107 bytes");
   }
+  if (!control_group.empty()) {
+    const bool numeric = std::all_of(control_group.begin(), control_group.end(), [](char c) {
+      return std::isdigit(static_cast<unsigned char>(c));
+    });
+    const bool name = control_group.size() <= 32 && control_group.front() != '-' &&
+                      std::all_of(control_group.begin(), control_group.end(), [](char c) {
+                        return std::isalnum(static_cast<unsigned char>(c)) || c == '_' || c == '-' || c == '.';
+                      });
+    if (!(numeric ? control_group.size() <= 9 : name)) {
+      return InvalidArgumentError("control.group: '" + control_group +
+                                  "' is neither a group name (letters, digits, _ - ., at most 32) nor a gid");
+    }
+  }
   if (source.kind != "sim" && source.kind != "replay" && source.kind != "libcamera" && source.kind != "v4l2" &&
       source.kind != "ptp") {
     return InvalidArgumentError("source.kind: '" + source.kind + "' is not one of sim, replay, libcamera, v4l2, ptp");
@@ -255,6 +270,7 @@ StatusOr<DaemonConfig> DaemonConfigFromJson(const nlohmann::json& j) {
 
   PX_ASSIGN_OR_RETURN(ObjectReader control, root.Child("control"));
   PX_RETURN_IF_ERROR(control.Path("socket", &config.control_socket));
+  PX_RETURN_IF_ERROR(control.String("group", &config.control_group));
   PX_RETURN_IF_ERROR(control.CheckNoUnknownFields());
 
   PX_ASSIGN_OR_RETURN(ObjectReader source, root.Child("source"));
@@ -331,7 +347,7 @@ nlohmann::json DaemonConfigToJson(const DaemonConfig& config) {
   j["storage"] = {{"root", config.storage.root.string()},
                   {"min_free_mb", static_cast<double>(config.storage.min_free_bytes) / kBytesPerMb},
                   {"quota_mb", static_cast<double>(config.storage.quota_bytes) / kBytesPerMb}};
-  j["control"] = {{"socket", config.control_socket.string()}};
+  j["control"] = {{"socket", config.control_socket.string()}, {"group", config.control_group}};
   j["source"] = {
       {"kind", config.source.kind},
       {"timeout_ms", config.source.timeout_ms},

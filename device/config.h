@@ -96,6 +96,9 @@ struct TriggerSettings {
 struct DaemonConfig {
   StorageOptions storage;  // JSON: storage.root, storage.min_free_mb, storage.quota_mb
   std::filesystem::path control_socket = "/run/parallax/control.sock";  // JSON: control.socket; "" = no socket
+  // JSON: control.group: a group name or gid whose members may use the socket too (mode 0660,
+  // the socket's group set to it); "" = the daemon's user and root only (mode 0600).
+  std::string control_group;
   SourceSettings source;
   ClipSettings clip;
   TriggerSettings trigger;

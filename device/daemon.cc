@@ -5,7 +5,7 @@
 #include <system_error>
 
 #include "device/clip_fetch.h"
-#include "device/control_protocol.h"
+#include "device/control/control_protocol.h"
 #include "device/storage/storage_quota.h"
 #include "device/test_pause.h"
 #include "pipeline/direct/direct_options.h"
@@ -94,6 +94,7 @@ Status Daemon::Start() {
   if (!options_.control_socket.empty() || options_.trigger_fd >= 0 || !options_.loop_inputs.empty()) {
     ControlServer::Options server_options;
     server_options.socket_path = options_.control_socket;
+    server_options.access = OwnerAccess(options_.control_group);
     server_options.trigger_fd = options_.trigger_fd;
     server_options.inputs = options_.loop_inputs;
     ControlServer::Handlers handlers;
@@ -634,7 +635,7 @@ nlohmann::json Daemon::ListJson() const {
 std::optional<JobRecord> Daemon::Job(const std::string& id) const { return journal_->Get(id); }
 
 std::string Daemon::FetchReply(const std::string& id, bool inline_bytes) const {
-  StatusOr<nlohmann::json> reply = FetchClipReply(id, journal_->Get(id), inline_bytes);
+  StatusOr<nlohmann::json> reply = FetchClipReply(id, journal_->Get(id), inline_bytes, layout_);
   return reply.ok() ? Dump(*reply) : ControlErrorReply(reply.status());
 }
 

@@ -19,8 +19,8 @@
 #include <thread>
 #include <vector>
 
-#include "device/control_server.h"
-#include "device/loop_input.h"
+#include "device/control/control_server.h"
+#include "device/control/loop_input.h"
 #include "device/storage/job_journal.h"
 #include "device/storage/storage_layout.h"
 #include "drivers/source/frame_source.h"
@@ -30,6 +30,7 @@ namespace px::device {
 struct DaemonOptions {
   StorageOptions storage;
   std::filesystem::path control_socket;  // empty: no socket
+  std::optional<gid_t> control_group;    // members may use the socket too (0660); nullopt: owner only (0600)
   int trigger_fd = -1;                   // each line on this fd is a press (stdin: 0); EOF drains and stops
   // Stop once nothing is queued or running (after resuming leftover jobs). With a trigger fd,
   // only after its end of file: an open trigger means more presses may come.

@@ -2,6 +2,7 @@
 
 #include <cstdio>
 
+#include "device/control/peer_access.h"
 #include "device/source_registry.h"
 #include "device/trigger/input_trigger.h"
 #include "device/trigger/key_codes.h"
@@ -80,6 +81,9 @@ StatusOr<std::unique_ptr<Daemon>> BuildDaemon(const DaemonConfig& config, const 
   PX_ASSIGN_OR_RETURN(OpenedSource opened, OpenSource(config.source));
   DaemonOptions options = DaemonOptionsFromConfig(config, flags);
   options.wanted_source = opened.wanted;
+  if (!config.control_group.empty()) {
+    PX_ASSIGN_OR_RETURN(options.control_group, ResolveGroup(config.control_group));
+  }
   return std::make_unique<Daemon>(std::move(options), std::move(opened.source), MakeClipJobRunner(clip_options));
 }
 

@@ -5,7 +5,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "device/control_client.h"
+#include "device/control/control_client.h"
 #include "device/daemon_factory.h"
 #include "tests/testing/animation_probe.h"
 #include "tests/testing/video_probe.h"

@@ -14,8 +14,8 @@
 #include <future>
 #include <opencv2/imgcodecs.hpp>
 
-#include "device/control_client.h"
-#include "device/control_protocol.h"
+#include "device/control/control_client.h"
+#include "device/control/control_protocol.h"
 #include "pipeline/core/durable_file.h"
 #include "tests/testing/temp_dir.h"
 #include "sim/replay/recording.h"

@@ -18,8 +18,15 @@ namespace fs = std::filesystem;
 
 constexpr int kIdDigits = 6;
 
-// The sequence number an id stands for, or nullopt for a name that is not an id.
-std::optional<uint64_t> IdSequence(const std::string& id) {
+std::string FormatId(uint64_t sequence) {
+  std::string digits = std::to_string(sequence);
+  if (digits.size() < kIdDigits) digits.insert(0, kIdDigits - digits.size(), '0');
+  return digits;
+}
+
+}  // namespace
+
+std::optional<uint64_t> ParseJobId(std::string_view id) {
   if (id.empty() || id.size() > 18) return std::nullopt;
   uint64_t value = 0;
   for (char c : id) {
@@ -28,14 +35,6 @@ std::optional<uint64_t> IdSequence(const std::string& id) {
   }
   return value;
 }
-
-std::string FormatId(uint64_t sequence) {
-  std::string digits = std::to_string(sequence);
-  if (digits.size() < kIdDigits) digits.insert(0, kIdDigits - digits.size(), '0');
-  return digits;
-}
-
-}  // namespace
 
 std::string_view JobStateName(JobState state) {
   switch (state) {
@@ -105,7 +104,7 @@ nlohmann::json JobRecordToJson(const JobRecord& record) {
 StatusOr<JobRecord> JobRecordFromJson(const nlohmann::json& j, const std::string& what) {
   JobRecord record;
   PX_ASSIGN_OR_RETURN(record.id, json::GetString(j, "id", what));
-  if (!IdSequence(record.id)) return InvalidArgumentError(what + ".id: '" + record.id + "' is not a job id");
+  if (!ParseJobId(record.id)) return InvalidArgumentError(what + ".id: '" + record.id + "' is not a job id");
   PX_ASSIGN_OR_RETURN(std::string state, json::GetString(j, "state", what));
   auto parsed_state = ParseJobState(state);
   if (!parsed_state.ok()) return parsed_state.status().WithContext(what + ".state");
@@ -150,7 +149,7 @@ StatusOr<std::unique_ptr<JobJournal>> JobJournal::Open(const fs::path& jobs_dir)
       log->warn("journal record unreadable, moved aside to {}: {}", corrupt.string(), record.status().ToString());
       continue;
     }
-    journal->next_sequence_ = std::max(journal->next_sequence_, *IdSequence(record->id) + 1);
+    journal->next_sequence_ = std::max(journal->next_sequence_, *ParseJobId(record->id) + 1);
     journal->records_[record->id] = std::move(record).value();
   }
   if (ec) return ErrnoToStatus(ec.value(), "list", jobs_dir);
@@ -158,7 +157,7 @@ StatusOr<std::unique_ptr<JobJournal>> JobJournal::Open(const fs::path& jobs_dir)
 }
 
 Status JobJournal::Put(const JobRecord& record) {
-  PX_CHECK(IdSequence(record.id).has_value()) << "job id '" << record.id << "' was not made by NewId";
+  PX_CHECK(ParseJobId(record.id).has_value()) << "job id '" << record.id << "' was not made by NewId";
   const std::string text = JobRecordToJson(record).dump(2) + "\n";
   std::lock_guard<std::mutex> lock(mutex_);
   PX_RETURN_IF_ERROR(WriteFileAtomically(jobs_dir_ / (record.id + ".json"), text));
@@ -180,7 +179,7 @@ std::vector<JobRecord> JobJournal::List() const {
   for (const auto& [id, record] : records_) records.push_back(record);
   // Ids are zero-padded, so name order is press order until a sequence outgrows the padding.
   std::stable_sort(records.begin(), records.end(), [](const JobRecord& a, const JobRecord& b) {
-    return *IdSequence(a.id) < *IdSequence(b.id);
+    return *ParseJobId(a.id) < *ParseJobId(b.id);
   });
   return records;
 }
@@ -188,7 +187,7 @@ std::vector<JobRecord> JobJournal::List() const {
 std::string JobJournal::NewId(const std::vector<std::string>& also_taken) {
   std::lock_guard<std::mutex> lock(mutex_);
   for (const std::string& name : also_taken) {
-    if (auto sequence = IdSequence(name)) next_sequence_ = std::max(next_sequence_, *sequence + 1);
+    if (auto sequence = ParseJobId(name)) next_sequence_ = std::max(next_sequence_, *sequence + 1);
   }
   return FormatId(next_sequence_++);
 }

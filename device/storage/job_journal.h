@@ -30,6 +30,10 @@ std::string_view JobStateName(JobState state);  // "capturing", "saved", "proces
 StatusOr<JobState> ParseJobState(std::string_view name);
 bool IsFinal(JobState state);  // done or failed
 
+// The sequence number a job id stands for: 1 to 18 decimal digits ("000042" -> 42), nullopt for
+// anything else. Every id that reaches a path (captures/<id>, clips/<id>.mp4) passes this first.
+std::optional<uint64_t> ParseJobId(std::string_view id);
+
 struct JobRecord {
   std::string id;  // "000042": a zero-padded sequence, so name order is press order
   JobState state = JobState::kCapturing;

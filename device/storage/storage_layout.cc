@@ -43,6 +43,11 @@ Status StorageLayout::Prepare() const {
   }
   int removed = 0;
   for (const fs::path& dir : {CapturesDir(), ClipsDir(), JobsDir()}) removed += RemoveStaleTemporaries(dir);
+  // A capture interrupted while its recording was written leaves temporaries inside captures/<id>/.
+  std::error_code ec;
+  for (fs::directory_iterator it(CapturesDir(), ec), end; !ec && it != end; it.increment(ec)) {
+    if (it->is_directory(ec)) removed += RemoveStaleTemporaries(it->path());
+  }
   if (removed > 0) {
     Logger("device")->warn(
         "removed {} unfinished temporary file(s) under {} left by an interrupted write", removed, root_.string());

@@ -11,7 +11,7 @@
 #include <algorithm>
 #include <vector>
 
-#include "device/control_client.h"
+#include "device/control/control_client.h"
 #include "device/systemd/notify_test_util.h"
 #include "pipeline/core/durable_file.h"
 #include "tests/testing/temp_dir.h"

@@ -10,7 +10,7 @@
 #include <optional>
 #include <string>
 
-#include "device/loop_input.h"
+#include "device/control/loop_input.h"
 #include "device/systemd/notify_socket.h"
 
 namespace px::device {

@@ -5,7 +5,7 @@
 #include <chrono>
 #include <functional>
 
-#include "device/loop_input.h"
+#include "device/control/loop_input.h"
 #include "pipeline/core/status.h"
 
 namespace px::device {

@@ -14,7 +14,7 @@
 #include <optional>
 #include <string>
 
-#include "device/loop_input.h"
+#include "device/control/loop_input.h"
 
 namespace px::device {
 

@@ -7,7 +7,7 @@
 
 #include <thread>
 
-#include "device/control_client.h"
+#include "device/control/control_client.h"
 #include "device/daemon.h"
 #include "device/trigger/input_trigger.h"
 #include "device/trigger/input_trigger_test_util.h"

@@ -158,7 +158,7 @@ StatusOr<std::vector<RenderEvalCase>> EvaluateHciCentreView(const std::filesyste
   const View& centre = field.views[field.CentreIndex()];
   // The depth stage's range from the scene's disparity range, with a margin.
   const double lo = std::max(field.disp_min, -field.offset_px + 0.1), hi = field.disp_max;
-  DepthOptions depth_options;
+  PlaneSweepOptions depth_options;
   depth_options.min_depth_m = 0.9 * field.DepthFromDisparity(hi);
   depth_options.max_depth_m = 1.1 * field.DepthFromDisparity(lo);
   std::vector<std::pair<std::string, std::vector<View>>> sets;
@@ -173,7 +173,7 @@ StatusOr<std::vector<RenderEvalCase>> EvaluateHciCentreView(const std::filesyste
   std::vector<RenderEvalCase> cases;
   for (const auto& [name, sources] : sets) {
     Progress(options, dataset + ": depth for " + std::to_string(sources.size()) + " views");
-    PX_ASSIGN_OR_RETURN(std::vector<DepthMap> depths, ComputeDepth(sources, depth_options));
+    PX_ASSIGN_OR_RETURN(std::vector<DepthMap> depths, ComputePlaneSweepDepth(sources, depth_options));
     Progress(options, dataset + ": " + name);
     PX_ASSIGN_OR_RETURN(std::unique_ptr<CpuSceneRenderer> renderer, MakeRenderer(sources, depths, options));
     PX_ASSIGN_OR_RETURN(RenderEvalCase result,
@@ -214,11 +214,11 @@ StatusOr<std::vector<RenderEvalCase>> EvaluateLlffHeldOut(const std::filesystem:
     return InvalidArgumentError(dataset + ": " + std::to_string(scene.views.size()) +
                                 " views are too few to hold out every " + std::to_string(options.llff_hold_out_every));
   }
-  DepthOptions depth_options;
+  PlaneSweepOptions depth_options;
   depth_options.min_depth_m = 0.8 * near;
   depth_options.max_depth_m = 1.2 * far;
   Progress(options, dataset + ": depth for " + std::to_string(sources.size()) + " views");
-  PX_ASSIGN_OR_RETURN(std::vector<DepthMap> depths, ComputeDepth(sources, depth_options));
+  PX_ASSIGN_OR_RETURN(std::vector<DepthMap> depths, ComputePlaneSweepDepth(sources, depth_options));
   PX_ASSIGN_OR_RETURN(std::unique_ptr<CpuSceneRenderer> renderer, MakeRenderer(sources, depths, options));
   std::vector<RenderEvalCase> cases;
   for (const View& view : held_out) {

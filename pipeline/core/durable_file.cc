@@ -1,5 +1,7 @@
 #include "pipeline/core/durable_file.h"
 
+#include "pipeline/core/unique_fd.h"
+
 #include <fcntl.h>
 #include <signal.h>
 #include <sys/stat.h>
@@ -19,25 +21,7 @@ namespace fs = std::filesystem;
 constexpr uint64_t kBytesPerMb = 1000 * 1000;
 constexpr std::string_view kTempMarker = ".tmp-";
 
-// Closes an fd on scope exit unless released.
-class FdCloser {
- public:
-  explicit FdCloser(int fd) : fd_(fd) {}
-  ~FdCloser() {
-    if (fd_ >= 0) ::close(fd_);
-  }
-  FdCloser(const FdCloser&) = delete;
-  FdCloser& operator=(const FdCloser&) = delete;
-  // Closes now and reports the error (close can report a deferred write error on NFS).
-  int Close() {
-    int rc = ::close(fd_);
-    fd_ = -1;
-    return rc == 0 ? 0 : errno;
-  }
-
- private:
-  int fd_;
-};
+using FdCloser = UniqueFd;
 
 fs::path ParentOrDot(const fs::path& path) {
   fs::path parent = path.parent_path();

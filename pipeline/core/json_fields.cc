@@ -102,6 +102,10 @@ StatusOr<nlohmann::json> Parse(const std::string& text, const std::string& what)
       (void)ignored;
     } catch (const nlohmann::json::parse_error& e) {
       return InvalidArgumentError(what + ": malformed JSON at byte " + std::to_string(e.byte) + ": " + e.what());
+    } catch (const nlohmann::json::exception& e) {
+      // Not only syntax: a number too large for a double ("9e9499") is out_of_range (found by
+      // the control_request and recording fuzzers).
+      return InvalidArgumentError(what + ": malformed JSON: " + e.what());
     }
     return InvalidArgumentError(what + ": malformed JSON");
   }

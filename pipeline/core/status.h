@@ -26,6 +26,7 @@ enum class StatusCode {
   kInternal,
   kUnavailable,         // a device went away or is busy; may work later
   kDataLoss,            // truncated or corrupt data
+  kPermissionDenied,    // the caller may not do this (a control-socket peer of another user)
 };
 
 std::string_view StatusCodeName(StatusCode code);
@@ -64,6 +65,7 @@ inline Status DeadlineExceededError(std::string m) { return {StatusCode::kDeadli
 inline Status OutOfRangeError(std::string m) { return {StatusCode::kOutOfRange, std::move(m)}; }
 inline Status CancelledError(std::string m) { return {StatusCode::kCancelled, std::move(m)}; }
 inline Status UnimplementedError(std::string m) { return {StatusCode::kUnimplemented, std::move(m)}; }
+inline Status PermissionDeniedError(std::string m) { return {StatusCode::kPermissionDenied, std::move(m)}; }
 
 template <typename T>
 class [[nodiscard]] StatusOr {

@@ -524,8 +524,13 @@ StatusOr<FrameRender> GlSceneRenderer::Render(const VirtualCamera& camera) {
   frame.holes.height = height;
   frame.holes.hole_ratio = holes / (static_cast<double>(width) * height);
   frame.holes.hole_score = HoleScore(frame.coverage);
-  const float band = static_cast<float>(std::clamp(rho_m_ / std::max(median_depth_m_, 1e-6), 1e-3, 1.0));
-  FillHoles(frame.coverage, 3, band, &frame.bgr, &frame.depth_m);
+  if (holes > 0) {  // the CPU reference's preview rule (ALGORITHM.md 6): reverse soft z, 7x7, until filled
+    cv::Mat known = frame.coverage.clone();
+    cv::Mat colour;
+    frame.bgr.convertTo(colour, CV_32FC3);
+    FillHolesReverseSoftZ(SoftZ(rho_m_, 0.1), 3, 0, &known, &colour, &frame.depth_m);
+    colour.convertTo(frame.bgr, CV_8UC3);
+  }
   // A soft edge with nothing behind it keeps its share over the fill (ALGORITHM.md 6).
   for (int y = 0; y < height; ++y) {
     for (int x = 0; x < width; ++x) {

@@ -1,0 +1,8 @@
+// libFuzzer target: recording (fuzz_entry_points.h). Built only with clang and PX_BUILD_FUZZERS;
+// run by scripts/fuzz, corpus in tests/fuzz/corpus/recording/.
+#include "tests/fuzz/fuzz_entry_points.h"
+
+extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
+  (void)px::fuzz::FuzzRecording(data, size);
+  return 0;
+}
