@@ -112,7 +112,7 @@ StatusOr<nlohmann::json> FetchClipReply(const std::string& id, const std::option
   // from before the store moved, or edited): a record cannot point a fetch elsewhere.
   const std::filesystem::path clip = layout.FindClip(id);
   std::error_code ec;
-  if (std::filesystem::is_directory(clip, ec) && !std::filesystem::is_symlink(clip, ec)) {
+  if (!clip.has_extension() && std::filesystem::is_directory(clip, ec) && !std::filesystem::is_symlink(clip, ec)) {
     return FailedPreconditionError("job " + id + ": its clip is a folder of PNG frames (clip.format png), not one "
                                    "file; read the frames from " + clip.string());
   }

@@ -41,7 +41,7 @@ struct ViewpointSearchOptions {
   // valid_viewpoints.h), (0, 1]: the search runs at search_scale, the chosen path is checked
   // frame by frame at verify_scale.
   double search_scale = 0.125;
-  double verify_scale = 0.25;
+  double verify_scale = 1.0;
   int num_longest = 12;        // candidate paths whose parallax is measured (paper: 12), [1, 1000]
   int verify_frames = 9;       // frames along the chosen path checked at verify_scale, [2, 100]
   // z search: first step and the precision it stops at, as fractions of the median scene depth.
