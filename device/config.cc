@@ -324,6 +324,7 @@ StatusOr<DaemonConfig> DaemonConfigFromJson(const nlohmann::json& j) {
   PX_RETURN_IF_ERROR(clip.Int("loop_count", &config.clip.loop_count));
   PX_RETURN_IF_ERROR(clip.Int("webp_quality", &config.clip.webp_quality));
   PX_RETURN_IF_ERROR(clip.Int("num_threads", &config.clip.num_threads));
+  PX_RETURN_IF_ERROR(clip.Path("face_cascades", &config.clip.face_cascades));
   PX_RETURN_IF_ERROR(clip.CheckNoUnknownFields());
 
   PX_ASSIGN_OR_RETURN(ObjectReader trigger, root.Child("trigger"));
@@ -387,7 +388,8 @@ nlohmann::json DaemonConfigToJson(const DaemonConfig& config) {
                {"preset", config.clip.preset},
                {"loop_count", config.clip.loop_count},
                {"webp_quality", config.clip.webp_quality},
-               {"num_threads", config.clip.num_threads}};
+               {"num_threads", config.clip.num_threads},
+               {"face_cascades", config.clip.face_cascades.string()}};
   j["trigger"] = {{"input_device", config.trigger.input_device.string()},
                   {"key", config.trigger.key},
                   {"debounce_ms", config.trigger.debounce_ms},

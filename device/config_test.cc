@@ -5,6 +5,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "device/daemon_factory.h"
 #include "pipeline/core/durable_file.h"
 #include "tests/testing/temp_dir.h"
 
@@ -62,6 +63,29 @@ TEST(DaemonConfigTest, ReadsEveryField) {
   EXPECT_EQ(config->clip.loop_count, 2);
   EXPECT_EQ(config->clip.webp_quality, 60);
   EXPECT_EQ(config->log_levels, "info,depth=debug");
+}
+
+// The daemon directs clips with faces when the cascades are there, and without them (a warning,
+// not a dead daemon) when they are not or when switched off.
+TEST(DaemonConfigTest, FaceCascadesGiveTheJobsAFaceDetector) {
+  DaemonConfig config;
+  if (!std::filesystem::exists(config.clip.face_cascades / "haarcascade_frontalface_default.xml")) {
+    GTEST_SKIP() << "no OpenCV cascades in " << config.clip.face_cascades << " (install opencv-data)";
+  }
+  auto with_faces = ClipJobOptionsFromConfig(config);
+  ASSERT_TRUE(with_faces.ok()) << with_faces.status().ToString();
+  EXPECT_NE(with_faces->pipeline.face_detector, nullptr);
+  config.clip.face_cascades = "/nonexistent/cascades";
+  auto missing = ClipJobOptionsFromConfig(config);
+  ASSERT_TRUE(missing.ok()) << missing.status().ToString();
+  EXPECT_EQ(missing->pipeline.face_detector, nullptr);
+  config.clip.face_cascades.clear();
+  auto off = ClipJobOptionsFromConfig(config);
+  ASSERT_TRUE(off.ok());
+  EXPECT_EQ(off->pipeline.face_detector, nullptr);
+  auto round_trip = DaemonConfigFromJson(nlohmann::json::parse(R"({"clip": {"face_cascades": "/x/y"}})"));
+  ASSERT_TRUE(round_trip.ok()) << round_trip.status().ToString();
+  EXPECT_EQ(round_trip->clip.face_cascades, "/x/y");
 }
 
 TEST(DaemonConfigTest, ErrorsNameTheField) {

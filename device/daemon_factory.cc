@@ -3,6 +3,7 @@
 #include <cstdio>
 
 #include "device/control/peer_access.h"
+#include "device/face_cascades.h"
 #include "device/source_registry.h"
 #include "device/trigger/input_trigger.h"
 #include "device/trigger/key_codes.h"
@@ -26,6 +27,15 @@ StatusOr<ClipJobOptions> ClipJobOptionsFromConfig(const DaemonConfig& config) {
   options.clip.preset = config.clip.preset;
   options.clip.loop_count = config.clip.loop_count;
   options.clip.webp_quality = config.clip.webp_quality;
+  if (!config.clip.face_cascades.empty()) {
+    StatusOr<std::shared_ptr<const direct::FaceDetector>> detector = LoadFaceDetector(config.clip.face_cascades);
+    if (detector.ok()) {
+      options.pipeline.face_detector = *detector;
+    } else {
+      Logger("device")->warn("clip.face_cascades: {}; clips are directed without face detection",
+                             detector.status().message());
+    }
+  }
   if (Status valid = options.Validate(); !valid.ok()) return valid.WithContext("clip");
   return options;
 }
