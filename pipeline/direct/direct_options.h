@@ -39,7 +39,8 @@ struct ViewpointSearchOptions {
   double valid_hole_score = 2.0; // H(V) below which a viewpoint is valid (paper: 2, k = 3), (0, 1000]
   // Coverage is probed at this fraction of the output size (H is compensated, see
   // valid_viewpoints.h), (0, 1]: the search runs at search_scale, the chosen path is checked
-  // frame by frame at verify_scale.
+  // frame by frame at verify_scale. The reduced-size estimate can read low for the segment
+  // renderer's wide holes, so the chosen path is verified at the output size itself.
   double search_scale = 0.125;
   double verify_scale = 1.0;
   int num_longest = 12;        // candidate paths whose parallax is measured (paper: 12), [1, 1000]

@@ -15,10 +15,10 @@
 #include "pipeline/core/log.h"
 #include "pipeline/core/pixel_format.h"
 #include "pipeline/depth/depth_stage.h"
+#include "pipeline/direct/pan_zoom_2d.h"
 #include "pipeline/direct/plan_camera_path.h"
 #include "pipeline/lattice/lattice_detector.h"
 #include "pipeline/lattice/split_lattice.h"
-#include "pipeline/direct/pan_zoom_2d.h"
 #include "pipeline/render/cpu_scene_renderer.h"
 #include "pipeline/run/frame_salvage.h"
 
@@ -630,7 +630,6 @@ StatusOr<PipelineReport> RunPipeline(const FrameSet& capture, const RigCalibrati
     layers = std::move(kept_layers);
     report.num_views = static_cast<int>(views.size());
   }
-  const std::vector<DepthMap>* depths = &depth_maps;
 
   // Stage 4: the camera path, its viewpoints checked against what the renderer can cover.
   PX_RETURN_IF_ERROR(report_progress("direct", 0));
@@ -643,7 +642,7 @@ StatusOr<PipelineReport> RunPipeline(const FrameSet& capture, const RigCalibrati
   };
   direction.face_detector = options.face_detector.get();
   direction.shot = options.shot.get();
-  StatusOr<CameraPath> path = PlanCameraPath(views, *depths, options.direct, direction, &report.direction);
+  StatusOr<CameraPath> path = PlanCameraPath(views, depth_maps, options.direct, direction, &report.direction);
   if (!path.ok()) return path.status().WithContext("direct");
   report.path = *path;
   report.timings.push_back({"direct", MsSince(start)});
