@@ -5,6 +5,8 @@
 
 #include <fstream>
 
+#include "px_git_commit.h"  // generated at build time
+
 namespace px::cli {
 
 MachineInfo ReadMachineInfo() {
