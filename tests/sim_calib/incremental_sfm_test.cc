@@ -3,16 +3,19 @@
 // or degrade with a clear message (pure rotation, an image of another scene, a blank image).
 #include "pipeline/calib/incremental_sfm.h"
 
+#include <algorithm>
 #include <cstdio>
 
 #include <gtest/gtest.h>
 
 #include "eval/calib/pose_alignment.h"
+#include "eval/calib/sim_lattice_shot.h"
 #include "pipeline/core/pixel_format.h"
 #include "pipeline/run/pipeline.h"
 #include "sim/synthetic/data_paths.h"
 #include "sim/synthetic/ray_caster.h"
 #include "sim/synthetic/scene_json.h"
+#include "tests/testing/temp_dir.h"
 
 namespace px::sim_calib {
 namespace {
@@ -37,7 +40,9 @@ ImageSet Render(const std::string& scene_name, const std::vector<Eigen::Vector3d
                 const std::vector<Eigen::Vector3d>& turns_deg, bool known_focal) {
   ImageSet set;
   set.camera = CameraModel::Pinhole(640, 480, kFocalPx);
-  StatusOr<sim::Scene> scene = sim::LoadScene(sim::ScenesDir() / (scene_name + ".json"));
+  StatusOr<sim::Scene> scene = sim::LoadScene(scene_name.find('/') != std::string::npos
+                                                   ? std::filesystem::path(scene_name)
+                                                   : sim::ScenesDir() / (scene_name + ".json"));
   EXPECT_TRUE(scene.ok()) << scene.status().ToString();
   if (!scene.ok()) return set;
   for (size_t i = 0; i < centres_m.size(); ++i) {
@@ -63,8 +68,8 @@ ImageSet Render(const std::string& scene_name, const std::vector<Eigen::Vector3d
 }
 
 // Four hand-held shots 8 cm apart (about 3 inches), each turned by up to 2 degrees.
-ImageSet HandHeld(bool known_focal) {
-  return Render("still_life",
+ImageSet HandHeld(bool known_focal, const std::string& scene = "still_life") {
+  return Render(scene,
                 {{-0.12, 0.0, 0.0}, {-0.04, 0.01, 0.005}, {0.04, -0.005, -0.01}, {0.12, 0.008, 0.0}},
                 {{0.5, 1.5, -0.3}, {-0.8, 0.4, 0.6}, {1.2, -1.0, 0.2}, {-0.3, -2.0, -0.7}}, known_focal);
 }
@@ -132,6 +137,33 @@ TEST(IncrementalSfmSimTest, TinyBaselineSelfCalibrated) {
   EXPECT_LT(figures.focal, 0.05);
 }
 
+// Three views translated along a line without rotation (a row of a lattice): poses are found,
+// but a self-calibrated focal length trades exactly with depth, so it is reported unobservable;
+// with the focal length from metadata it is not.
+TEST(IncrementalSfmSimTest, PureTranslationReportsTheFocalLengthUnobservable) {
+  const std::vector<Eigen::Vector3d> centres = {{-0.08, 0, 0}, {0, 0, 0}, {0.08, 0, 0}};
+  const std::vector<Eigen::Vector3d> no_turns(3, Eigen::Vector3d::Zero());
+  for (bool known_focal : {false, true}) {
+    const ImageSet set = Render("still_life", centres, no_turns, known_focal);
+    StatusOr<calib::SfmResult> result = calib::RunIncrementalSfm(set.images, calib::SfmOptions());
+    ASSERT_TRUE(result.ok()) << result.status().ToString();
+    ASSERT_TRUE(result->report.success) << result->report.failure;
+    const Figures figures = Compare(*result, set);
+    Print(known_focal ? "translation, known focal" : "translation, self-calibrated", *result, figures);
+    EXPECT_EQ(result->report.num_registered, 3);
+    EXPECT_LT(result->report.max_view_rotation_deg, 0.5);
+    EXPECT_EQ(result->report.focal_observable, known_focal);
+    bool warned = false;
+    for (const std::string& warning : result->report.warnings) {
+      warned |= warning.find("focal length is unobservable") != std::string::npos;
+    }
+    EXPECT_EQ(warned, !known_focal);
+    if (known_focal) {
+      EXPECT_LT(figures.focal, 0.01);
+    }
+  }
+}
+
 class CountingSink : public FrameSink {
  public:
   Status Consume(int, const cv::Mat&) override {
@@ -171,6 +203,42 @@ TEST(IncrementalSfmSimTest, ImageSetRunsThroughThePipeline) {
   EXPECT_LT(report->mean_hole_ratio, 0.05);
 }
 
+// A lattice frame with no rig calibration at all (no layout, no lens poses): the lattice is found
+// blind, the tiles are posed by structure from motion (focal self-calibrated, reported
+// unobservable on parallel lenses), the report says so, and a clip is still made.
+TEST(IncrementalSfmSimTest, LatticeFrameWithoutRigCalibrationMakesAClip) {
+  StatusOr<eval::LatticeShot> shot =
+      eval::CaptureLatticeShot(eval::HalfSize(eval::RealisticSpec(SimCameraSpec::Pop9(), 0)), "still_life");
+  ASSERT_TRUE(shot.ok()) << shot.status().ToString();
+  FrameSet capture;
+  capture.kind = FrameSetKind::kLatticeFrame;
+  capture.capture_id = 5;
+  Frame frame;
+  frame.image = FromBgr(shot->sensor, PixelFormat::kRgb888).value();
+  capture.frames.push_back(std::move(frame));
+  PipelineOptions options;
+  options.direct.fps = 5;
+  options.direct.duration_s = 1;
+  // Fewer features and sweep steps than the defaults keep this under half a minute on 2 cores;
+  // 320x240 tiles need no more.
+  options.sfm.features.max_features = 1500;
+  options.sfm.focal_sweep_steps = 8;
+  CountingSink sink;
+  StatusOr<PipelineReport> report = RunPipeline(capture, RigCalibration{}, options, &sink);
+  ASSERT_TRUE(report.ok()) << report.status().ToString();
+  std::printf("no rig calibration: %s: %s\n", report->calibration.c_str(), report->calibration_summary.c_str());
+  for (const std::string& warning : report->warnings) std::printf("  warning: %s\n", warning.c_str());
+  EXPECT_EQ(report->calibration, "structure from motion (no rig calibration)");
+  EXPECT_EQ(report->num_views, 9);
+  EXPECT_EQ(sink.frames, 5);
+  const auto warned = [&](const std::string& text) {
+    return std::any_of(report->warnings.begin(), report->warnings.end(),
+                       [&](const std::string& w) { return w.find(text) != std::string::npos; });
+  };
+  EXPECT_TRUE(warned("no factory rig calibration: lattice found blind (3x3"));
+  EXPECT_TRUE(warned("focal length is unobservable"));
+}
+
 TEST(IncrementalSfmSimTest, PureRotationFailsWithNoParallax) {
   const ImageSet set = Render("still_life", std::vector<Eigen::Vector3d>(3, Eigen::Vector3d::Zero()),
                               {{0, -3, 0}, {1, 0, 0.5}, {0, 3, -0.5}}, /*known_focal=*/true);
@@ -190,6 +258,11 @@ TEST(IncrementalSfmSimTest, ForeignAndBlankImagesAreLeftOutByName) {
   blank.image = cv::Mat(480, 640, CV_8UC3, cv::Scalar(128, 128, 128));
   blank.intrinsics = set.camera;
   set.images.push_back(blank);
+  calib::SfmImage overexposed;  // blown out: clipped white but for a smooth ramp on the left
+  overexposed.image = cv::Mat(480, 640, CV_8UC3, cv::Scalar(255, 255, 255));
+  for (int x = 0; x < 200; ++x) overexposed.image.col(x).setTo(cv::Scalar::all(180 + 75 * x / 200));
+  overexposed.intrinsics = set.camera;
+  set.images.push_back(overexposed);
   StatusOr<calib::SfmResult> result = calib::RunIncrementalSfm(set.images, calib::SfmOptions());
   ASSERT_TRUE(result.ok()) << result.status().ToString();
   ASSERT_TRUE(result->report.success) << result->report.failure;
@@ -199,6 +272,29 @@ TEST(IncrementalSfmSimTest, ForeignAndBlankImagesAreLeftOutByName) {
   EXPECT_NE(result->views[4].note.find("matches no other image"), std::string::npos) << result->views[4].note;
   EXPECT_FALSE(result->views[5].registered);
   EXPECT_NE(result->views[5].note.find("blank"), std::string::npos) << result->views[5].note;
+  EXPECT_FALSE(result->views[6].registered);
+  EXPECT_NE(result->views[6].note.find("overexposed"), std::string::npos) << result->views[6].note;
+}
+
+// Every image of the hand-held set shows one textured wall: the poses are still found (a plane
+// fixes them), and the report warns that the scene is planar so a self-calibrated focal length
+// would be unreliable.
+TEST(IncrementalSfmSimTest, AllPlanarSetRegistersWithAWarning) {
+  px::testing::TempDir temp;
+  const std::filesystem::path scene = temp.path() / "wall.json";
+  eval::WritePlaneScene(scene, 1.5, R"({"type": "noise", "rgb_a": [220, 200, 160], "rgb_b": [40, 50, 70],
+      "scale_m": 0.5, "octaves": 8, "persistence": 0.7, "contrast": 2.0, "seed": 3})");
+  const ImageSet set = HandHeld(/*known_focal=*/true, scene.string());
+  StatusOr<calib::SfmResult> result = calib::RunIncrementalSfm(set.images, calib::SfmOptions());
+  ASSERT_TRUE(result.ok()) << result.status().ToString();
+  ASSERT_TRUE(result->report.success) << result->report.failure;
+  const Figures figures = Compare(*result, set);
+  Print("planar wall", *result, figures);
+  EXPECT_EQ(result->report.num_registered, 4);
+  EXPECT_LT(figures.rotation_deg, 0.5);
+  EXPECT_TRUE(std::any_of(result->report.warnings.begin(), result->report.warnings.end(), [](const std::string& w) {
+    return w.find("sees a plane or a distant scene") != std::string::npos;
+  })) << ::testing::PrintToString(result->report.warnings);
 }
 
 TEST(IncrementalSfmSimTest, TexturelessSetFailsWithTooFewFeatures) {
