@@ -36,6 +36,8 @@ nlohmann::json ToJson(const eval::CalibEvalRow& row) {
     out["centre_max_relative"] = row.centre_max_relative;
     out["focal_max_percent"] = row.focal_max_percent;
   }
+  out["focal_observable"] = row.focal_observable;
+  out["max_view_rotation_deg"] = row.max_view_rotation_deg;
   return out;
 }
 
@@ -48,9 +50,12 @@ void PrintTable(const std::vector<eval::CalibEvalRow>& rows) {
     char views[16];
     std::snprintf(views, sizeof(views), "%d/%d", row.views_registered, row.views_total);
     if (row.has_reference) {
-      std::printf("%-40s %-26s %-6s %5s %9.3f %9.3f %8.3f %7.2f %8.3f %9.0f\n", row.set.c_str(), row.method.c_str(),
+      // A self-calibrated focal length without rotation between the views is no measurement.
+      char focal[16];
+      std::snprintf(focal, sizeof(focal), row.focal_observable ? "%.2f" : "n/o", row.focal_max_percent);
+      std::printf("%-40s %-26s %-6s %5s %9.3f %9.3f %8.3f %7s %8.3f %9.0f\n", row.set.c_str(), row.method.c_str(),
                   row.reference.c_str(), views, row.rotation_max_deg, row.rotation_mean_deg, row.centre_max_relative,
-                  row.focal_max_percent, row.rms_px, row.time_ms);
+                  focal, row.rms_px, row.time_ms);
     } else {
       std::printf("%-40s %-26s %-6s %5s %9s %9s %8s %7s %8.3f %9.0f\n", row.set.c_str(), row.method.c_str(),
                   row.reference.c_str(), views, "-", "-", "-", "-", row.rms_px, row.time_ms);

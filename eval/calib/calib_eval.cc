@@ -99,8 +99,13 @@ StatusOr<std::vector<CalibEvalRow>> EvalOneFolder(const fs::path& dir, const Eva
   if (Exists(dir / "parameters.cfg")) {
     PX_ASSIGN_OR_RETURN(HciLightField field, LoadHciLightField(dir));
     const std::vector<View> grid = field.CentreGrid(1);
+    say("central 3x3, focal from parameters.cfg");
+    PX_ASSIGN_OR_RETURN(CalibEvalRow metadata_row,
+                        EvalStructureFromMotion(name + " 3x3", "sfm, focal from metadata", HciMetadataImages(field, grid),
+                                                PosesOf(grid), FocalsOf(grid), "exact"));
+    rows.push_back(metadata_row);
     for (bool known : {true, false}) {
-      say(known ? "central 3x3, focal known" : "central 3x3, self-calibrated");
+      say(known ? "central 3x3, exact intrinsics" : "central 3x3, self-calibrated");
       PX_ASSIGN_OR_RETURN(CalibEvalRow row,
                           EvalStructureFromMotion(name + " 3x3", known ? "sfm, intrinsics known" : "sfm, self-calibrated",
                                                   ImagesOf(grid, known), PosesOf(grid), FocalsOf(grid), "exact",
@@ -145,6 +150,17 @@ StatusOr<std::vector<CalibEvalRow>> EvalOneFolder(const fs::path& dir, const Eva
 }
 
 }  // namespace
+
+std::vector<calib::SfmImage> HciMetadataImages(const HciLightField& field, const std::vector<View>& views) {
+  std::vector<calib::SfmImage> images;
+  for (const View& view : views) {
+    calib::SfmImage image;
+    image.image = view.image;
+    image.intrinsics = CameraModel::Pinhole(view.image.cols, view.image.rows, field.focal_px);
+    images.push_back(image);
+  }
+  return images;
+}
 
 calib::SfmOptions ExactIntrinsicsSfm() {
   calib::SfmOptions options;
@@ -194,6 +210,8 @@ StatusOr<CalibEvalRow> EvalStructureFromMotion(const std::string& name, const st
   const calib::SfmReport& report = result.report;
   row.views_registered = report.num_registered;
   row.rms_px = report.rms_px;
+  row.focal_observable = report.focal_observable;
+  row.max_view_rotation_deg = report.max_view_rotation_deg;
   row.note = report.success ? "" : report.failure;
   for (const std::string& warning : report.warnings) row.note += (row.note.empty() ? "" : "; ") + warning;
   if (!report.success || reference.size() != images.size()) return row;

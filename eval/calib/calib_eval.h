@@ -11,6 +11,7 @@
 #include <string>
 #include <vector>
 
+#include "eval/datasets/hci_light_field.h"
 #include "pipeline/calib/incremental_sfm.h"
 #include "pipeline/core/rigid3.h"
 #include "pipeline/core/status.h"
@@ -29,6 +30,10 @@ struct CalibEvalRow {
   double rotation_mean_deg = 0;
   double centre_max_relative = 0;   // of the reference baseline (median nearest-neighbour distance)
   double focal_max_percent = 0;
+  // Structure from motion: false when the focal length was self-calibrated from views without
+  // rotation between them (focal_max_percent then measures nothing; "n/o" in the table).
+  bool focal_observable = true;
+  double max_view_rotation_deg = 0;  // largest rotation between two registered views (SfM)
   double rms_px = 0;        // reprojection RMS
   double time_ms = 0;
   std::string note;         // fallback reason, failure, warnings
@@ -50,13 +55,19 @@ StatusOr<CalibEvalRow> EvalStructureFromMotion(const std::string& name, const st
                                                const std::string& reference_name,
                                                const calib::SfmOptions& options = {});
 
+// The HCI views as photos with metadata: the focal length from parameters.cfg (as EXIF gives it
+// for a photo), the principal point assumed central (metadata does not give the HCI's per-view
+// principal-point shifts).
+std::vector<calib::SfmImage> HciMetadataImages(const HciLightField& field, const std::vector<View>& views);
+
 // SfM options for images whose intrinsics come from an exact calibration (not EXIF): the focal
 // length is held to 0.1 %. On a grid of parallel cameras (HCI) focal length and depth are one
 // ambiguity: images alone cannot fix the focal length, and a loose prior lets it trade with rotation.
 calib::SfmOptions ExactIntrinsicsSfm();
 
-// Every set of a data folder, by its layout: HCI (parameters.cfg: the central 3x3, focal known
-// and self-calibrated), LLFF (poses_bounds.npy), Middlebury multi-view (*_par.txt), a folder of
+// Every set of a data folder, by its layout: HCI (parameters.cfg: the central 3x3 with the focal
+// length from parameters.cfg as photo metadata, with the exact per-view intrinsics, and
+// self-calibrated), LLFF (poses_bounds.npy), Middlebury multi-view (*_par.txt), a folder of
 // photos (hand-held), or a folder of such folders (../shared/data itself, or data/handheld).
 // Errors when `dir` holds none of these.
 StatusOr<std::vector<CalibEvalRow>> EvalDataFolder(const std::filesystem::path& dir, const EvalProgress& progress);

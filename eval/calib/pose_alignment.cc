@@ -107,4 +107,20 @@ StatusOr<PoseErrors> ComparePoses(const std::vector<Rigid3>& estimated, const st
   return errors;
 }
 
+StatusOr<PoseErrors> CompareRigs(const RigCalibration& estimate, const RigCalibration& reference) {
+  if (estimate.NumViews() != reference.NumViews()) {
+    return InvalidArgumentError("compare rigs: '" + estimate.rig_name + "' has " + std::to_string(estimate.NumViews()) +
+                                " lenses, '" + reference.rig_name + "' " + std::to_string(reference.NumViews()));
+  }
+  std::vector<Rigid3> estimated_poses, reference_poses;
+  std::vector<double> estimated_focal, reference_focal;
+  for (int i = 0; i < reference.NumViews(); ++i) {
+    estimated_poses.push_back(estimate.lenses[i].cam_from_rig);
+    reference_poses.push_back(reference.lenses[i].cam_from_rig);
+    estimated_focal.push_back(estimate.lenses[i].camera.fx);
+    reference_focal.push_back(reference.lenses[i].camera.fx);
+  }
+  return ComparePoses(estimated_poses, reference_poses, estimated_focal, reference_focal);
+}
+
 }  // namespace px::eval

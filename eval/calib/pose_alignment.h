@@ -13,6 +13,7 @@
 
 #include <Eigen/Core>
 
+#include "pipeline/core/rig_calibration.h"
 #include "pipeline/core/rigid3.h"
 #include "pipeline/core/status.h"
 
@@ -47,5 +48,9 @@ StatusOr<PoseErrors> ComparePoses(const std::vector<Rigid3>& estimated_cam_from_
                                   const std::vector<Rigid3>& reference_cam_from_world,
                                   const std::vector<double>& estimated_focal_px = {},
                                   const std::vector<double>& reference_focal_px = {});
+
+// The same for two calibrations of one rig: lens poses (cam_from_rig) and focal lengths (fx).
+// Errors when the rigs have different numbers of lenses.
+StatusOr<PoseErrors> CompareRigs(const RigCalibration& estimate, const RigCalibration& reference);
 
 }  // namespace px::eval

@@ -44,6 +44,7 @@ StatusOr<LatticeShot> CaptureLatticeShot(const SimCameraSpec& spec, const std::s
   shot.factory = *source->Describe().rig;
   shot.truth = truth.rig;
   PX_ASSIGN_OR_RETURN(shot.tiles, SplitLattice(sensor, shot.factory.lattice));
+  shot.sensor = sensor;
   return shot;
 }
 

@@ -15,6 +15,7 @@
 namespace px::eval {
 
 struct LatticeShot {
+  cv::Mat sensor;               // the raw sensor frame (BGR) the tiles were cut from
   std::vector<cv::Mat> tiles;  // upright, as the lenses saw them (noise, vignetting, gains)
   RigCalibration factory;      // what the recording carries
   RigCalibration truth;        // what the views were rendered through

@@ -43,28 +43,41 @@ TEST(HciLightField, GeometryExplainsThePixels) {
   const View& centre = lf->views[lf->CentreIndex()];
 
   // Warp the view two steps right and one down into the centre view through each view's camera,
-  // pose and the ground-truth depth: it must match far better than the raw view does.
+  // pose and the ground-truth depth: it must match far better than the raw view does, and far
+  // better than the mirrored grid (camera (r, c) at -(c - 4, r - 4) B with principal points
+  // shifted the other way), which would explain the pixels only if positive disparity meant far.
   const cv::Mat depth = lf->GtDepth();
   for (int index : {lf->CentreIndex() + 2, lf->CentreIndex() + lf->cols - 1}) {
-    const View& other = lf->views[index];
-    cv::Mat map_x(depth.size(), CV_32F), map_y(depth.size(), CV_32F);
-    for (int y = 0; y < depth.rows; ++y) {
-      for (int x = 0; x < depth.cols; ++x) {
-        const Eigen::Vector3d p_in_centre = centre.camera.Unproject({x, y}) * depth.at<float>(y, x);
-        const Eigen::Vector3d p_in_world = centre.cam_from_world.Inverse() * p_in_centre;
-        Eigen::Vector2d pixel;
-        other.camera.Project(other.cam_from_world * p_in_world, &pixel);
-        map_x.at<float>(y, x) = static_cast<float>(pixel.x());
-        map_y.at<float>(y, x) = static_cast<float>(pixel.y());
+    const View& loaded = lf->views[index];
+    View mirrored = loaded;
+    mirrored.camera.cx = 2 * centre.camera.cx - loaded.camera.cx;
+    mirrored.camera.cy = 2 * centre.camera.cy - loaded.camera.cy;
+    mirrored.cam_from_world.translation = -loaded.cam_from_world.translation;
+    double aligned_by[2] = {0, 0};
+    for (int mirror : {0, 1}) {
+      const View& other = mirror ? mirrored : loaded;
+      cv::Mat map_x(depth.size(), CV_32F), map_y(depth.size(), CV_32F);
+      for (int y = 0; y < depth.rows; ++y) {
+        for (int x = 0; x < depth.cols; ++x) {
+          const Eigen::Vector3d p_in_centre = centre.camera.Unproject({x, y}) * depth.at<float>(y, x);
+          const Eigen::Vector3d p_in_world = centre.cam_from_world.Inverse() * p_in_centre;
+          Eigen::Vector2d pixel;
+          other.camera.Project(other.cam_from_world * p_in_world, &pixel);
+          map_x.at<float>(y, x) = static_cast<float>(pixel.x());
+          map_y.at<float>(y, x) = static_cast<float>(pixel.y());
+        }
       }
+      cv::Mat warped;
+      cv::remap(other.image, warped, map_x, map_y, cv::INTER_LINEAR, cv::BORDER_REPLICATE);
+      aligned_by[mirror] = MeanAbsDiff(warped, centre.image);
     }
-    cv::Mat warped;
-    cv::remap(other.image, warped, map_x, map_y, cv::INTER_LINEAR, cv::BORDER_REPLICATE);
-    const double raw = MeanAbsDiff(other.image, centre.image);
-    const double aligned = MeanAbsDiff(warped, centre.image);
-    std::cout << "HCI view " << index << " vs centre: " << raw << " grey levels raw, " << aligned << " warped\n";
+    const double raw = MeanAbsDiff(loaded.image, centre.image);
+    const double aligned = aligned_by[0];
+    std::cout << "HCI view " << index << " vs centre: " << raw << " grey levels raw, " << aligned << " warped, "
+              << aligned_by[1] << " warped through the mirrored grid\n";
     EXPECT_LT(aligned, 2.5);
     EXPECT_LT(aligned, raw / 2);
+    EXPECT_LT(aligned, aligned_by[1] / 2);
   }
   EXPECT_EQ(lf->CentreGrid(1).size(), 9u);
   EXPECT_EQ(lf->CentreGrid(1)[4].id.value, lf->CentreIndex());

@@ -86,6 +86,27 @@ class Reconstruction {
     for (const ImageState& image : images_) n += image.registered ? 1 : 0;
     return n;
   }
+  // Largest rotation between two registered images, degrees.
+  double MaxRotationDeg() const {
+    double max_deg = 0;
+    for (size_t i = 0; i < images_.size(); ++i) {
+      for (size_t j = i + 1; j < images_.size(); ++j) {
+        if (!images_[i].registered || !images_[j].registered) continue;
+        const Eigen::Quaterniond j_from_i =
+            images_[j].cam_from_world.rotation * images_[i].cam_from_world.rotation.inverse();
+        max_deg = std::max(max_deg, Eigen::AngleAxisd(j_from_i).angle() * 180.0 / M_PI);
+      }
+    }
+    return max_deg;
+  }
+  // Focal lengths are worth refining unless every registered image has one from metadata and
+  // the views are not rotated: then the images cannot improve on it (focal length and depth
+  // scale are one ambiguity) and a free focal length would only drift with model errors.
+  bool FocalRefinable(double min_rotation_deg) const {
+    bool all_known = true;
+    for (const ImageState& image : images_) all_known &= !image.registered || image.known_intrinsics;
+    return !all_known || MaxRotationDeg() >= min_rotation_deg;
+  }
   // Error threshold in an image's input pixels.
   double Threshold(int image, double feature_px) const { return feature_px * images_[image].pixel_scale; }
 
@@ -602,7 +623,8 @@ StatusOr<SfmResult> RunIncrementalSfm(const std::vector<SfmImage>& input, const 
     image.registered = true;
     image.cam_from_world = pose.cam_from_world;
     reconstruction.TriangulateNewTracks();
-    const bool refine_focal = reconstruction.NumRegistered() >= 3;
+    const bool refine_focal =
+        reconstruction.NumRegistered() >= 3 && reconstruction.FocalRefinable(options.min_rotation_for_focal_deg);
     PX_ASSIGN_OR_RETURN(BundleAdjustmentReport adjusted,
                         reconstruction.Adjust(anchor, second, refine_focal, false, 50));
     (void)adjusted;
@@ -610,10 +632,11 @@ StatusOr<SfmResult> RunIncrementalSfm(const std::vector<SfmImage>& input, const 
   }
 
   // 6. Final adjustment: focal lengths (and distortion when asked) with every view.
+  const bool refine_focal = reconstruction.FocalRefinable(options.min_rotation_for_focal_deg);
   PX_ASSIGN_OR_RETURN(BundleAdjustmentReport final_adjustment,
-                      reconstruction.Adjust(anchor, second, true, options.refine_radial_distortion, 100));
-  PX_ASSIGN_OR_RETURN(final_adjustment, reconstruction.Adjust(anchor, second, true, options.refine_radial_distortion,
-                                                               100));
+                      reconstruction.Adjust(anchor, second, refine_focal, options.refine_radial_distortion, 100));
+  PX_ASSIGN_OR_RETURN(final_adjustment, reconstruction.Adjust(anchor, second, refine_focal,
+                                                               options.refine_radial_distortion, 100));
   report.reconstruction_ms = MsSince(step);
 
   // 7. World = the first registered image's camera; scale = median depth.
@@ -683,6 +706,20 @@ StatusOr<SfmResult> RunIncrementalSfm(const std::vector<SfmImage>& input, const 
                                        "its range [%.0f, %.0f] px; the focal length may be poorly determined",
                                        best_focal, first, last));
     }
+  }
+  report.max_view_rotation_deg = reconstruction.MaxRotationDeg();
+  if (!refine_focal) {
+    report.warnings.push_back(Printf("focal length held at the metadata's: the views are not rotated (at most %.2f deg "
+                                     "between any two), so the images cannot refine it",
+                                     report.max_view_rotation_deg));
+  }
+  if (self > 0 && report.max_view_rotation_deg < options.min_rotation_for_focal_deg) {
+    report.focal_observable = false;
+    report.warnings.push_back(Printf("self-calibrated focal length is unobservable: the views are translated without "
+                                     "rotation (at most %.2f deg between any two, need %.1f), so focal length and "
+                                     "depth scale are one ambiguity; give the focal length from metadata (EXIF, a "
+                                     "lens configuration) to measure depth",
+                                     report.max_view_rotation_deg, options.min_rotation_for_focal_deg));
   }
   if (report.initial_homography_ratio < kPlanarHomographyRatio) {
     report.warnings.push_back(Printf("the initial pair sees a plane or a distant scene (one homography explains its "

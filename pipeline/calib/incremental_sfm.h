@@ -62,6 +62,11 @@ struct SfmReport {
   double initial_parallax_ratio = 0;   // the same over the pair's epipolar noise
   double initial_homography_ratio = 0;  // its homography residual over its noise (~1.3 planar)
   std::string focal_source;            // "metadata", "self-calibrated", or a mix
+  // Largest rotation between two registered views, degrees. A self-calibrated focal length
+  // needs rotation: views that are only translated (a grid of parallel cameras) see the same
+  // images for any focal length with the depths rescaled, so it is then flagged unobservable.
+  double max_view_rotation_deg = 0;
+  bool focal_observable = true;        // false: self-calibrated and max_view_rotation_deg too small
   std::vector<std::pair<double, double>> focal_sweep;  // (focal px, two-view RMS px) when swept
   std::vector<SfmPair> pairs;
   double features_ms = 0;

@@ -38,6 +38,9 @@ Status SfmOptions::Validate() const {
     return OutOfRange("focal_sweep_min..max", focal_sweep_min, "0.2 <= min < max <= 10 (max " +
                                                                      std::to_string(focal_sweep_max) + ")");
   }
+  if (!(min_rotation_for_focal_deg >= 0 && min_rotation_for_focal_deg <= 45)) {
+    return OutOfRange("min_rotation_for_focal_deg", min_rotation_for_focal_deg, "[0, 45]");
+  }
   if (focal_sweep_steps < 3 || focal_sweep_steps > 100) {
     return OutOfRange("focal_sweep_steps", focal_sweep_steps, "[3, 100]");
   }

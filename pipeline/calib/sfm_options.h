@@ -47,6 +47,10 @@ struct SfmOptions {
   double focal_sweep_min = 0.5;
   double focal_sweep_max = 2.5;
   int focal_sweep_steps = 15;
+  // Below this rotation between any two registered views, degrees [0, 45], the focal length is
+  // unobservable: a self-calibrated one is reported so (a warning, report.focal_observable), and
+  // focal lengths from metadata are held rather than refined.
+  double min_rotation_for_focal_deg = 1.0;
   bool refine_radial_distortion = false;  // k1, k2 in the final adjustment
 
   double loss_scale_px = 2.0;     // Cauchy loss scale, (0, 100]

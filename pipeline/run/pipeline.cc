@@ -184,6 +184,50 @@ RigCalibration RefinedRig(const std::vector<cv::Mat>& tiles, const RigCalibratio
   return refined->rig;
 }
 
+// Views of `images` (ids `view_ids`, named `image_names` in warnings) posed by structure from
+// motion; unregistered images are named in `warnings` and dropped.
+StatusOr<CalibratedViews> SfmViews(const std::string& name, const std::vector<calib::SfmImage>& images,
+                                   const std::vector<size_t>& view_ids, const std::vector<std::string>& image_names,
+                                   const CalibOptions& calib_options, const calib::SfmOptions& sfm,
+                                   std::vector<std::string>* warnings) {
+  PX_ASSIGN_OR_RETURN(calib::SfmResult sfm_result, calib::RunIncrementalSfm(images, sfm));
+  const calib::SfmReport& report = sfm_result.report;
+  if (!report.success) {
+    return FailedPreconditionError(name + ": structure from motion failed: " + report.failure);
+  }
+  for (const std::string& warning : report.warnings) warnings->push_back("calib: " + warning);
+  CalibratedViews out;
+  out.calibration = "structure from motion";
+  char text[256];
+  std::snprintf(text, sizeof(text), "%d of %d images registered, %d points, reprojection RMS %.2f px, focal %s%s, %.0f ms",
+                report.num_registered, report.num_images, report.num_points, report.rms_px,
+                report.focal_source.c_str(), report.focal_observable ? "" : " (unobservable)", report.total_ms);
+  out.summary = text;
+  std::vector<double> nears, fars;
+  UndistortCache cache;
+  for (size_t i = 0; i < images.size(); ++i) {
+    const calib::SfmView& sfm_view = sfm_result.views[i];
+    if (!sfm_view.registered) {
+      warnings->push_back(image_names[i] + " not registered: " + sfm_view.note + "; dropped");
+      continue;
+    }
+    PX_ASSIGN_OR_RETURN(View view, MakeView(ViewId{static_cast<int>(view_ids[i])}, images[i].image, sfm_view.camera,
+                                            sfm_view.cam_from_world, calib_options, &cache));
+    out.views.push_back(std::move(view));
+    if (sfm_view.depth_near > 0) nears.push_back(sfm_view.depth_near);
+    if (sfm_view.depth_far > 0) fars.push_back(sfm_view.depth_far);
+  }
+  if (out.views.size() < 2 || nears.empty()) {
+    return FailedPreconditionError(name + ": structure from motion registered " + std::to_string(out.views.size()) +
+                                   " images with depth; at least 2 are needed");
+  }
+  // Scene units (SfmOptions::median_depth): the views' near and far points, with a margin.
+  out.depth_min_m = 0.8 * *std::min_element(nears.begin(), nears.end());
+  out.depth_max_m = 1.25 * *std::max_element(fars.begin(), fars.end());
+  Logger("calib")->info("calib: structure from motion: {}", out.summary);
+  return out;
+}
+
 // An image set's views: poses and focal lengths from structure from motion. Images that
 // cannot be used (bad frames, unregistered) are named in `warnings`.
 StatusOr<CalibratedViews> ImageSetViews(const FrameSet& capture, const RigCalibration& rig,
@@ -216,48 +260,73 @@ StatusOr<CalibratedViews> ImageSetViews(const FrameSet& capture, const RigCalibr
     frame_of_image.push_back(i);
   }
   timings->push_back({"lattice", MsSince(start)});  // decoding, for an image set
-  const Clock::time_point calib_start = Clock::now();
   if (images.size() < 2) {
     return FailedPreconditionError(name + ": only " + std::to_string(images.size()) + " of " +
                                    std::to_string(capture.frames.size()) + " images are usable");
   }
-  PX_ASSIGN_OR_RETURN(calib::SfmResult sfm_result, calib::RunIncrementalSfm(images, sfm));
-  const calib::SfmReport& report = sfm_result.report;
-  if (!report.success) {
-    return FailedPreconditionError(name + ": structure from motion failed: " + report.failure);
-  }
-  for (const std::string& warning : report.warnings) warnings->push_back("calib: " + warning);
-  CalibratedViews out;
-  out.calibration = "structure from motion";
-  char text[256];
-  std::snprintf(text, sizeof(text), "%d of %d images registered, %d points, reprojection RMS %.2f px, focal %s, %.0f ms",
-                report.num_registered, report.num_images, report.num_points, report.rms_px,
-                report.focal_source.c_str(), report.total_ms);
-  out.summary = text;
-  std::vector<double> nears, fars;
-  UndistortCache cache;
-  for (size_t i = 0; i < images.size(); ++i) {
-    const calib::SfmView& sfm_view = sfm_result.views[i];
-    const size_t frame = frame_of_image[i];
-    if (!sfm_view.registered) {
-      warnings->push_back(FrameName(capture, frame) + " not registered: " + sfm_view.note + "; dropped");
-      continue;
-    }
-    PX_ASSIGN_OR_RETURN(View view, MakeView(ViewId{static_cast<int>(frame)}, images[i].image, sfm_view.camera,
-                                            sfm_view.cam_from_world, calib_options, &cache));
-    out.views.push_back(std::move(view));
-    if (sfm_view.depth_near > 0) nears.push_back(sfm_view.depth_near);
-    if (sfm_view.depth_far > 0) fars.push_back(sfm_view.depth_far);
-  }
-  if (out.views.size() < 2 || nears.empty()) {
-    return FailedPreconditionError(name + ": structure from motion registered " + std::to_string(out.views.size()) +
-                                   " images with depth; at least 2 are needed");
-  }
-  // Scene units (SfmOptions::median_depth): the views' near and far points, with a margin.
-  out.depth_min_m = 0.8 * *std::min_element(nears.begin(), nears.end());
-  out.depth_max_m = 1.25 * *std::max_element(fars.begin(), fars.end());
+  std::vector<std::string> image_names;
+  for (size_t frame : frame_of_image) image_names.push_back(FrameName(capture, frame));
+  const Clock::time_point calib_start = Clock::now();
+  PX_ASSIGN_OR_RETURN(CalibratedViews out, SfmViews(name, images, frame_of_image, image_names, calib_options, sfm,
+                                                    warnings));
   timings->push_back({"calib", MsSince(calib_start)});
-  Logger("calib")->info("calib: structure from motion: {}", out.summary);
+  return out;
+}
+
+// A lattice frame without a rig calibration (no layout, no lens poses): the lattice is found
+// blind and the tiles are calibrated as an image set by structure from motion, with the lenses'
+// intrinsics as metadata when the calibration has them for tiles of that size (else the focal
+// length is self-calibrated: unobservable on a lattice of parallel lenses, which the report says).
+StatusOr<CalibratedViews> BlindLatticeViews(const FrameSet& capture, const RigCalibration& rig,
+                                            const CalibOptions& calib_options, const calib::SfmOptions& sfm,
+                                            std::vector<std::string>* warnings, std::vector<StageTiming>* timings) {
+  const Clock::time_point lattice_start = Clock::now();
+  size_t chosen = capture.frames.size();
+  for (size_t i = 0; i < capture.frames.size() && chosen == capture.frames.size(); ++i) {
+    if (capture.frames[i].status == FrameStatus::kOk) chosen = i;
+  }
+  if (chosen == capture.frames.size()) return UnusableFrameError(capture, 0);
+  const std::string name = FrameName(capture, chosen);
+  PX_ASSIGN_OR_RETURN(cv::Mat sensor, ToBgr(capture.frames[chosen].image));
+  StatusOr<LatticeDetection> found = DetectLattice(sensor, LatticeOptions());
+  if (!found.ok()) {
+    return FailedPreconditionError(name + ": no rig calibration, and the lattice cannot be found blind: " +
+                                   found.status().message());
+  }
+  PX_ASSIGN_OR_RETURN(std::vector<cv::Mat> tiles, SplitLattice(sensor, found->layout));
+  timings->push_back({"lattice", MsSince(lattice_start)});
+  const std::string reason = "no factory rig calibration: lattice found blind (" + found->report.Summary() +
+                             "); views calibrated by structure from motion";
+  warnings->push_back(reason);
+  Logger("calib")->warn("{}", reason);
+
+  const Clock::time_point calib_start = Clock::now();
+  std::vector<calib::SfmImage> images;
+  std::vector<size_t> view_ids;
+  std::vector<std::string> image_names;
+  int with_intrinsics = 0;
+  for (size_t i = 0; i < tiles.size(); ++i) {
+    calib::SfmImage image;
+    image.image = tiles[i];
+    image.camera_id = 0;  // one lens design: self-calibrated intrinsics are shared
+    if (rig.NumViews() == static_cast<int>(tiles.size())) {
+      const CameraModel& lens = rig.lenses[i].camera;
+      if (lens.width == tiles[i].cols && lens.height == tiles[i].rows) {
+        image.intrinsics = lens;
+        ++with_intrinsics;
+      }
+    }
+    images.push_back(std::move(image));
+    view_ids.push_back(i);
+    image_names.push_back("view " + std::to_string(i));
+  }
+  if (with_intrinsics > 0) {
+    warnings->push_back("calib: lens intrinsics of " + std::to_string(with_intrinsics) + " of " +
+                        std::to_string(tiles.size()) + " tiles from the rig calibration's lenses (no layout)");
+  }
+  PX_ASSIGN_OR_RETURN(CalibratedViews out, SfmViews(name, images, view_ids, image_names, calib_options, sfm, warnings));
+  out.calibration = "structure from motion (no rig calibration)";
+  timings->push_back({"calib", MsSince(calib_start)});
   return out;
 }
 
@@ -273,10 +342,8 @@ StatusOr<CalibratedViews> CalibrateCapture(const FrameSet& capture, const RigCal
   if (capture.frames.empty()) {
     return InvalidArgumentError("capture " + std::to_string(capture.capture_id) + " holds no frames");
   }
+  if (rig.lattice.rows == 0) return BlindLatticeViews(capture, rig, calib, sfm, warnings, timings);
   PX_RETURN_IF_ERROR(rig.Validate().WithContext("rig calibration '" + rig.rig_name + "'"));
-  if (rig.lattice.rows == 0) {
-    return FailedPreconditionError("rig calibration '" + rig.rig_name + "' has no lattice layout for a lattice frame");
-  }
 
   const Clock::time_point lattice_start = Clock::now();
   size_t chosen = capture.frames.size();

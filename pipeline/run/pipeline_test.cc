@@ -390,9 +390,22 @@ TEST_F(PipelineTest, RejectsWhatItCannotDo) {
   EXPECT_NE(RunPipeline(Capture(sensor_), rig_, options, &sink).status().message().find("render.aperture_samples"),
             std::string::npos);
 
+}
+
+// Lens intrinsics but no lattice layout: the lattice is found blind and the tiles are posed by
+// structure from motion with the lenses' intrinsics as metadata; the report says so.
+TEST_F(PipelineTest, LatticeWithoutLayoutIsFoundBlindAndPosedBySfm) {
+  CollectingSink sink;
   RigCalibration no_lattice = rig_;
   no_lattice.lattice = LatticeLayout();
-  EXPECT_FALSE(RunPipeline(Capture(sensor_), no_lattice, ShortClip(), &sink).ok());
+  StatusOr<PipelineReport> report = RunPipeline(Capture(sensor_), no_lattice, ShortClip(), &sink);
+  ASSERT_TRUE(report.ok()) << report.status().ToString();
+  EXPECT_EQ(report->calibration, "structure from motion (no rig calibration)");
+  EXPECT_EQ(report->num_views, 9);
+  EXPECT_EQ(sink.frames.size(), 10u);
+  EXPECT_TRUE(std::any_of(report->warnings.begin(), report->warnings.end(), [](const std::string& w) {
+    return w.find("lens intrinsics of 9 of 9 tiles from the rig calibration") != std::string::npos;
+  })) << ::testing::PrintToString(report->warnings);
 }
 
 }  // namespace

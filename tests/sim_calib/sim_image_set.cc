@@ -1,0 +1,90 @@
+#include "tests/sim_calib/sim_image_set.h"
+
+#include <cstdio>
+#include <filesystem>
+
+#include <gtest/gtest.h>
+#include <opencv2/core.hpp>
+
+#include "eval/calib/pose_alignment.h"
+#include "sim/synthetic/data_paths.h"
+#include "sim/synthetic/ray_caster.h"
+#include "sim/synthetic/scene_json.h"
+
+namespace px::sim_calib {
+namespace {
+
+constexpr double kFocalPx = 560.0;
+
+Eigen::Quaterniond Turn(double rx_deg, double ry_deg, double rz_deg) {
+  const double k = M_PI / 180.0;
+  return Eigen::Quaterniond(Eigen::AngleAxisd(rx_deg * k, Eigen::Vector3d::UnitX()) *
+                            Eigen::AngleAxisd(ry_deg * k, Eigen::Vector3d::UnitY()) *
+                            Eigen::AngleAxisd(rz_deg * k, Eigen::Vector3d::UnitZ()));
+}
+
+}  // namespace
+
+ImageSet Render(const std::string& scene_name, const std::vector<Eigen::Vector3d>& centres_m,
+                const std::vector<Eigen::Vector3d>& turns_deg, bool known_focal) {
+  ImageSet set;
+  set.camera = CameraModel::Pinhole(640, 480, kFocalPx);
+  StatusOr<sim::Scene> scene = sim::LoadScene(scene_name.find('/') != std::string::npos
+                                                   ? std::filesystem::path(scene_name)
+                                                   : sim::ScenesDir() / (scene_name + ".json"));
+  EXPECT_TRUE(scene.ok()) << scene.status().ToString();
+  if (!scene.ok()) return set;
+  for (size_t i = 0; i < centres_m.size(); ++i) {
+    const Eigen::Quaterniond rotation = Turn(turns_deg[i].x(), turns_deg[i].y(), turns_deg[i].z());
+    const Rigid3 cam_from_world(rotation, -(rotation * centres_m[i]));
+    StatusOr<sim::RenderedView> view = sim::RenderView(*scene, set.camera, cam_from_world);
+    EXPECT_TRUE(view.ok()) << view.status().ToString();
+    if (!view.ok()) return set;
+    calib::SfmImage image;
+    image.image = view->bgr;
+    cv::Mat noise(image.image.size(), CV_16SC3);
+    cv::RNG rng(100 + i);
+    rng.fill(noise, cv::RNG::NORMAL, 0, 2.0);
+    cv::Mat noisy;
+    image.image.convertTo(noisy, CV_16SC3);
+    noisy += noise;
+    noisy.convertTo(image.image, CV_8UC3);
+    if (known_focal) image.intrinsics = set.camera;
+    set.images.push_back(image);
+    set.truth.push_back(cam_from_world);
+  }
+  return set;
+}
+
+ImageSet HandHeld(bool known_focal, const std::string& scene) {
+  return Render(scene,
+                {{-0.12, 0.0, 0.0}, {-0.04, 0.01, 0.005}, {0.04, -0.005, -0.01}, {0.12, 0.008, 0.0}},
+                {{0.5, 1.5, -0.3}, {-0.8, 0.4, 0.6}, {1.2, -1.0, 0.2}, {-0.3, -2.0, -0.7}}, known_focal);
+}
+
+Figures Compare(const calib::SfmResult& result, const ImageSet& set) {
+  std::vector<Rigid3> est;
+  std::vector<double> est_f, ref_f;
+  for (const calib::SfmView& view : result.views) {
+    est.push_back(view.cam_from_world);
+    est_f.push_back(view.camera.fx);
+    ref_f.push_back(set.camera.fx);
+  }
+  StatusOr<eval::PoseErrors> errors = eval::ComparePoses(est, set.truth, est_f, ref_f);
+  EXPECT_TRUE(errors.ok()) << errors.status().ToString();
+  if (!errors.ok()) return {};
+  return {eval::PoseErrors::Max(errors->rotation_deg), eval::PoseErrors::Max(errors->centre_relative),
+          eval::PoseErrors::Max(errors->focal_relative)};
+}
+
+void Print(const char* name, const calib::SfmResult& result, const Figures& figures) {
+  const calib::SfmReport& r = result.report;
+  std::printf("%s: %d/%d registered, %d points, RMS %.3f px, initial pair %d-%d (parallax %.1f px, %.1fx noise), "
+              "focal %.1f px (%s), %.0f ms; rotation %.3f deg, centre %.3f baselines, focal %.2f %%\n",
+              name, r.num_registered, r.num_images, r.num_points, r.rms_px, r.initial_image_a, r.initial_image_b,
+              r.initial_parallax_px, r.initial_parallax_ratio, result.views[0].camera.fx, r.focal_source.c_str(),
+              r.total_ms, figures.rotation_deg, figures.centre, 100 * figures.focal);
+  for (const std::string& warning : r.warnings) std::printf("  warning: %s\n", warning.c_str());
+}
+
+}  // namespace px::sim_calib
