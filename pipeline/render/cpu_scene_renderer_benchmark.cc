@@ -90,6 +90,7 @@ BENCHMARK(BM_RenderFrame)
 
 // Coverage() at 1/8 of the 1200x800 output (150x100), as the direction stage calls it.
 void BM_Coverage(benchmark::State& state) {
+  if (const char* levels = std::getenv("PX_LOG")) (void)SetLogLevels(levels);
   const Shot& shot = GetShot(1200, static_cast<int>(state.range(0)));
   auto renderer = CpuSceneRenderer::Create(shot.views, shot.layers, RenderOptions{});
   if (!renderer.ok()) {

@@ -100,13 +100,20 @@ TEST_F(CpuSceneRendererTest, CoverageAgreesWithRenderAndIsCheapAtReducedSize) {
   EXPECT_NEAR(full->hole_ratio, frame->holes.hole_ratio, 1e-9);
   EXPECT_NEAR(full->hole_score, frame->holes.hole_score, 1e-9);
   EXPECT_EQ(full->width, 320);
-  // At 1/8 size the ratio is nearly the same; H(V) scales with the cube of the size (d^3).
+  // At 1/8 size (the coarse scene: 32 px blocks) the ratio is nearly the same; H(V) scales with
+  // the cube of the size (d^3).
+  ASSERT_NE(renderer->coarse_scene(), nullptr);
+  size_t fine_segments = 0, coarse_segments = 0;
+  for (const render::SceneView& view : renderer->scene().views()) fine_segments += view.segments.size();
+  for (const render::SceneView& view : renderer->coarse_scene()->views()) coarse_segments += view.segments.size();
+  EXPECT_LT(coarse_segments * 8, fine_segments);
   StatusOr<CoverageReport> small = renderer->Coverage(kCamera.Scaled(0.125), pose);
   ASSERT_TRUE(small.ok()) << small.status().ToString();
   EXPECT_EQ(small->width, 40);
   EXPECT_NEAR(small->hole_ratio, full->hole_ratio, 0.02);
-  std::printf("coverage: full %.4f H %.3f; 1/8 %.4f H %.5f (x512 = %.3f)\n", full->hole_ratio, full->hole_score,
-              small->hole_ratio, small->hole_score, 512 * small->hole_score);
+  std::printf("coverage: full %.4f H %.3f; 1/8 %.4f H %.5f (x512 = %.3f); segments %zu, coarse %zu\n",
+              full->hole_ratio, full->hole_score, small->hole_ratio, small->hole_score, 512 * small->hole_score,
+              fine_segments, coarse_segments);
 }
 
 TEST_F(CpuSceneRendererTest, ColourEffectsAndDepthOfFieldReachTheFrame) {
