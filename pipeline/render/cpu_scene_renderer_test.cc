@@ -217,6 +217,29 @@ TEST_F(CpuSceneRendererTest, ACameraLookingAwayGivesAnEmptyFrameNotAnError) {
   }
 }
 
+// Coverage() (full size and the coarse scene at 1/8) of a camera looking away, and of a 1x1
+// camera: every pixel a hole, or a valid report; bad cameras are errors as for Render().
+TEST_F(CpuSceneRendererTest, CoverageOfCamerasSeeingNothingIsAllHoles) {
+  auto renderer = Make();
+  ASSERT_NE(renderer, nullptr);
+  const Rigid3 away(Eigen::Quaterniond(Eigen::AngleAxisd(M_PI, Eigen::Vector3d::UnitY())), Eigen::Vector3d::Zero());
+  for (const CameraModel& camera : {kCamera, kCamera.Scaled(0.125)}) {
+    StatusOr<CoverageReport> report = renderer->Coverage(camera, away);
+    ASSERT_TRUE(report.ok()) << report.status().ToString();
+    EXPECT_EQ(report->hole_ratio, 1.0) << camera.width;
+    EXPECT_GT(report->hole_score, 2.0) << camera.width;  // invalid for the direction stage
+  }
+  CameraModel one = CameraModel::Pinhole(1, 1, 1.0);
+  StatusOr<CoverageReport> tiny = renderer->Coverage(one, views_[4].cam_from_world);
+  ASSERT_TRUE(tiny.ok()) << tiny.status().ToString();
+  EXPECT_EQ(tiny->width, 1);
+  EXPECT_TRUE(tiny->hole_ratio == 0.0 || tiny->hole_ratio == 1.0);
+  CameraModel nan_focal = kCamera;
+  nan_focal.fx = std::numeric_limits<double>::quiet_NaN();
+  EXPECT_FALSE(renderer->Coverage(nan_focal, views_[4].cam_from_world).ok());
+  EXPECT_FALSE(renderer->Render(At(nan_focal, views_[4].cam_from_world)).ok());
+}
+
 TEST_F(CpuSceneRendererTest, BadCamerasAreErrorsThatNameTheProblem) {
   auto renderer = Make();
   ASSERT_NE(renderer, nullptr);
