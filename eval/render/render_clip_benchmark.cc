@@ -7,7 +7,6 @@
 
 #include <chrono>
 #include <filesystem>
-#include <map>
 #include <memory>
 #include <string>
 
@@ -26,31 +25,13 @@ double SecondsSince(Clock::time_point start) {
   return std::chrono::duration<double>(Clock::now() - start).count();
 }
 
-struct Shot {
-  std::vector<View> views;
-  std::vector<LayeredDepthView> layers;
-  CameraModel camera;
-};
-
-const Shot& GetShot(int width, int num_views) {
-  static std::map<std::pair<int, int>, std::unique_ptr<Shot>> shots;
-  auto& shot = shots[{width, num_views}];
-  if (!shot) {
-    shot = std::make_unique<Shot>();
-    const int height = width * 2 / 3;
-    shot->camera = CameraModel::Pinhole(width, height, 0.875 * width);
-    const int rows = num_views == 9 ? 3 : 4, cols = num_views == 9 ? 3 : 5;
-    const double baseline = num_views == 9 ? 0.025 : 0.0125;
-    render::testing::PlaneScene scene;
-    render::testing::MakeLayeredLattice(scene, rows, cols, baseline, shot->camera, &shot->views, &shot->layers);
-  }
-  return *shot;
-}
+using render::testing::CachedLatticeShot;
+using render::testing::LatticeShot;
 
 // range(0): output width (1200), range(1): views (9 or 20). One iteration = one whole clip.
 void BM_RenderAndEncodeClip(benchmark::State& state) {
   constexpr int kFrames = 150;
-  const Shot& shot = GetShot(static_cast<int>(state.range(0)), static_cast<int>(state.range(1)));
+  const LatticeShot& shot = CachedLatticeShot(static_cast<int>(state.range(0)), static_cast<int>(state.range(1)));
   auto renderer = CpuSceneRenderer::Create(shot.views, shot.layers, RenderOptions{});
   if (!renderer.ok()) {
     state.SkipWithError(renderer.status().ToString().c_str());
