@@ -2,16 +2,19 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cctype>
 #include <cmath>
 #include <memory>
 #include <sstream>
 
+#include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
 #include "eval/datasets/hci_light_field.h"
 #include "eval/datasets/llff.h"
 #include "eval/render/image_metrics.h"
 #include "pipeline/calib/undistort_cache.h"
+#include "pipeline/depth/depth_stage.h"
 #include "pipeline/depth/plane_sweep.h"
 #include "pipeline/render/cpu_scene_renderer.h"
 #include "pipeline/render/layered_from_depth.h"
@@ -28,9 +31,9 @@ void Progress(const RenderEvalOptions& options, const std::string& line) {
   if (options.progress) options.progress(line);
 }
 
-StatusOr<std::unique_ptr<CpuSceneRenderer>> MakeRenderer(const std::vector<View>& views,
-                                                         const std::vector<DepthMap>& depths,
-                                                         const RenderEvalOptions& options) {
+StatusOr<std::vector<LayeredDepthView>> LayersFromDepthMaps(const std::vector<View>& views,
+                                                             const std::vector<DepthMap>& depths,
+                                                             const RenderEvalOptions& options) {
   std::vector<LayeredDepthView> layers;
   layers.reserve(views.size());
   for (size_t i = 0; i < views.size(); ++i) {
@@ -38,12 +41,76 @@ StatusOr<std::unique_ptr<CpuSceneRenderer>> MakeRenderer(const std::vector<View>
     if (!layered.ok()) return layered.status().WithContext("layered depth of view " + std::to_string(views[i].id.value));
     layers.push_back(std::move(layered).value());
   }
+  return layers;
+}
+
+// The renderer over `views` with layered depth from `source`: the depth stage or the plane sweep
+// over [min_depth_m, max_depth_m], or `exact_depths` (kTruth; must then hold one map per view).
+StatusOr<std::unique_ptr<CpuSceneRenderer>> MakeRenderer(const std::vector<View>& views, EvalDepth source,
+                                                         double min_depth_m, double max_depth_m,
+                                                         const std::vector<DepthMap>* exact_depths,
+                                                         const RenderEvalOptions& options) {
+  std::vector<LayeredDepthView> layers;
+  switch (source) {
+    case EvalDepth::kDepthStage: {
+      const DepthOptions depth_options = options.depth_stage.WithDefaultDepthRange(min_depth_m, max_depth_m);
+      PX_ASSIGN_OR_RETURN(DepthStageResult depth, ComputeLayeredDepth(views, depth_options));
+      layers = std::move(depth.layered);
+      break;
+    }
+    case EvalDepth::kPlaneSweep: {
+      PlaneSweepOptions sweep_options;
+      sweep_options.min_depth_m = min_depth_m;
+      sweep_options.max_depth_m = max_depth_m;
+      PX_ASSIGN_OR_RETURN(std::vector<DepthMap> depths, ComputePlaneSweepDepth(views, sweep_options));
+      PX_ASSIGN_OR_RETURN(layers, LayersFromDepthMaps(views, depths, options));
+      break;
+    }
+    case EvalDepth::kTruth:
+      if (exact_depths == nullptr || exact_depths->size() != views.size()) {
+        return InvalidArgumentError("eval render: exact depth requested for a dataset without it");
+      }
+      PX_ASSIGN_OR_RETURN(layers, LayersFromDepthMaps(views, *exact_depths, options));
+      break;
+  }
   return CpuSceneRenderer::Create(views, layers, options.render);
 }
 
-// Renders `camera` at `pose` (once to warm up, once timed) and scores it against `truth`.
+// The depth sources of `options` that apply to a dataset (kTruth only where exact depth exists).
+std::vector<EvalDepth> DepthSources(const RenderEvalOptions& options, bool has_exact_depth) {
+  std::vector<EvalDepth> sources;
+  for (EvalDepth depth : options.depths) {
+    if (depth != EvalDepth::kTruth || has_exact_depth) sources.push_back(depth);
+  }
+  return sources;
+}
+
+// Pixels within 3 px of a depth jump of more than 5% between neighbours (CV_8U).
+cv::Mat DepthEdges(const cv::Mat& depth_m) {
+  cv::Mat log_depth;
+  cv::max(depth_m, 1e-6, log_depth);
+  cv::log(log_depth, log_depth);
+  cv::Mat dx, dy;
+  cv::Sobel(log_depth, dx, CV_32F, 1, 0, 1);
+  cv::Sobel(log_depth, dy, CV_32F, 0, 1, 1);
+  cv::Mat jump = (cv::abs(dx) > 0.05) | (cv::abs(dy) > 0.05);
+  cv::dilate(jump, jump, cv::getStructuringElement(cv::MORPH_RECT, cv::Size(7, 7)));
+  return jump;
+}
+
+std::string DumpName(const std::string& dataset, const std::string& viewpoint, EvalDepth depth) {
+  std::string name = dataset + " " + viewpoint + " " + std::string(EvalDepthName(depth));
+  for (char& ch : name) {
+    if (!std::isalnum(static_cast<unsigned char>(ch))) ch = '_';
+  }
+  return name;
+}
+
+// Renders `camera` at `pose` (once to warm up, once timed) and scores it against `truth`;
+// `truth_depth_m` (may be empty) tells where the depth edges are.
 StatusOr<RenderEvalCase> RenderAndScore(CpuSceneRenderer& renderer, const CameraModel& camera, const Rigid3& pose,
-                                        const cv::Mat& truth, int num_sources) {
+                                        const cv::Mat& truth, const cv::Mat& truth_depth_m, int num_sources,
+                                        const RenderEvalOptions& options, const std::string& dump_name) {
   VirtualCamera virtual_camera;
   virtual_camera.camera = camera;
   virtual_camera.cam_from_world = pose;
@@ -57,8 +124,25 @@ StatusOr<RenderEvalCase> RenderAndScore(CpuSceneRenderer& renderer, const Camera
   result.num_sources = num_sources;
   result.psnr_db = Psnr(frame.bgr, truth);
   result.ssim = Ssim(frame.bgr, truth);
+  const cv::Mat edges = DepthEdges(truth_depth_m.empty() ? frame.depth_m : truth_depth_m);
+  const cv::Mat covered = frame.coverage != 0;
+  result.psnr_covered_edges_db = Psnr(frame.bgr, truth, covered & edges);
+  result.psnr_covered_flat_db = Psnr(frame.bgr, truth, covered & ~edges);
+  result.psnr_holes_db = Psnr(frame.bgr, truth, ~covered);
   result.hole_ratio = frame.holes.hole_ratio;
   result.hole_score = frame.holes.hole_score;
+  if (!options.dump_dir.empty()) {
+    std::error_code error;
+    std::filesystem::create_directories(options.dump_dir, error);
+    const std::string stem = (options.dump_dir / dump_name).string();
+    cv::Mat diff;
+    cv::absdiff(frame.bgr, truth, diff);
+    diff.convertTo(diff, CV_8UC3, 4.0);
+    if (!cv::imwrite(stem + "_render.png", frame.bgr) || !cv::imwrite(stem + "_truth.png", truth) ||
+        !cv::imwrite(stem + "_error_x4.png", diff)) {
+      return InternalError("eval render: cannot write " + stem + "_*.png");
+    }
+  }
   return result;
 }
 
@@ -72,8 +156,29 @@ std::string LatticeName(const SimCameraSpec& spec) {
 
 }  // namespace
 
+std::string_view EvalDepthName(EvalDepth depth) {
+  switch (depth) {
+    case EvalDepth::kDepthStage:
+      return "depth stage";
+    case EvalDepth::kTruth:
+      return "exact";
+    case EvalDepth::kPlaneSweep:
+      return "plane sweep";
+  }
+  return "?";
+}
+
+StatusOr<EvalDepth> ParseEvalDepth(std::string_view name) {
+  if (name == "depth stage" || name == "stage") return EvalDepth::kDepthStage;
+  if (name == "exact" || name == "truth") return EvalDepth::kTruth;
+  if (name == "plane sweep" || name == "sweep") return EvalDepth::kPlaneSweep;
+  return InvalidArgumentError("eval render: depth source '" + std::string(name) +
+                              "' is not one of stage, truth, sweep");
+}
+
 Status RenderEvalOptions::Validate() const {
   PX_RETURN_IF_ERROR(render.Validate());
+  if (depths.empty()) return InvalidArgumentError("eval render: no depth source to evaluate (depths is empty)");
   if (!(sim_scale > 0 && sim_scale <= 1)) {
     std::ostringstream error;
     error << "eval render: sim_scale " << sim_scale << " is outside (0, 1]";
@@ -114,7 +219,6 @@ StatusOr<std::vector<RenderEvalCase>> EvaluateSimulatedScene(const std::filesyst
     depth.confidence = cv::Mat(truth.depth_m.size(), CV_32F, cv::Scalar(1));
     depths.push_back(depth);
   }
-  PX_ASSIGN_OR_RETURN(std::unique_ptr<CpuSceneRenderer> renderer, MakeRenderer(views, depths, options));
 
   // Viewpoints no lens had: between lenses on the lattice plane, off the plane in front of and
   // behind it, and turned. The rig frame is centred on the lattice, lenses looking down +z.
@@ -135,17 +239,33 @@ StatusOr<std::vector<RenderEvalCase>> EvaluateSimulatedScene(const std::filesyst
   };
   sim::RenderOptions truth_options;
   truth_options.supersampling = spec.supersampling;
-  std::vector<RenderEvalCase> cases;
+  const CameraModel& camera = views.front().camera;
+  std::vector<cv::Mat> truth_images, truth_depths;
   for (const Viewpoint& viewpoint : viewpoints) {
-    Progress(options, dataset + ": " + viewpoint.name);
-    const Rigid3 pose = PoseAt(viewpoint.centre, viewpoint.rotation);
-    const CameraModel& camera = views.front().camera;
-    PX_ASSIGN_OR_RETURN(sim::RenderedView truth, sim::RenderView(scene, camera, pose, truth_options));
-    PX_ASSIGN_OR_RETURN(RenderEvalCase result,
-                        RenderAndScore(*renderer, camera, pose, truth.bgr, static_cast<int>(views.size())));
-    result.dataset = dataset;
-    result.viewpoint = viewpoint.name;
-    cases.push_back(result);
+    PX_ASSIGN_OR_RETURN(sim::RenderedView truth,
+                        sim::RenderView(scene, camera, PoseAt(viewpoint.centre, viewpoint.rotation), truth_options));
+    truth_images.push_back(truth.bgr);
+    truth_depths.push_back(truth.depth_m);
+  }
+  std::vector<RenderEvalCase> cases;
+  for (EvalDepth source : DepthSources(options, true)) {
+    Progress(options, dataset + ": " + std::string(EvalDepthName(source)) + " depth for " +
+                          std::to_string(views.size()) + " views");
+    // The depth stage sweeps the rig's nominal range, as in the product (pipeline/run).
+    PX_ASSIGN_OR_RETURN(std::unique_ptr<CpuSceneRenderer> renderer,
+                        MakeRenderer(views, source, spec.depth_min_m, spec.depth_max_m, &depths, options));
+    for (size_t i = 0; i < viewpoints.size(); ++i) {
+      Progress(options, dataset + ": " + viewpoints[i].name);
+      const Rigid3 pose = PoseAt(viewpoints[i].centre, viewpoints[i].rotation);
+      PX_ASSIGN_OR_RETURN(RenderEvalCase result,
+                          RenderAndScore(*renderer, camera, pose, truth_images[i], truth_depths[i],
+                                         static_cast<int>(views.size()), options,
+                                         DumpName(dataset, viewpoints[i].name, source)));
+      result.dataset = dataset;
+      result.viewpoint = viewpoints[i].name;
+      result.depth = source;
+      cases.push_back(result);
+    }
   }
   return cases;
 }
@@ -158,9 +278,10 @@ StatusOr<std::vector<RenderEvalCase>> EvaluateHciCentreView(const std::filesyste
   const View& centre = field.views[field.CentreIndex()];
   // The depth stage's range from the scene's disparity range, with a margin.
   const double lo = std::max(field.disp_min, -field.offset_px + 0.1), hi = field.disp_max;
-  PlaneSweepOptions depth_options;
-  depth_options.min_depth_m = 0.9 * field.DepthFromDisparity(hi);
-  depth_options.max_depth_m = 1.1 * field.DepthFromDisparity(lo);
+  // Depth edges from the ground truth where the set has it at the image's size.
+  const cv::Mat truth_depth = field.gt_disparity.size() == centre.image.size() ? field.GtDepth() : cv::Mat();
+  const double min_depth_m = 0.9 * field.DepthFromDisparity(hi);
+  const double max_depth_m = 1.1 * field.DepthFromDisparity(lo);
   std::vector<std::pair<std::string, std::vector<View>>> sets;
   std::vector<View> ring = field.CentreGrid(1);
   ring.erase(ring.begin() + static_cast<long>(ring.size() / 2));
@@ -172,16 +293,20 @@ StatusOr<std::vector<RenderEvalCase>> EvaluateHciCentreView(const std::filesyste
   }
   std::vector<RenderEvalCase> cases;
   for (const auto& [name, sources] : sets) {
-    Progress(options, dataset + ": depth for " + std::to_string(sources.size()) + " views");
-    PX_ASSIGN_OR_RETURN(std::vector<DepthMap> depths, ComputePlaneSweepDepth(sources, depth_options));
-    Progress(options, dataset + ": " + name);
-    PX_ASSIGN_OR_RETURN(std::unique_ptr<CpuSceneRenderer> renderer, MakeRenderer(sources, depths, options));
-    PX_ASSIGN_OR_RETURN(RenderEvalCase result,
-                        RenderAndScore(*renderer, centre.camera, centre.cam_from_world, centre.image,
-                                       static_cast<int>(sources.size())));
-    result.dataset = dataset;
-    result.viewpoint = name;
-    cases.push_back(result);
+    for (EvalDepth source : DepthSources(options, false)) {
+      Progress(options, dataset + ": " + std::string(EvalDepthName(source)) + " depth for " +
+                            std::to_string(sources.size()) + " views");
+      PX_ASSIGN_OR_RETURN(std::unique_ptr<CpuSceneRenderer> renderer,
+                          MakeRenderer(sources, source, min_depth_m, max_depth_m, nullptr, options));
+      Progress(options, dataset + ": " + name);
+      PX_ASSIGN_OR_RETURN(RenderEvalCase result,
+                          RenderAndScore(*renderer, centre.camera, centre.cam_from_world, centre.image, truth_depth,
+                                         static_cast<int>(sources.size()), options, DumpName(dataset, name, source)));
+      result.dataset = dataset;
+      result.viewpoint = name;
+      result.depth = source;
+      cases.push_back(result);
+    }
   }
   return cases;
 }
@@ -214,21 +339,23 @@ StatusOr<std::vector<RenderEvalCase>> EvaluateLlffHeldOut(const std::filesystem:
     return InvalidArgumentError(dataset + ": " + std::to_string(scene.views.size()) +
                                 " views are too few to hold out every " + std::to_string(options.llff_hold_out_every));
   }
-  PlaneSweepOptions depth_options;
-  depth_options.min_depth_m = 0.8 * near;
-  depth_options.max_depth_m = 1.2 * far;
-  Progress(options, dataset + ": depth for " + std::to_string(sources.size()) + " views");
-  PX_ASSIGN_OR_RETURN(std::vector<DepthMap> depths, ComputePlaneSweepDepth(sources, depth_options));
-  PX_ASSIGN_OR_RETURN(std::unique_ptr<CpuSceneRenderer> renderer, MakeRenderer(sources, depths, options));
   std::vector<RenderEvalCase> cases;
-  for (const View& view : held_out) {
-    const std::string name = "view " + std::to_string(view.id.value) + " held out";
-    Progress(options, dataset + ": " + name);
-    PX_ASSIGN_OR_RETURN(RenderEvalCase result, RenderAndScore(*renderer, view.camera, view.cam_from_world, view.image,
-                                                              static_cast<int>(sources.size())));
-    result.dataset = dataset;
-    result.viewpoint = name;
-    cases.push_back(result);
+  for (EvalDepth source : DepthSources(options, false)) {
+    Progress(options, dataset + ": " + std::string(EvalDepthName(source)) + " depth for " +
+                          std::to_string(sources.size()) + " views");
+    PX_ASSIGN_OR_RETURN(std::unique_ptr<CpuSceneRenderer> renderer,
+                        MakeRenderer(sources, source, 0.8 * near, 1.2 * far, nullptr, options));
+    for (const View& view : held_out) {
+      const std::string name = "view " + std::to_string(view.id.value) + " held out";
+      Progress(options, dataset + ": " + name);
+      PX_ASSIGN_OR_RETURN(RenderEvalCase result,
+                          RenderAndScore(*renderer, view.camera, view.cam_from_world, view.image, cv::Mat(),
+                                         static_cast<int>(sources.size()), options, DumpName(dataset, name, source)));
+      result.dataset = dataset;
+      result.viewpoint = name;
+      result.depth = source;
+      cases.push_back(result);
+    }
   }
   return cases;
 }

@@ -4,12 +4,15 @@
 #include <chrono>
 #include <string>
 
+#include <opencv2/imgproc.hpp>
+
 #include "pipeline/core/log.h"
 #include "pipeline/render/color_effects.h"
 #include "pipeline/render/compositor.h"
 #include "pipeline/render/depth_of_field.h"
 #include "pipeline/render/exemplar_inpaint.h"
 #include "pipeline/render/hole_fill.h"
+#include "pipeline/render/layered_from_depth.h"
 #include "pipeline/render/segment_raster.h"
 
 namespace px {
@@ -37,6 +40,54 @@ CoverageReport MeasureCoverage(const cv::Mat& coverage) {
   return report;
 }
 
+// Coverage() at or below this fraction of the sources' focal length draws the coarse scene, whose
+// segments are 32 source pixels wide (<= 8 output pixels there).
+constexpr double kCoarseScale = 0.25;
+// Made at a quarter of the views' resolution with 8 px blocks (cheap to make: 16x fewer pixels).
+constexpr double kCoarseViewScale = 0.25;
+constexpr int kCoarseBlockPx = 8;
+
+// The scene again with each view's front-layer depth, sampled at kCoarseViewScale, re-segmented
+// into kCoarseBlockPx blocks (colours are not needed for coverage). Null, with the reason logged,
+// when it cannot be made.
+std::unique_ptr<render::LayeredScene> MakeCoarseScene(const std::vector<View>& views,
+                                                      const std::vector<LayeredDepthView>& layers,
+                                                      const RenderOptions& options) {
+  LayeredFromDepthOptions coarse;
+  coarse.block_px = kCoarseBlockPx;
+  std::vector<View> coarse_views;
+  for (const View& full : views) {
+    View view;
+    view.id = full.id;
+    view.camera = full.camera.Scaled(kCoarseViewScale);
+    view.cam_from_world = full.cam_from_world;
+    coarse_views.push_back(std::move(view));
+  }
+  std::vector<LayeredDepthView> coarse_layers;
+  coarse_layers.reserve(layers.size());
+  for (const LayeredDepthView& layered : layers) {
+    View view;
+    view.id = layered.id;
+    view.camera = layered.camera.Scaled(kCoarseViewScale);
+    view.image = cv::Mat::zeros(view.camera.height, view.camera.width, CV_8UC3);
+    DepthMap depth;
+    depth.id = layered.id;
+    cv::resize(layered.ToDepthMap().depth_m, depth.depth_m, view.image.size(), 0, 0, cv::INTER_NEAREST);
+    StatusOr<LayeredDepthView> made = LayeredDepthFromDepthMap(view, depth, coarse);
+    if (!made.ok()) {
+      Logger("render")->debug("no coarse scene for Coverage(): {}", made.status().ToString());
+      return nullptr;
+    }
+    coarse_layers.push_back(std::move(made).value());
+  }
+  StatusOr<render::LayeredScene> scene = render::LayeredScene::Create(coarse_views, coarse_layers, options);
+  if (!scene.ok()) {
+    Logger("render")->debug("no coarse scene for Coverage(): {}", scene.status().ToString());
+    return nullptr;
+  }
+  return std::make_unique<render::LayeredScene>(std::move(scene).value());
+}
+
 }  // namespace
 
 StatusOr<std::unique_ptr<CpuSceneRenderer>> CpuSceneRenderer::Create(const std::vector<View>& views,
@@ -47,7 +98,20 @@ StatusOr<std::unique_ptr<CpuSceneRenderer>> CpuSceneRenderer::Create(const std::
   for (const std::string& warning : scene.warnings()) log->warn("{}", warning);
   log->debug("cpu renderer: {} views in the mesh, {} triangles, depth range {:.3f} m", scene.views().size(),
              scene.mesh().triangles().size(), scene.depth_range_m());
-  return std::unique_ptr<CpuSceneRenderer>(new CpuSceneRenderer(std::move(scene), options));
+  const Clock::time_point start = Clock::now();
+  std::unique_ptr<render::LayeredScene> coarse = MakeCoarseScene(views, layers, options);
+  // The coarse scene must take the same views in the same order (the mesh indexes them).
+  if (coarse != nullptr && coarse->views().size() != scene.views().size()) coarse.reset();
+  log->debug("coarse scene for Coverage(): {} in {:.1f} ms", coarse == nullptr ? "none" : "made", MsSince(start));
+  double min_focal_px = 0;
+  for (const render::SceneView& view : scene.views()) {
+    const double focal = std::min(view.camera.fx, view.camera.fy);
+    min_focal_px = min_focal_px == 0 ? focal : std::min(min_focal_px, focal);
+  }
+  auto renderer =
+      std::unique_ptr<CpuSceneRenderer>(new CpuSceneRenderer(std::move(scene), std::move(coarse), options));
+  renderer->min_source_focal_px_ = min_focal_px;
+  return renderer;
 }
 
 Status CpuSceneRenderer::CheckCamera(const CameraModel& camera, const Rigid3& cam_from_world) const {
@@ -192,10 +256,12 @@ StatusOr<FrameRender> CpuSceneRenderer::Render(const VirtualCamera& camera) {
 
 StatusOr<CoverageReport> CpuSceneRenderer::Coverage(const CameraModel& camera, const Rigid3& cam_from_world) {
   PX_RETURN_IF_ERROR(CheckCamera(camera, cam_from_world));
-  scene_.mesh().ComputeWeights(camera, cam_from_world, &slots_);
-  const std::vector<render::FrameView> frame_views = render::SetUpFrame(scene_, camera, cam_from_world, slots_);
+  const bool coarse = coarse_scene_ != nullptr && std::max(camera.fx, camera.fy) <= kCoarseScale * min_source_focal_px_;
+  const render::LayeredScene& scene = coarse ? *coarse_scene_ : scene_;
+  scene.mesh().ComputeWeights(camera, cam_from_world, &slots_);
+  const std::vector<render::FrameView> frame_views = render::SetUpFrame(scene, camera, cam_from_world, slots_);
   render::FrameComposite composite;
-  render::CompositePreview(scene_, frame_views, slots_, camera.width, camera.height, false, &composite);
+  render::CompositePreview(scene, frame_views, slots_, camera.width, camera.height, false, &composite);
   return MeasureCoverage(composite.alpha >= options_.covered_alpha);
 }
 

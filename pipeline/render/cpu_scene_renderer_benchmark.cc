@@ -6,7 +6,6 @@
 #include <benchmark/benchmark.h>
 
 #include <cstdlib>
-#include <map>
 #include <memory>
 #include <tuple>
 
@@ -17,32 +16,13 @@
 namespace px {
 namespace {
 
-struct Shot {
-  std::vector<View> views;
-  std::vector<LayeredDepthView> layers;
-  CameraModel camera;
-};
-
-// Shots are built once per (size, lattice) and kept: building 20 views of 1200x800 takes seconds.
-const Shot& GetShot(int width, int num_views) {
-  static std::map<std::pair<int, int>, std::unique_ptr<Shot>> shots;
-  auto& shot = shots[{width, num_views}];
-  if (!shot) {
-    shot = std::make_unique<Shot>();
-    const int height = width * 2 / 3;
-    shot->camera = CameraModel::Pinhole(width, height, 0.875 * width);
-    const int rows = num_views == 9 ? 3 : 4, cols = num_views == 9 ? 3 : 5;
-    const double baseline = num_views == 9 ? 0.025 : 0.0125;
-    render::testing::PlaneScene scene;
-    render::testing::MakeLayeredLattice(scene, rows, cols, baseline, shot->camera, &shot->views, &shot->layers);
-  }
-  return *shot;
-}
+using render::testing::CachedLatticeShot;
+using render::testing::LatticeShot;
 
 // range(0): output width (480 or 1200), range(1): views (9 or 20), range(2): 0 preview, 1 offline.
 void BM_RenderFrame(benchmark::State& state) {
   if (const char* levels = std::getenv("PX_LOG")) (void)SetLogLevels(levels);
-  const Shot& shot = GetShot(static_cast<int>(state.range(0)), static_cast<int>(state.range(1)));
+  const LatticeShot& shot = CachedLatticeShot(static_cast<int>(state.range(0)), static_cast<int>(state.range(1)));
   RenderOptions options;
   options.quality = state.range(2) == 0 ? RenderQuality::kPreview : RenderQuality::kOffline;
   auto renderer = CpuSceneRenderer::Create(shot.views, shot.layers, options);
@@ -90,7 +70,8 @@ BENCHMARK(BM_RenderFrame)
 
 // Coverage() at 1/8 of the 1200x800 output (150x100), as the direction stage calls it.
 void BM_Coverage(benchmark::State& state) {
-  const Shot& shot = GetShot(1200, static_cast<int>(state.range(0)));
+  if (const char* levels = std::getenv("PX_LOG")) (void)SetLogLevels(levels);
+  const LatticeShot& shot = CachedLatticeShot(1200, static_cast<int>(state.range(0)));
   auto renderer = CpuSceneRenderer::Create(shot.views, shot.layers, RenderOptions{});
   if (!renderer.ok()) {
     state.SkipWithError(renderer.status().ToString().c_str());

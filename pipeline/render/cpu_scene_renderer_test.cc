@@ -100,13 +100,20 @@ TEST_F(CpuSceneRendererTest, CoverageAgreesWithRenderAndIsCheapAtReducedSize) {
   EXPECT_NEAR(full->hole_ratio, frame->holes.hole_ratio, 1e-9);
   EXPECT_NEAR(full->hole_score, frame->holes.hole_score, 1e-9);
   EXPECT_EQ(full->width, 320);
-  // At 1/8 size the ratio is nearly the same; H(V) scales with the cube of the size (d^3).
+  // At 1/8 size (the coarse scene: 32 px blocks) the ratio is nearly the same; H(V) scales with
+  // the cube of the size (d^3).
+  ASSERT_NE(renderer->coarse_scene(), nullptr);
+  size_t fine_segments = 0, coarse_segments = 0;
+  for (const render::SceneView& view : renderer->scene().views()) fine_segments += view.segments.size();
+  for (const render::SceneView& view : renderer->coarse_scene()->views()) coarse_segments += view.segments.size();
+  EXPECT_LT(coarse_segments * 8, fine_segments);
   StatusOr<CoverageReport> small = renderer->Coverage(kCamera.Scaled(0.125), pose);
   ASSERT_TRUE(small.ok()) << small.status().ToString();
   EXPECT_EQ(small->width, 40);
   EXPECT_NEAR(small->hole_ratio, full->hole_ratio, 0.02);
-  std::printf("coverage: full %.4f H %.3f; 1/8 %.4f H %.5f (x512 = %.3f)\n", full->hole_ratio, full->hole_score,
-              small->hole_ratio, small->hole_score, 512 * small->hole_score);
+  std::printf("coverage: full %.4f H %.3f; 1/8 %.4f H %.5f (x512 = %.3f); segments %zu, coarse %zu\n",
+              full->hole_ratio, full->hole_score, small->hole_ratio, small->hole_score, 512 * small->hole_score,
+              fine_segments, coarse_segments);
 }
 
 TEST_F(CpuSceneRendererTest, ColourEffectsAndDepthOfFieldReachTheFrame) {
@@ -208,6 +215,29 @@ TEST_F(CpuSceneRendererTest, ACameraLookingAwayGivesAnEmptyFrameNotAnError) {
     EXPECT_GT(frame->holes.hole_score, 2.0);  // invalid for the direction stage
     EXPECT_EQ(cv::countNonZero(frame->coverage), 0);
   }
+}
+
+// Coverage() (full size and the coarse scene at 1/8) of a camera looking away, and of a 1x1
+// camera: every pixel a hole, or a valid report; bad cameras are errors as for Render().
+TEST_F(CpuSceneRendererTest, CoverageOfCamerasSeeingNothingIsAllHoles) {
+  auto renderer = Make();
+  ASSERT_NE(renderer, nullptr);
+  const Rigid3 away(Eigen::Quaterniond(Eigen::AngleAxisd(M_PI, Eigen::Vector3d::UnitY())), Eigen::Vector3d::Zero());
+  for (const CameraModel& camera : {kCamera, kCamera.Scaled(0.125)}) {
+    StatusOr<CoverageReport> report = renderer->Coverage(camera, away);
+    ASSERT_TRUE(report.ok()) << report.status().ToString();
+    EXPECT_EQ(report->hole_ratio, 1.0) << camera.width;
+    EXPECT_GT(report->hole_score, 2.0) << camera.width;  // invalid for the direction stage
+  }
+  CameraModel one = CameraModel::Pinhole(1, 1, 1.0);
+  StatusOr<CoverageReport> tiny = renderer->Coverage(one, views_[4].cam_from_world);
+  ASSERT_TRUE(tiny.ok()) << tiny.status().ToString();
+  EXPECT_EQ(tiny->width, 1);
+  EXPECT_TRUE(tiny->hole_ratio == 0.0 || tiny->hole_ratio == 1.0);
+  CameraModel nan_focal = kCamera;
+  nan_focal.fx = std::numeric_limits<double>::quiet_NaN();
+  EXPECT_FALSE(renderer->Coverage(nan_focal, views_[4].cam_from_world).ok());
+  EXPECT_FALSE(renderer->Render(At(nan_focal, views_[4].cam_from_world)).ok());
 }
 
 TEST_F(CpuSceneRendererTest, BadCamerasAreErrorsThatNameTheProblem) {
