@@ -4,6 +4,7 @@
 // both on OSMesa and on EGL (surfaceless here). Figures per camera: PSNR between the two frames,
 // max and mean colour difference away from depth edges, coverage masks, hole ratio and H(V).
 // Run `build/tests/render_gl_gl_agreement_test` (or ctest -V -R render/gl/gl_agreement) to print them.
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <memory>
@@ -61,8 +62,10 @@ Agreement Compare(const FrameRender& gl, const FrameRender& cpu) {
 
 class GlAgreementTest : public ::testing::TestWithParam<GlPlatform> {
  protected:
-  void SetUp() override {
-    testing::MakeLayeredLattice(scene_, 3, 3, kBaselineM, kCamera, &views_, &layers_);
+  void SetUp() override { Prepare(3, 3); }
+  // Both renderers on a rows x cols lattice of the scene.
+  void Prepare(int rows, int cols) {
+    testing::MakeLayeredLattice(scene_, rows, cols, kBaselineM, kCamera, &views_, &layers_);
     auto cpu = CpuSceneRenderer::Create(views_, layers_, RenderOptions());
     ASSERT_TRUE(cpu.ok()) << cpu.status().ToString();
     cpu_ = std::move(cpu).value();
@@ -82,10 +85,26 @@ class GlAgreementTest : public ::testing::TestWithParam<GlPlatform> {
     EXPECT_TRUE(cpu.ok()) << cpu.status().ToString();
     if (!gl.ok() || !cpu.ok()) return {};
     const Agreement a = Compare(*gl, *cpu);
+    // The views that contributed, most weight first: the viewing weights agree (on this
+    // Lambertian scene colour alone would hardly tell a wrong weighting). The same view leads;
+    // GL lists views with weight, the CPU also those holding a slot at weight 0, and views of
+    // equal weight may come in either order.
+    std::string gl_sources, cpu_sources;
+    for (ViewId id : gl->sources) gl_sources += std::to_string(id.value) + " ";
+    for (ViewId id : cpu->sources) cpu_sources += std::to_string(id.value) + " ";
+    EXPECT_FALSE(gl->sources.empty());
+    if (!gl->sources.empty() && !cpu->sources.empty()) {
+      EXPECT_EQ(gl->sources.front(), cpu->sources.front()) << "gl: " << gl_sources << "cpu: " << cpu_sources;
+    }
+    for (ViewId id : gl->sources) {
+      EXPECT_NE(std::find(cpu->sources.begin(), cpu->sources.end(), id), cpu->sources.end())
+          << "view " << id.value << " has weight on GL only; gl: " << gl_sources << "cpu: " << cpu_sources;
+    }
     std::printf("%-10s %-22s PSNR %5.1f dB; interior colour diff max %3.0f mean %.2f; coverage differs on %.4f; "
-                "holes %.4f / %.4f, H(V) %.4f / %.4f (gl / cpu)\n",
+                "holes %.4f / %.4f, H(V) %.4f / %.4f (gl / cpu); sources %s\n",
                 std::string(gl_->BackendName()).c_str(), name.c_str(), a.psnr_db, a.max_diff, a.mean_diff,
-                a.coverage_disagree, a.hole_ratio_gl, a.hole_ratio_cpu, a.hole_score_gl, a.hole_score_cpu);
+                a.coverage_disagree, a.hole_ratio_gl, a.hole_ratio_cpu, a.hole_score_gl, a.hole_score_cpu,
+                gl_sources.c_str());
     return a;
   }
 
@@ -194,6 +213,25 @@ TEST_P(GlAgreementTest, HolesAndTheirScoreAgree) {
               gl->hole_score, cpu->hole_score);
   EXPECT_NEAR(gl->hole_ratio, cpu->hole_ratio, 0.002);
   EXPECT_NEAR(gl->hole_score, cpu->hole_score, 0.02 * std::max(cpu->hole_score, 0.1));
+}
+
+// A 1D (collinear) rig, four lenses in a row: the view mesh degenerates to a line and the
+// weights go along it (ALGORITHM.md 2, 3). Between lenses, ahead of the rig, above the line and
+// beyond its end, GL agrees with the CPU reference as on the 2D rig.
+TEST_P(GlAgreementTest, OneDimensionalRigAgreesWithTheCpuReference) {
+  Prepare(1, 4);
+  if (HasFatalFailure()) return;
+  for (const auto& [name, centre] : {std::pair<const char*, Eigen::Vector3d>{"1D between lenses", {0.006, 0.0, 0.0}},
+                                     {"1D ahead and above", {-0.02, 0.01, 0.05}},
+                                     {"1D beyond the end", {0.06, 0.0, 0.0}}}) {
+    SCOPED_TRACE(name);
+    const Agreement a = Check(name, Camera(PoseAt(centre, 0.5)));
+    EXPECT_GT(a.psnr_db, 50.0);
+    EXPECT_LT(a.mean_diff, 0.25);
+    EXPECT_LE(a.max_diff, 16.0);
+    EXPECT_LT(a.coverage_disagree, 0.001);
+    EXPECT_NEAR(a.hole_score_gl, a.hole_score_cpu, 0.02 * std::max(a.hole_score_cpu, 0.1));
+  }
 }
 
 INSTANTIATE_TEST_SUITE_P(Platforms, GlAgreementTest, ::testing::Values(GlPlatform::kOsmesa, GlPlatform::kEgl),
