@@ -11,6 +11,7 @@
 #include "pipeline/core/durable_file.h"
 #include "tests/testing/temp_dir.h"
 #include "pipeline/direct/camera_path.h"
+#include "pipeline/render/gl/render_backend.h"
 #include "sim/replay/recording.h"
 #include "sim/synthetic/synthetic_source.h"
 
@@ -94,6 +95,36 @@ TEST_F(ClipJobTest, MakesAPlayableClipWithItsCameraPathBesideIt) {
   ASSERT_TRUE(path.ok()) << path.status().ToString();
   EXPECT_GE(path->keyframes.size(), 2u);
   EXPECT_EQ(path->fps, 10);
+}
+
+// The clip made on GL (OSMesa, llvmpipe: present on every machine this builds on), and the
+// same job with the OSMesa library missing: drawn on the CPU, the JSON saying which and why.
+TEST_F(ClipJobTest, RendersOnTheChosenBackEndAndSaysWhichInTheJson) {
+  const fs::path recording = SaveSimRecording();
+  struct Case {
+    const char* name;
+    std::string osmesa_library;
+    std::string want_backend, want_reason;
+  };
+  for (const Case& c : {Case{"gl", "libOSMesa.so.8", "gl-osmesa", "gl-osmesa: asked for"},
+                        Case{"missing", "libOSMesa-not-here.so.8", "cpu", "libOSMesa-not-here.so.8"}}) {
+    SCOPED_TRACE(c.name);
+    ClipJobOptions options = SmallClipOptions();
+    options.pipeline.render_backend.backend = render::gl::RenderBackend::kOsmesa;
+    options.pipeline.render_backend.context.osmesa_library = c.osmesa_library;
+    const fs::path clip = dir() / "clips" / (std::string(c.name) + ".mp4");
+    auto report = RunClipJob(recording, clip, options);
+    ASSERT_TRUE(report.ok()) << report.status().ToString();
+    EXPECT_EQ(report->frames_written, NumFrames(10, 0.5));
+    auto video = px::testing::ProbeVideo(clip);
+    ASSERT_TRUE(video.ok()) << video.status().ToString();
+    EXPECT_EQ(video->frames_decoded, NumFrames(10, 0.5));
+    auto text = ReadFileToString(dir() / "clips" / (std::string(c.name) + ".json"));
+    ASSERT_TRUE(text.ok()) << text.status().ToString();
+    const nlohmann::json j = nlohmann::json::parse(*text);
+    EXPECT_EQ(j["render_backend"]["name"], c.want_backend);
+    EXPECT_THAT(j["render_backend"]["reason"].get<std::string>(), HasSubstr(c.want_reason));
+  }
 }
 
 // Each format through the whole job: the clip decodes with the job's frame count and size, the

@@ -11,6 +11,7 @@
 #include "pipeline/core/durable_file.h"
 #include "pipeline/core/json_fields.h"
 #include "pipeline/core/pixel_format.h"
+#include "pipeline/render/gl/render_backend.h"
 
 namespace px::device {
 namespace {
@@ -247,6 +248,9 @@ Status DaemonConfig::Validate() const {
   if (clip.num_threads < 0 || clip.num_threads > 256) {
     return RangeError("clip.num_threads", clip.num_threads, "[0, 256] (0 = all cores)");
   }
+  if (!render::gl::ParseRenderBackend(render.backend).ok()) {
+    return InvalidArgumentError("render.backend: '" + render.backend + "' is not one of auto, cpu, egl, osmesa");
+  }
   if (log_levels.empty()) return InvalidArgumentError("log.levels: empty");
   return OkStatus();
 }
@@ -327,6 +331,10 @@ StatusOr<DaemonConfig> DaemonConfigFromJson(const nlohmann::json& j) {
   PX_RETURN_IF_ERROR(clip.Path("face_cascades", &config.clip.face_cascades));
   PX_RETURN_IF_ERROR(clip.CheckNoUnknownFields());
 
+  PX_ASSIGN_OR_RETURN(ObjectReader render, root.Child("render"));
+  PX_RETURN_IF_ERROR(render.String("backend", &config.render.backend));
+  PX_RETURN_IF_ERROR(render.CheckNoUnknownFields());
+
   PX_ASSIGN_OR_RETURN(ObjectReader trigger, root.Child("trigger"));
   PX_RETURN_IF_ERROR(trigger.Path("input_device", &config.trigger.input_device));
   PX_RETURN_IF_ERROR(trigger.String("key", &config.trigger.key));
@@ -390,6 +398,7 @@ nlohmann::json DaemonConfigToJson(const DaemonConfig& config) {
                {"webp_quality", config.clip.webp_quality},
                {"num_threads", config.clip.num_threads},
                {"face_cascades", config.clip.face_cascades.string()}};
+  j["render"] = {{"backend", config.render.backend}};
   j["trigger"] = {{"input_device", config.trigger.input_device.string()},
                   {"key", config.trigger.key},
                   {"debounce_ms", config.trigger.debounce_ms},

@@ -88,6 +88,13 @@ struct ClipSettings {
   std::filesystem::path face_cascades = "/usr/share/opencv4/haarcascades";
 };
 
+// Which renderer draws the clips (pipeline/render/gl/render_backend.h).
+struct RenderSettings {
+  // "auto" (GL on a GPU, else the faster one on the machine: the CPU today), "cpu", "egl" or
+  // "osmesa"; a GL back end that cannot start falls back to the CPU, the clip's JSON says why.
+  std::string backend = "auto";
+};
+
 // The one-button trigger on a Linux input device (device/trigger/input_trigger.h).
 struct TriggerSettings {
   std::filesystem::path input_device;  // evdev node, e.g. /dev/input/event0; "" = none
@@ -104,6 +111,7 @@ struct DaemonConfig {
   std::string control_group;
   SourceSettings source;
   ClipSettings clip;
+  RenderSettings render;  // JSON: render.backend
   TriggerSettings trigger;
   std::string log_levels = "info";  // JSON: log.levels, e.g. "info" or "info,depth=debug"
 

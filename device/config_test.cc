@@ -7,6 +7,7 @@
 
 #include "device/daemon_factory.h"
 #include "pipeline/core/durable_file.h"
+#include "pipeline/render/gl/render_backend.h"
 #include "tests/testing/temp_dir.h"
 
 namespace px::device {
@@ -39,6 +40,7 @@ TEST(DaemonConfigTest, ReadsEveryField) {
                "replay": {"path": "/rec", "loop": false}},
     "clip": {"move": "establishing_dolly", "duration_s": 0.5, "fps": 10, "crf": 28, "preset": "ultrafast",
              "num_threads": 2, "format": "gif", "loop_count": 2, "webp_quality": 60},
+    "render": {"backend": "osmesa"},
     "log": {"levels": "info,depth=debug"}})"));
   ASSERT_TRUE(config.ok()) << config.status().ToString();
   EXPECT_EQ(config->storage.root, "/data/px");
@@ -62,6 +64,8 @@ TEST(DaemonConfigTest, ReadsEveryField) {
   EXPECT_EQ(config->clip.format, "gif");
   EXPECT_EQ(config->clip.loop_count, 2);
   EXPECT_EQ(config->clip.webp_quality, 60);
+  EXPECT_EQ(config->render.backend, "osmesa");
+  EXPECT_EQ(ClipJobOptionsFromConfig(*config)->pipeline.render_backend.backend, render::gl::RenderBackend::kOsmesa);
   EXPECT_EQ(config->log_levels, "info,depth=debug");
 }
 
@@ -105,6 +109,8 @@ TEST(DaemonConfigTest, ErrorsNameTheField) {
   EXPECT_EQ(ErrorOf(R"({"source": {"sim": 5}})"), "source.sim: want an object, got number");
   EXPECT_EQ(ErrorOf(R"({"storage": {"root": ""}})"), "storage.root: empty");
   EXPECT_EQ(ErrorOf(R"({"storage": {"min_free_mb": -1}})"), "storage.min_free_mb: -1 is not in [0, 1e9)");
+  EXPECT_EQ(ErrorOf(R"({"render": {"backend": "vulkan"}})"),
+            "render.backend: 'vulkan' is not one of auto, cpu, egl, osmesa");
   EXPECT_EQ(ErrorOf(R"([1, 2])"), "config: want an object, got array");
 }
 

@@ -9,6 +9,7 @@
 #include "device/trigger/key_codes.h"
 #include "pipeline/core/log.h"
 #include "pipeline/direct/direct_options.h"
+#include "pipeline/render/gl/render_backend.h"
 
 namespace px::device {
 
@@ -21,6 +22,8 @@ StatusOr<ClipJobOptions> ClipJobOptionsFromConfig(const DaemonConfig& config) {
   options.pipeline.direct.duration_s = config.clip.duration_s;
   options.pipeline.direct.fps = config.clip.fps;
   options.pipeline.num_threads = config.clip.num_threads;
+  // DaemonConfig::Validate checked the name.
+  options.pipeline.render_backend.backend = render::gl::ParseRenderBackend(config.render.backend).value();
   options.clip.format = clip::ParseClipFormat(config.clip.format).value();  // DaemonConfig::Validate checked it
   options.clip.fps = config.clip.fps;
   options.clip.crf = config.clip.crf;

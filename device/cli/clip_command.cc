@@ -14,6 +14,7 @@
 #include "pipeline/core/durable_file.h"
 #include "pipeline/core/log.h"
 #include "pipeline/direct/shot_file.h"
+#include "pipeline/render/gl/render_backend.h"
 
 namespace px::cli {
 namespace {
@@ -35,6 +36,7 @@ struct ClipArgs {
   int loop_count = 0;
   int webp_quality = 80;
   std::string quality = "preview";
+  std::string gl = "auto";
   int threads = 0;
   bool quiet = false;
 };
@@ -93,6 +95,7 @@ Status RunClip(const ClipArgs& args) {
   options.clip.loop_count = args.loop_count;
   options.clip.webp_quality = args.webp_quality;
   PX_ASSIGN_OR_RETURN(options.pipeline.render.quality, ParseRenderQuality(args.quality));
+  PX_ASSIGN_OR_RETURN(options.pipeline.render_backend.backend, render::gl::ParseRenderBackend(args.gl));
   PX_RETURN_IF_ERROR(options.Validate());
   ProgressBar progress(args.quiet);
   PX_ASSIGN_OR_RETURN(device::ClipJobReport report,
@@ -110,6 +113,9 @@ Status RunClip(const ClipArgs& args) {
   log->info("shot written to {}", shot_path.string());
   for (const std::string& warning : report.pipeline.warnings) log->warn("{}", warning);
   for (const StageTiming& t : report.pipeline.timings) log->info("{:<8} {:8.1f} ms", t.stage, t.ms);
+  if (!report.pipeline.render_backend.empty()) {
+    log->info("rendered on {} ({})", report.pipeline.render_backend, report.pipeline.render_backend_reason);
+  }
   log->info("{} {} frames {}x{}, {:.1f} KiB, {:.1f} ms in all; report {}", report.format, report.frames_written,
             report.width, report.height, report.clip_bytes / 1024.0, report.total_ms, report.report_path.string());
   std::printf("%s\n", report.clip_path.c_str());
@@ -151,6 +157,12 @@ void AddClipCommand(CLI::App& app) {
   clip->add_option("--quality", args->quality,
                    "Render quality: preview (paper 6.1, real time) or offline (6.2: soft z over all segments, "
                    "exemplar inpainting, synthetic-aperture depth of field)")
+      ->capture_default_str();
+  clip->add_option("--gl", args->gl,
+                   "Render back end: auto (GL on a GPU, else the faster one here, today the cpu), cpu, egl "
+                   "(GPU device or Mesa surfaceless) or osmesa; a GL back end that cannot start falls back to "
+                   "the cpu, and the clip's JSON says which drew it and why")
+      ->check(CLI::IsMember({"auto", "cpu", "egl", "osmesa"}))
       ->capture_default_str();
   clip->add_option("--threads", args->threads, "Worker threads, 0 = all cores")->capture_default_str();
   clip->add_flag("-q,--quiet", args->quiet, "No progress bar");

@@ -19,7 +19,6 @@
 #include "pipeline/direct/plan_camera_path.h"
 #include "pipeline/lattice/lattice_detector.h"
 #include "pipeline/lattice/split_lattice.h"
-#include "pipeline/render/cpu_scene_renderer.h"
 #include "pipeline/run/frame_salvage.h"
 
 namespace px {
@@ -585,6 +584,7 @@ Status PipelineOptions::Validate() const {
   PX_RETURN_IF_ERROR(depth.Validate());
   PX_RETURN_IF_ERROR(direct.Validate());
   PX_RETURN_IF_ERROR(render.Validate());
+  PX_RETURN_IF_ERROR(render_backend.Validate());
   if (num_threads < 0 || num_threads > 256) {
     return InvalidArgumentError("pipeline.num_threads: " + std::to_string(num_threads) + " is outside [0, 256]");
   }
@@ -701,8 +701,10 @@ StatusOr<PipelineReport> RunPipeline(const FrameSet& capture, const RigCalibrati
   // Stage 4: the camera path, its viewpoints checked against what the renderer can cover.
   PX_RETURN_IF_ERROR(report_progress("direct", 0));
   start = Clock::now();
-  PX_ASSIGN_OR_RETURN(std::unique_ptr<CpuSceneRenderer> renderer,
-                      CpuSceneRenderer::Create(views, layers, options.render));
+  PX_ASSIGN_OR_RETURN(std::unique_ptr<render::gl::BackendSceneRenderer> renderer,
+                      render::gl::BackendSceneRenderer::Create(views, layers, options.render, options.render_backend));
+  report.render_backend = std::string(renderer->BackendName());
+  report.render_backend_reason = renderer->reason();
   for (const std::string& warning : renderer->warnings()) report.warnings.push_back("render: " + warning);
   direction.coverage = [&renderer](const CameraModel& camera, const Rigid3& cam_from_world) {
     return renderer->Coverage(camera, cam_from_world);
@@ -718,6 +720,10 @@ StatusOr<PipelineReport> RunPipeline(const FrameSet& capture, const RigCalibrati
 
   // Stage 5: render every frame and hand it on.
   PX_RETURN_IF_ERROR(RenderFrames(views, renderer.get(), sink, report_progress, &report));
+  if (renderer->cpu_fallback_frames() > 0) {
+    report.warnings.push_back("render: " + std::to_string(renderer->cpu_fallback_frames()) + " frame(s) drawn on the cpu, " +
+                              report.render_backend + " failed on them: " + renderer->cpu_fallback_reason());
+  }
   return report;
 }
 

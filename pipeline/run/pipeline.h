@@ -23,6 +23,7 @@
 #include "pipeline/direct/face_detector.h"
 #include "pipeline/direct/plan_camera_path.h"
 #include "pipeline/direct/shot_file.h"
+#include "pipeline/render/gl/backend_scene_renderer.h"
 #include "pipeline/render/render_options.h"
 
 namespace px {
@@ -41,6 +42,9 @@ struct PipelineOptions {
   DepthOptions depth;     // depth range 0 = the rig's nominal range
   DirectOptions direct;   // move, effect, seed, duration, fps, subjects, search
   RenderOptions render;
+  // Which renderer draws the clip: auto (GL on a GPU, else the faster one here: the CPU), cpu,
+  // egl or osmesa; a GL back end that cannot start or draw falls back to the CPU with the reason.
+  render::gl::RenderBackendOptions render_backend;
   int num_threads = 0;    // 0 = all cores
   // Loaded by device/ (the pipeline opens no files) and shared between runs.
   std::shared_ptr<const direct::FaceDetector> face_detector;  // null: no face detection
@@ -74,6 +78,11 @@ struct PipelineReport {
   double mean_hole_ratio = 0;   // fraction of pixels no source covered, before filling
   std::vector<CoverageReport> frame_coverage;  // per rendered frame: hole ratio and H(V) before filling
   DepthReport depth;            // per view: confident fraction, low-confidence mask, disagreement
+  // The scene renderer's back end ("cpu", "gl-osmesa", "gl-egl"; empty for an image set that
+  // could not be calibrated), which drew the coverage probes and any novel-view frames, and why
+  // (asked for, found, or the fallback's reason).
+  std::string render_backend;
+  std::string render_backend_reason;
 };
 
 // stage: a short name; fraction: 0..1 within that stage. Return false to cancel.

@@ -107,6 +107,19 @@ PipelineOptions ShortClip() {
 class PipelineTest : public ::testing::Test {
  protected:
   void SetUp() override { sensor_ = SensorFrame(rig_, scene_); }
+  // Every third frame of a 10-frame clip against the exact render of its viewpoint (thresholds:
+  // RendersTheDollyFromALatticeFrame).
+  void ExpectFramesMatchTheExactRenders(const CameraPath& path, const CollectingSink& sink) const {
+    ASSERT_EQ(sink.frames.size(), 10u);
+    for (int i = 0; i < 10; i += 3) {
+      const double t = path.FrameTime(i);
+      cv::Mat want, want_depth;
+      scene_.Render(path.CameraAt(t), path.PoseAt(t), &want, &want_depth);
+      ASSERT_EQ(sink.frames[i].size(), want.size());
+      EXPECT_GT(PsnrAwayFromSilhouettes(sink.frames[i], want, want_depth), 38.0) << "frame " << i;
+      EXPECT_GT(cv::PSNR(sink.frames[i], want), 32.0) << "frame " << i;
+    }
+  }
   PlaneScene scene_;
   RigCalibration rig_ = TestRig();
   cv::Mat sensor_;
@@ -146,6 +159,9 @@ TEST_F(PipelineTest, RendersTheDollyFromALatticeFrame) {
   // The views are exact: per-shot refinement confirms the factory calibration.
   EXPECT_EQ(report->calibration, "factory (confirmed by refinement)") << report->calibration_summary;
   EXPECT_EQ(report->frames_rendered, 10);
+  // auto: the CPU here unless a GPU is found (render_backend.h).
+  EXPECT_TRUE(report->render_backend == "cpu" || report->render_backend == "gl-egl") << report->render_backend;
+  EXPECT_FALSE(report->render_backend_reason.empty());
   ASSERT_EQ(sink.indices.size(), 10u);
   for (int i = 0; i < 10; ++i) EXPECT_EQ(sink.indices[i], i);
 
@@ -172,14 +188,7 @@ TEST_F(PipelineTest, RendersTheDollyFromALatticeFrame) {
   // resampling of ~15 px texture periods (about 45 dB) and silhouettes a pixel off. Measured
   // 42-45 dB away from silhouettes and 37-43 dB whole, while the same frames compared with the
   // views mirrored along the dolly (17-50 mm away) score 24-30 dB.
-  for (int i = 0; i < 10; i += 3) {
-    const double t = path.FrameTime(i);
-    cv::Mat want, want_depth;
-    scene_.Render(path.CameraAt(t), path.PoseAt(t), &want, &want_depth);
-    ASSERT_EQ(sink.frames[i].size(), want.size());
-    EXPECT_GT(PsnrAwayFromSilhouettes(sink.frames[i], want, want_depth), 38.0) << "frame " << i;
-    EXPECT_GT(cv::PSNR(sink.frames[i], want), 32.0) << "frame " << i;
-  }
+  ExpectFramesMatchTheExactRenders(path, sink);
   // The dolly stays within the rig: hardly anything to inpaint.
   EXPECT_LT(report->mean_hole_ratio, 0.01);
   // Per-frame coverage (before hole filling), one report per frame at the output size.
@@ -205,6 +214,40 @@ TEST_F(PipelineTest, ChoosesAnEstablishingMoveThroughValidViewpoints) {
   EXPECT_GT(report->direction.coverage_probes, 0);
   EXPECT_EQ(report->frames_rendered, 10);
   EXPECT_LT(report->mean_hole_ratio, 0.01);
+}
+
+// The same dolly drawn by the GL back end on OSMesa (llvmpipe, on every machine this builds on),
+// held to the same exact renders as the CPU's frames above; and with the OSMesa library missing,
+// drawn by the CPU with the library named in the report.
+TEST_F(PipelineTest, RendersOnGlOrFallsBackToTheCpuWithTheReason) {
+  for (const bool missing : {false, true}) {
+    SCOPED_TRACE(missing ? "libOSMesa missing" : "osmesa");
+    CollectingSink sink;
+    PipelineOptions options = ShortClip();
+    options.shot = MiddleRowShot();
+    options.render_backend.backend = render::gl::RenderBackend::kOsmesa;
+    if (missing) options.render_backend.context.osmesa_library = "libOSMesa-not-here.so.8";
+    StatusOr<PipelineReport> report = RunPipeline(Capture(sensor_), rig_, options, &sink);
+    ASSERT_TRUE(report.ok()) << report.status().ToString();
+    EXPECT_EQ(report->frames_rendered, 10);
+    if (missing) {
+      EXPECT_EQ(report->render_backend, "cpu");
+      EXPECT_NE(report->render_backend_reason.find("cpu: GL failed"), std::string::npos) << report->render_backend_reason;
+      EXPECT_NE(report->render_backend_reason.find("libOSMesa-not-here.so.8"), std::string::npos)
+          << report->render_backend_reason;
+    } else {
+      EXPECT_EQ(report->render_backend, "gl-osmesa");
+      EXPECT_NE(report->render_backend_reason.find("gl-osmesa: asked for"), std::string::npos)
+          << report->render_backend_reason;
+    }
+    // No frame fell back; a forced back end that could not start is a warning.
+    ASSERT_EQ(report->warnings.size(), missing ? 1u : 0u) << ::testing::PrintToString(report->warnings);
+    if (missing) {
+      EXPECT_NE(report->warnings[0].find("asked for osmesa, drawn by the cpu"), std::string::npos);
+    }
+    ExpectFramesMatchTheExactRenders(report->path, sink);
+    EXPECT_LT(report->mean_hole_ratio, 0.01);
+  }
 }
 
 TEST_F(PipelineTest, CancelsWhenProgressSaysSo) {

@@ -10,6 +10,8 @@
 #include "pipeline/core/log.h"
 #include "pipeline/render/gl/gl_program.h"
 #include "pipeline/render/gl/gl_render_shaders.h"
+#include "pipeline/render/color_effects.h"
+#include "pipeline/render/depth_of_field.h"
 #include "pipeline/render/hole_fill.h"
 
 namespace px::render::gl {
@@ -479,17 +481,12 @@ std::vector<cv::Rect> GlSceneRenderer::ViewBoxes(const CameraModel& camera, cons
 
 StatusOr<FrameRender> GlSceneRenderer::Render(const VirtualCamera& camera) {
   PX_RETURN_IF_ERROR(camera.Validate());
-  if (camera.aperture_m > 0 || !camera.effects.empty()) {
-    return UnimplementedError("gl renderer: depth of field (aperture_m " + std::to_string(camera.aperture_m) +
-                              ") and colour effects (" + std::to_string(camera.effects.size()) +
-                              ") are not on GL yet; use the cpu back end for such frames");
-  }
   ScopedCurrent current(context_.get());
   PX_RETURN_IF_ERROR(current.status());
   PX_ASSIGN_OR_RETURN(RawFrame raw, RenderRaw(camera.camera, camera.cam_from_world, /*with_slots=*/true));
   const int width = camera.camera.width, height = camera.camera.height;
   FrameRender frame;
-  frame.bgr.create(height, width, CV_8UC3);
+  cv::Mat colour(height, width, CV_32FC3);  // 0..255, as the CPU reference keeps it until the end
   frame.depth_m.create(height, width, CV_32F);
   frame.coverage.create(height, width, CV_8U);
   cv::Mat partial_alpha(height, width, CV_32F, cv::Scalar(0));
@@ -504,10 +501,7 @@ StatusOr<FrameRender> GlSceneRenderer::Render(const VirtualCamera& camera) {
       const float alpha = ca[x][3];
       const bool covered = alpha >= 0.5f;
       frame.coverage.at<uint8_t>(y, x) = covered ? 255 : 0;
-      frame.bgr.at<cv::Vec3b>(y, x) = covered ? cv::Vec3b(cv::saturate_cast<uint8_t>(ca[x][0]),
-                                                          cv::saturate_cast<uint8_t>(ca[x][1]),
-                                                          cv::saturate_cast<uint8_t>(ca[x][2]))
-                                              : cv::Vec3b(0, 0, 0);
+      colour.at<cv::Vec3f>(y, x) = covered ? cv::Vec3f(ca[x][0], ca[x][1], ca[x][2]) : cv::Vec3f(0, 0, 0);
       frame.depth_m.at<float>(y, x) = covered ? d[x][0] : 0.0f;
       if (!covered && alpha > 0) {
         partial_alpha.at<float>(y, x) = alpha;
@@ -526,21 +520,24 @@ StatusOr<FrameRender> GlSceneRenderer::Render(const VirtualCamera& camera) {
   frame.holes.hole_score = HoleScore(frame.coverage);
   if (holes > 0) {  // the CPU reference's preview rule (ALGORITHM.md 6): reverse soft z, 7x7, until filled
     cv::Mat known = frame.coverage.clone();
-    cv::Mat colour;
-    frame.bgr.convertTo(colour, CV_32FC3);
     FillHolesReverseSoftZ(SoftZ(rho_m_, 0.1), 3, 0, &known, &colour, &frame.depth_m);
-    colour.convertTo(frame.bgr, CV_8UC3);
   }
   // A soft edge with nothing behind it keeps its share over the fill (ALGORITHM.md 6).
   for (int y = 0; y < height; ++y) {
     for (int x = 0; x < width; ++x) {
       const float a = partial_alpha.at<float>(y, x);
       if (a <= 0) continue;
-      cv::Vec3b& out = frame.bgr.at<cv::Vec3b>(y, x);
-      const cv::Vec3f c = partial_colour.at<cv::Vec3f>(y, x);
-      for (int ch = 0; ch < 3; ++ch) out[ch] = cv::saturate_cast<uint8_t>(a * c[ch] + (1 - a) * out[ch]);
+      cv::Vec3f& out = colour.at<cv::Vec3f>(y, x);
+      out = a * partial_colour.at<cv::Vec3f>(y, x) + (1 - a) * out;
     }
   }
+  // Colour effects and depth of field (ALGORITHM.md 7, 8): the CPU reference's passes on the
+  // read-back frame, not yet in shaders (README.md).
+  ApplyColorEffects(camera.effects, camera.camera, camera.cam_from_world, frame.depth_m, &colour);
+  if (camera.aperture_m > 0) {
+    ApplyPreviewDepthOfField(camera.aperture_m, camera.focus_depth_m, camera.camera.fx, frame.depth_m, &colour);
+  }
+  colour.convertTo(frame.bgr, CV_8UC3);
   std::vector<int> order;
   for (size_t v = 0; v < views_.size(); ++v) {
     if (view_weight[v] > 0) order.push_back(static_cast<int>(v));

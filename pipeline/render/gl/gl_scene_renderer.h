@@ -3,12 +3,10 @@
 // weights in a shader; each view's segment images as textures and its segments drawn as
 // instanced textured rectangles front to back into the three rendering buffers multiplexed by
 // view (16-bit targets, saturating blend); the soft z-buffer of eq. (1) in a resolve shader;
-// coverage, H(V) and hole filling on the CPU after the float read-back.
-//
-// Not on GL yet (UNIMPLEMENTED, so a caller falls back to the CPU back end): colour effects and
-// depth of field (a VirtualCamera with effects or aperture_m > 0) and 1D (collinear) rigs. Hole
-// filling uses this folder's FillHoles (pipeline/render/hole_fill.h), not yet ALGORITHM.md 6's
-// exact pass rule.
+// coverage, H(V), hole filling (the CPU reference's FillHolesReverseSoftZ), colour effects and the
+// preview's depth of field (the CPU reference's passes, pipeline/render/color_effects.h and
+// depth_of_field.h) on the CPU after the float read-back. 1D (collinear) rigs mesh as a strip
+// (gl_view_mesh.h). Preview quality only: offline (paper 6.2) is the CPU back end's.
 #pragma once
 
 #include <map>

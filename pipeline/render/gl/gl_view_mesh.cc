@@ -8,6 +8,56 @@
 
 namespace px::render::gl {
 
+namespace {
+
+// A 1D (collinear) rig, as the CPU reference's ViewMesh does it (ALGORITHM.md 2): the plane holds
+// the line and is as square to the views as it can be, and the weights go along the line only.
+// Drawn for the same weight shader as a strip of triangles: each view's vertex on the line and
+// two copies of it at +-L across it, so that in every triangle of the strip the barycentric
+// weight of view b is the ray point's fraction of the way from view a to b along the line
+// (whatever its distance across); beyond the strip the nearest outer edge gives the same, and
+// beyond the ends the end view has weight 1.
+StatusOr<GlViewMesh> BuildLineMesh(const std::vector<Eigen::Vector3d>& centres, const Eigen::Vector3d& mean_axis,
+                                   const Eigen::Vector3d& mean_x, Eigen::Vector3d line, GlViewMesh* mesh) {
+  const int n = static_cast<int>(centres.size());
+  if (line.dot(mean_x) < 0) line = -line;
+  Eigen::Vector3d normal = mean_axis - mean_axis.dot(line) * line;
+  if (normal.norm() < 1e-9) normal = line.unitOrthogonal();
+  mesh->normal = normal.normalized();
+  mesh->axis1 = line.normalized();
+  mesh->axis2 = mesh->normal.cross(mesh->axis1);
+  std::vector<std::pair<double, int>> along;  // u, view
+  for (int i = 0; i < n; ++i) along.emplace_back((centres[i] - mesh->origin).dot(mesh->axis1), i);
+  std::sort(along.begin(), along.end());
+  const double half_width = 4.0 * std::max(along.back().first - along.front().first, 1e-3);
+  mesh->vertices.clear();
+  mesh->vertex_view.clear();
+  for (const auto& [u, view] : along) {  // per view: on the line, above, below
+    for (double v : {0.0, half_width, -half_width}) {
+      mesh->vertices.emplace_back(u, v);
+      mesh->vertex_view.push_back(view);
+    }
+  }
+  for (int i = 0; i + 1 < n; ++i) {
+    const int a = 3 * i, b = 3 * (i + 1);
+    if (along[i + 1].first - along[i].first < 1e-9) continue;  // two views at one place: no span between
+    for (int side : {1, 2}) {  // above, below
+      mesh->triangles.push_back({a, b, b + side});
+      mesh->triangles.push_back({a, b + side, a + side});
+      mesh->outer_edges.push_back({a + side, b + side});
+    }
+  }
+  const int last = 3 * (n - 1);
+  for (int end : {0, last}) {
+    mesh->outer_edges.push_back({end + 1, end});
+    mesh->outer_edges.push_back({end, end + 2});
+  }
+  if (mesh->triangles.empty()) return UnimplementedError("view mesh: the " + std::to_string(n) + " collinear centres span no length");
+  return *mesh;
+}
+
+}  // namespace
+
 StatusOr<GlViewMesh> BuildGlViewMesh(const std::vector<Eigen::Vector3d>& centres_in_world,
                                      const std::vector<Eigen::Vector3d>& optical_axes_in_world,
                                      const std::vector<Eigen::Vector3d>& x_axes_in_world) {
@@ -39,10 +89,7 @@ StatusOr<GlViewMesh> BuildGlViewMesh(const std::vector<Eigen::Vector3d>& centres
     return mesh;
   }
   Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eigen(scatter);  // ascending eigenvalues
-  if (eigen.eigenvalues()(1) < 1e-6 * eigen.eigenvalues()(2)) {
-    return UnimplementedError("view mesh: the " + std::to_string(n) +
-                              " view centres are collinear (a 1D rig); the GL back end needs a 2D rig");
-  }
+  if (eigen.eigenvalues()(1) < 1e-6 * eigen.eigenvalues()(2)) return BuildLineMesh(centres_in_world, mean_axis, mean_x, eigen.eigenvectors().col(2), &mesh);
   mesh.normal = eigen.eigenvectors().col(0);
   if (mesh.normal.dot(mean_axis) < 0) mesh.normal = -mesh.normal;
   mesh.axis1 = (mean_x - mesh.normal.dot(mean_x) * mesh.normal).normalized();

@@ -30,8 +30,8 @@ struct GlViewMesh {
 };
 
 // `centres_in_world` and `optical_axes_in_world` (unit, R^T (0,0,1)) and `x_axes_in_world`, one of
-// each per view. UNIMPLEMENTED for collinear centres (a 1D rig: the polyline mesh is not built
-// here), INVALID_ARGUMENT for no views or mismatched lists.
+// each per view. Collinear centres (a 1D rig) give a strip of triangles along the line whose
+// weights go along it (BuildLineMesh in the .cc). INVALID_ARGUMENT for no views or mismatched lists.
 StatusOr<GlViewMesh> BuildGlViewMesh(const std::vector<Eigen::Vector3d>& centres_in_world,
                                      const std::vector<Eigen::Vector3d>& optical_axes_in_world,
                                      const std::vector<Eigen::Vector3d>& x_axes_in_world);
