@@ -15,48 +15,18 @@
 #include "pipeline/direct/parallax_measure.h"
 #include "pipeline/direct/plan_camera_path.h"
 #include "pipeline/direct/taxonomy.h"
-#include "pipeline/render/cpu_scene_renderer.h"
-#include "pipeline/render/layered_from_depth.h"
-#include "pipeline/run/pipeline.h"
 #include "sim/synthetic/data_paths.h"
-#include "tests/e2e/e2e_shot.h"
+#include "tests/e2e/direction_shot.h"
 
 namespace px {
 namespace {
 
-// One simulated shot with its views, true depth and a renderer for coverage.
-struct Shot {
-  std::vector<View> views;
-  std::vector<DepthMap> depths;
-  std::unique_ptr<CpuSceneRenderer> renderer;
-};
+using Shot = e2e::DirectionShot;
 
 std::unique_ptr<Shot> MakeShot(const std::string& scene) {
-  auto captured = e2e::CaptureShot(e2e::Pop9Spec(0.5), scene);
-  if (!captured.ok()) return nullptr;
-  auto shot = std::make_unique<Shot>();
-  std::vector<std::string> warnings;
-  auto views = MakeViewsFromCapture(captured->capture, captured->rig, &warnings);
-  if (!views.ok()) return nullptr;
-  shot->views = std::move(views).value();
-  for (const auto& truth : captured->truth.views) {
-    DepthMap depth;
-    depth.id = truth.id;
-    depth.depth_m = truth.depth_m;
-    depth.confidence = cv::Mat(truth.depth_m.size(), CV_32F, cv::Scalar(1));
-    shot->depths.push_back(std::move(depth));
-  }
-  // The true depth as layered segments, so that the checks measure direction alone.
-  std::vector<LayeredDepthView> layers;
-  for (size_t i = 0; i < shot->views.size(); ++i) {
-    auto layered = LayeredDepthFromDepthMap(shot->views[i], shot->depths[i]);
-    if (!layered.ok()) return nullptr;
-    layers.push_back(std::move(layered).value());
-  }
-  auto renderer = CpuSceneRenderer::Create(shot->views, layers, RenderOptions{});
-  if (!renderer.ok()) return nullptr;
-  shot->renderer = std::move(renderer).value();
-  return shot;
+  StatusOr<std::unique_ptr<Shot>> shot = e2e::MakeDirectionShot(scene, 0.5);
+  EXPECT_TRUE(shot.ok()) << shot.status().ToString();
+  return shot.ok() ? std::move(shot).value() : nullptr;
 }
 
 struct Planned {
@@ -72,9 +42,7 @@ Planned Plan(Shot* shot, const direct::FaceDetector* detector, const std::string
   options.effect = "none";
   DirectionContext context;
   context.face_detector = detector;
-  context.coverage = [shot](const CameraModel& camera, const Rigid3& cam_from_world) {
-    return shot->renderer->Coverage(camera, cam_from_world);
-  };
+  context.coverage = shot->Coverage();
   Planned planned;
   StatusOr<CameraPath> path = PlanCameraPath(shot->views, shot->depths, options, context, &planned.report);
   EXPECT_TRUE(path.ok()) << path.status().ToString();
@@ -83,13 +51,11 @@ Planned Plan(Shot* shot, const direct::FaceDetector* detector, const std::string
 }
 
 // The checks every automatic path must pass; prints its figures.
-void CheckPath(Shot* shot, const Planned& planned, int subjects_expected, bool fallback_ok = false) {
+void CheckPath(Shot* shot, const Planned& planned, int subjects_expected) {
   const CameraPath& path = planned.path;
   std::string notes;
   for (const std::string& note : path.notes) notes += "\n  " + note;
-  if (!fallback_ok) {
-    EXPECT_FALSE(planned.report.fell_back) << path.reason << notes;
-  }
+  EXPECT_FALSE(planned.report.fell_back) << path.reason << notes;
   ASSERT_EQ(path.kind, PathKind::kNovelView) << path.reason << notes;
   EXPECT_EQ(planned.report.num_subjects, subjects_expected) << planned.report.detector;
   ASSERT_EQ(static_cast<int>(path.subjects.size()), subjects_expected);
@@ -186,30 +152,12 @@ TEST_F(DirectionTest, TwoFacesDollyBetweenThem) {
   if (IsSkipped()) return;
   std::unique_ptr<Shot> shot = MakeShot("two_faces");
   ASSERT_NE(shot, nullptr);
+  // The faces sit 6 and 5 degrees either side of the axis at 1.0 and 1.7 m: the rig's viewpoints
+  // can dolly from one to the other with both in every frame.
   const Planned planned = Plan(shot.get(), detector_.get(), "auto");
-  // Row 2 is tried first, in both subject orders. In this scene it cannot hold: the near face
-  // sits 12 degrees off the axis, so a 1.5f close-up of it reaches 3.5 degrees past the lenses'
-  // field (H(V) ~380 at the centre view, worse forwards), and the far face's end at its size
-  // ratio is wider still. The fallback is a lower row's move ("any move for n also for more
-  // than n"), and the notes say why the dolly did not hold.
-  if (planned.path.move != "dolly") {
-    std::string notes;
-    for (const std::string& note : planned.path.notes) notes += note + "\n";
-    // Both subject orders were tried ("dolly: " once per order), and the notes say why.
-    const size_t first = notes.find("dolly: ");
-    ASSERT_NE(first, std::string::npos) << notes;
-    EXPECT_NE(notes.find("dolly: ", first + 1), std::string::npos) << "the other order was not tried:\n" << notes;
-    std::printf("[figures] two faces: the dolly did not hold; fell back to %s\n", planned.path.move.c_str());
-    if (planned.path.kind != PathKind::kNovelView) {
-      // No lower row held either (the segment renderer's coverage at the verify size): the
-      // honest fallback is a morph between two views, which must say so.
-      EXPECT_EQ(planned.path.kind, PathKind::kMorph) << planned.path.reason;
-      EXPECT_NE(notes.find("no 3D move could be planned"), std::string::npos) << notes;
-      EXPECT_TRUE(planned.report.fell_back);
-      return;
-    }
-  }
-  ASSERT_NO_FATAL_FAILURE(CheckPath(shot.get(), planned, 2, /*fallback_ok=*/true));
+  EXPECT_EQ(planned.path.move, "dolly") << planned.path.reason;
+  EXPECT_EQ(direct::SubjectsNeeded(direct::ParseMove(planned.path.move).value()), 2) << planned.path.move;
+  ASSERT_NO_FATAL_FAILURE(CheckPath(shot.get(), planned, 2));
 }
 
 }  // namespace
