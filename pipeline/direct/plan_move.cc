@@ -48,6 +48,13 @@ FramingRule FittingSubjects(FramingRule rule, const SceneGeometry& scene, const 
   };
 }
 
+// What an Aim rule frames, as the region cache's key.
+std::string AimKey(const Eigen::Vector3d& target, double focal_px) {
+  char key[128];
+  std::snprintf(key, sizeof(key), "aim (%.6f, %.6f, %.6f) at %.4f px", target.x(), target.y(), target.z(), focal_px);
+  return key;
+}
+
 CameraKeyframe Key(double t, const Framing& framing) {
   CameraKeyframe key;
   key.t = t;
@@ -244,15 +251,19 @@ StatusOr<CameraPath> PlanMove(const MoveChoice& choice, const PlanContext& conte
   // subject past the frame's edge, so its ends come from the forward and the backward extremes.
   bool both_ways = false;
   std::string start_what, end_what;
+  std::string start_key, end_key;  // what each rule frames, for the region cache ("" = not shared)
   switch (choice.move) {
     case Move::kEstablishingDolly:
       start_rule = end_rule = Aim(scene, centroid, f);
+      start_key = end_key = AimKey(centroid, f);
       start_what = end_what = "the scene centroid at f";
       break;
     case Move::kEstablishingDollyOut:
       sweep = Sweep::kAxis;
       start_rule = Aim(scene, centroid, zoomed);
       end_rule = Aim(scene, centroid, f);
+      start_key = AimKey(centroid, zoomed);
+      end_key = AimKey(centroid, f);
       end_front = false;
       start_what = "the scene centroid at " + std::to_string(options.zoom_in).substr(0, 4) + "f";
       end_what = "the scene centroid at f";
@@ -260,6 +271,8 @@ StatusOr<CameraPath> PlanMove(const MoveChoice& choice, const PlanContext& conte
     case Move::kDollyOut:
       start_rule = Aim(scene, first->LowerHalfCentreInWorld(), zoomed);
       end_rule = Aim(scene, centroid, f);
+      start_key = AimKey(first->LowerHalfCentreInWorld(), zoomed);
+      end_key = AimKey(centroid, f);
       end_front = false;
       start_what = "the " + first->source + " at " + std::to_string(options.zoom_in).substr(0, 4) + "f";
       end_what = "the scene centroid at f";
@@ -267,6 +280,8 @@ StatusOr<CameraPath> PlanMove(const MoveChoice& choice, const PlanContext& conte
     case Move::kDollyIn:
       start_rule = Aim(scene, centroid, f);
       end_rule = Aim(scene, first->LowerHalfCentreInWorld(), zoomed);
+      start_key = AimKey(centroid, f);
+      end_key = AimKey(first->LowerHalfCentreInWorld(), zoomed);
       start_front = false;
       start_what = "the scene centroid at f";
       end_what = "the " + first->source + " at " + std::to_string(options.zoom_in).substr(0, 4) + "f";
@@ -278,16 +293,19 @@ StatusOr<CameraPath> PlanMove(const MoveChoice& choice, const PlanContext& conte
       sweep = Sweep::kAxis;
       dolly_zoom = true;
       start_rule = Aim(scene, first->LowerHalfCentreInWorld(), f);
+      start_key = AimKey(first->LowerHalfCentreInWorld(), f);
       end_front = false;
       start_what = "the " + first->source + " at f";
       end_what = "the " + first->source + ", zoomed to keep its size";
       break;
     case Move::kDolly: {
       start_rule = Aim(scene, first->LowerHalfCentreInWorld(), zoomed);
+      start_key = AimKey(first->LowerHalfCentreInWorld(), zoomed);
       // The paper's size ratio from the reference view; the exact ratio is set once the
       // endpoints are known.
       const double ratio = first->box_px.height / std::max(1.0, second->box_px.height);
       end_rule = Aim(scene, second->LowerHalfCentreInWorld(), zoomed * ratio);
+      end_key = AimKey(second->LowerHalfCentreInWorld(), zoomed * ratio);
       start_what = "the first subject at " + std::to_string(options.zoom_in).substr(0, 4) + "f";
       end_what = "the second subject at its size";
       both_ways = true;
@@ -305,12 +323,28 @@ StatusOr<CameraPath> PlanMove(const MoveChoice& choice, const PlanContext& conte
   if (!dolly_zoom) {
     start_rule = FittingSubjects(std::move(start_rule), scene, framed, margin_px);
     end_rule = FittingSubjects(std::move(end_rule), scene, framed, margin_px);
+    if (!framed.empty()) {
+      start_key += start_key.empty() ? "" : " fitting subjects";
+      end_key += end_key.empty() ? "" : " fitting subjects";
+    }
   }
 
-  // 1-2. Valid regions and candidate endpoints.
-  PX_ASSIGN_OR_RETURN(ValidRegion start_region, FindValidViewpoints(scene, start_rule, context.search, options.search,
-                                                                    sweep, start_front || both_ways,
-                                                                    !start_front || both_ways));
+  // 1-2. Valid regions (shared with earlier moves that framed the same) and candidate endpoints.
+  const auto find_region = [&](const FramingRule& rule, const std::string& key, bool front,
+                               bool back) -> StatusOr<ValidRegion> {
+    std::string full;
+    if (!key.empty() && context.regions != nullptr) {
+      full = key + (sweep == Sweep::kAxis ? " axis" : " grid") + (front ? " front" : "") + (back ? " back" : "");
+      const auto found = context.regions->find(full);
+      if (found != context.regions->end()) return found->second;
+    }
+    PX_ASSIGN_OR_RETURN(ValidRegion region, FindValidViewpoints(scene, rule, context.search, options.search, sweep,
+                                                                front, back));
+    if (!full.empty()) (*context.regions)[full] = region;
+    return region;
+  };
+  PX_ASSIGN_OR_RETURN(ValidRegion start_region, find_region(start_rule, start_key, start_front || both_ways,
+                                                            !start_front || both_ways));
   report->valid_cells_start = start_region.valid_cells;
   std::vector<Candidate> starts = Candidates(start_region, start_front, both_ways);
   if (starts.empty()) {
@@ -355,8 +389,8 @@ StatusOr<CameraPath> PlanMove(const MoveChoice& choice, const PlanContext& conte
   if (shared) {
     end_region = start_region;
   } else {
-    PX_ASSIGN_OR_RETURN(end_region, FindValidViewpoints(scene, end_rule, context.search, options.search, sweep,
-                                                        end_front || both_ways, !end_front || both_ways));
+    PX_ASSIGN_OR_RETURN(end_region, find_region(end_rule, dolly_zoom ? "" : end_key, end_front || both_ways,
+                                                !end_front || both_ways));
   }
   report->valid_cells_end = end_region.valid_cells;
   const std::vector<Candidate> ends = Candidates(end_region, end_front, both_ways);

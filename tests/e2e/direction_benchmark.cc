@@ -2,7 +2,7 @@
 // cores) on simulated Pop9 shots of the product's size (9 views of 640x480) with 0, 1 and 2 faces:
 // PlanCameraPath with the simulator's true depth and the CPU renderer's Coverage. Counters: face
 // detection ms, coverage probes and their ms, the move chosen (as its row: subjects it needs).
-// Prints, asserts nothing. The face scenes need ../shared/data/faces_dlib_pascalvoc (else their
+// Prints the path chosen and why (stderr); asserts nothing. The face scenes need ../shared/data/faces_dlib_pascalvoc (else their
 // procedural fallback textures, which the cascades do not take for faces).
 #include <benchmark/benchmark.h>
 
@@ -43,7 +43,7 @@ void BM_PlanCameraPath(benchmark::State& state) {
   context.face_detector = detector->get();
   context.coverage = shot->Coverage();
   DirectionReport report;
-  std::string move;
+  std::string move, why;
   for (auto _ : state) {
     StatusOr<CameraPath> path = PlanCameraPath(shot->views, shot->depths, options, context, &report);
     if (!path.ok()) {
@@ -51,10 +51,15 @@ void BM_PlanCameraPath(benchmark::State& state) {
       return;
     }
     move = path->move;
+    why = path->reason;
+    for (const std::string& note : path->notes) why += "\n    " + note;
   }
+  std::fprintf(stderr, "  %s: %s\n", kScenes[state.range(0)], why.c_str());
   state.counters["subjects_ms"] = report.subjects_ms;
   state.counters["coverage_ms"] = report.coverage_ms;
   state.counters["probes"] = report.coverage_probes;
+  state.counters["verify_probes"] = report.verify_probes;
+  state.counters["verify_ms"] = report.verify_ms;
   state.counters["subjects"] = report.num_subjects;
   state.counters["fell_back"] = report.fell_back ? 1 : 0;
   state.SetLabel(std::string(kScenes[state.range(0)]) + ": " + move);
