@@ -11,6 +11,7 @@
 #include <gtest/gtest.h>
 
 #include "device/face_cascades.h"
+#include "pipeline/direct/aperture_search.h"
 #include "pipeline/direct/framing.h"
 #include "pipeline/direct/parallax_measure.h"
 #include "pipeline/direct/plan_camera_path.h"
@@ -34,12 +35,13 @@ struct Planned {
   DirectionReport report;
 };
 
-Planned Plan(Shot* shot, const direct::FaceDetector* detector, const std::string& move) {
+Planned Plan(Shot* shot, const direct::FaceDetector* detector, const std::string& move,
+             const std::string& effect = "none") {
   DirectOptions options;
   options.fps = 10;
   options.duration_s = 1;  // 10 frames
   options.move = move;
-  options.effect = "none";
+  options.effect = effect;
   DirectionContext context;
   context.face_detector = detector;
   context.coverage = shot->Coverage();
@@ -158,6 +160,64 @@ TEST_F(DirectionTest, TwoFacesDollyBetweenThem) {
   EXPECT_EQ(planned.path.move, "dolly") << planned.path.reason;
   EXPECT_EQ(direct::SubjectsNeeded(direct::ParseMove(planned.path.move).value()), 2) << planned.path.move;
   ASSERT_NO_FATAL_FAILURE(CheckPath(shot.get(), planned, 2));
+}
+
+// Effects (4.3) on the two-subject dolly: the focus pull's aperture keeps both ends valid at the
+// four corners of the aperture's box (rendered coverage at the output size), and the focus goes
+// from the first subject's depth to the second's.
+TEST_F(DirectionTest, TwoFacesDollyPullsFocusWithTheLargestValidAperture) {
+  NeedFacePhotos();
+  if (IsSkipped()) return;
+  std::unique_ptr<Shot> shot = MakeShot("two_faces");
+  ASSERT_NE(shot, nullptr);
+  const Planned planned = Plan(shot.get(), detector_.get(), "dolly", "focus_pull");
+  const CameraPath& path = planned.path;
+  ASSERT_EQ(path.move, "dolly") << path.reason;
+  ASSERT_EQ(path.effect, "focus_pull") << path.reason;
+  ASSERT_EQ(path.subjects.size(), 2u);
+  const double aperture = path.keyframes.front().aperture_m;
+  EXPECT_GT(aperture, 1e-4);
+  EXPECT_LE(aperture, DirectOptions{}.max_aperture_m);
+  for (const CameraKeyframe* key : {&path.keyframes.front(), &path.keyframes.back()}) {
+    EXPECT_DOUBLE_EQ(key->aperture_m, aperture);
+    direct::Framing end;
+    end.centre_in_world = key->centre_in_world;
+    end.cam_from_world = key->CamFromWorld();
+    end.focal_px = key->focal_px;
+    for (const direct::Framing& corner : direct::ApertureCorners(end, aperture)) {
+      StatusOr<CoverageReport> coverage = shot->renderer->Coverage(path.CameraAt(key->t), corner.cam_from_world);
+      ASSERT_TRUE(coverage.ok()) << coverage.status().ToString();
+      EXPECT_LT(coverage->hole_score, 2.0) << "aperture corner at t = " << key->t;
+    }
+  }
+  EXPECT_NEAR(path.keyframes.front().focus_depth_m,
+              direct::SubjectDepthIn(path.subjects[0], path.keyframes.front().CamFromWorld()), 1e-6);
+  EXPECT_NEAR(path.keyframes.back().focus_depth_m,
+              direct::SubjectDepthIn(path.subjects[1], path.keyframes.back().CamFromWorld()), 1e-6);
+  std::printf("[figures] dolly with focus pull: aperture %.1f mm; focus %.2f m -> %.2f m\n", 1000 * aperture,
+              path.keyframes.front().focus_depth_m, path.keyframes.back().focus_depth_m);
+}
+
+// A saturation layer on the subject (4.3), keyframed from unchanged to its target.
+TEST_F(DirectionTest, OneFaceDollyInCarriesAKeyframedSaturationLayer) {
+  NeedFacePhotos();
+  if (IsSkipped()) return;
+  std::unique_ptr<Shot> shot = MakeShot("one_face");
+  ASSERT_NE(shot, nullptr);
+  const Planned planned = Plan(shot.get(), detector_.get(), "dolly_in", "saturation");
+  const CameraPath& path = planned.path;
+  ASSERT_EQ(path.effect, "saturation") << path.reason;
+  ASSERT_EQ(path.keyframes.front().effects.size(), 1u);
+  ASSERT_EQ(path.keyframes.back().effects.size(), 1u);
+  EXPECT_EQ(path.keyframes.front().effects[0].kind, ColorEffectKind::kSaturation);
+  EXPECT_DOUBLE_EQ(path.keyframes.front().effects[0].amount, 1.0);
+  EXPECT_GT(path.keyframes.back().effects[0].amount, 1.2);
+  // The layer's box holds the face.
+  const ColorEffect& layer = path.keyframes.back().effects[0];
+  for (const Eigen::Vector3d& corner : path.subjects.front().corners_in_world) {
+    EXPECT_TRUE((corner.array() >= layer.region_min_in_world.array()).all() &&
+                (corner.array() <= layer.region_max_in_world.array()).all());
+  }
 }
 
 }  // namespace
