@@ -9,7 +9,9 @@
 #include "device/storage/storage_quota.h"
 #include "device/test_pause.h"
 #include "pipeline/direct/direct_options.h"
+#include "pipeline/direct/shot_file.h"
 #include "pipeline/core/durable_file.h"
+#include "pipeline/core/json_fields.h"
 #include "pipeline/core/log.h"
 #include "sim/replay/recording.h"
 
@@ -204,6 +206,7 @@ StatusOr<std::string> Daemon::Press() {
   taken_ids_.clear();
   record.state = JobState::kCapturing;
   record.move = move_;
+  record.shot = shot_;
   record.created_at = NowIso8601Utc();
   record.updated_at = record.created_at;
   // Journaled before it is acknowledged: an acknowledged press is never silently lost.
@@ -478,6 +481,7 @@ std::optional<JobRecord> Daemon::ProcessJob(const std::string& id) {
   context.capture_dir = layout_.CaptureDir(id);
   context.clip_path = layout_.ClipPath(id);
   context.move = record.move;
+  context.shot = record.shot;
   context.progress = [this, id](const std::string& stage, double fraction) {
     if (fraction > 0) PauseHereIfAsked(stage);
     std::lock_guard<std::mutex> lock(mutex_);
@@ -588,6 +592,9 @@ void Daemon::HandleRequest(const std::string& line, ControlServer::Respond respo
     case ControlCommand::kCancel:
       respond(Cancel(request->job));
       return;
+    case ControlCommand::kSetShot:
+      respond(SetShot(request->shot));
+      return;
   }
 }
 
@@ -618,6 +625,7 @@ nlohmann::json Daemon::StatusJson() const {
       {"jobs", counts},
       {"last_job", records.empty() ? nlohmann::json(nullptr) : JobRecordToJson(records.back())},
       {"move", move_.empty() ? nlohmann::json(nullptr) : nlohmann::json(move_)},
+      {"shot", shot_.empty() ? nlohmann::json(nullptr) : nlohmann::json::parse(shot_)},
   };
   // Free space, quota and whether a capture would be refused now (disk full).
   StatusOr<StorageUsage> usage = MeasureStorage(layout_, options_.storage, *journal_);
@@ -647,6 +655,25 @@ std::string Daemon::SetMove(const std::string& move) {
   move_ = move;
   Logger("device")->info("camera move for the next presses: {}", move);
   return Dump({{"ok", true}, {"move", move}});
+}
+
+std::string Daemon::SetShot(const std::string& shot_json) {
+  int segments = 0;
+  if (!shot_json.empty()) {
+    StatusOr<nlohmann::json> j = json::Parse(shot_json, "shot");
+    if (!j.ok()) return ControlErrorReply(j.status());
+    StatusOr<direct::Shot> shot = direct::ShotFromJson(*j);
+    if (!shot.ok()) return ControlErrorReply(shot.status());
+    segments = static_cast<int>(shot->segments.size());
+  }
+  std::lock_guard<std::mutex> lock(mutex_);
+  shot_ = shot_json;
+  if (shot_json.empty()) {
+    Logger("device")->info("no shot for the next presses: the camera move decides");
+    return Dump({{"ok", true}, {"shot", nullptr}});
+  }
+  Logger("device")->info("shot of {} segment(s) for the next presses", segments);
+  return Dump({{"ok", true}, {"shot", nlohmann::json::parse(shot_json)}, {"segments", segments}});
 }
 
 std::string Daemon::Cancel(const std::string& id) {

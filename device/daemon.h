@@ -55,6 +55,7 @@ struct JobContext {
   // stop (shutdown, or a "cancel"): the runner should return CANCELLED soon.
   std::function<bool(const std::string& stage, double fraction)> progress;
   std::string move;  // the camera move asked for at the press ("set_move"); "" = the runner's own
+  std::string shot;  // the shot (JSON text, validated) asked for at the press ("set_shot"); "" = none
 };
 
 struct JobOutcome {
@@ -129,6 +130,7 @@ class Daemon {
   // The control commands "fetch", "set_move" and "cancel": the reply line.
   std::string FetchReply(const std::string& id, bool inline_bytes) const;
   std::string SetMove(const std::string& move);
+  std::string SetShot(const std::string& shot_json);
   std::string Cancel(const std::string& id);
 
   DaemonOptions options_;
@@ -156,6 +158,7 @@ class Daemon {
   std::string processing_stage_;
   std::string cancel_id_;  // the job being processed that a "cancel" asked to stop
   std::string move_;       // from "set_move", for jobs pressed after it; "" = the config's
+  std::string shot_;       // from "set_shot" (JSON text), for jobs pressed after it; "" = none
   double processing_fraction_ = 0;
   std::string source_model_;
   bool started_ = false;

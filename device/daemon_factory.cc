@@ -7,8 +7,10 @@
 #include "device/source_registry.h"
 #include "device/trigger/input_trigger.h"
 #include "device/trigger/key_codes.h"
+#include "pipeline/core/json_fields.h"
 #include "pipeline/core/log.h"
 #include "pipeline/direct/direct_options.h"
+#include "pipeline/direct/shot_file.h"
 #include "pipeline/render/gl/render_backend.h"
 
 namespace px::device {
@@ -67,6 +69,11 @@ JobRunner MakeClipJobRunner(const ClipJobOptions& options) {
   return [options](const JobContext& context) -> StatusOr<JobOutcome> {
     ClipJobOptions job_options = options;
     if (!context.move.empty()) job_options.pipeline.direct.move = context.move;  // set_move
+    if (!context.shot.empty()) {  // set_shot (validated when it was set; checked again here)
+      PX_ASSIGN_OR_RETURN(nlohmann::json j, json::Parse(context.shot, "shot"));
+      PX_ASSIGN_OR_RETURN(direct::Shot shot, direct::ShotFromJson(j));
+      job_options.pipeline.shot = std::make_shared<const direct::Shot>(std::move(shot));
+    }
     // The daemon names clips/<id>.mp4; the configured format decides the real name.
     const std::filesystem::path clip_path = ClipPathForFormat(context.clip_path, job_options.clip.format);
     PX_ASSIGN_OR_RETURN(ClipJobReport report,

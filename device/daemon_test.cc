@@ -557,6 +557,50 @@ TEST_F(DaemonTest, SetMoveAppliesToJobsPressedAfterIt) {
   EXPECT_EQ(daemon->Job(after)->move, "establishing_dolly");  // journaled: a resumed job keeps it
 }
 
+TEST_F(DaemonTest, SetShotAppliesToJobsPressedAfterItAndErrorsNameTheField) {
+  std::mutex shots_mutex;
+  std::map<std::string, std::string> shots;
+  auto daemon = StartDaemon(Options(), [&](const JobContext& context) {
+    std::lock_guard<std::mutex> lock(shots_mutex);
+    shots[context.job_id] = context.shot;
+    return PngJob(context);
+  });
+  const std::string before = Call(R"({"cmd":"capture"})")["job"];
+  // A bad shot is refused, naming the field and the value, and changes nothing.
+  nlohmann::json bad = Call(
+      R"({"cmd":"set_shot","shot":{"segments":[{"keyframes":[{"t":0,"position_m":[0,0,0],"look_at_m":[0,0,1],)"
+      R"("focal_px":"wide"},{"t":1,"position_m":[0.02,0,0],"look_at_m":[0,0,1]}]}]}})");
+  EXPECT_EQ(bad["code"], "INVALID_ARGUMENT");
+  EXPECT_THAT(bad["error"].get<std::string>(), HasSubstr("shot.segments[0].keyframes[0].focal_px"));
+  nlohmann::json not_object = Call(R"({"cmd":"set_shot","shot":"dolly.json"})");
+  EXPECT_EQ(not_object["code"], "INVALID_ARGUMENT");
+  EXPECT_THAT(not_object["error"].get<std::string>(), HasSubstr("shot: want an object or null, got string"));
+  nlohmann::json unknown_move = Call(R"({"cmd":"set_shot","shot":{"segments":[{"move":"barrel_roll"}]}})");
+  EXPECT_EQ(unknown_move["code"], "INVALID_ARGUMENT");
+  EXPECT_THAT(unknown_move["error"].get<std::string>(), HasSubstr("barrel_roll"));
+  EXPECT_EQ(Call(R"({"cmd":"status"})")["shot"], nullptr);
+
+  const std::string shot_text =
+      R"({"duration_s":2,"segments":[{"move":"dolly_in","effect":"none"},{"keyframes":[)"
+      R"({"t":0,"position_m":[0,0,0],"look_at_m":[0,0,1.5],"focal_scale":1},)"
+      R"({"t":1,"position_m":[0.02,0,-0.05],"look_at_m":[0,0,1.5],"focal_scale":1.2}]}]})";
+  nlohmann::json set = Call(R"({"cmd":"set_shot","shot":)" + shot_text + "}");
+  EXPECT_EQ(set["ok"], true) << set.dump();
+  EXPECT_EQ(set["segments"], 2);
+  const std::string after = Call(R"({"cmd":"capture"})")["job"];
+  daemon->WaitUntilIdle();
+  EXPECT_EQ(Call(R"({"cmd":"status"})")["shot"]["segments"].size(), 2u);
+  EXPECT_EQ(Call(R"({"cmd":"set_shot","shot":null})")["shot"], nullptr);  // back to the move
+  const std::string cleared = Call(R"({"cmd":"capture"})")["job"];
+  daemon->WaitUntilIdle();
+  std::lock_guard<std::mutex> lock(shots_mutex);
+  EXPECT_EQ(shots[before], "");
+  ASSERT_FALSE(shots[after].empty());
+  EXPECT_EQ(nlohmann::json::parse(shots[after]), nlohmann::json::parse(shot_text));
+  EXPECT_EQ(daemon->Job(after)->shot, shots[after]);  // journaled: a resumed job keeps it
+  EXPECT_EQ(shots[cleared], "");
+}
+
 TEST_F(DaemonTest, CancelStopsAQueuedJobOrTheRunningClipAndKeepsTheCapture) {
   std::promise<void> started;
   std::atomic<int> runs{0};

@@ -36,6 +36,8 @@ std::string_view ControlCommandName(ControlCommand command) {
       return "set_move";
     case ControlCommand::kCancel:
       return "cancel";
+    case ControlCommand::kSetShot:
+      return "set_shot";
   }
   return "unknown";
 }
@@ -57,7 +59,8 @@ StatusOr<ControlRequest> ParseControlRequest(std::string_view line) {
                                  ControlCommand::kQuit,
                                  ControlCommand::kFetch,
                                  ControlCommand::kSetMove,
-                                 ControlCommand::kCancel}) {
+                                 ControlCommand::kCancel,
+                                 ControlCommand::kSetShot}) {
     if (ControlCommandName(command) == name) {
       request.command = command;
       found = true;
@@ -65,7 +68,7 @@ StatusOr<ControlRequest> ParseControlRequest(std::string_view line) {
   }
   if (!found) {
     return InvalidArgumentError("cmd: " + Quoted(name) +
-                                " is not one of capture, status, list, wait, quit, fetch, set_move, cancel");
+                                " is not one of capture, status, list, wait, quit, fetch, set_move, cancel, set_shot");
   }
 
   std::vector<std::string> allowed = {"cmd"};
@@ -87,6 +90,15 @@ StatusOr<ControlRequest> ParseControlRequest(std::string_view line) {
     if (!j.contains("move")) return InvalidArgumentError("move: missing (set_move needs a camera move)");
     PX_ASSIGN_OR_RETURN(request.move, json::GetString(j, "move", ""));
     allowed.push_back("move");
+  }
+  if (request.command == ControlCommand::kSetShot) {
+    if (!j.contains("shot")) return InvalidArgumentError("shot: missing (set_shot needs a shot object, or null)");
+    const nlohmann::json& shot = j["shot"];
+    if (!shot.is_null() && !shot.is_object()) {
+      return InvalidArgumentError(std::string("shot: want an object or null, got ") + shot.type_name());
+    }
+    request.shot = shot.is_null() ? "" : shot.dump();
+    allowed.push_back("shot");
   }
   if (request.command == ControlCommand::kQuit) {
     PX_ASSIGN_OR_RETURN(request.drain, json::GetBoolOr(j, "drain", "", false));

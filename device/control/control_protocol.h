@@ -8,6 +8,8 @@
 //   {"cmd":"fetch","job":"000007"}  -> {"ok":true,"job":"000007","path":"/.../000007.mp4","bytes":N,"sha256":"..."}
 //                                      ("inline":true adds "data": the clip's bytes in base64, up to a size limit)
 //   {"cmd":"set_move","move":"establishing_dolly"} -> {"ok":true,"move":"..."}; jobs pressed from now on use it
+//   {"cmd":"set_shot","shot":{...}} -> {"ok":true,"shot":{...},"segments":N}; jobs pressed from now on follow the
+//                                      shot (pipeline/direct/SHOT_FORMAT.md); "shot":null goes back to the move
 //   {"cmd":"cancel","job":"000007"} -> {"ok":true,"job":"000007","was":"saved"}; a queued job or the running
 //                                      clip stops and fails as CANCELLED; its raw capture is kept
 // Any problem with a request is {"ok":false,"error":"...","code":"..."} and the connection stays open.
@@ -21,7 +23,7 @@
 
 namespace px::device {
 
-enum class ControlCommand { kCapture, kStatus, kList, kWait, kQuit, kFetch, kSetMove, kCancel };
+enum class ControlCommand { kCapture, kStatus, kList, kWait, kQuit, kFetch, kSetMove, kCancel, kSetShot };
 
 std::string_view ControlCommandName(ControlCommand command);
 
@@ -31,6 +33,7 @@ struct ControlRequest {
   bool drain = false;  // kQuit: finish every queued job first
   bool inline_bytes = false;  // kFetch: the clip's bytes in the reply, base64 ("inline")
   std::string move;    // kSetMove: the camera move (validated by the daemon against pipeline/direct)
+  std::string shot;    // kSetShot: the shot as JSON text (validated by the daemon); "" = none (null)
 };
 
 // The longest request line accepted; longer lines are answered with an error and dropped.
@@ -45,7 +48,7 @@ inline constexpr uint64_t kMaxInlineClipBytes = 16 * 1000 * 1000;
 
 // Parses one line (without its newline). Errors say what is wrong:
 //   "malformed JSON at byte 7: ...", "cmd: missing",
-//   "cmd: 'fly' is not one of capture, status, list, wait, quit, fetch, set_move, cancel",
+//   "cmd: 'fly' is not one of capture, status, list, wait, quit, fetch, set_move, cancel, set_shot",
 //   "job: missing (wait needs a job id)", "capture: unknown field 'jbo'",
 //   "job: '../x' is not a job id (1 to 18 digits, e.g. "000042")". Client text quoted in an
 //   error is cut to 40 bytes.

@@ -45,7 +45,7 @@ TEST(ControlProtocolTest, ErrorsSayWhatIsWrong) {
   EXPECT_EQ(ParseControlRequest("{}").status().message(), "cmd: missing");
   EXPECT_EQ(ParseControlRequest(R"({"cmd":7})").status().message(), "cmd: want a string, got number");
   EXPECT_EQ(ParseControlRequest(R"({"cmd":"fly"})").status().message(),
-            "cmd: 'fly' is not one of capture, status, list, wait, quit, fetch, set_move, cancel");
+            "cmd: 'fly' is not one of capture, status, list, wait, quit, fetch, set_move, cancel, set_shot");
   EXPECT_EQ(ParseControlRequest(R"({"cmd":"fetch"})").status().message(), "job: missing (fetch needs a job id)");
   EXPECT_EQ(ParseControlRequest(R"({"cmd":"cancel"})").status().message(), "job: missing (cancel needs a job id)");
   EXPECT_EQ(ParseControlRequest(R"({"cmd":"set_move"})").status().message(),

@@ -97,6 +97,7 @@ nlohmann::json JobRecordToJson(const JobRecord& record) {
       {"error", record.error},
       {"note", record.note},
       {"move", record.move},
+      {"shot", record.shot},
   };
   return j;
 }
@@ -121,6 +122,7 @@ StatusOr<JobRecord> JobRecordFromJson(const nlohmann::json& j, const std::string
   PX_ASSIGN_OR_RETURN(record.error, json::GetStringOr(j, "error", what, ""));
   PX_ASSIGN_OR_RETURN(record.note, json::GetStringOr(j, "note", what, ""));
   PX_ASSIGN_OR_RETURN(record.move, json::GetStringOr(j, "move", what, ""));
+  PX_ASSIGN_OR_RETURN(record.shot, json::GetStringOr(j, "shot", what, ""));
   return record;
 }
 

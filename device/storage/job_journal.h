@@ -48,6 +48,7 @@ struct JobRecord {
   std::string error;        // why it failed: a Status::ToString()
   std::string note;         // a short human summary of the last step ("90 frames, 9 views")
   std::string move;         // the camera move asked for at the press (set_move); "" = the config's clip.move
+  std::string shot;         // the shot (JSON text) asked for at the press (set_shot); "" = none
 };
 
 nlohmann::json JobRecordToJson(const JobRecord& record);

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstdio>
 #include <limits>
+#include <map>
 #include <optional>
 
 #include "pipeline/direct/pan_zoom_2d.h"
@@ -113,6 +114,8 @@ struct Planner {
     plan.search = search;
     plan.verify = verify;
     plan.options = &options;
+    std::map<std::string, direct::ValidRegion> regions;  // shared by the fallbacks below
+    plan.regions = &regions;
     std::vector<direct::MoveChoice> tries = {choice};
     for (const direct::MoveChoice& fallback : direct::FallbackMoves(choice, static_cast<int>(move_subjects.size()))) {
       tries.push_back(fallback);
@@ -393,6 +396,8 @@ StatusOr<CameraPath> PlanCameraPath(const std::vector<View>& views, const std::v
   for (const std::string& note : report.notes) path->notes.push_back(note);
   report.coverage_probes = search.calls() + verify.calls();
   report.coverage_ms = search.ms() + verify.ms();
+  report.verify_probes = verify.calls();
+  report.verify_ms = verify.ms();
   report.total_ms = MsSince(start);
   PX_RETURN_IF_ERROR(path->Validate().WithContext("direction"));
   return path;

@@ -41,6 +41,8 @@ struct DirectionReport {
   direct::MovePlanReport plan;  // figures of the 3D plan (zero for flat or morph clips)
   int coverage_probes = 0;      // renderer coverage measurements, all sizes
   double coverage_ms = 0;       // time inside them
+  int verify_probes = 0;        // of which at the verify size (search_scale < verify_scale)
+  double verify_ms = 0;
   double subjects_ms = 0;
   double total_ms = 0;
   // For a morph: the correspondences, for pipeline/run to render the frames from.

@@ -32,6 +32,29 @@ FramingRule Aim(const SceneGeometry& scene, const Eigen::Vector3d& target, doubl
   };
 }
 
+// `rule` with its focal narrowed until every subject is wholly inside the view (with the framing
+// margin), so that the region search measures the views the path will use; a view that would
+// need less than kMinFocalShare of the rule's focal cannot frame them (focal 0).
+FramingRule FittingSubjects(FramingRule rule, const SceneGeometry& scene, const std::vector<Subject>& subjects,
+                            double margin_px) {
+  if (subjects.empty()) return rule;
+  return [rule = std::move(rule), &scene, subjects, margin_px](const Eigen::Vector3d& centre) {
+    Framing framing = rule(centre);
+    if (!(framing.focal_px > 0)) return framing;
+    const double most = MaxFocalKeepingInside(subjects, scene.OutputWithFocal(framing.focal_px),
+                                              framing.cam_from_world, margin_px);
+    framing.focal_px = most >= kMinFocalShare * framing.focal_px ? std::min(framing.focal_px, most) : 0.0;
+    return framing;
+  };
+}
+
+// What an Aim rule frames, as the region cache's key.
+std::string AimKey(const Eigen::Vector3d& target, double focal_px) {
+  char key[128];
+  std::snprintf(key, sizeof(key), "aim (%.6f, %.6f, %.6f) at %.4f px", target.x(), target.y(), target.z(), focal_px);
+  return key;
+}
+
 CameraKeyframe Key(double t, const Framing& framing) {
   CameraKeyframe key;
   key.t = t;
@@ -186,6 +209,14 @@ double EffectTarget(Effect effect) {
   }
 }
 
+// The region's candidate endpoints: its forward or backward extremes, or both.
+std::vector<Candidate> Candidates(const ValidRegion& region, bool front, bool both_ways) {
+  if (!both_ways) return front ? region.front : region.back;
+  std::vector<Candidate> all = region.front;
+  all.insert(all.end(), region.back.begin(), region.back.end());
+  return all;
+}
+
 }  // namespace
 
 StatusOr<CameraPath> PlanMove(const MoveChoice& choice, const PlanContext& context, MovePlanReport* report) {
@@ -216,16 +247,23 @@ StatusOr<CameraPath> PlanMove(const MoveChoice& choice, const PlanContext& conte
   Sweep sweep = Sweep::kGrid;
   FramingRule start_rule, end_rule;
   bool start_front = true, end_front = true, reverse = false, dolly_zoom = false;
+  // The dolly between two subjects keeps both in frame: a close-up far forwards loses the other
+  // subject past the frame's edge, so its ends come from the forward and the backward extremes.
+  bool both_ways = false;
   std::string start_what, end_what;
+  std::string start_key, end_key;  // what each rule frames, for the region cache ("" = not shared)
   switch (choice.move) {
     case Move::kEstablishingDolly:
       start_rule = end_rule = Aim(scene, centroid, f);
+      start_key = end_key = AimKey(centroid, f);
       start_what = end_what = "the scene centroid at f";
       break;
     case Move::kEstablishingDollyOut:
       sweep = Sweep::kAxis;
       start_rule = Aim(scene, centroid, zoomed);
       end_rule = Aim(scene, centroid, f);
+      start_key = AimKey(centroid, zoomed);
+      end_key = AimKey(centroid, f);
       end_front = false;
       start_what = "the scene centroid at " + std::to_string(options.zoom_in).substr(0, 4) + "f";
       end_what = "the scene centroid at f";
@@ -233,6 +271,8 @@ StatusOr<CameraPath> PlanMove(const MoveChoice& choice, const PlanContext& conte
     case Move::kDollyOut:
       start_rule = Aim(scene, first->LowerHalfCentreInWorld(), zoomed);
       end_rule = Aim(scene, centroid, f);
+      start_key = AimKey(first->LowerHalfCentreInWorld(), zoomed);
+      end_key = AimKey(centroid, f);
       end_front = false;
       start_what = "the " + first->source + " at " + std::to_string(options.zoom_in).substr(0, 4) + "f";
       end_what = "the scene centroid at f";
@@ -240,6 +280,8 @@ StatusOr<CameraPath> PlanMove(const MoveChoice& choice, const PlanContext& conte
     case Move::kDollyIn:
       start_rule = Aim(scene, centroid, f);
       end_rule = Aim(scene, first->LowerHalfCentreInWorld(), zoomed);
+      start_key = AimKey(centroid, f);
+      end_key = AimKey(first->LowerHalfCentreInWorld(), zoomed);
       start_front = false;
       start_what = "the scene centroid at f";
       end_what = "the " + first->source + " at " + std::to_string(options.zoom_in).substr(0, 4) + "f";
@@ -251,27 +293,60 @@ StatusOr<CameraPath> PlanMove(const MoveChoice& choice, const PlanContext& conte
       sweep = Sweep::kAxis;
       dolly_zoom = true;
       start_rule = Aim(scene, first->LowerHalfCentreInWorld(), f);
+      start_key = AimKey(first->LowerHalfCentreInWorld(), f);
       end_front = false;
       start_what = "the " + first->source + " at f";
       end_what = "the " + first->source + ", zoomed to keep its size";
       break;
     case Move::kDolly: {
       start_rule = Aim(scene, first->LowerHalfCentreInWorld(), zoomed);
+      start_key = AimKey(first->LowerHalfCentreInWorld(), zoomed);
       // The paper's size ratio from the reference view; the exact ratio is set once the
       // endpoints are known.
       const double ratio = first->box_px.height / std::max(1.0, second->box_px.height);
       end_rule = Aim(scene, second->LowerHalfCentreInWorld(), zoomed * ratio);
+      end_key = AimKey(second->LowerHalfCentreInWorld(), zoomed * ratio);
       start_what = "the first subject at " + std::to_string(options.zoom_in).substr(0, 4) + "f";
       end_what = "the second subject at its size";
+      both_ways = true;
       break;
     }
   }
 
-  // 1-2. Valid regions and candidate endpoints.
-  PX_ASSIGN_OR_RETURN(ValidRegion start_region, FindValidViewpoints(scene, start_rule, context.search, options.search,
-                                                                    sweep, start_front, !start_front));
+  // Subjects that framing keeps in view: every subject with a known depth. The ends' rules fit
+  // them (a dolly zoom's focal is fixed by its subject's size instead).
+  std::vector<Subject> framed;
+  for (const Subject& s : context.subjects) {
+    if (s.depth_known) framed.push_back(s);
+  }
+  const double margin_px = options.framing_margin * scene.output.width;
+  if (!dolly_zoom) {
+    start_rule = FittingSubjects(std::move(start_rule), scene, framed, margin_px);
+    end_rule = FittingSubjects(std::move(end_rule), scene, framed, margin_px);
+    if (!framed.empty()) {
+      start_key += start_key.empty() ? "" : " fitting subjects";
+      end_key += end_key.empty() ? "" : " fitting subjects";
+    }
+  }
+
+  // 1-2. Valid regions (shared with earlier moves that framed the same) and candidate endpoints.
+  const auto find_region = [&](const FramingRule& rule, const std::string& key, bool front,
+                               bool back) -> StatusOr<ValidRegion> {
+    std::string full;
+    if (!key.empty() && context.regions != nullptr) {
+      full = key + (sweep == Sweep::kAxis ? " axis" : " grid") + (front ? " front" : "") + (back ? " back" : "");
+      const auto found = context.regions->find(full);
+      if (found != context.regions->end()) return found->second;
+    }
+    PX_ASSIGN_OR_RETURN(ValidRegion region, FindValidViewpoints(scene, rule, context.search, options.search, sweep,
+                                                                front, back));
+    if (!full.empty()) (*context.regions)[full] = region;
+    return region;
+  };
+  PX_ASSIGN_OR_RETURN(ValidRegion start_region, find_region(start_rule, start_key, start_front || both_ways,
+                                                            !start_front || both_ways));
   report->valid_cells_start = start_region.valid_cells;
-  std::vector<Candidate> starts = start_front ? start_region.front : start_region.back;
+  std::vector<Candidate> starts = Candidates(start_region, start_front, both_ways);
   if (starts.empty()) {
     return FailedPreconditionError(name + ": no valid viewpoint frames the start (" + start_what + ") among " +
                                    std::to_string(start_region.cells) + " positions");
@@ -314,58 +389,40 @@ StatusOr<CameraPath> PlanMove(const MoveChoice& choice, const PlanContext& conte
   if (shared) {
     end_region = start_region;
   } else {
-    PX_ASSIGN_OR_RETURN(end_region,
-                        FindValidViewpoints(scene, end_rule, context.search, options.search, sweep, end_front, !end_front));
+    PX_ASSIGN_OR_RETURN(end_region, find_region(end_rule, dolly_zoom ? "" : end_key, end_front || both_ways,
+                                                !end_front || both_ways));
   }
   report->valid_cells_end = end_region.valid_cells;
-  const std::vector<Candidate>& ends = end_front ? end_region.front : end_region.back;
+  const std::vector<Candidate> ends = Candidates(end_region, end_front, both_ways);
   if (ends.empty()) {
     return FailedPreconditionError(name + ": no valid viewpoint frames the end (" + end_what + ") among " +
                                    std::to_string(end_region.cells) + " positions");
   }
 
-  // 3. The longest candidate paths, most parallax first.
+  // 3. Candidate pairs, longest first. Framing (where each end looks, its focal, the subjects kept
+  //    wholly in frame) costs no coverage probe, so it is checked first: the `num_longest` longest
+  //    pairs that keep their subjects in frame have their parallax measured.
   struct Pair {
     size_t a = 0, b = 0;
-    double length = 0, parallax = 0;
+    double length = 0, parallax = 0, focal_scale = 1;
+    CameraPath path;
   };
   std::vector<Pair> pairs;
   const double min_length = 1e-3;
   for (size_t a = 0; a < starts.size(); ++a) {
     for (size_t b = shared ? a + 1 : 0; b < ends.size(); ++b) {
       const double length = (starts[a].framing.centre_in_world - ends[b].framing.centre_in_world).norm();
-      if (length >= min_length) pairs.push_back({a, b, length, 0});
+      if (length >= min_length) pairs.push_back({a, b, length, 0, 1, {}});
     }
   }
   report->candidate_paths = static_cast<int>(pairs.size());
   if (pairs.empty()) return FailedPreconditionError(name + ": every candidate path is shorter than 1 mm");
-  const size_t keep = std::min(pairs.size(), static_cast<size_t>(options.search.num_longest));
-  std::partial_sort(pairs.begin(), pairs.begin() + static_cast<std::ptrdiff_t>(keep), pairs.end(),
-                    [](const Pair& x, const Pair& y) { return x.length > y.length; });
-  pairs.resize(keep);
-  for (Pair& pair : pairs) {
-    const Framing& a = starts[pair.a].framing;
-    const Framing& b = ends[pair.b].framing;
-    pair.parallax = ParallaxScore(*context.samples, scene.OutputWithFocal(a.focal_px).Scaled(kParallaxScale),
-                                  a.cam_from_world, scene.OutputWithFocal(b.focal_px).Scaled(kParallaxScale),
-                                  b.cam_from_world);
-  }
-  report->paths_measured = static_cast<int>(pairs.size());
-  std::stable_sort(pairs.begin(), pairs.end(), [](const Pair& x, const Pair& y) { return x.parallax > y.parallax; });
+  std::stable_sort(pairs.begin(), pairs.end(), [](const Pair& x, const Pair& y) { return x.length > y.length; });
 
-  // Subjects that framing keeps in view: every subject with a known depth.
-  std::vector<Subject> framed;
-  for (const Subject& s : context.subjects) {
-    if (s.depth_known) framed.push_back(s);
-  }
-  const double margin_px = options.framing_margin * scene.output.width;
-
-  // 4. The first (most parallax) path that keeps its subjects in frame and all its frames valid.
-  std::string last_failure = "no candidate";
-  for (const Pair& pair : pairs) {
-    ++report->paths_verified;
-    Framing start = starts[pair.a].framing;
-    Framing end = ends[pair.b].framing;
+  // The path for a pair, its subjects kept in frame (or why they cannot be).
+  const auto frame_path = [&](Pair* pair) -> Status {
+    Framing start = starts[pair->a].framing;
+    Framing end = ends[pair->b].framing;
     CameraPath path = BlankPath(PathKind::kNovelView, name, scene.output, options.fps, options.duration_s);
     if (choice.move == Move::kDolly) {
       // The second subject ends at the size the first started at.
@@ -391,11 +448,36 @@ StatusOr<CameraPath> PlanMove(const MoveChoice& choice, const PlanContext& conte
       path.keyframes.front().t = 0.0;
       path.keyframes.back().t = 1.0;
     }
-    Status framed_ok = KeepSubjectsInFrame(framed, margin_px, dolly_zoom, &path, &report->focal_scale);
+    PX_RETURN_IF_ERROR(KeepSubjectsInFrame(framed, margin_px, dolly_zoom, &path, &pair->focal_scale));
+    pair->path = std::move(path);
+    return OkStatus();
+  };
+  std::string last_failure = "no candidate";
+  std::vector<Pair> measured;
+  const size_t keep = static_cast<size_t>(options.search.num_longest);
+  for (Pair& pair : pairs) {
+    if (measured.size() >= keep) break;
+    Status framed_ok = frame_path(&pair);
     if (!framed_ok.ok()) {
       last_failure = framed_ok.message();
       continue;
     }
+    const Framing& a = starts[pair.a].framing;
+    const Framing& b = ends[pair.b].framing;
+    pair.parallax = ParallaxScore(*context.samples, scene.OutputWithFocal(a.focal_px).Scaled(kParallaxScale),
+                                  a.cam_from_world, scene.OutputWithFocal(b.focal_px).Scaled(kParallaxScale),
+                                  b.cam_from_world);
+    measured.push_back(std::move(pair));
+  }
+  report->paths_measured = static_cast<int>(measured.size());
+  std::stable_sort(measured.begin(), measured.end(),
+                   [](const Pair& x, const Pair& y) { return x.parallax > y.parallax; });
+
+  // 4. The first (most parallax) path whose frames are all valid.
+  for (Pair& pair : measured) {
+    ++report->paths_verified;
+    CameraPath& path = pair.path;
+    report->focal_scale = pair.focal_scale;
     PX_ASSIGN_OR_RETURN(double worst, WorstHoleScore(path, options.search.verify_frames, context.verify));
     if (worst >= context.verify->valid_hole_score()) {
       char text[160];
@@ -468,7 +550,8 @@ StatusOr<CameraPath> PlanMove(const MoveChoice& choice, const PlanContext& conte
     return path;
   }
   return FailedPreconditionError(name + ": none of the " + std::to_string(pairs.size()) +
-                                 " longest candidate paths holds (last: " + last_failure + ")");
+                                 " candidate paths holds (" + std::to_string(measured.size()) +
+                                 " kept their subjects in frame; last: " + last_failure + ")");
 }
 
 }  // namespace px::direct

@@ -10,6 +10,7 @@
 //      depth-of-field change or focus pull, or a colour-effect layer on the subject.
 #pragma once
 
+#include <map>
 #include <string>
 #include <vector>
 
@@ -20,6 +21,7 @@
 #include "pipeline/direct/parallax_measure.h"
 #include "pipeline/direct/scene_geometry.h"
 #include "pipeline/direct/taxonomy.h"
+#include "pipeline/direct/valid_viewpoints.h"
 
 namespace px::direct {
 
@@ -30,6 +32,10 @@ struct PlanContext {
   CoverageProbe* search = nullptr;  // reduced size, for the region search
   CoverageProbe* verify = nullptr;  // larger, for the chosen path's frames and apertures
   const DirectOptions* options = nullptr;
+  // Valid regions already searched for these subjects, by what their rule frames and how they
+  // were searched: the taxonomy's fallbacks share ends (a dolly-in's ends are a dolly-out's), so
+  // they reuse the searches instead of probing the renderer again. Null: no sharing.
+  std::map<std::string, ValidRegion>* regions = nullptr;
 };
 
 struct MovePlanReport {

@@ -9,54 +9,27 @@
 #include <memory>
 
 #include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
 
 #include "device/face_cascades.h"
+#include "pipeline/direct/aperture_search.h"
 #include "pipeline/direct/framing.h"
 #include "pipeline/direct/parallax_measure.h"
 #include "pipeline/direct/plan_camera_path.h"
+#include "pipeline/direct/shot_file.h"
 #include "pipeline/direct/taxonomy.h"
-#include "pipeline/render/cpu_scene_renderer.h"
-#include "pipeline/render/layered_from_depth.h"
-#include "pipeline/run/pipeline.h"
 #include "sim/synthetic/data_paths.h"
-#include "tests/e2e/e2e_shot.h"
+#include "tests/e2e/direction_shot.h"
 
 namespace px {
 namespace {
 
-// One simulated shot with its views, true depth and a renderer for coverage.
-struct Shot {
-  std::vector<View> views;
-  std::vector<DepthMap> depths;
-  std::unique_ptr<CpuSceneRenderer> renderer;
-};
+using Shot = e2e::DirectionShot;
 
 std::unique_ptr<Shot> MakeShot(const std::string& scene) {
-  auto captured = e2e::CaptureShot(e2e::Pop9Spec(0.5), scene);
-  if (!captured.ok()) return nullptr;
-  auto shot = std::make_unique<Shot>();
-  std::vector<std::string> warnings;
-  auto views = MakeViewsFromCapture(captured->capture, captured->rig, &warnings);
-  if (!views.ok()) return nullptr;
-  shot->views = std::move(views).value();
-  for (const auto& truth : captured->truth.views) {
-    DepthMap depth;
-    depth.id = truth.id;
-    depth.depth_m = truth.depth_m;
-    depth.confidence = cv::Mat(truth.depth_m.size(), CV_32F, cv::Scalar(1));
-    shot->depths.push_back(std::move(depth));
-  }
-  // The true depth as layered segments, so that the checks measure direction alone.
-  std::vector<LayeredDepthView> layers;
-  for (size_t i = 0; i < shot->views.size(); ++i) {
-    auto layered = LayeredDepthFromDepthMap(shot->views[i], shot->depths[i]);
-    if (!layered.ok()) return nullptr;
-    layers.push_back(std::move(layered).value());
-  }
-  auto renderer = CpuSceneRenderer::Create(shot->views, layers, RenderOptions{});
-  if (!renderer.ok()) return nullptr;
-  shot->renderer = std::move(renderer).value();
-  return shot;
+  StatusOr<std::unique_ptr<Shot>> shot = e2e::MakeDirectionShot(scene, 0.5);
+  EXPECT_TRUE(shot.ok()) << shot.status().ToString();
+  return shot.ok() ? std::move(shot).value() : nullptr;
 }
 
 struct Planned {
@@ -64,17 +37,16 @@ struct Planned {
   DirectionReport report;
 };
 
-Planned Plan(Shot* shot, const direct::FaceDetector* detector, const std::string& move) {
+Planned Plan(Shot* shot, const direct::FaceDetector* detector, const std::string& move,
+             const std::string& effect = "none") {
   DirectOptions options;
   options.fps = 10;
   options.duration_s = 1;  // 10 frames
   options.move = move;
-  options.effect = "none";
+  options.effect = effect;
   DirectionContext context;
   context.face_detector = detector;
-  context.coverage = [shot](const CameraModel& camera, const Rigid3& cam_from_world) {
-    return shot->renderer->Coverage(camera, cam_from_world);
-  };
+  context.coverage = shot->Coverage();
   Planned planned;
   StatusOr<CameraPath> path = PlanCameraPath(shot->views, shot->depths, options, context, &planned.report);
   EXPECT_TRUE(path.ok()) << path.status().ToString();
@@ -83,13 +55,11 @@ Planned Plan(Shot* shot, const direct::FaceDetector* detector, const std::string
 }
 
 // The checks every automatic path must pass; prints its figures.
-void CheckPath(Shot* shot, const Planned& planned, int subjects_expected, bool fallback_ok = false) {
+void CheckPath(Shot* shot, const Planned& planned, int subjects_expected) {
   const CameraPath& path = planned.path;
   std::string notes;
   for (const std::string& note : path.notes) notes += "\n  " + note;
-  if (!fallback_ok) {
-    EXPECT_FALSE(planned.report.fell_back) << path.reason << notes;
-  }
+  EXPECT_FALSE(planned.report.fell_back) << path.reason << notes;
   ASSERT_EQ(path.kind, PathKind::kNovelView) << path.reason << notes;
   EXPECT_EQ(planned.report.num_subjects, subjects_expected) << planned.report.detector;
   ASSERT_EQ(static_cast<int>(path.subjects.size()), subjects_expected);
@@ -186,30 +156,124 @@ TEST_F(DirectionTest, TwoFacesDollyBetweenThem) {
   if (IsSkipped()) return;
   std::unique_ptr<Shot> shot = MakeShot("two_faces");
   ASSERT_NE(shot, nullptr);
+  // The faces sit 6 and 5 degrees either side of the axis at 1.0 and 1.7 m: the rig's viewpoints
+  // can dolly from one to the other with both in every frame.
   const Planned planned = Plan(shot.get(), detector_.get(), "auto");
-  // Row 2 is tried first, in both subject orders. In this scene it cannot hold: the near face
-  // sits 12 degrees off the axis, so a 1.5f close-up of it reaches 3.5 degrees past the lenses'
-  // field (H(V) ~380 at the centre view, worse forwards), and the far face's end at its size
-  // ratio is wider still. The fallback is a lower row's move ("any move for n also for more
-  // than n"), and the notes say why the dolly did not hold.
-  if (planned.path.move != "dolly") {
-    std::string notes;
-    for (const std::string& note : planned.path.notes) notes += note + "\n";
-    // Both subject orders were tried ("dolly: " once per order), and the notes say why.
-    const size_t first = notes.find("dolly: ");
-    ASSERT_NE(first, std::string::npos) << notes;
-    EXPECT_NE(notes.find("dolly: ", first + 1), std::string::npos) << "the other order was not tried:\n" << notes;
-    std::printf("[figures] two faces: the dolly did not hold; fell back to %s\n", planned.path.move.c_str());
-    if (planned.path.kind != PathKind::kNovelView) {
-      // No lower row held either (the segment renderer's coverage at the verify size): the
-      // honest fallback is a morph between two views, which must say so.
-      EXPECT_EQ(planned.path.kind, PathKind::kMorph) << planned.path.reason;
-      EXPECT_NE(notes.find("no 3D move could be planned"), std::string::npos) << notes;
-      EXPECT_TRUE(planned.report.fell_back);
-      return;
+  EXPECT_EQ(planned.path.move, "dolly") << planned.path.reason;
+  EXPECT_EQ(direct::SubjectsNeeded(direct::ParseMove(planned.path.move).value()), 2) << planned.path.move;
+  ASSERT_NO_FATAL_FAILURE(CheckPath(shot.get(), planned, 2));
+}
+
+// Effects (4.3) on the two-subject dolly: the focus pull's aperture keeps both ends valid at the
+// four corners of the aperture's box (rendered coverage at the output size), and the focus goes
+// from the first subject's depth to the second's.
+TEST_F(DirectionTest, TwoFacesDollyPullsFocusWithTheLargestValidAperture) {
+  NeedFacePhotos();
+  if (IsSkipped()) return;
+  std::unique_ptr<Shot> shot = MakeShot("two_faces");
+  ASSERT_NE(shot, nullptr);
+  const Planned planned = Plan(shot.get(), detector_.get(), "dolly", "focus_pull");
+  const CameraPath& path = planned.path;
+  ASSERT_EQ(path.move, "dolly") << path.reason;
+  ASSERT_EQ(path.effect, "focus_pull") << path.reason;
+  ASSERT_EQ(path.subjects.size(), 2u);
+  const double aperture = path.keyframes.front().aperture_m;
+  EXPECT_GT(aperture, 1e-4);
+  EXPECT_LE(aperture, DirectOptions{}.max_aperture_m);
+  for (const CameraKeyframe* key : {&path.keyframes.front(), &path.keyframes.back()}) {
+    EXPECT_DOUBLE_EQ(key->aperture_m, aperture);
+    direct::Framing end;
+    end.centre_in_world = key->centre_in_world;
+    end.cam_from_world = key->CamFromWorld();
+    end.focal_px = key->focal_px;
+    for (const direct::Framing& corner : direct::ApertureCorners(end, aperture)) {
+      StatusOr<CoverageReport> coverage = shot->renderer->Coverage(path.CameraAt(key->t), corner.cam_from_world);
+      ASSERT_TRUE(coverage.ok()) << coverage.status().ToString();
+      EXPECT_LT(coverage->hole_score, 2.0) << "aperture corner at t = " << key->t;
     }
   }
-  ASSERT_NO_FATAL_FAILURE(CheckPath(shot.get(), planned, 2, /*fallback_ok=*/true));
+  EXPECT_NEAR(path.keyframes.front().focus_depth_m,
+              direct::SubjectDepthIn(path.subjects[0], path.keyframes.front().CamFromWorld()), 1e-6);
+  EXPECT_NEAR(path.keyframes.back().focus_depth_m,
+              direct::SubjectDepthIn(path.subjects[1], path.keyframes.back().CamFromWorld()), 1e-6);
+  std::printf("[figures] dolly with focus pull: aperture %.1f mm; focus %.2f m -> %.2f m\n", 1000 * aperture,
+              path.keyframes.front().focus_depth_m, path.keyframes.back().focus_depth_m);
+}
+
+// A saturation layer on the subject (4.3), keyframed from unchanged to its target.
+TEST_F(DirectionTest, OneFaceDollyInCarriesAKeyframedSaturationLayer) {
+  NeedFacePhotos();
+  if (IsSkipped()) return;
+  std::unique_ptr<Shot> shot = MakeShot("one_face");
+  ASSERT_NE(shot, nullptr);
+  const Planned planned = Plan(shot.get(), detector_.get(), "dolly_in", "saturation");
+  const CameraPath& path = planned.path;
+  ASSERT_EQ(path.effect, "saturation") << path.reason;
+  ASSERT_EQ(path.keyframes.front().effects.size(), 1u);
+  ASSERT_EQ(path.keyframes.back().effects.size(), 1u);
+  EXPECT_EQ(path.keyframes.front().effects[0].kind, ColorEffectKind::kSaturation);
+  EXPECT_DOUBLE_EQ(path.keyframes.front().effects[0].amount, 1.0);
+  EXPECT_GT(path.keyframes.back().effects[0].amount, 1.2);
+  // The layer's box holds the face.
+  const ColorEffect& layer = path.keyframes.back().effects[0];
+  for (const Eigen::Vector3d& corner : path.subjects.front().corners_in_world) {
+    EXPECT_TRUE((corner.array() >= layer.region_min_in_world.array()).all() &&
+                (corner.array() <= layer.region_max_in_world.array()).all());
+  }
+}
+
+// Authored shots (4.4): a taxonomy move on a region the user marks, chained with authored
+// keyframes; the shot written from the planned path replays the same path.
+TEST_F(DirectionTest, AShotChainsAMoveOnAUserRegionWithAuthoredKeyframesAndReplays) {
+  std::unique_ptr<Shot> shot = MakeShot("one_face");
+  ASSERT_NE(shot, nullptr);
+  // The face in the centre view (320x240, f = 280): about 0.17 m wide at 1.2 m, 0.05 m above the axis.
+  StatusOr<direct::Shot> authored = direct::ShotFromJson(nlohmann::json::parse(R"({
+    "duration_s": 2,
+    "segments": [
+      {"move": "dolly_in", "effect": "none", "subjects": [{"box_px": [140, 90, 40, 40]}]},
+      {"keyframes": [
+         {"t": 0, "position_m": [0, 0, 0], "look_at_m": [0, 0, 1.2], "focal_scale": 1.5},
+         {"t": 0.5, "position_m": [0.02, 0.01, 0.05], "look_at_m": [0, 0, 1.2], "focal_scale": 1.4},
+         {"t": 1, "position_m": [0.03, 0, 0.08], "look_at_m": [0, 0, 1.2], "focal_scale": 1.3}]}
+    ]})"));
+  ASSERT_TRUE(authored.ok()) << authored.status().ToString();
+  DirectOptions options;
+  options.fps = 10;
+  DirectionContext context;
+  context.coverage = shot->Coverage();
+  context.shot = &*authored;
+  DirectionReport report;
+  StatusOr<CameraPath> path = PlanCameraPath(shot->views, shot->depths, options, context, &report);
+  ASSERT_TRUE(path.ok()) << path.status().ToString();
+  EXPECT_EQ(path->kind, PathKind::kNovelView);
+  std::string notes;
+  for (const std::string& note : path->notes) notes += "\n  " + note;
+  EXPECT_NE(path->reason.find("authored shot: dolly_in"), std::string::npos) << path->reason << notes;
+  EXPECT_NE(path->reason.find(", then 3 keyframes"), std::string::npos) << path->reason;
+  ASSERT_FALSE(path->subjects.empty());
+  EXPECT_EQ(path->subjects.front().source, "user");
+  EXPECT_EQ(path->NumFrames(), 20);
+  // The authored segment's last key is where the clip ends.
+  EXPECT_LT((CameraCentre(path->PoseAt(1)) - Eigen::Vector3d(0.03, 0, 0.08)).norm(), 1e-6);
+
+  // Replay the shot written from this path: the same cameras at every frame.
+  const direct::Shot written = direct::ShotFromPath(*path);
+  StatusOr<direct::Shot> reread = direct::ShotFromJson(nlohmann::json::parse(direct::ShotToJson(written).dump()));
+  ASSERT_TRUE(reread.ok()) << reread.status().ToString();
+  context.shot = &*reread;
+  StatusOr<CameraPath> replayed = PlanCameraPath(shot->views, shot->depths, options, context);
+  ASSERT_TRUE(replayed.ok()) << replayed.status().ToString();
+  ASSERT_EQ(replayed->NumFrames(), path->NumFrames());
+  double worst_m = 0;
+  for (int i = 0; i < path->NumFrames(); ++i) {
+    const double t = path->FrameTime(i);
+    worst_m = std::max(worst_m, (CameraCentre(replayed->PoseAt(t)) - CameraCentre(path->PoseAt(t))).norm());
+    EXPECT_LT(replayed->PoseAt(t).rotation.angularDistance(path->PoseAt(t).rotation), 1e-6) << t;
+    EXPECT_NEAR(replayed->FocalAt(t), path->FocalAt(t), 1e-6) << t;
+  }
+  EXPECT_LT(worst_m, 1e-6);
+  std::printf("[figures] shot: %s; replayed within %.2g m\n", path->reason.c_str(), worst_m);
 }
 
 }  // namespace
