@@ -41,11 +41,15 @@ Status ApplyOverride(const std::string& text, DepthOptions* options) {
   MatchingOptions& m = options->matching;
   const std::pair<const char*, double*> doubles[] = {
       {"working_scale", &options->working_scale}, {"matching.plane_step_px", &m.plane_step_px},
-      {"matching.cost_filter_eps", &m.cost_filter_eps}, {"matching.min_texture_stddev", &m.min_texture_stddev}};
+      {"matching.cost_filter_eps", &m.cost_filter_eps}, {"matching.min_texture_stddev", &m.min_texture_stddev},
+      {"matching.sgm_step_penalty", &m.sgm_step_penalty}, {"matching.sgm_jump_penalty", &m.sgm_jump_penalty},
+      {"segments.compactness", &options->segments.compactness},
+      {"segments.inlier_px", &options->segments.inlier_px}};
   const std::pair<const char*, int*> ints[] = {
       {"matching.num_planes", &m.num_planes}, {"matching.max_planes", &m.max_planes},
       {"matching.num_neighbors", &m.num_neighbors}, {"matching.window_radius_px", &m.window_radius_px},
-      {"matching.cost_filter_radius_px", &m.cost_filter_radius_px}};
+      {"matching.cost_filter_radius_px", &m.cost_filter_radius_px},
+      {"matching.sgm_paths", &m.sgm_paths}, {"segments.region_size_px", &options->segments.region_size_px}};
   for (const auto& [field, target] : doubles) {
     if (name == field) {
       *target = number;
