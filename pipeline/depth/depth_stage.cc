@@ -161,23 +161,22 @@ ReferenceDepth MatchReference(const std::vector<View>& views, const std::vector<
     result.report.median_match_cost = costs.empty() ? depth::kNeutralCost : MedianOf(std::move(costs));
   }
   result.report.textureless_fraction = 1.0 - cv::countNonZero(textured) / static_cast<double>(size.area());
-  std::vector<cv::Mat> raw_slices;
+  // With semi-global aggregation the winner comes from the aggregate and its sub-plane position
+  // from the raw costs near it; the aggregate then replaces the raw costs (two volumes at most).
+  std::vector<cv::Mat> aggregated;
   if (m.sgm_paths > 0) {
     depth::SemiGlobalOptions sgm;
     sgm.num_paths = m.sgm_paths;
     sgm.step_penalty = static_cast<float>(m.sgm_step_penalty);
     sgm.jump_penalty = static_cast<float>(m.sgm_jump_penalty);
-    raw_slices.reserve(volume.slices.size());
-    for (const cv::Mat& slice : volume.slices) raw_slices.push_back(slice.clone());
-    depth::AggregateSemiGlobal(ref.gray, sgm, &volume.slices);
+    aggregated = depth::AggregateSemiGlobal(ref.gray, sgm, volume.slices);
   }
   const double step_px = ref.camera.fx * nearest_m * planes.step_inverse_m;
   const int fit_half_width = 2 * step_px <= 0.3 ? 2 : 1;
-  depth::PlaneSelection selection = depth::SelectPlanes(volume.slices, fit_half_width);
-  if (!raw_slices.empty()) {
-    // Sub-plane position from the un-smoothed costs near the aggregate's winner.
-    depth::RefineAroundWinners(raw_slices, /*search_planes=*/2, fit_half_width >= 2, &selection.plane);
-    raw_slices.clear();
+  depth::PlaneSelection selection = depth::SelectPlanes(aggregated.empty() ? volume.slices : aggregated, fit_half_width);
+  if (!aggregated.empty()) {
+    depth::RefineAroundWinners(volume.slices, /*search_planes=*/2, fit_half_width >= 2, &selection.plane);
+    volume.slices = std::move(aggregated);
   }
   selection.confidence.setTo(0, volume.sampled == 0);
   cv::Mat pixel_inverse_depth(size, CV_32F);

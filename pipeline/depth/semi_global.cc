@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <mutex>
 
 #include "pipeline/core/check.h"
 
@@ -38,16 +39,33 @@ float JumpPenalty(const SemiGlobalOptions& options, float a, float b) {
                                               : options.jump_penalty;
 }
 
+// The aggregate being built: one CV_32F slice per plane, and a lock per row so that the forward
+// and backward sweeps (two threads) can add their finished rows in either order.
+struct Aggregate {
+  std::vector<cv::Mat> slices;
+  std::vector<std::mutex> row_locks;
+};
+
+// Adds one row of path costs (pixel-major: cols x planes) times `scale` into row y of the aggregate.
+void AddRow(const std::vector<float>& row_sum, int y, float scale, Aggregate* aggregate) {
+  const int planes = static_cast<int>(aggregate->slices.size());
+  const std::lock_guard<std::mutex> lock(aggregate->row_locks[y]);
+  for (int d = 0; d < planes; ++d) {
+    float* out = aggregate->slices[d].ptr<float>(y);
+    for (int x = 0; x < aggregate->slices[d].cols; ++x) out[x] += row_sum[static_cast<size_t>(x) * planes + d] * scale;
+  }
+}
+
 // One sweep over the rows in direction `dy` (+1: top to bottom with paths from the left, top,
-// and (8 paths) top-left and top-right; -1: the mirror image), adding its path costs into sum
-// (rows x cols x planes, pixel-major).
+// and (8 paths) top-left and top-right; -1: the mirror image). Only the previous row's path
+// costs are kept; each finished row's sum of paths, times `scale`, goes into the aggregate.
 void Sweep(const std::vector<cv::Mat>& slices, const cv::Mat& gray, const SemiGlobalOptions& options, int dy,
-           std::vector<float>* sum) {
+           float scale, Aggregate* aggregate) {
   const int rows = gray.rows, cols = gray.cols, planes = static_cast<int>(slices.size());
   const size_t row_size = static_cast<size_t>(cols) * planes;
   const bool diagonals = options.num_paths == 8;
   const int num_vertical = diagonals ? 3 : 1;  // offsets dx = 0, -1, +1 (times dy's direction)
-  std::vector<float> cost(row_size), along(planes), along_next(planes);
+  std::vector<float> cost(row_size), row_sum(row_size), along(planes), along_next(planes);
   // Path costs of the previous row for each vertical/diagonal direction, and their minima.
   std::vector<std::vector<float>> previous(num_vertical, std::vector<float>(row_size)),
       current(num_vertical, std::vector<float>(row_size));
@@ -62,7 +80,8 @@ void Sweep(const std::vector<cv::Mat>& slices, const cv::Mat& gray, const SemiGl
       for (int x = 0; x < cols; ++x) cost[static_cast<size_t>(x) * planes + d] = c[x];
     }
     const float* g = gray.ptr<float>(y);
-    float* s = sum->data() + static_cast<size_t>(y) * row_size;
+    std::fill(row_sum.begin(), row_sum.end(), 0.0f);
+    float* s = row_sum.data();
     // The in-row path.
     float along_min = 0;
     for (int i = 0; i < cols; ++i) {
@@ -96,6 +115,7 @@ void Sweep(const std::vector<cv::Mat>& slices, const cv::Mat& gray, const SemiGl
         AddTo(out, planes, s + static_cast<size_t>(x) * planes);
       }
     }
+    AddRow(row_sum, y, scale, aggregate);
     std::swap(previous, current);
     std::swap(previous_min, current_min);
     prev_gray = g;
@@ -104,30 +124,17 @@ void Sweep(const std::vector<cv::Mat>& slices, const cv::Mat& gray, const SemiGl
 
 }  // namespace
 
-void AggregateSemiGlobal(const cv::Mat& gray, const SemiGlobalOptions& options, std::vector<cv::Mat>* slices) {
-  PX_CHECK(gray.type() == CV_32FC1 && slices->size() >= 2) << "grey reference and at least two planes";
+std::vector<cv::Mat> AggregateSemiGlobal(const cv::Mat& gray, const SemiGlobalOptions& options,
+                                         const std::vector<cv::Mat>& slices) {
+  PX_CHECK(gray.type() == CV_32FC1 && slices.size() >= 2) << "grey reference and at least two planes";
   PX_CHECK(options.num_paths == 4 || options.num_paths == 8) << "4 or 8 paths, got " << options.num_paths;
-  const int planes = static_cast<int>(slices->size());
-  const size_t volume_size = gray.total() * planes;
-  std::vector<float> forward(volume_size, 0.0f), backward(volume_size, 0.0f);
-  cv::parallel_for_(cv::Range(0, 2), [&](const cv::Range& range) {
-    for (int i = range.start; i < range.end; ++i) Sweep(*slices, gray, options, i == 0 ? 1 : -1, i == 0 ? &forward : &backward);
-  });
+  Aggregate aggregate{std::vector<cv::Mat>(slices.size()), std::vector<std::mutex>(gray.rows)};
+  for (cv::Mat& slice : aggregate.slices) slice = cv::Mat::zeros(gray.size(), CV_32F);
   const float scale = 1.0f / static_cast<float>(options.num_paths);
-  const int cols = gray.cols;
-  cv::parallel_for_(cv::Range(0, gray.rows), [&](const cv::Range& rows) {
-    for (int y = rows.start; y < rows.end; ++y) {
-      const float* f = forward.data() + static_cast<size_t>(y) * cols * planes;
-      const float* b = backward.data() + static_cast<size_t>(y) * cols * planes;
-      for (int d = 0; d < planes; ++d) {
-        float* out = (*slices)[d].ptr<float>(y);
-        for (int x = 0; x < cols; ++x) {
-          const size_t i = static_cast<size_t>(x) * planes + d;
-          out[x] = (f[i] + b[i]) * scale;
-        }
-      }
-    }
+  cv::parallel_for_(cv::Range(0, 2), [&](const cv::Range& range) {
+    for (int i = range.start; i < range.end; ++i) Sweep(slices, gray, options, i == 0 ? 1 : -1, scale, &aggregate);
   });
+  return std::move(aggregate.slices);
 }
 
 }  // namespace px::depth

@@ -20,10 +20,11 @@ struct SemiGlobalOptions {
   float edge_gray = 0.04f;
 };
 
-// Replaces every slice of `slices` (one CV_32F cost per plane, all of `gray`'s size, at least 2)
-// by its semi-global aggregate divided by the number of paths, so costs keep their scale.
+// The semi-global aggregate of `slices` (one CV_32F cost per plane, all of `gray`'s size, at
+// least 2), divided by the number of paths so costs keep their scale; `slices` is left as it is.
 // `gray` is the reference image (CV_32F in [0, 1]). Uses two threads (the forward and backward
-// sweeps) and one extra cost volume of memory for each.
-void AggregateSemiGlobal(const cv::Mat& gray, const SemiGlobalOptions& options, std::vector<cv::Mat>* slices);
+// sweeps); memory is the returned volume plus a few rows of path costs per thread.
+std::vector<cv::Mat> AggregateSemiGlobal(const cv::Mat& gray, const SemiGlobalOptions& options,
+                                         const std::vector<cv::Mat>& slices);
 
 }  // namespace px::depth
