@@ -4,9 +4,12 @@
 #include <cstdio>
 #include <filesystem>
 #include <memory>
+#include <string>
+#include <vector>
 
 #include <nlohmann/json.hpp>
 
+#include "device/cli/depth_option_override.h"
 #include "device/cli/machine_info.h"
 #include "device/cli/progress_bar.h"
 #include "device/cli/scene_path.h"
@@ -31,6 +34,7 @@ struct BenchArgs {
   double fps = 30.0;
   std::string output;  // where the clip goes; default: a temporary file removed afterwards
   bool json = false;
+  std::vector<std::string> depth_overrides;  // "matching.sgm_paths=0"
 };
 
 // Encodes frames as the pipeline renders them and times only the encoding.
@@ -57,6 +61,13 @@ class TimedMp4Sink final : public FrameSink {
 };
 
 Status RunBench(const BenchArgs& args) {
+  PipelineOptions options;
+  options.direct.duration_s = args.duration_s;
+  options.direct.fps = args.fps;
+  for (const std::string& text : args.depth_overrides) {
+    PX_RETURN_IF_ERROR(ApplyDepthOptionOverride(text, &options.depth));
+  }
+  PX_RETURN_IF_ERROR(options.depth.Validate());
   SyntheticSourceOptions sim;
   sim.camera = args.camera == "integral5x4" ? SimCameraSpec::Integral5x4() : SimCameraSpec::Pop9();
   if (args.camera != "pop9" && args.camera != "integral5x4") {
@@ -74,9 +85,6 @@ Status RunBench(const BenchArgs& args) {
   const double capture_ms = MsSince(start);
   const RigCalibration rig = *source->Describe().rig;
 
-  PipelineOptions options;
-  options.direct.duration_s = args.duration_s;
-  options.direct.fps = args.fps;
   const int tile_w = rig.lenses[0].camera.width, tile_h = rig.lenses[0].camera.height;
   std::filesystem::path clip_path =
       args.output.empty() ? std::filesystem::temp_directory_path() / "parallax_bench.mp4"
@@ -111,7 +119,7 @@ Status RunBench(const BenchArgs& args) {
   nlohmann::json result{
       {"shot", {{"camera", sim.camera.name}, {"views", report.num_views}, {"view_width", tile_w},
                 {"view_height", tile_h}, {"scene", args.scene}, {"frames", report.frames_rendered},
-                {"fps", args.fps}, {"duration_s", args.duration_s}}},
+                {"fps", args.fps}, {"duration_s", args.duration_s}, {"depth_options", args.depth_overrides}}},
       {"stages", stages},
       {"total_ms", total_ms},
       {"pipeline_ms", total_ms - capture_ms},
@@ -127,6 +135,9 @@ Status RunBench(const BenchArgs& args) {
   std::printf("standard shot: %s, %d views of %dx%d, %d frames (%.1f s at %.0f fps), scene %s\n",
               sim.camera.name.c_str(), report.num_views, tile_w, tile_h, report.frames_rendered, args.duration_s,
               args.fps, args.scene.c_str());
+  std::string overrides;
+  for (const std::string& text : args.depth_overrides) overrides += " " + text;
+  if (!overrides.empty()) std::printf("depth options:%s\n", overrides.c_str());
   std::printf("machine: %s, %d cores, %.1f GiB, commit %s\n", machine.cpu_model.c_str(), machine.cores,
               machine.memory_gib, machine.commit.c_str());
   for (const auto& stage : stages) {
@@ -151,6 +162,9 @@ void AddBenchCommand(CLI::App& app) {
   bench->add_option("--duration", args->duration_s, "Clip length in seconds")->capture_default_str();
   bench->add_option("--fps", args->fps, "Frames per second")->capture_default_str();
   bench->add_option("-o,--output", args->output, "Keep the clip at this path (default: discard it)");
+  bench->add_option("--option", args->depth_overrides,
+                    "Override one depth option, name=value as in pipeline/depth/depth_options.h (repeatable), "
+                    "e.g. --option matching.sgm_paths=0");
   bench->add_flag("--json", args->json, "Print the figures as JSON (machine-readable)");
   bench->callback([args]() {
     Status status = RunBench(*args);

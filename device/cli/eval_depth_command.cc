@@ -10,6 +10,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "device/cli/depth_option_override.h"
 #include "device/cli/machine_info.h"
 #include "device/cli/progress_bar.h"
 #include "eval/depth/depth_eval.h"
@@ -29,37 +30,6 @@ struct EvalDepthArgs {
   std::string dump;
   std::vector<std::string> overrides;  // "matching.plane_step_px=0.25"
 };
-
-// Sets one field of our depth options from "name=value" (names as in depth_options.h).
-Status ApplyOverride(const std::string& text, DepthOptions* options) {
-  const size_t eq = text.find('=');
-  if (eq == std::string::npos) return InvalidArgumentError("--option '" + text + "' is not name=value");
-  const std::string name = text.substr(0, eq), value = text.substr(eq + 1);
-  char* end = nullptr;
-  const double number = std::strtod(value.c_str(), &end);
-  if (end == value.c_str() || *end != '\0') return InvalidArgumentError("--option " + name + ": '" + value + "' is not a number");
-  MatchingOptions& m = options->matching;
-  const std::pair<const char*, double*> doubles[] = {
-      {"working_scale", &options->working_scale}, {"matching.plane_step_px", &m.plane_step_px},
-      {"matching.cost_filter_eps", &m.cost_filter_eps}, {"matching.min_texture_stddev", &m.min_texture_stddev}};
-  const std::pair<const char*, int*> ints[] = {
-      {"matching.num_planes", &m.num_planes}, {"matching.max_planes", &m.max_planes},
-      {"matching.num_neighbors", &m.num_neighbors}, {"matching.window_radius_px", &m.window_radius_px},
-      {"matching.cost_filter_radius_px", &m.cost_filter_radius_px}};
-  for (const auto& [field, target] : doubles) {
-    if (name == field) {
-      *target = number;
-      return OkStatus();
-    }
-  }
-  for (const auto& [field, target] : ints) {
-    if (name == field) {
-      *target = static_cast<int>(number);
-      return OkStatus();
-    }
-  }
-  return InvalidArgumentError("--option: no depth option named '" + name + "'");
-}
 
 nlohmann::json RunToJson(const eval::DepthMethodRun& run, eval::DepthSetKind kind) {
   nlohmann::json j{{"method", run.method}, {"ok", run.ok}, {"seconds", run.seconds}, {"cpu_seconds", run.cpu_seconds}};
@@ -160,7 +130,7 @@ Status RunEvalDepth(const EvalDepthArgs& args) {
   }
   if (args.working_scale != 0) options.ours.working_scale = args.working_scale;
   options.light_field_defaults = args.working_scale == 0 && args.overrides.empty();
-  for (const std::string& text : args.overrides) PX_RETURN_IF_ERROR(ApplyOverride(text, &options.ours));
+  for (const std::string& text : args.overrides) PX_RETURN_IF_ERROR(ApplyDepthOptionOverride(text, &options.ours));
   options.ours.num_threads = args.threads;
   ProgressBar progress(args.json);
   options.progress = [&](const std::string& set, double fraction) { progress.Update(set, fraction); };

@@ -32,6 +32,13 @@ Status ValidateMatching(const MatchingOptions& m) {
   if (!(m.min_texture_stddev >= 0 && m.min_texture_stddev <= 0.5)) {
     return OutOfRange("matching.min_texture_stddev", m.min_texture_stddev, "[0, 0.5]");
   }
+  if (m.sgm_paths != 0 && m.sgm_paths != 4 && m.sgm_paths != 8) return OutOfRange("matching.sgm_paths", m.sgm_paths, "0, 4 or 8");
+  if (!(m.sgm_step_penalty >= 0 && m.sgm_step_penalty <= 1)) {
+    return OutOfRange("matching.sgm_step_penalty", m.sgm_step_penalty, "[0, 1]");
+  }
+  if (!(m.sgm_jump_penalty >= m.sgm_step_penalty && m.sgm_jump_penalty <= 2)) {
+    return OutOfRange("matching.sgm_jump_penalty", m.sgm_jump_penalty, "[sgm_step_penalty, 2]");
+  }
   return OkStatus();
 }
 

@@ -29,6 +29,13 @@ struct MatchingOptions {
   // Grey standard deviation (images in [0, 1]) under which a window counts as textureless: its
   // cost is neutral and its confidence 0. [0, 0.5].
   double min_texture_stddev = 0.004;
+  // Semi-global aggregation over the filtered cost volume (semi_global.h): 0 = off, 4 or 8
+  // paths. Penalties in cost units ([0, 2]): a step of one plane between neighbouring pixels
+  // (sgm_step_penalty, [0, 1]) and a larger jump (sgm_jump_penalty, [sgm_step_penalty, 2]; a
+  // third of it across grey edges).
+  int sgm_paths = 4;
+  double sgm_step_penalty = 0.01;
+  double sgm_jump_penalty = 0.12;
 };
 
 // Over-segmentation and a plane per segment.

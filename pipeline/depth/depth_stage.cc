@@ -12,6 +12,8 @@
 #include "pipeline/depth/cost_volume.h"
 #include "pipeline/depth/plane_homography.h"
 #include "pipeline/depth/segment_planes.h"
+#include "pipeline/depth/semi_global.h"
+#include "pipeline/depth/sub_plane.h"
 #include "pipeline/depth/select_planes.h"
 #include "pipeline/depth/superpixels.h"
 #include "pipeline/depth/two_layer.h"
@@ -141,18 +143,8 @@ ReferenceDepth MatchReference(const std::vector<View>& views, const std::vector<
   volume_options.filter_radius_px = m.cost_filter_radius_px;
   volume_options.filter_eps = m.cost_filter_eps;
   depth::CostVolume volume = depth::BuildCostVolume(ref, neighbours, planes, volume_options);
-  const double step_px = ref.camera.fx * nearest_m * planes.step_inverse_m;
-  const int fit_half_width = 2 * step_px <= 0.3 ? 2 : 1;
-  depth::PlaneSelection selection = depth::SelectPlanes(volume.slices, fit_half_width);
-  selection.confidence.setTo(0, volume.sampled == 0);
-  const cv::Size size = ref.gray.size();
-  cv::Mat pixel_inverse_depth(size, CV_32F);
-  for (int y = 0; y < size.height; ++y) {
-    const float* p = selection.plane.ptr<float>(y);
-    float* u = pixel_inverse_depth.ptr<float>(y);
-    for (int x = 0; x < size.width; ++x) u[x] = static_cast<float>(planes.InverseDepth(p[x]));
-  }
   // How well the view matches its neighbours at all: the median best cost over textured pixels.
+  const cv::Size size = ref.gray.size();
   const cv::Mat textured = TexturedPixels(ref.gray, m.window_radius_px, m.min_texture_stddev);
   {
     cv::Mat best_cost = volume.slices[0].clone();
@@ -169,6 +161,30 @@ ReferenceDepth MatchReference(const std::vector<View>& views, const std::vector<
     result.report.median_match_cost = costs.empty() ? depth::kNeutralCost : MedianOf(std::move(costs));
   }
   result.report.textureless_fraction = 1.0 - cv::countNonZero(textured) / static_cast<double>(size.area());
+  // With semi-global aggregation the winner comes from the aggregate and its sub-plane position
+  // from the raw costs near it; the aggregate then replaces the raw costs (two volumes at most).
+  std::vector<cv::Mat> aggregated;
+  if (m.sgm_paths > 0) {
+    depth::SemiGlobalOptions sgm;
+    sgm.num_paths = m.sgm_paths;
+    sgm.step_penalty = static_cast<float>(m.sgm_step_penalty);
+    sgm.jump_penalty = static_cast<float>(m.sgm_jump_penalty);
+    aggregated = depth::AggregateSemiGlobal(ref.gray, sgm, volume.slices);
+  }
+  const double step_px = ref.camera.fx * nearest_m * planes.step_inverse_m;
+  const int fit_half_width = 2 * step_px <= 0.3 ? 2 : 1;
+  depth::PlaneSelection selection = depth::SelectPlanes(aggregated.empty() ? volume.slices : aggregated, fit_half_width);
+  if (!aggregated.empty()) {
+    depth::RefineAroundWinners(volume.slices, /*search_planes=*/2, fit_half_width >= 2, &selection.plane);
+    volume.slices = std::move(aggregated);
+  }
+  selection.confidence.setTo(0, volume.sampled == 0);
+  cv::Mat pixel_inverse_depth(size, CV_32F);
+  for (int y = 0; y < size.height; ++y) {
+    const float* p = selection.plane.ptr<float>(y);
+    float* u = pixel_inverse_depth.ptr<float>(y);
+    for (int x = 0; x < size.width; ++x) u[x] = static_cast<float>(planes.InverseDepth(p[x]));
+  }
   times->matching_ms += MsSince(start);
 
   // Segments and a plane each.

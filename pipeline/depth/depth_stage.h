@@ -2,12 +2,12 @@
 //
 // For each reference view: a plane sweep against its nearest neighbour views without
 // rectification (plane-induced homographies from the calibrated cameras), windowed ZNCC costs,
-// the best half of the neighbours per pixel (occlusions), edge-aware guided-filter aggregation,
-// winner-take-all with sub-plane refinement and a confidence from the cost curve; then a
-// consistency check between the views' depths; then an over-segmentation of each view (SLIC)
-// with a robust plane per segment; and at depth discontinuities the paper's two-layer
-// representation with soft alpha, so that the renderer separates foreground from background
-// without halos. See README.md for the figures.
+// the best half of the neighbours per pixel (occlusions), edge-aware guided-filter aggregation
+// and semi-global aggregation, winner-take-all with sub-plane refinement and a confidence from
+// the cost curve; then a consistency check between the views' depths; then an
+// over-segmentation of each view (SLIC) with a robust plane per segment; and at depth
+// discontinuities the paper's two-layer representation with soft alpha, so that the renderer
+// separates foreground from background without halos. See README.md for the figures.
 #pragma once
 
 #include <functional>
@@ -26,7 +26,7 @@ using DepthProgressCallback = std::function<bool(double fraction)>;
 
 struct DepthStageResult {
   // One each per computed view, in the order computed (the views' order, or reference_indices).
-  // maps[i] is layered[i].ToDepthMap(): depth of the front layer's segment plane, and the
+  // maps[i] is layered[i].ToDepthMap(): depth of the dominant layer's segment plane, and the
   // stereo confidence.
   std::vector<DepthMap> maps;
   std::vector<LayeredDepthView> layered;

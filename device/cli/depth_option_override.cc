@@ -1,0 +1,42 @@
+#include "device/cli/depth_option_override.h"
+
+#include <cstdlib>
+#include <utility>
+
+namespace px::cli {
+
+Status ApplyDepthOptionOverride(const std::string& text, DepthOptions* options) {
+  const size_t eq = text.find('=');
+  if (eq == std::string::npos) return InvalidArgumentError("--option '" + text + "' is not name=value");
+  const std::string name = text.substr(0, eq), value = text.substr(eq + 1);
+  char* end = nullptr;
+  const double number = std::strtod(value.c_str(), &end);
+  if (end == value.c_str() || *end != '\0') return InvalidArgumentError("--option " + name + ": '" + value + "' is not a number");
+  MatchingOptions& m = options->matching;
+  const std::pair<const char*, double*> doubles[] = {
+      {"working_scale", &options->working_scale}, {"matching.plane_step_px", &m.plane_step_px},
+      {"matching.cost_filter_eps", &m.cost_filter_eps}, {"matching.min_texture_stddev", &m.min_texture_stddev},
+      {"matching.sgm_step_penalty", &m.sgm_step_penalty}, {"matching.sgm_jump_penalty", &m.sgm_jump_penalty},
+      {"segments.compactness", &options->segments.compactness},
+      {"segments.inlier_px", &options->segments.inlier_px}};
+  const std::pair<const char*, int*> ints[] = {
+      {"matching.num_planes", &m.num_planes}, {"matching.max_planes", &m.max_planes},
+      {"matching.num_neighbors", &m.num_neighbors}, {"matching.window_radius_px", &m.window_radius_px},
+      {"matching.cost_filter_radius_px", &m.cost_filter_radius_px},
+      {"matching.sgm_paths", &m.sgm_paths}, {"segments.region_size_px", &options->segments.region_size_px}};
+  for (const auto& [field, target] : doubles) {
+    if (name == field) {
+      *target = number;
+      return OkStatus();
+    }
+  }
+  for (const auto& [field, target] : ints) {
+    if (name == field) {
+      *target = static_cast<int>(number);
+      return OkStatus();
+    }
+  }
+  return InvalidArgumentError("--option: no depth option named '" + name + "'");
+}
+
+}  // namespace px::cli
