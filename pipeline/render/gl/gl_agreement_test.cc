@@ -194,7 +194,9 @@ TEST_P(GlAgreementTest, EffectsAndDepthOfFieldAgreeWithTheCpuReference) {
 }
 
 // A viewpoint outside the rig leaves holes: both back ends find the same ones and the same H(V),
-// and Coverage (passes without colour, at a quarter of the size) agrees with it.
+// and Coverage (passes without colour, at a quarter of the size) agrees with it. At a quarter of
+// the size the CPU reference draws its coarse scene (ALGORITHM.md 9: front depth in 8 px blocks), an
+// approximation, so H(V) there agrees within 10 % rather than 2 %.
 TEST_P(GlAgreementTest, HolesAndTheirScoreAgree) {
   const VirtualCamera camera = Camera(PoseAt(Eigen::Vector3d(-0.12, 0.0, 0.1)));
   const Agreement a = Check("outside the rig", camera);
@@ -212,7 +214,7 @@ TEST_P(GlAgreementTest, HolesAndTheirScoreAgree) {
               std::string(gl_->BackendName()).c_str(), "outside the rig", gl->hole_ratio, cpu->hole_ratio,
               gl->hole_score, cpu->hole_score);
   EXPECT_NEAR(gl->hole_ratio, cpu->hole_ratio, 0.002);
-  EXPECT_NEAR(gl->hole_score, cpu->hole_score, 0.02 * std::max(cpu->hole_score, 0.1));
+  EXPECT_NEAR(gl->hole_score, cpu->hole_score, 0.1 * std::max(cpu->hole_score, 0.1));
 }
 
 // A 1D (collinear) rig, four lenses in a row: the view mesh degenerates to a line and the
