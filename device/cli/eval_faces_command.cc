@@ -3,6 +3,7 @@
 #include <cstdio>
 #include <memory>
 #include <string>
+#include <vector>
 
 #include <nlohmann/json.hpp>
 
@@ -10,6 +11,7 @@
 #include "device/cli/progress_bar.h"
 #include "device/face_cascades.h"
 #include "eval/faces/faces_eval.h"
+#include "eval/faces/sim_face_scenes.h"
 #include "pipeline/core/log.h"
 
 namespace px::cli {
@@ -19,6 +21,7 @@ struct EvalFacesArgs {
   std::string data;
   std::string cascades = device::kDefaultCascadeDir.string();
   bool json = false;
+  bool no_sim = false;
   // Overrides of the pipeline's FaceDetectionOptions, for tuning (unset: the pipeline's values).
   double scale_factor = 0;
   int min_neighbors = 0;
@@ -51,24 +54,33 @@ Status RunEvalFaces(const EvalFacesArgs& args) {
   ProgressBar progress(args.json);
   options.progress = [&](const std::string& image, double fraction) { progress.Update(image, fraction); };
   PX_ASSIGN_OR_RETURN(eval::FacesEvalResult result, eval::RunFacesEval(*detector, options));
+  std::vector<eval::FaceImageResult> sim_scenes;
+  if (!args.no_sim) {
+    progress.Update("sim scenes", 1.0);
+    PX_ASSIGN_OR_RETURN(sim_scenes, eval::RunSimFaceScenes(*detector, d, options.min_iou));
+  }
   progress.Finish();
   const MachineInfo machine = ReadMachineInfo();
   const nlohmann::json detection_options{{"scale_factor", d.scale_factor}, {"min_neighbors", d.min_neighbors},
                                          {"min_face_px", d.min_face_px}, {"upscale_below_px", d.upscale_below_px},
                                          {"profiles", d.profiles}};
   if (args.json) {
-    nlohmann::json images = nlohmann::json::array();
-    for (const eval::FaceImageResult& image : result.images) {
-      nlohmann::json j = MatchToJson(image.match);
-      j["image"] = image.file;
-      j["ms"] = image.ms;
-      images.push_back(j);
-    }
+    const auto images_to_json = [](const std::vector<eval::FaceImageResult>& list) {
+      nlohmann::json images = nlohmann::json::array();
+      for (const eval::FaceImageResult& image : list) {
+        nlohmann::json j = MatchToJson(image.match);
+        j["image"] = image.file;
+        j["ms"] = image.ms;
+        images.push_back(j);
+      }
+      return images;
+    };
+    const nlohmann::json images = images_to_json(result.images);
     nlohmann::json total = MatchToJson(result.total);
     total["mean_ms_per_image"] = result.mean_ms;
     const nlohmann::json out{{"set", "faces_dlib_pascalvoc"}, {"detector", result.detector},
                              {"options", detection_options}, {"min_iou", options.min_iou}, {"images", images},
-                             {"total", total},
+                             {"total", total}, {"sim_scenes", images_to_json(sim_scenes)},
                              {"machine", {{"cpu", machine.cpu_model}, {"cores", machine.cores}, {"commit", machine.commit}}}};
     std::printf("%s\n", out.dump(2).c_str());
     return OkStatus();
@@ -78,15 +90,22 @@ Status RunEvalFaces(const EvalFacesArgs& args) {
               detection_options.dump().c_str(), machine.cpu_model.c_str(), machine.cores, machine.commit.c_str());
   std::printf("  %-18s %9s %6s %6s %4s %4s %9s %7s %8s\n", "image", "size", "faces", "found", "hit", "FP", "precision",
               "recall", "ms");
-  for (const eval::FaceImageResult& image : result.images) {
-    const eval::FaceMatch& m = image.match;
-    std::printf("  %-18s %4dx%-4d %6d %6d %4d %4d %9.2f %7.2f %8.1f\n", image.file.c_str(), image.size.width,
-                image.size.height, m.truth, m.detections, m.true_positives, m.FalsePositives(), m.Precision(),
-                m.Recall(), image.ms);
-  }
+  const auto print_rows = [](const std::vector<eval::FaceImageResult>& list) {
+    for (const eval::FaceImageResult& image : list) {
+      const eval::FaceMatch& m = image.match;
+      std::printf("  %-18s %4dx%-4d %6d %6d %4d %4d %9.2f %7.2f %8.1f\n", image.file.c_str(), image.size.width,
+                  image.size.height, m.truth, m.detections, m.true_positives, m.FalsePositives(), m.Precision(),
+                  m.Recall(), image.ms);
+    }
+  };
+  print_rows(result.images);
   const eval::FaceMatch& t = result.total;
   std::printf("  %-18s %9s %6d %6d %4d %4d %9.2f %7.2f %8.1f (mean)\n", "all", "", t.truth, t.detections,
               t.true_positives, t.FalsePositives(), t.Precision(), t.Recall(), result.mean_ms);
+  if (!sim_scenes.empty()) {
+    std::printf("\nsimulated Pop9 centre lens (sim/scenes; true boxes projected from the scene)\n");
+    print_rows(sim_scenes);
+  }
   return OkStatus();
 }
 
@@ -103,6 +122,7 @@ void AddEvalFacesCommand(CLI::App& eval) {
   faces->add_option("--cascades", args->cascades, "Folder of the OpenCV cascades (Debian package opencv-data)")
       ->capture_default_str();
   faces->add_flag("--json", args->json, "Print the figures as JSON (machine-readable)");
+  faces->add_flag("--no-sim", args->no_sim, "Leave out the simulated face scenes (one_face, two_faces at 640x480)");
   faces->add_option("--scale-factor", args->scale_factor, "Override direct.faces.scale_factor, (1, 2] (tuning)");
   faces->add_option("--min-neighbors", args->min_neighbors, "Override direct.faces.min_neighbors, [1, 30] (tuning)");
   faces->add_option("--min-face-px", args->min_face_px, "Override direct.faces.min_face_px, [8, 1024] (tuning)");
