@@ -117,7 +117,8 @@ void AddEvalFacesCommand(CLI::App& eval) {
       "faces",
       "Face detection against hand-labelled boxes: the product's detector (the pipeline's cascades and options) on "
       "faces_dlib_pascalvoc (4 PASCAL VOC photos, 18 faces); per image and overall faces, detections, true "
-      "positives at IoU >= 0.5, precision, recall and time");
+      "positives at IoU >= 0.5, precision, recall and time; then the same on the simulated one_face and two_faces "
+      "scenes (640x480 centre lens, true boxes from the scene)");
   faces->add_option("--data", args->data, "The folder holding faces_dlib_pascalvoc/ (default: ../shared/data, or $PX_DATA_DIR)");
   faces->add_option("--cascades", args->cascades, "Folder of the OpenCV cascades (Debian package opencv-data)")
       ->capture_default_str();
