@@ -115,6 +115,27 @@ class DirectionTest : public ::testing::Test {
   std::shared_ptr<const direct::FaceDetector> detector_;
 };
 
+// How far above the image centre the face's centre lies, as a fraction of the frame height, at the
+// path's time t (paper 4.2.3: an end aimed at a face leaves it slightly above centre).
+double FaceAboveCentreFraction(const CameraPath& path, const Subject& face, double t) {
+  const CameraModel camera = path.CameraAt(t);
+  Eigen::Vector2d pixel;
+  if (!camera.Project(path.PoseAt(t) * face.CentreInWorld(), &pixel)) return -1;
+  return (camera.cy - pixel.y()) / camera.height;
+}
+
+// The end of a one-face move that is aimed at the face has it slightly above centre: its centre is
+// above the principal point, and the image centre still falls on the face's lower half (the face is
+// raised by less than half its own height, whatever the zoom).
+void ExpectFaceSlightlyAboveCentre(const CameraPath& path, const Subject& face, double t) {
+  const double above = FaceAboveCentreFraction(path, face, t);
+  const double face_height = direct::ProjectedHeightPx(face, path.CameraAt(t), path.PoseAt(t)) / path.CameraAt(t).height;
+  EXPECT_GT(above, 0.0) << path.move << " at t " << t << ": the face is not above centre";
+  EXPECT_LT(above, 0.5 * face_height) << path.move << " at t " << t << ": the face is raised by over half its height";
+  std::printf("[figures] %s at t %.0f: face centre %.1f %% of the frame height above centre (face %.1f %% high)\n",
+              path.move.c_str(), t, 100 * above, 100 * face_height);
+}
+
 TEST_F(DirectionTest, NoFacesTakesAnEstablishingMove) {
   std::unique_ptr<Shot> shot = MakeShot("still_life");
   ASSERT_NE(shot, nullptr);
@@ -131,11 +152,16 @@ TEST_F(DirectionTest, OneFaceTakesARowOneMoveAndTheDollyZoomHoldsItsSize) {
   const Planned planned = Plan(shot.get(), detector_.get(), "auto");
   ASSERT_NO_FATAL_FAILURE(CheckPath(shot.get(), planned, 1));
   EXPECT_EQ(direct::SubjectsNeeded(direct::ParseMove(planned.path.move).value()), 1) << planned.path.move;
+  // Dolly in ends on the face, dolly out starts on it, a dolly zoom is on it throughout.
+  const bool in = planned.path.move == "dolly_in";
+  ExpectFaceSlightlyAboveCentre(planned.path, planned.path.subjects.front(), in ? 1.0 : 0.0);
 
   const Planned zoom = Plan(shot.get(), detector_.get(), "dolly_zoom");
   ASSERT_NO_FATAL_FAILURE(CheckPath(shot.get(), zoom, 1));
   ASSERT_NE(zoom.path.move.find("dolly_zoom"), std::string::npos) << zoom.path.reason;
   const Subject& face = zoom.path.subjects.front();
+  ExpectFaceSlightlyAboveCentre(zoom.path, face, 0.0);
+  ExpectFaceSlightlyAboveCentre(zoom.path, face, 1.0);
   const double start_px = direct::ProjectedHeightPx(face, zoom.path.CameraAt(0), zoom.path.PoseAt(0));
   ASSERT_GT(start_px, 0);
   double worst = 0;
