@@ -226,6 +226,49 @@ TEST_F(DirectionTest, TwoFacesDollyPullsFocusWithTheLargestValidAperture) {
               path.keyframes.front().focus_depth_m, path.keyframes.back().focus_depth_m);
 }
 
+// A depth-of-field change (4.3): the two-subject dolly opens from a pinhole to the largest aperture
+// that keeps its ends valid at the four corners of the aperture's box, focused on the subject it
+// ends on. (On the one-face scene the dolly in's close-up is already near H(V) 2, so no aperture
+// of 0.1 mm keeps it valid and the effect is dropped with a note.)
+TEST_F(DirectionTest, TwoFacesDollyRampsTheApertureFromPinholeToTheLargestValid) {
+  NeedFacePhotos();
+  if (IsSkipped()) return;
+  std::unique_ptr<Shot> shot = MakeShot("two_faces");
+  ASSERT_NE(shot, nullptr);
+  const Planned planned = Plan(shot.get(), detector_.get(), "dolly", "dof_change");
+  const CameraPath& path = planned.path;
+  ASSERT_EQ(path.move, "dolly") << path.reason;
+  ASSERT_EQ(path.subjects.size(), 2u);
+  ASSERT_EQ(path.effect, "dof_change") << path.reason;
+  const CameraKeyframe& end = path.keyframes.back();
+  const double aperture = end.aperture_m;
+  EXPECT_GT(aperture, 1e-4);
+  EXPECT_LE(aperture, DirectOptions{}.max_aperture_m);
+  EXPECT_DOUBLE_EQ(path.keyframes.front().aperture_m, 0.0) << "the ramp starts from a pinhole";
+  double previous = -1;
+  for (int i = 0; i < path.NumFrames(); ++i) {
+    const VirtualCamera frame = path.FrameAt(path.FrameTime(i));
+    EXPECT_GE(frame.aperture_m, previous) << "frame " << i << ": the aperture closes again";
+    previous = frame.aperture_m;
+    if (frame.aperture_m > 0) {
+      EXPECT_NEAR(frame.focus_depth_m, direct::SubjectDepthIn(path.subjects[1], frame.cam_from_world), 0.05)
+          << "frame " << i << ": not focused on the subject the dolly ends on";
+    }
+  }
+  EXPECT_NEAR(previous, aperture, 1e-9);
+  direct::Framing close_up;
+  close_up.centre_in_world = end.centre_in_world;
+  close_up.cam_from_world = end.CamFromWorld();
+  close_up.focal_px = end.focal_px;
+  for (const direct::Framing& corner : direct::ApertureCorners(close_up, aperture)) {
+    StatusOr<CoverageReport> coverage = shot->renderer->Coverage(path.CameraAt(1.0), corner.cam_from_world);
+    ASSERT_TRUE(coverage.ok()) << coverage.status().ToString();
+    EXPECT_LT(coverage->hole_score, 2.0) << "aperture corner of the end";
+  }
+  std::printf("[figures] dolly with a depth-of-field change: aperture 0 -> %.1f mm over %d frames\n",
+              1000 * aperture, path.NumFrames());
+}
+
 // A saturation layer on the subject (4.3), keyframed from unchanged to its target.
 TEST_F(DirectionTest, OneFaceDollyInCarriesAKeyframedSaturationLayer) {
   NeedFacePhotos();
