@@ -1,0 +1,14 @@
+// The clock the pipeline times its stages with (PipelineReport::timings).
+#pragma once
+
+#include <chrono>
+
+namespace px {
+
+using Clock = std::chrono::steady_clock;
+
+inline double MsSince(Clock::time_point start) {
+  return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
+}
+
+}  // namespace px
