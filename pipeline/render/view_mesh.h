@@ -3,8 +3,9 @@
 // camera which three views contribute and with which weights (barycentric coordinates where the
 // ray's line meets the mesh plane).
 //
-// The GL back end takes its triangles from here (one triangulation for both back ends: OpenCV's
-// Delaunay breaks ties on a regular lattice in its own way).
+// The GL back end builds a twin of it (gl/gl_view_mesh.h) by the same rules; both must triangulate
+// alike (OpenCV's Delaunay breaks ties on a regular lattice in its own way), which
+// render/gl/gl_agreement_test checks through the weights.
 #pragma once
 
 #include <array>

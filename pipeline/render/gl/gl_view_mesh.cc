@@ -52,7 +52,11 @@ StatusOr<GlViewMesh> BuildLineMesh(const std::vector<Eigen::Vector3d>& centres, 
     mesh->outer_edges.push_back({end + 1, end});
     mesh->outer_edges.push_back({end, end + 2});
   }
-  if (mesh->triangles.empty()) return UnimplementedError("view mesh: the " + std::to_string(n) + " collinear centres span no length");
+  // Unreachable from BuildGlViewMesh (coincident centres take the single-view path); kept so that a
+  // degenerate line can never yield an empty mesh.
+  if (mesh->triangles.empty()) {
+    return FailedPreconditionError("view mesh: the " + std::to_string(n) + " collinear centres span no length");
+  }
   return *mesh;
 }
 
@@ -129,7 +133,9 @@ StatusOr<GlViewMesh> BuildGlViewMesh(const std::vector<Eigen::Vector3d>& centres
     mesh.triangles.push_back({a, b, c});
     for (auto [i, j] : {std::pair{a, b}, std::pair{b, c}, std::pair{c, a}}) ++edge_uses[{std::min(i, j), std::max(i, j)}];
   }
-  if (mesh.triangles.empty()) return UnimplementedError("view mesh: no triangle from " + std::to_string(n) + " centres");
+  if (mesh.triangles.empty()) {
+    return FailedPreconditionError("view mesh: Delaunay gave no triangle from " + std::to_string(n) + " centres");
+  }
   // Boundary edges (used once) get their vertices duplicated at g + 4 (p - g).
   Eigen::Vector2d g = Eigen::Vector2d::Zero();
   for (const Eigen::Vector2d& p : mesh.vertices) g += p / n;

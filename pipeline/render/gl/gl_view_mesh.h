@@ -4,8 +4,10 @@
 // boundary vertices duplicated radially outward at four times their distance from the centroid.
 // The per-pixel viewing weights (ALGORITHM.md section 3) are computed from it in a shader.
 //
-// Kept inside the GL back end until the CPU reference's ViewMesh lands; both follow
-// ALGORITHM.md, and the GL side should then take its triangles from that one.
+// A twin of the CPU reference's ViewMesh (pipeline/render/view_mesh.h): both follow ALGORITHM.md 2
+// and agree (render/gl/gl_agreement_test). It stays separate because the weight shader needs the
+// outer edges and the 1D strip, which ViewMesh does not expose; taking the triangles from ViewMesh
+// is the next step.
 #pragma once
 
 #include <array>
