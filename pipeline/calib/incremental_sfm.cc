@@ -92,9 +92,7 @@ class Reconstruction {
     for (size_t i = 0; i < images_.size(); ++i) {
       for (size_t j = i + 1; j < images_.size(); ++j) {
         if (!images_[i].registered || !images_[j].registered) continue;
-        const Eigen::Quaterniond j_from_i =
-            images_[j].cam_from_world.rotation * images_[i].cam_from_world.rotation.inverse();
-        max_deg = std::max(max_deg, Eigen::AngleAxisd(j_from_i).angle() * 180.0 / M_PI);
+        max_deg = std::max(max_deg, RotationErrorDeg(images_[j].cam_from_world, images_[i].cam_from_world));
       }
     }
     return max_deg;

@@ -64,7 +64,7 @@ void Sweep(const std::vector<cv::Mat>& slices, const cv::Mat& gray, const SemiGl
   const int rows = gray.rows, cols = gray.cols, planes = static_cast<int>(slices.size());
   const size_t row_size = static_cast<size_t>(cols) * planes;
   const bool diagonals = options.num_paths == 8;
-  const int num_vertical = diagonals ? 3 : 1;  // offsets dx = 0, -1, +1 (times dy's direction)
+  const int num_vertical = diagonals ? 3 : 1;  // from the previous row at x + 0, -1, +1 (both diagonals, either sweep)
   std::vector<float> cost(row_size), row_sum(row_size), along(planes), along_next(planes);
   // Path costs of the previous row for each vertical/diagonal direction, and their minima.
   std::vector<std::vector<float>> previous(num_vertical, std::vector<float>(row_size)),

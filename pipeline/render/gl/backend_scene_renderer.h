@@ -1,7 +1,7 @@
 // The scene renderer the product uses: the back end chosen by `render_backend.h` (`--gl`,
 // `render.backend`), with the CPU reference (CpuSceneRenderer) behind it. What GL cannot do is
 // rendered by the CPU and said so: the whole scene when GL cannot start (library missing, no
-// GPU for `auto`), offline quality (paper 6.2 is CPU only) or a rig GL cannot mesh (1D), and a
+// GPU for `auto`), offline quality (paper 6.2 is CPU only) or a scene GL refuses, and a
 // single frame when GL fails on it (the frame is drawn by the CPU, the first reason kept).
 #pragma once
 
