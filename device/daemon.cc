@@ -625,7 +625,7 @@ nlohmann::json Daemon::StatusJson() const {
       {"jobs", counts},
       {"last_job", records.empty() ? nlohmann::json(nullptr) : JobRecordToJson(records.back())},
       {"move", move_.empty() ? nlohmann::json(nullptr) : nlohmann::json(move_)},
-      {"shot", shot_.empty() ? nlohmann::json(nullptr) : nlohmann::json::parse(shot_)},
+      {"shot", shot_value_},
   };
   // Free space, quota and whether a capture would be refused now (disk full).
   StatusOr<StorageUsage> usage = MeasureStorage(layout_, options_.storage, *journal_);
@@ -659,21 +659,24 @@ std::string Daemon::SetMove(const std::string& move) {
 
 std::string Daemon::SetShot(const std::string& shot_json) {
   int segments = 0;
+  nlohmann::json value;  // null: no shot
   if (!shot_json.empty()) {
     StatusOr<nlohmann::json> j = json::Parse(shot_json, "shot");
     if (!j.ok()) return ControlErrorReply(j.status());
     StatusOr<direct::Shot> shot = direct::ShotFromJson(*j);
     if (!shot.ok()) return ControlErrorReply(shot.status());
     segments = static_cast<int>(shot->segments.size());
+    value = std::move(*j);
   }
   std::lock_guard<std::mutex> lock(mutex_);
   shot_ = shot_json;
+  shot_value_ = value;
   if (shot_json.empty()) {
     Logger("device")->info("no shot for the next presses: the camera move decides");
     return Dump({{"ok", true}, {"shot", nullptr}});
   }
   Logger("device")->info("shot of {} segment(s) for the next presses", segments);
-  return Dump({{"ok", true}, {"shot", nlohmann::json::parse(shot_json)}, {"segments", segments}});
+  return Dump({{"ok", true}, {"shot", value}, {"segments", segments}});
 }
 
 std::string Daemon::Cancel(const std::string& id) {

@@ -1,8 +1,8 @@
 #include "eval/datasets/dlib_face_boxes.h"
 
 #include <cstdlib>
-#include <fstream>
-#include <sstream>
+
+#include "pipeline/core/durable_file.h"
 
 namespace px::eval {
 namespace {
@@ -79,11 +79,8 @@ StatusOr<std::vector<LabelledFaceImage>> ParseDlibFaceBoxes(const std::string& x
 }
 
 StatusOr<std::vector<LabelledFaceImage>> LoadDlibFaceBoxes(const std::filesystem::path& xml_path) {
-  std::ifstream in(xml_path, std::ios::binary);
-  if (!in) return NotFoundError("dlib face XML " + xml_path.string() + ": cannot open");
-  std::stringstream text;
-  text << in.rdbuf();
-  StatusOr<std::vector<LabelledFaceImage>> images = ParseDlibFaceBoxes(text.str());
+  PX_ASSIGN_OR_RETURN(const std::string text, ReadFileToString(xml_path));
+  StatusOr<std::vector<LabelledFaceImage>> images = ParseDlibFaceBoxes(text);
   if (!images.ok()) return InvalidArgumentError(xml_path.string() + ": " + std::string(images.status().message()));
   if (images->empty()) return InvalidArgumentError("dlib face XML " + xml_path.string() + ": holds no <image>");
   return images;
