@@ -37,6 +37,19 @@ bool SegmentUsable(const DepthSegment& s) {
   return true;
 }
 
+// The segment vertex shader's per-instance attributes in the bound buffer, from instance `first`
+// on (one buffer holds every view's instances; each view's draw starts at its own).
+void PointInstanceAttributes(const GlFunctions& gl, size_t first) {
+  const GLsizei stride = kFloatsPerInstance * sizeof(float);
+  const std::array<std::pair<int, int>, 7> attributes = {{{4, 0}, {4, 4}, {3, 8}, {3, 11}, {3, 14}, {3, 17}, {1, 20}}};
+  for (int a = 0; a < static_cast<int>(attributes.size()); ++a) {
+    gl.EnableVertexAttribArray(a);
+    const size_t offset = (first * kFloatsPerInstance + attributes[a].second) * sizeof(float);
+    gl.VertexAttribPointer(a, attributes[a].first, GL_FLOAT, GL_FALSE, stride, reinterpret_cast<const void*>(offset));
+    gl.VertexAttribDivisor(a, 1);
+  }
+}
+
 Eigen::Matrix3f ToFloat(const Eigen::Matrix3d& m) { return m.cast<float>(); }
 
 void SetUniformMatrix3(const GlFunctions& gl, GLuint program, const char* name, const Eigen::Matrix3d& m) {
@@ -131,7 +144,6 @@ GlSceneRenderer::~GlSceneRenderer() {
   ScopedCurrent current(context_.get());
   textures_.clear();
   targets_.clear();
-  mesh_texture_.Reset();
   weights_program_.Reset();
   segment_program_.Reset();
   resolve_program_.Reset();
@@ -173,11 +185,11 @@ Status GlSceneRenderer::Upload() {
     }
     int dropped_texels = 0;
     int kept_texels = 0;
-    cv::Mat layer_rgba[2] = {cv::Mat(h, w, CV_8UC4), cv::Mat(h, w, CV_8UC4)};
-    cv::Mat ids(h, w, CV_32SC2);
+    cv::Mat texels(h, w, CV_32SC4);
     for (int y = 0; y < h; ++y) {
       for (int x = 0; x < w; ++x) {
-        cv::Vec2i id(-1, -1);
+        cv::Vec4i& texel = texels.at<cv::Vec4i>(y, x);
+        texel = cv::Vec4i(0, 0, -1, -1);
         for (int l = 0; l < 2; ++l) {
           const float weight = view.layers[l].weight.at<float>(y, x);
           const int segment = view.layers[l].segment.at<int32_t>(y, x);
@@ -187,15 +199,14 @@ Status GlSceneRenderer::Upload() {
           float kept = 0;
           if (segment_ok && weight_ok && weight > 0) {
             kept = weight;
-            id[l] = segment;
+            texel[2 + l] = segment;
             ++kept_texels;
           } else if (!(weight == 0)) {  // NaN, out of range, or weight on a bad segment
             ++dropped_texels;
           }
-          layer_rgba[l].at<cv::Vec4b>(y, x) =
-              cv::Vec4b(c[0], c[1], c[2], cv::saturate_cast<uint8_t>(std::lround(kept * 255.0f)));
+          const uint32_t a = cv::saturate_cast<uint8_t>(std::lround(kept * 255.0f));
+          texel[l] = static_cast<int32_t>(c[0] | (uint32_t{c[1]} << 8) | (uint32_t{c[2]} << 16) | (a << 24));
         }
-        ids.at<cv::Vec2i>(y, x) = id;
       }
     }
     if (dropped_segments > 0) {
@@ -211,12 +222,8 @@ Status GlSceneRenderer::Upload() {
       warnings_.push_back(name + ": no texel with depth (no usable segment or weight); the view is left out");
       textures.kept_segments.clear();
     }
-    PX_ASSIGN_OR_RETURN(textures.layer0, UploadTexture(gl, GL_RGBA8, GL_RGBA, GL_UNSIGNED_BYTE, layer_rgba[0],
-                                                       name + " layer 0"));
-    PX_ASSIGN_OR_RETURN(textures.layer1, UploadTexture(gl, GL_RGBA8, GL_RGBA, GL_UNSIGNED_BYTE, layer_rgba[1],
-                                                       name + " layer 1"));
-    PX_ASSIGN_OR_RETURN(textures.segment_ids, UploadTexture(gl, GL_RG32I, GL_RG_INTEGER, GL_INT, ids,
-                                                            name + " segment ids"));
+    PX_ASSIGN_OR_RETURN(textures.texels, UploadTexture(gl, GL_RGBA32UI, GL_RGBA_INTEGER, GL_UNSIGNED_INT, texels,
+                                                       name + " segment texels"));
     textures_.push_back(std::move(textures));
   }
   // The view mesh over the views that have something to draw; vertex views index views_.
@@ -232,25 +239,36 @@ Status GlSceneRenderer::Upload() {
   if (meshed.empty()) return FailedPreconditionError("gl renderer: no view has a usable segment (no valid depth)");
   PX_ASSIGN_OR_RETURN(mesh_, BuildGlViewMesh(centres, axes, x_axes));
   for (int& view : mesh_.vertex_view) view = meshed[view];
-  const int mesh_width = std::max<int>({1, 3 * static_cast<int>(mesh_.triangles.size()),
-                                        2 * static_cast<int>(mesh_.outer_edges.size())});
-  cv::Mat mesh_texels(2, mesh_width, CV_32FC4, cv::Scalar::all(0));
-  auto texel = [&](int vertex) {
+  // The mesh as a uniform array (x, y, view, 0): the triangles' corners, then the outer edges'
+  // ends. A loop over uniforms costs llvmpipe far less than one over texel fetches.
+  auto corner = [&](int vertex) {
     const Eigen::Vector2d& p = mesh_.vertices[vertex];
-    return cv::Vec4f(static_cast<float>(p.x()), static_cast<float>(p.y()), static_cast<float>(mesh_.vertex_view[vertex]), 0);
+    return std::array<float, 4>{static_cast<float>(p.x()), static_cast<float>(p.y()),
+                                static_cast<float>(mesh_.vertex_view[vertex]), 0.0f};
   };
-  for (size_t t = 0; t < mesh_.triangles.size(); ++t) {
-    for (int k = 0; k < 3; ++k) mesh_texels.at<cv::Vec4f>(0, static_cast<int>(3 * t) + k) = texel(mesh_.triangles[t][k]);
+  mesh_uniforms_.clear();
+  for (const auto& triangle : mesh_.triangles) {
+    for (int vertex : triangle) mesh_uniforms_.push_back(corner(vertex));
   }
-  for (size_t e = 0; e < mesh_.outer_edges.size(); ++e) {
-    for (int k = 0; k < 2; ++k) mesh_texels.at<cv::Vec4f>(1, static_cast<int>(2 * e) + k) = texel(mesh_.outer_edges[e][k]);
+  for (const auto& edge : mesh_.outer_edges) {
+    for (int vertex : edge) mesh_uniforms_.push_back(corner(vertex));
   }
+  if (mesh_uniforms_.empty()) mesh_uniforms_.push_back({0, 0, 0, 0});
   if (mesh_.single_view) mesh_.vertex_view[0] = meshed[0];
-  PX_ASSIGN_OR_RETURN(mesh_texture_, UploadTexture(gl, GL_RGBA32F, GL_RGBA, GL_FLOAT, mesh_texels, "view mesh"));
+  GLint max_vectors = 0;
+  gl.GetIntegerv(GL_MAX_FRAGMENT_UNIFORM_VECTORS, &max_vectors);
+  constexpr int kOtherUniformVectors = 16;  // the weight shader's matrix, vectors and counts
+  if (static_cast<int>(mesh_uniforms_.size()) + kOtherUniformVectors > max_vectors) {
+    return FailedPreconditionError("gl renderer: the view mesh of " + std::to_string(mesh_.triangles.size()) +
+                                   " triangles needs " + std::to_string(mesh_uniforms_.size()) +
+                                   " uniform vectors, more than the context's GL_MAX_FRAGMENT_UNIFORM_VECTORS " +
+                                   std::to_string(max_vectors) + " allows");
+  }
   SceneDepthRange(views_, &rho_m_, &median_depth_m_);
 
-  PX_ASSIGN_OR_RETURN(weights_program_, BuildProgram(gl, "view_weights", kFullScreenVertexShader,
-                                                     kViewWeightsFragmentShader));
+  const std::string weights_shader = "#define MESH_VECTORS " + std::to_string(mesh_uniforms_.size()) + "\n" +
+                                     std::string(kViewWeightsFragmentShader);
+  PX_ASSIGN_OR_RETURN(weights_program_, BuildProgram(gl, "view_weights", kFullScreenVertexShader, weights_shader));
   PX_ASSIGN_OR_RETURN(segment_program_, BuildProgram(gl, "segments", kSegmentVertexShader, kSegmentFragmentShader));
   PX_ASSIGN_OR_RETURN(resolve_program_, BuildProgram(gl, "soft_z_resolve", kFullScreenVertexShader,
                                                      kSoftZResolveFragmentShader));
@@ -259,14 +277,7 @@ Status GlSceneRenderer::Upload() {
   instance_buffer_ = GlObject(&gl, GlObjectKind::kBuffer);
   gl.BindVertexArray(instance_vertex_array_.id());
   gl.BindBuffer(GL_ARRAY_BUFFER, instance_buffer_.id());
-  const GLsizei stride = kFloatsPerInstance * sizeof(float);
-  const std::array<std::pair<int, int>, 7> attributes = {{{4, 0}, {4, 4}, {3, 8}, {3, 11}, {3, 14}, {3, 17}, {1, 20}}};
-  for (int a = 0; a < static_cast<int>(attributes.size()); ++a) {
-    gl.EnableVertexAttribArray(a);
-    gl.VertexAttribPointer(a, attributes[a].first, GL_FLOAT, GL_FALSE, stride,
-                           reinterpret_cast<const void*>(static_cast<uintptr_t>(attributes[a].second * sizeof(float))));
-    gl.VertexAttribDivisor(a, 1);
-  }
+  PointInstanceAttributes(gl, 0);
   gl.BindVertexArray(0);
   const std::string errors = DrainGlErrors(gl);
   if (!errors.empty()) return InternalError("gl renderer: setting up raised " + errors);
@@ -286,9 +297,10 @@ StatusOr<GlSceneRenderer::Targets*> GlSceneRenderer::TargetsFor(int width, int h
     PX_ASSIGN_OR_RETURN(t.colour[k], MakeTexture2D(gl, GL_RGBA16, width, height, "rendering buffer " + size));
     PX_ASSIGN_OR_RETURN(t.depth[k], MakeTexture2D(gl, GL_RGBA16, width, height, "rendering buffer depth " + size));
   }
-  PX_ASSIGN_OR_RETURN(t.slots_fbo, MakeFramebuffer(gl, {t.colour[0].id(), t.colour[1].id(), t.colour[2].id(),
-                                                        t.depth[0].id(), t.depth[1].id(), t.depth[2].id()},
-                                                   "rendering buffers " + size));
+  for (int k = 0; k < 3; ++k) {
+    PX_ASSIGN_OR_RETURN(t.slot_fbo[k], MakeFramebuffer(gl, {t.colour[k].id(), t.depth[k].id()},
+                                                       "rendering buffer " + std::to_string(k) + " " + size));
+  }
   PX_ASSIGN_OR_RETURN(t.resolved_colour, MakeTexture2D(gl, GL_RGBA32F, width, height, "resolved colour " + size));
   PX_ASSIGN_OR_RETURN(t.resolved_depth, MakeTexture2D(gl, GL_RGBA32F, width, height, "resolved depth " + size));
   PX_ASSIGN_OR_RETURN(t.resolve_fbo, MakeFramebuffer(gl, {t.resolved_colour.id(), t.resolved_depth.id()},
@@ -317,7 +329,8 @@ StatusOr<GlSceneRenderer::RawFrame> GlSceneRenderer::RenderRaw(const CameraModel
   SetUniform3(gl, p, "mesh_normal", mesh_.normal);
   SetUniform3(gl, p, "mesh_axis1", mesh_.axis1);
   SetUniform3(gl, p, "mesh_axis2", mesh_.axis2);
-  BindTextureUnit(gl, p, "mesh", 0, mesh_texture_.id());
+  gl.Uniform4fv(gl.GetUniformLocation(p, "mesh"), static_cast<GLsizei>(mesh_uniforms_.size()),
+                mesh_uniforms_.front().data());
   gl.Uniform1i(gl.GetUniformLocation(p, "num_triangles"), static_cast<int>(mesh_.triangles.size()));
   gl.Uniform1i(gl.GetUniformLocation(p, "num_edges"), static_cast<int>(mesh_.outer_edges.size()));
   gl.Uniform1i(gl.GetUniformLocation(p, "single_view"), mesh_.single_view ? 1 : 0);
@@ -327,7 +340,7 @@ StatusOr<GlSceneRenderer::RawFrame> GlSceneRenderer::RenderRaw(const CameraModel
   // Where each view holds a slot, from the CPU twin of the weight shader on a coarse grid (each
   // box grown by one cell): views drawn nowhere are skipped and the rest scissored to their box,
   // so a frame shades about three views' worth of fragments per pixel, not all of them.
-  const std::vector<cv::Rect> view_boxes = ViewBoxes(camera, cam_from_world);
+  const std::vector<SlotBoxes> view_boxes = ViewBoxes(camera, cam_from_world);
 
   // Pass 2: every view's segments, front to back, into the three rendering buffers.
   std::vector<std::vector<float>> instances(views_.size());
@@ -345,7 +358,7 @@ StatusOr<GlSceneRenderer::RawFrame> GlSceneRenderer::RenderRaw(const CameraModel
       std::array<float, kFloatsPerInstance> data;
     };
     std::vector<Sorted> sorted;
-    if (view_boxes[v].empty()) continue;
+    if (std::all_of(view_boxes[v].begin(), view_boxes[v].end(), [](const cv::Rect& r) { return r.empty(); })) continue;
     for (int s : textures_[v].kept_segments) {
       const DepthSegment& seg = view.segments[s];
       const Eigen::Vector3d plane_source = k_source.transpose() * Eigen::Vector3d(seg.inv_depth_a, seg.inv_depth_b, seg.inv_depth_c);
@@ -393,9 +406,13 @@ StatusOr<GlSceneRenderer::RawFrame> GlSceneRenderer::RenderRaw(const CameraModel
   }
   const float z_scale = static_cast<float>(std::max(z_max, kNearDepthM) * 1.0001);
 
-  gl.BindFramebuffer(GL_FRAMEBUFFER, t->slots_fbo.id());
-  const float zero[4] = {0, 0, 0, 0};
-  for (int a = 0; a < 6; ++a) gl.ClearBufferfv(GL_COLOR, a, zero);
+  // One buffer for every view's instances, uploaded once; each draw starts at its view's first.
+  std::vector<float> all_instances;
+  std::vector<size_t> first_instance(views_.size());
+  for (size_t v = 0; v < views_.size(); ++v) {
+    first_instance[v] = all_instances.size() / kFloatsPerInstance;
+    all_instances.insert(all_instances.end(), instances[v].begin(), instances[v].end());
+  }
   gl.Enable(GL_BLEND);
   gl.BlendEquation(GL_FUNC_ADD);
   gl.BlendFuncSeparate(GL_SRC_ALPHA_SATURATE, GL_ONE, GL_ONE, GL_ONE);
@@ -406,17 +423,27 @@ StatusOr<GlSceneRenderer::RawFrame> GlSceneRenderer::RenderRaw(const CameraModel
   BindTextureUnit(gl, p, "slot_views", 3, t->slot_views.id());
   gl.BindVertexArray(instance_vertex_array_.id());
   gl.BindBuffer(GL_ARRAY_BUFFER, instance_buffer_.id());
-  gl.Enable(GL_SCISSOR_TEST);
-  for (size_t v = 0; v < views_.size(); ++v) {
-    if (instances[v].empty()) continue;
-    gl.Scissor(view_boxes[v].x, view_boxes[v].y, view_boxes[v].width, view_boxes[v].height);
-    BindTextureUnit(gl, p, "layer0", 0, textures_[v].layer0.id());
-    BindTextureUnit(gl, p, "layer1", 1, textures_[v].layer1.id());
-    BindTextureUnit(gl, p, "segment_ids", 2, textures_[v].segment_ids.id());
-    gl.Uniform1f(gl.GetUniformLocation(p, "view_index"), static_cast<float>(v));
-    gl.BufferData(GL_ARRAY_BUFFER, static_cast<GLsizeiptr>(instances[v].size() * sizeof(float)), instances[v].data(),
-                  GL_STREAM_DRAW);
-    gl.DrawArraysInstanced(GL_TRIANGLE_STRIP, 0, 4, static_cast<GLsizei>(instances[v].size() / kFloatsPerInstance));
+  gl.BufferData(GL_ARRAY_BUFFER, static_cast<GLsizeiptr>(all_instances.size() * sizeof(float)), all_instances.data(),
+                GL_STREAM_DRAW);
+  // Slot by slot (each rendering buffer its own two targets), each view drawn where it holds that
+  // slot: a fragment blends into two targets, not six, and a view is rasterised only inside its
+  // box for the slot.
+  const float zero[4] = {0, 0, 0, 0};
+  for (int k = 0; k < 3; ++k) {
+    gl.BindFramebuffer(GL_FRAMEBUFFER, t->slot_fbo[k].id());
+    gl.Disable(GL_SCISSOR_TEST);
+    for (int a = 0; a < 2; ++a) gl.ClearBufferfv(GL_COLOR, a, zero);
+    gl.Enable(GL_SCISSOR_TEST);
+    gl.Uniform1i(gl.GetUniformLocation(p, "slot"), k);
+    for (size_t v = 0; v < views_.size(); ++v) {
+      const cv::Rect& box = view_boxes[v][k];
+      if (instances[v].empty() || box.empty()) continue;
+      gl.Scissor(box.x, box.y, box.width, box.height);
+      BindTextureUnit(gl, p, "texels", 0, textures_[v].texels.id());
+      gl.Uniform1f(gl.GetUniformLocation(p, "view_index"), static_cast<float>(v));
+      PointInstanceAttributes(gl, first_instance[v]);
+      gl.DrawArraysInstanced(GL_TRIANGLE_STRIP, 0, 4, static_cast<GLsizei>(instances[v].size() / kFloatsPerInstance));
+    }
   }
   gl.Disable(GL_SCISSOR_TEST);
   gl.Disable(GL_BLEND);
@@ -458,21 +485,23 @@ StatusOr<GlSceneRenderer::RawFrame> GlSceneRenderer::RenderRaw(const CameraModel
   return raw;
 }
 
-std::vector<cv::Rect> GlSceneRenderer::ViewBoxes(const CameraModel& camera, const Rigid3& cam_from_world) const {
+std::vector<GlSceneRenderer::SlotBoxes> GlSceneRenderer::ViewBoxes(const CameraModel& camera, const Rigid3& cam_from_world) const {
   constexpr int kGrid = 32;
   const Eigen::Matrix3d dir_from_pixel = cam_from_world.RotationMatrix().transpose() * camera.K().inverse();
   const Eigen::Vector3d centre = CameraCentre(cam_from_world);
   const double cell_x = static_cast<double>(camera.width) / kGrid, cell_y = static_cast<double>(camera.height) / kGrid;
-  std::vector<cv::Rect> boxes(views_.size());
+  std::vector<SlotBoxes> boxes(views_.size());
   const cv::Rect frame(0, 0, camera.width, camera.height);
   for (int gy = 0; gy <= kGrid; ++gy) {
     for (int gx = 0; gx <= kGrid; ++gx) {
       const Eigen::Vector3d pixel(std::min(gx * cell_x, camera.width - 1.0), std::min(gy * cell_y, camera.height - 1.0), 1);
-      for (int view : SlotViewsAt(mesh_, MeshPointOfRay(mesh_, centre, dir_from_pixel * pixel))) {
-        if (view < 0) continue;
+      const std::array<int, 3> slots = SlotViewsAt(mesh_, MeshPointOfRay(mesh_, centre, dir_from_pixel * pixel));
+      for (int k = 0; k < 3; ++k) {
+        if (slots[k] < 0) continue;
         const cv::Rect cell(static_cast<int>(std::floor(pixel.x() - cell_x - 1)), static_cast<int>(std::floor(pixel.y() - cell_y - 1)),
                             static_cast<int>(std::ceil(2 * cell_x + 3)), static_cast<int>(std::ceil(2 * cell_y + 3)));
-        boxes[view] = boxes[view].empty() ? (cell & frame) : ((boxes[view] | cell) & frame);
+        cv::Rect& box = boxes[slots[k]][k];
+        box = box.empty() ? (cell & frame) : ((box | cell) & frame);
       }
     }
   }
