@@ -302,7 +302,7 @@ StatusOr<GlSceneRenderer::Targets*> GlSceneRenderer::TargetsFor(int width, int h
                                                        "rendering buffer " + std::to_string(k) + " " + size));
   }
   PX_ASSIGN_OR_RETURN(t.resolved_colour, MakeTexture2D(gl, GL_RGBA32F, width, height, "resolved colour " + size));
-  PX_ASSIGN_OR_RETURN(t.resolved_depth, MakeTexture2D(gl, GL_RGBA32F, width, height, "resolved depth " + size));
+  PX_ASSIGN_OR_RETURN(t.resolved_depth, MakeTexture2D(gl, GL_R32F, width, height, "resolved depth " + size));
   PX_ASSIGN_OR_RETURN(t.resolve_fbo, MakeFramebuffer(gl, {t.resolved_colour.id(), t.resolved_depth.id()},
                                                      "resolve " + size));
   return &targets_.emplace(std::make_pair(width, height), std::move(t)).first->second;
@@ -467,9 +467,11 @@ StatusOr<GlSceneRenderer::RawFrame> GlSceneRenderer::RenderRaw(const CameraModel
 
   RawFrame raw;
   raw.colour_alpha.create(height, width, CV_32FC4);
-  raw.depth.create(height, width, CV_32FC4);
   ReadAttachment(gl, 0, width, height, GL_RGBA, GL_FLOAT, raw.colour_alpha.data);
-  ReadAttachment(gl, 1, width, height, GL_RGBA, GL_FLOAT, raw.depth.data);
+  if (with_slots) {  // Coverage needs alpha only
+    raw.depth.create(height, width, CV_32F);
+    ReadAttachment(gl, 1, width, height, GL_RED, GL_FLOAT, raw.depth.data);
+  }
   if (with_slots) {
     gl.BindFramebuffer(GL_FRAMEBUFFER, t->weights_fbo.id());
     raw.slot_views.create(height, width, CV_32FC4);
@@ -518,24 +520,29 @@ StatusOr<FrameRender> GlSceneRenderer::Render(const VirtualCamera& camera) {
   cv::Mat colour(height, width, CV_32FC3);  // 0..255, as the CPU reference keeps it until the end
   frame.depth_m.create(height, width, CV_32F);
   frame.coverage.create(height, width, CV_8U);
-  cv::Mat partial_alpha(height, width, CV_32F, cv::Scalar(0));
-  cv::Mat partial_colour(height, width, CV_32FC3, cv::Scalar::all(0));
+  // Soft edges with too little alpha to count as covered: blended over the hole fill below.
+  struct Partial {
+    cv::Point at;
+    float alpha;
+    cv::Vec3f colour;
+  };
+  std::vector<Partial> partial;
   std::vector<double> view_weight(views_.size(), 0.0);
   for (int y = 0; y < height; ++y) {
     const cv::Vec4f* ca = raw.colour_alpha.ptr<cv::Vec4f>(y);
-    const cv::Vec4f* d = raw.depth.ptr<cv::Vec4f>(y);
+    const float* d = raw.depth.ptr<float>(y);
     const cv::Vec4f* sv = raw.slot_views.ptr<cv::Vec4f>(y);
     const cv::Vec4f* sw = raw.slot_weights.ptr<cv::Vec4f>(y);
+    uint8_t* coverage = frame.coverage.ptr<uint8_t>(y);
+    cv::Vec3f* c = colour.ptr<cv::Vec3f>(y);
+    float* depth = frame.depth_m.ptr<float>(y);
     for (int x = 0; x < width; ++x) {
       const float alpha = ca[x][3];
       const bool covered = alpha >= 0.5f;
-      frame.coverage.at<uint8_t>(y, x) = covered ? 255 : 0;
-      colour.at<cv::Vec3f>(y, x) = covered ? cv::Vec3f(ca[x][0], ca[x][1], ca[x][2]) : cv::Vec3f(0, 0, 0);
-      frame.depth_m.at<float>(y, x) = covered ? d[x][0] : 0.0f;
-      if (!covered && alpha > 0) {
-        partial_alpha.at<float>(y, x) = alpha;
-        partial_colour.at<cv::Vec3f>(y, x) = cv::Vec3f(ca[x][0], ca[x][1], ca[x][2]);
-      }
+      coverage[x] = covered ? 255 : 0;
+      c[x] = covered ? cv::Vec3f(ca[x][0], ca[x][1], ca[x][2]) : cv::Vec3f(0, 0, 0);
+      depth[x] = covered ? d[x] : 0.0f;
+      if (!covered && alpha > 0) partial.push_back({cv::Point(x, y), alpha, cv::Vec3f(ca[x][0], ca[x][1], ca[x][2])});
       for (int k = 0; k < 3; ++k) {
         const int view = static_cast<int>(std::lround(sv[x][k]));
         if (view >= 0 && view < static_cast<int>(views_.size())) view_weight[view] += sw[x][k];
@@ -552,13 +559,9 @@ StatusOr<FrameRender> GlSceneRenderer::Render(const VirtualCamera& camera) {
     FillHolesReverseSoftZ(SoftZ(rho_m_, 0.1), 3, 0, &known, &colour, &frame.depth_m);
   }
   // A soft edge with nothing behind it keeps its share over the fill (ALGORITHM.md 6).
-  for (int y = 0; y < height; ++y) {
-    for (int x = 0; x < width; ++x) {
-      const float a = partial_alpha.at<float>(y, x);
-      if (a <= 0) continue;
-      cv::Vec3f& out = colour.at<cv::Vec3f>(y, x);
-      out = a * partial_colour.at<cv::Vec3f>(y, x) + (1 - a) * out;
-    }
+  for (const Partial& p : partial) {
+    cv::Vec3f& out = colour.at<cv::Vec3f>(p.at);
+    out = p.alpha * p.colour + (1 - p.alpha) * out;
   }
   // Colour effects and depth of field (ALGORITHM.md 7, 8): the CPU reference's passes on the
   // read-back frame, not yet in shaders (README.md).

@@ -70,10 +70,10 @@ class GlSceneRenderer final : public SceneRenderer {
     GlObject colour[3], depth[3], slot_fbo[3];  // the three rendering buffers, one FBO each
     GlObject resolved_colour, resolved_depth, resolve_fbo;
   };
-  // The resolved frame before hole filling: (B, G, R, alpha) and depth, CV_32FC4 and CV_32FC4.
+  // The resolved frame before hole filling: (B, G, R, alpha) and depth, CV_32FC4 and CV_32F.
   struct RawFrame {
     cv::Mat colour_alpha;
-    cv::Mat depth;
+    cv::Mat depth;         // only with the slots (Render; Coverage needs alpha only)
     cv::Mat slot_views;    // CV_32FC4, only when asked for
     cv::Mat slot_weights;  // CV_32FC4
   };
