@@ -28,7 +28,8 @@ uniform vec3 mesh_axis2;
 uniform vec4 mesh[MESH_VECTORS];
 uniform int num_triangles;
 uniform int num_edges;
-uniform int single_view;
+uniform int single_view;    // the one view with weight 1 everywhere, -1: the mesh decides
+uniform int hint_triangle;  // the triangle holding the frame centre's q (-1 none): tried first
 layout(location = 0) out vec4 slot_views;
 layout(location = 1) out vec4 slot_weights;
 
@@ -41,11 +42,29 @@ void Add(float view, float weight) {
   }
 }
 
+// q's barycentric weights in triangle t, or a negative x where the triangle is degenerate.
+vec3 Barycentric(int t, vec2 q) {
+  vec4 a = mesh[3 * t];
+  vec2 v0 = mesh[3 * t + 1].xy - a.xy, v1 = mesh[3 * t + 2].xy - a.xy, v2 = q - a.xy;
+  float den = v0.x * v1.y - v1.x * v0.y;
+  if (abs(den) < 1e-20) return vec3(-1.0);
+  float wb = (v2.x * v1.y - v1.x * v2.y) / den;
+  float wc = (v0.x * v2.y - v2.x * v0.y) / den;
+  return vec3(1.0 - wb - wc, wb, wc);
+}
+void Emit(int t, vec3 w) {
+  Add(mesh[3 * t].z, max(w.x, 0.0));
+  Add(mesh[3 * t + 1].z, max(w.y, 0.0));
+  Add(mesh[3 * t + 2].z, max(w.z, 0.0));
+  slot_views = views_out;
+  slot_weights = weights_out;
+}
+
 void main() {
   views_out = vec4(-1.0);
   weights_out = vec4(0.0);
-  if (single_view != 0) {
-    slot_views = vec4(0.0, -1.0, -1.0, -1.0);
+  if (single_view >= 0) {
+    slot_views = vec4(float(single_view), -1.0, -1.0, -1.0);
     slot_weights = vec4(1.0, 0.0, 0.0, 0.0);
     return;
   }
@@ -54,22 +73,19 @@ void main() {
   float h = dot(mesh_normal, centre - mesh_origin);
   vec3 x = abs(s) <= 1e-9 * length(d) ? centre : centre - (h / s) * d;
   vec2 q = vec2(dot(x - mesh_origin, mesh_axis1), dot(x - mesh_origin, mesh_axis2));
+  // Well inside the hint triangle, q is in no other (the triangles do not overlap and the search
+  // below accepts only 1e-6 outside one): the search would find the same, most pixels skip it.
+  if (hint_triangle >= 0) {
+    vec3 w = Barycentric(hint_triangle, q);
+    if (min(w.x, min(w.y, w.z)) > 1e-3) {
+      Emit(hint_triangle, w);
+      return;
+    }
+  }
   for (int t = 0; t < num_triangles; ++t) {
-    vec4 a = mesh[3 * t];
-    vec4 b = mesh[3 * t + 1];
-    vec4 c = mesh[3 * t + 2];
-    vec2 v0 = b.xy - a.xy, v1 = c.xy - a.xy, v2 = q - a.xy;
-    float den = v0.x * v1.y - v1.x * v0.y;
-    if (abs(den) < 1e-20) continue;
-    float wb = (v2.x * v1.y - v1.x * v2.y) / den;
-    float wc = (v0.x * v2.y - v2.x * v0.y) / den;
-    float wa = 1.0 - wb - wc;
-    if (wa >= -1e-6 && wb >= -1e-6 && wc >= -1e-6) {
-      Add(a.z, max(wa, 0.0));
-      Add(b.z, max(wb, 0.0));
-      Add(c.z, max(wc, 0.0));
-      slot_views = views_out;
-      slot_weights = weights_out;
+    vec3 w = Barycentric(t, q);
+    if (w.x >= -1e-6 && w.y >= -1e-6 && w.z >= -1e-6) {
+      Emit(t, w);
       return;
     }
   }

@@ -333,7 +333,12 @@ StatusOr<GlSceneRenderer::RawFrame> GlSceneRenderer::RenderRaw(const CameraModel
                 mesh_uniforms_.front().data());
   gl.Uniform1i(gl.GetUniformLocation(p, "num_triangles"), static_cast<int>(mesh_.triangles.size()));
   gl.Uniform1i(gl.GetUniformLocation(p, "num_edges"), static_cast<int>(mesh_.outer_edges.size()));
-  gl.Uniform1i(gl.GetUniformLocation(p, "single_view"), mesh_.single_view ? 1 : 0);
+  gl.Uniform1i(gl.GetUniformLocation(p, "single_view"), mesh_.single_view ? mesh_.vertex_view[0] : -1);
+  const Eigen::Vector3d frame_centre(camera.width / 2.0, camera.height / 2.0, 1.0);
+  gl.Uniform1i(gl.GetUniformLocation(p, "hint_triangle"),
+               mesh_.single_view ? -1
+                                 : TriangleAt(mesh_, MeshPointOfRay(mesh_, centre, rotation.transpose() *
+                                                                                     k_novel.inverse() * frame_centre)));
   gl.BindVertexArray(empty_vertex_array_.id());
   gl.DrawArrays(GL_TRIANGLES, 0, 3);
 
