@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <ctime>
 
 #include <Eigen/Dense>
 #include <opencv2/core.hpp>
@@ -49,6 +50,29 @@ void PointInstanceAttributes(const GlFunctions& gl, size_t first) {
     gl.VertexAttribDivisor(a, 1);
   }
 }
+
+// Process CPU time between marks, after a glFinish where GL work is pending; inert when off.
+class PassClock {
+ public:
+  PassClock(const GlFunctions& gl, bool on) : gl_(gl), on_(on), last_(on ? Now() : 0) {}
+  void Mark(double* ms, bool finish_gl) {
+    if (!on_) return;
+    if (finish_gl) gl_.Finish();
+    const double now = Now();
+    *ms = 1e3 * (now - last_);
+    last_ = now;
+  }
+
+ private:
+  static double Now() {
+    timespec t{};
+    clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t);
+    return static_cast<double>(t.tv_sec) + 1e-9 * static_cast<double>(t.tv_nsec);
+  }
+  const GlFunctions& gl_;
+  bool on_;
+  double last_;
+};
 
 Eigen::Matrix3f ToFloat(const Eigen::Matrix3d& m) { return m.cast<float>(); }
 
@@ -313,6 +337,8 @@ StatusOr<GlSceneRenderer::RawFrame> GlSceneRenderer::RenderRaw(const CameraModel
   const GlFunctions& gl = context_->gl();
   const int width = camera.width, height = camera.height;
   PX_ASSIGN_OR_RETURN(Targets * t, TargetsFor(width, height));
+  stats_ = GlFrameStats{};
+  PassClock clock(gl, time_passes_);
   const Eigen::Matrix3d k_novel = camera.K();
   const Eigen::Matrix3d rotation = cam_from_world.RotationMatrix();
   const Eigen::Vector3d centre = CameraCentre(cam_from_world);
@@ -345,6 +371,7 @@ StatusOr<GlSceneRenderer::RawFrame> GlSceneRenderer::RenderRaw(const CameraModel
   // Where each view holds a slot, from the CPU twin of the weight shader on a coarse grid (each
   // box grown by one cell): views drawn nowhere are skipped and the rest scissored to their box,
   // so a frame shades about three views' worth of fragments per pixel, not all of them.
+  clock.Mark(&stats_.weights_ms, /*finish_gl=*/true);
   const std::vector<SlotBoxes> view_boxes = ViewBoxes(camera, cam_from_world);
 
   // Pass 2: every view's segments, front to back, into the three rendering buffers.
@@ -410,6 +437,7 @@ StatusOr<GlSceneRenderer::RawFrame> GlSceneRenderer::RenderRaw(const CameraModel
     for (const Sorted& item : sorted) instances[v].insert(instances[v].end(), item.data.begin(), item.data.end());
   }
   const float z_scale = static_cast<float>(std::max(z_max, kNearDepthM) * 1.0001);
+  clock.Mark(&stats_.setup_ms, /*finish_gl=*/false);
 
   // One buffer for every view's instances, uploaded once; each draw starts at its view's first.
   std::vector<float> all_instances;
@@ -448,10 +476,13 @@ StatusOr<GlSceneRenderer::RawFrame> GlSceneRenderer::RenderRaw(const CameraModel
       gl.Uniform1f(gl.GetUniformLocation(p, "view_index"), static_cast<float>(v));
       PointInstanceAttributes(gl, first_instance[v]);
       gl.DrawArraysInstanced(GL_TRIANGLE_STRIP, 0, 4, static_cast<GLsizei>(instances[v].size() / kFloatsPerInstance));
+      ++stats_.draws;
     }
   }
   gl.Disable(GL_SCISSOR_TEST);
   gl.Disable(GL_BLEND);
+  stats_.instances = static_cast<int>(all_instances.size() / kFloatsPerInstance);
+  clock.Mark(&stats_.segments_ms, /*finish_gl=*/true);
 
   // Pass 3: the soft z resolve.
   gl.BindFramebuffer(GL_FRAMEBUFFER, t->resolve_fbo.id());
@@ -470,6 +501,7 @@ StatusOr<GlSceneRenderer::RawFrame> GlSceneRenderer::RenderRaw(const CameraModel
   gl.BindVertexArray(empty_vertex_array_.id());
   gl.DrawArrays(GL_TRIANGLES, 0, 3);
 
+  clock.Mark(&stats_.resolve_ms, /*finish_gl=*/true);
   RawFrame raw;
   raw.colour_alpha.create(height, width, CV_32FC4);
   ReadAttachment(gl, 0, width, height, GL_RGBA, GL_FLOAT, raw.colour_alpha.data);
@@ -484,6 +516,7 @@ StatusOr<GlSceneRenderer::RawFrame> GlSceneRenderer::RenderRaw(const CameraModel
     ReadAttachment(gl, 0, width, height, GL_RGBA, GL_FLOAT, raw.slot_views.data);
     ReadAttachment(gl, 1, width, height, GL_RGBA, GL_FLOAT, raw.slot_weights.data);
   }
+  clock.Mark(&stats_.readback_ms, /*finish_gl=*/false);
   gl.BindFramebuffer(GL_FRAMEBUFFER, 0);
   gl.BindVertexArray(0);
   const std::string errors = DrainGlErrors(gl);
@@ -520,6 +553,7 @@ StatusOr<FrameRender> GlSceneRenderer::Render(const VirtualCamera& camera) {
   ScopedCurrent current(context_.get());
   PX_RETURN_IF_ERROR(current.status());
   PX_ASSIGN_OR_RETURN(RawFrame raw, RenderRaw(camera.camera, camera.cam_from_world, /*with_slots=*/true));
+  PassClock clock(context_->gl(), time_passes_);
   const int width = camera.camera.width, height = camera.camera.height;
   FrameRender frame;
   cv::Mat colour(height, width, CV_32FC3);  // 0..255, as the CPU reference keeps it until the end
@@ -575,6 +609,7 @@ StatusOr<FrameRender> GlSceneRenderer::Render(const VirtualCamera& camera) {
     ApplyPreviewDepthOfField(camera.aperture_m, camera.focus_depth_m, camera.camera.fx, frame.depth_m, &colour);
   }
   colour.convertTo(frame.bgr, CV_8UC3);
+  clock.Mark(&stats_.post_ms, /*finish_gl=*/false);
   std::vector<int> order;
   for (size_t v = 0; v < views_.size(); ++v) {
     if (view_weight[v] > 0) order.push_back(static_cast<int>(v));

@@ -36,6 +36,15 @@ struct GlSceneRendererOptions {
   Status Validate() const { return context.Validate(); }
 };
 
+// The last frame (Render or Coverage): what was drawn and, with set_time_passes(true), the
+// process CPU time of each pass in ms (a glFinish after each GL pass, so llvmpipe's rasteriser
+// threads count where they work; the finishes cost a little of the overlap).
+struct GlFrameStats {
+  int draws = 0;      // instanced draws: a view's segments into one rendering buffer
+  int instances = 0;  // segment rectangles set up (all views)
+  double weights_ms = 0, setup_ms = 0, segments_ms = 0, resolve_ms = 0, readback_ms = 0, post_ms = 0;
+};
+
 class GlSceneRenderer final : public SceneRenderer {
  public:
   // Creates the context, builds the view mesh and uploads every view's segment images. Bad
@@ -57,6 +66,8 @@ class GlSceneRenderer final : public SceneRenderer {
   const GlContextInfo& context_info() const { return context_->info(); }
   const std::vector<std::string>& warnings() const { return warnings_; }
   double rho_m() const { return rho_m_; }
+  const GlFrameStats& last_frame() const { return stats_; }
+  void set_time_passes(bool on) { time_passes_ = on; }
 
  private:
   struct ViewTextures {
@@ -97,6 +108,8 @@ class GlSceneRenderer final : public SceneRenderer {
   double rho_m_ = 0;
   double median_depth_m_ = 0;
   std::vector<std::string> warnings_;
+  GlFrameStats stats_;
+  bool time_passes_ = false;
 };
 
 }  // namespace px::render::gl

@@ -71,6 +71,22 @@ std::unique_ptr<GlSceneRenderer> MakeRenderer(const CameraModel& camera, int row
   return std::move(renderer).value();
 }
 
+// Frame `frame` of the dolly at `camera`; false (and the benchmark skipped) when it fails.
+bool RenderDollyFrame(GlSceneRenderer& renderer, const CameraModel& camera, int frame, benchmark::State& state,
+                      double* hole_ratio) {
+  VirtualCamera request;
+  request.camera = camera;
+  request.cam_from_world = DollyPose(frame, 150);
+  auto result = renderer.Render(request);
+  if (!result.ok()) {
+    state.SkipWithError(result.status().ToString().c_str());
+    return false;
+  }
+  *hole_ratio = result->holes.hole_ratio;
+  benchmark::DoNotOptimize(result->bgr.data);
+  return true;
+}
+
 // range(0): output width (480 or 1200); range(1): input views (9 or 20).
 void BM_GlRenderFrame(benchmark::State& state) {
   const CameraModel camera = CameraOfWidth(static_cast<int>(state.range(0)));
@@ -82,21 +98,45 @@ void BM_GlRenderFrame(benchmark::State& state) {
   int frame = 0;
   double holes = 0;
   for (auto _ : state) {
-    VirtualCamera request;
-    request.camera = camera;
-    request.cam_from_world = DollyPose(frame++, 150);
-    auto result = renderer->Render(request);
-    if (!result.ok()) {
-      state.SkipWithError(result.status().ToString().c_str());
-      return;
-    }
-    holes += result->holes.hole_ratio;
-    benchmark::DoNotOptimize(result->bgr.data);
+    double hole_ratio = 0;
+    if (!RenderDollyFrame(*renderer, camera, frame++, state, &hole_ratio)) return;
+    holes += hole_ratio;
   }
   state.counters["fps"] = benchmark::Counter(frame, benchmark::Counter::kIsRate);
   state.counters["hole_ratio"] = holes / std::max(frame, 1);
 }
 BENCHMARK(BM_GlRenderFrame)->ArgsProduct({{480, 1200}, {9, 20}})->Unit(benchmark::kMillisecond)->MeasureProcessCPUTime()->UseRealTime();
+
+// Where a GL frame's time goes: the process CPU ms of each pass (GlFrameStats; a glFinish after
+// each GL pass), the draws and the segment rectangles, averaged over the frames.
+void BM_GlFramePasses(benchmark::State& state) {
+  const CameraModel camera = CameraOfWidth(static_cast<int>(state.range(0)));
+  int rows, cols;
+  RigShape(static_cast<int>(state.range(1)), &rows, &cols);
+  std::unique_ptr<GlSceneRenderer> renderer = MakeRenderer(camera, rows, cols, state);
+  if (!renderer) return;
+  renderer->set_time_passes(true);
+  int frame = 0;
+  GlFrameStats sum;
+  for (auto _ : state) {
+    double hole_ratio = 0;
+    if (!RenderDollyFrame(*renderer, camera, frame++, state, &hole_ratio)) return;
+    const GlFrameStats& s = renderer->last_frame();
+    sum.draws += s.draws, sum.instances += s.instances;
+    sum.weights_ms += s.weights_ms, sum.setup_ms += s.setup_ms, sum.segments_ms += s.segments_ms;
+    sum.resolve_ms += s.resolve_ms, sum.readback_ms += s.readback_ms, sum.post_ms += s.post_ms;
+  }
+  const double n = std::max(frame, 1);
+  state.counters["draws"] = sum.draws / n;
+  state.counters["instances"] = sum.instances / n;
+  state.counters["weights_ms"] = sum.weights_ms / n;
+  state.counters["setup_ms"] = sum.setup_ms / n;
+  state.counters["segments_ms"] = sum.segments_ms / n;
+  state.counters["resolve_ms"] = sum.resolve_ms / n;
+  state.counters["readback_ms"] = sum.readback_ms / n;
+  state.counters["post_ms"] = sum.post_ms / n;
+}
+BENCHMARK(BM_GlFramePasses)->ArgsProduct({{480, 1200}, {9}})->Unit(benchmark::kMillisecond)->MeasureProcessCPUTime()->UseRealTime();
 
 // The direction stage's question: coverage and H(V) at 1/8 of 1200x800.
 void BM_GlCoverage(benchmark::State& state) {
