@@ -46,7 +46,8 @@ StatusOr<GlObject> MakeTexture2D(const GlFunctions& gl, GLenum internal_format, 
   GlObject texture(&gl, GlObjectKind::kTexture);
   gl.BindTexture(GL_TEXTURE_2D, texture.id());
   // Storage format and type only matter for the (absent) initial data.
-  const bool integer = internal_format == GL_R32I || internal_format == GL_RG32I || internal_format == GL_RGBA32I;
+  const bool integer = internal_format == GL_R32I || internal_format == GL_RG32I || internal_format == GL_RGBA32I ||
+                       internal_format == GL_RGBA32UI;
   gl.TexImage2D(GL_TEXTURE_2D, 0, static_cast<GLint>(internal_format), width, height, 0,
                 integer ? GL_RED_INTEGER : GL_RED, integer ? GL_INT : GL_FLOAT, nullptr);
   gl.TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);

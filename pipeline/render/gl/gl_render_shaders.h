@@ -24,10 +24,12 @@ uniform vec3 mesh_origin;
 uniform vec3 mesh_normal;
 uniform vec3 mesh_axis1;
 uniform vec3 mesh_axis2;
-uniform sampler2D mesh;  // row 0: triangles, 3 texels (x, y, view, 0) each; row 1: outer edges, 2 each
+// (x, y, view, 0): 3 per triangle, then 2 per outer edge; MESH_VECTORS is defined ahead of this text.
+uniform vec4 mesh[MESH_VECTORS];
 uniform int num_triangles;
 uniform int num_edges;
-uniform int single_view;
+uniform int single_view;    // the one view with weight 1 everywhere, -1: the mesh decides
+uniform int hint_triangle;  // the triangle holding the frame centre's q (-1 none): tried first
 layout(location = 0) out vec4 slot_views;
 layout(location = 1) out vec4 slot_weights;
 
@@ -40,11 +42,29 @@ void Add(float view, float weight) {
   }
 }
 
+// q's barycentric weights in triangle t, or a negative x where the triangle is degenerate.
+vec3 Barycentric(int t, vec2 q) {
+  vec4 a = mesh[3 * t];
+  vec2 v0 = mesh[3 * t + 1].xy - a.xy, v1 = mesh[3 * t + 2].xy - a.xy, v2 = q - a.xy;
+  float den = v0.x * v1.y - v1.x * v0.y;
+  if (abs(den) < 1e-20) return vec3(-1.0);
+  float wb = (v2.x * v1.y - v1.x * v2.y) / den;
+  float wc = (v0.x * v2.y - v2.x * v0.y) / den;
+  return vec3(1.0 - wb - wc, wb, wc);
+}
+void Emit(int t, vec3 w) {
+  Add(mesh[3 * t].z, max(w.x, 0.0));
+  Add(mesh[3 * t + 1].z, max(w.y, 0.0));
+  Add(mesh[3 * t + 2].z, max(w.z, 0.0));
+  slot_views = views_out;
+  slot_weights = weights_out;
+}
+
 void main() {
   views_out = vec4(-1.0);
   weights_out = vec4(0.0);
-  if (single_view != 0) {
-    slot_views = vec4(0.0, -1.0, -1.0, -1.0);
+  if (single_view >= 0) {
+    slot_views = vec4(float(single_view), -1.0, -1.0, -1.0);
     slot_weights = vec4(1.0, 0.0, 0.0, 0.0);
     return;
   }
@@ -53,22 +73,19 @@ void main() {
   float h = dot(mesh_normal, centre - mesh_origin);
   vec3 x = abs(s) <= 1e-9 * length(d) ? centre : centre - (h / s) * d;
   vec2 q = vec2(dot(x - mesh_origin, mesh_axis1), dot(x - mesh_origin, mesh_axis2));
+  // Well inside the hint triangle, q is in no other (the triangles do not overlap and the search
+  // below accepts only 1e-6 outside one): the search would find the same, most pixels skip it.
+  if (hint_triangle >= 0) {
+    vec3 w = Barycentric(hint_triangle, q);
+    if (min(w.x, min(w.y, w.z)) > 1e-3) {
+      Emit(hint_triangle, w);
+      return;
+    }
+  }
   for (int t = 0; t < num_triangles; ++t) {
-    vec4 a = texelFetch(mesh, ivec2(3 * t, 0), 0);
-    vec4 b = texelFetch(mesh, ivec2(3 * t + 1, 0), 0);
-    vec4 c = texelFetch(mesh, ivec2(3 * t + 2, 0), 0);
-    vec2 v0 = b.xy - a.xy, v1 = c.xy - a.xy, v2 = q - a.xy;
-    float den = v0.x * v1.y - v1.x * v0.y;
-    if (abs(den) < 1e-20) continue;
-    float wb = (v2.x * v1.y - v1.x * v2.y) / den;
-    float wc = (v0.x * v2.y - v2.x * v0.y) / den;
-    float wa = 1.0 - wb - wc;
-    if (wa >= -1e-6 && wb >= -1e-6 && wc >= -1e-6) {
-      Add(a.z, max(wa, 0.0));
-      Add(b.z, max(wb, 0.0));
-      Add(c.z, max(wc, 0.0));
-      slot_views = views_out;
-      slot_weights = weights_out;
+    vec3 w = Barycentric(t, q);
+    if (w.x >= -1e-6 && w.y >= -1e-6 && w.z >= -1e-6) {
+      Emit(t, w);
       return;
     }
   }
@@ -76,8 +93,8 @@ void main() {
   float best_t = 0.0;
   vec4 best_a = vec4(0.0), best_b = vec4(0.0);
   for (int e = 0; e < num_edges; ++e) {
-    vec4 a = texelFetch(mesh, ivec2(2 * e, 1), 0);
-    vec4 b = texelFetch(mesh, ivec2(2 * e + 1, 1), 0);
+    vec4 a = mesh[3 * num_triangles + 2 * e];
+    vec4 b = mesh[3 * num_triangles + 2 * e + 1];
     vec2 ab = b.xy - a.xy;
     float t = clamp(dot(q - a.xy, ab) / max(dot(ab, ab), 1e-30), 0.0, 1.0);
     float dist = length(q - (a.xy + t * ab));
@@ -124,34 +141,32 @@ void main() {
 // view (the three rendering buffers): blending is (SRC_ALPHA_SATURATE, ONE) on 16-bit normalised
 // targets, i.e. C += min(alpha, 1 - A) colour and A = min(A + alpha, 1), as ALGORITHM.md 4 asks.
 inline constexpr std::string_view kSegmentFragmentShader = R"(
-uniform sampler2D layer0;  // rgb colour (BGR), a weight
-uniform sampler2D layer1;
-uniform isampler2D segment_ids;  // the two layers' segment indices, -1 none
+// Per texel: layers 0 and 1 as BGRA8 packed in a uint (weight in the top byte), then the two
+// layers' segment indices (-1 none): one fetch per texel.
+uniform usampler2D texels;
 uniform sampler2D slot_views;
 uniform float view_index;
+uniform int slot;  // the rendering buffer drawn into: the view's fragments elsewhere are discarded
 uniform float z_scale;  // depths are stored as z / z_scale in [0, 1]
 flat in vec3 h0;
 flat in vec3 h1;
 flat in vec3 h2;
 flat in vec3 plane;
 flat in int segment;
-layout(location = 0) out vec4 colour0;
-layout(location = 1) out vec4 colour1;
-layout(location = 2) out vec4 colour2;
-layout(location = 3) out vec4 depth0;
-layout(location = 4) out vec4 depth1;
-layout(location = 5) out vec4 depth2;
+layout(location = 0) out vec4 colour_out;
+layout(location = 1) out vec4 depth_out;
+vec4 Unpack(uint bgra) {
+  return vec4(uvec4(bgra, bgra >> 8u, bgra >> 16u, bgra >> 24u) & 255u) / 255.0;
+}
 void main() {
-  vec4 views = texelFetch(slot_views, ivec2(gl_FragCoord.xy), 0);
-  int slot = views.x == view_index ? 0 : views.y == view_index ? 1 : views.z == view_index ? 2 : -1;
-  if (slot < 0) discard;
+  if (texelFetch(slot_views, ivec2(gl_FragCoord.xy), 0)[slot] != view_index) discard;
   vec3 p = vec3(gl_FragCoord.xy - 0.5, 1.0);
   vec3 src = vec3(dot(h0, p), dot(h1, p), dot(h2, p));
   vec2 uv = src.xy / src.z;
   float z = 1.0 / dot(plane, p);
   vec2 base = floor(uv);
   vec2 f = uv - base;
-  ivec2 size = textureSize(segment_ids, 0);
+  ivec2 size = textureSize(texels, 0);
   float alpha = 0.0;
   vec3 colour = vec3(0.0);
   for (int j = 0; j < 2; ++j) {
@@ -159,24 +174,18 @@ void main() {
       ivec2 t = ivec2(base) + ivec2(i, j);
       if (t.x < 0 || t.y < 0 || t.x >= size.x || t.y >= size.y) continue;
       float beta = (i == 0 ? 1.0 - f.x : f.x) * (j == 0 ? 1.0 - f.y : f.y);
-      ivec2 ids = texelFetch(segment_ids, t, 0).xy;
-      vec4 l0 = texelFetch(layer0, t, 0);
-      vec4 l1 = texelFetch(layer1, t, 0);
-      float a0 = ids.x == segment ? l0.a : 0.0;
-      float a1 = ids.y == segment ? l1.a : 0.0;
+      uvec4 texel = texelFetch(texels, t, 0);
+      vec4 l0 = Unpack(texel.x);
+      vec4 l1 = Unpack(texel.y);
+      float a0 = int(texel.z) == segment ? l0.a : 0.0;
+      float a1 = int(texel.w) == segment ? l1.a : 0.0;
       alpha += beta * (a0 + a1);
       colour += beta * (a0 * l0.rgb + a1 * l1.rgb);
     }
   }
   if (alpha <= 1e-6) discard;
-  vec4 c = vec4(colour / alpha, min(alpha, 1.0));
-  vec4 zz = vec4(z / z_scale, 0.0, 0.0, min(alpha, 1.0));
-  colour0 = slot == 0 ? c : vec4(0.0);
-  colour1 = slot == 1 ? c : vec4(0.0);
-  colour2 = slot == 2 ? c : vec4(0.0);
-  depth0 = slot == 0 ? zz : vec4(0.0);
-  depth1 = slot == 1 ? zz : vec4(0.0);
-  depth2 = slot == 2 ? zz : vec4(0.0);
+  colour_out = vec4(colour / alpha, min(alpha, 1.0));
+  depth_out = vec4(z / z_scale, 0.0, 0.0, min(alpha, 1.0));
 }
 )";
 

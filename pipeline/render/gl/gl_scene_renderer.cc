@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <ctime>
 
 #include <Eigen/Dense>
 #include <opencv2/core.hpp>
@@ -36,6 +37,42 @@ bool SegmentUsable(const DepthSegment& s) {
   }
   return true;
 }
+
+// The segment vertex shader's per-instance attributes in the bound buffer, from instance `first`
+// on (one buffer holds every view's instances; each view's draw starts at its own).
+void PointInstanceAttributes(const GlFunctions& gl, size_t first) {
+  const GLsizei stride = kFloatsPerInstance * sizeof(float);
+  const std::array<std::pair<int, int>, 7> attributes = {{{4, 0}, {4, 4}, {3, 8}, {3, 11}, {3, 14}, {3, 17}, {1, 20}}};
+  for (int a = 0; a < static_cast<int>(attributes.size()); ++a) {
+    gl.EnableVertexAttribArray(a);
+    const size_t offset = (first * kFloatsPerInstance + attributes[a].second) * sizeof(float);
+    gl.VertexAttribPointer(a, attributes[a].first, GL_FLOAT, GL_FALSE, stride, reinterpret_cast<const void*>(offset));
+    gl.VertexAttribDivisor(a, 1);
+  }
+}
+
+// Process CPU time between marks, after a glFinish where GL work is pending; inert when off.
+class PassClock {
+ public:
+  PassClock(const GlFunctions& gl, bool on) : gl_(gl), on_(on), last_(on ? Now() : 0) {}
+  void Mark(double* ms, bool finish_gl) {
+    if (!on_) return;
+    if (finish_gl) gl_.Finish();
+    const double now = Now();
+    *ms = 1e3 * (now - last_);
+    last_ = now;
+  }
+
+ private:
+  static double Now() {
+    timespec t{};
+    clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t);
+    return static_cast<double>(t.tv_sec) + 1e-9 * static_cast<double>(t.tv_nsec);
+  }
+  const GlFunctions& gl_;
+  bool on_;
+  double last_;
+};
 
 Eigen::Matrix3f ToFloat(const Eigen::Matrix3d& m) { return m.cast<float>(); }
 
@@ -131,7 +168,6 @@ GlSceneRenderer::~GlSceneRenderer() {
   ScopedCurrent current(context_.get());
   textures_.clear();
   targets_.clear();
-  mesh_texture_.Reset();
   weights_program_.Reset();
   segment_program_.Reset();
   resolve_program_.Reset();
@@ -173,11 +209,11 @@ Status GlSceneRenderer::Upload() {
     }
     int dropped_texels = 0;
     int kept_texels = 0;
-    cv::Mat layer_rgba[2] = {cv::Mat(h, w, CV_8UC4), cv::Mat(h, w, CV_8UC4)};
-    cv::Mat ids(h, w, CV_32SC2);
+    cv::Mat texels(h, w, CV_32SC4);
     for (int y = 0; y < h; ++y) {
       for (int x = 0; x < w; ++x) {
-        cv::Vec2i id(-1, -1);
+        cv::Vec4i& texel = texels.at<cv::Vec4i>(y, x);
+        texel = cv::Vec4i(0, 0, -1, -1);
         for (int l = 0; l < 2; ++l) {
           const float weight = view.layers[l].weight.at<float>(y, x);
           const int segment = view.layers[l].segment.at<int32_t>(y, x);
@@ -187,15 +223,14 @@ Status GlSceneRenderer::Upload() {
           float kept = 0;
           if (segment_ok && weight_ok && weight > 0) {
             kept = weight;
-            id[l] = segment;
+            texel[2 + l] = segment;
             ++kept_texels;
           } else if (!(weight == 0)) {  // NaN, out of range, or weight on a bad segment
             ++dropped_texels;
           }
-          layer_rgba[l].at<cv::Vec4b>(y, x) =
-              cv::Vec4b(c[0], c[1], c[2], cv::saturate_cast<uint8_t>(std::lround(kept * 255.0f)));
+          const uint32_t a = cv::saturate_cast<uint8_t>(std::lround(kept * 255.0f));
+          texel[l] = static_cast<int32_t>(c[0] | (uint32_t{c[1]} << 8) | (uint32_t{c[2]} << 16) | (a << 24));
         }
-        ids.at<cv::Vec2i>(y, x) = id;
       }
     }
     if (dropped_segments > 0) {
@@ -211,12 +246,8 @@ Status GlSceneRenderer::Upload() {
       warnings_.push_back(name + ": no texel with depth (no usable segment or weight); the view is left out");
       textures.kept_segments.clear();
     }
-    PX_ASSIGN_OR_RETURN(textures.layer0, UploadTexture(gl, GL_RGBA8, GL_RGBA, GL_UNSIGNED_BYTE, layer_rgba[0],
-                                                       name + " layer 0"));
-    PX_ASSIGN_OR_RETURN(textures.layer1, UploadTexture(gl, GL_RGBA8, GL_RGBA, GL_UNSIGNED_BYTE, layer_rgba[1],
-                                                       name + " layer 1"));
-    PX_ASSIGN_OR_RETURN(textures.segment_ids, UploadTexture(gl, GL_RG32I, GL_RG_INTEGER, GL_INT, ids,
-                                                            name + " segment ids"));
+    PX_ASSIGN_OR_RETURN(textures.texels, UploadTexture(gl, GL_RGBA32UI, GL_RGBA_INTEGER, GL_UNSIGNED_INT, texels,
+                                                       name + " segment texels"));
     textures_.push_back(std::move(textures));
   }
   // The view mesh over the views that have something to draw; vertex views index views_.
@@ -232,25 +263,36 @@ Status GlSceneRenderer::Upload() {
   if (meshed.empty()) return FailedPreconditionError("gl renderer: no view has a usable segment (no valid depth)");
   PX_ASSIGN_OR_RETURN(mesh_, BuildGlViewMesh(centres, axes, x_axes));
   for (int& view : mesh_.vertex_view) view = meshed[view];
-  const int mesh_width = std::max<int>({1, 3 * static_cast<int>(mesh_.triangles.size()),
-                                        2 * static_cast<int>(mesh_.outer_edges.size())});
-  cv::Mat mesh_texels(2, mesh_width, CV_32FC4, cv::Scalar::all(0));
-  auto texel = [&](int vertex) {
+  // The mesh as a uniform array (x, y, view, 0): the triangles' corners, then the outer edges'
+  // ends. A loop over uniforms costs llvmpipe far less than one over texel fetches.
+  auto corner = [&](int vertex) {
     const Eigen::Vector2d& p = mesh_.vertices[vertex];
-    return cv::Vec4f(static_cast<float>(p.x()), static_cast<float>(p.y()), static_cast<float>(mesh_.vertex_view[vertex]), 0);
+    return std::array<float, 4>{static_cast<float>(p.x()), static_cast<float>(p.y()),
+                                static_cast<float>(mesh_.vertex_view[vertex]), 0.0f};
   };
-  for (size_t t = 0; t < mesh_.triangles.size(); ++t) {
-    for (int k = 0; k < 3; ++k) mesh_texels.at<cv::Vec4f>(0, static_cast<int>(3 * t) + k) = texel(mesh_.triangles[t][k]);
+  mesh_uniforms_.clear();
+  for (const auto& triangle : mesh_.triangles) {
+    for (int vertex : triangle) mesh_uniforms_.push_back(corner(vertex));
   }
-  for (size_t e = 0; e < mesh_.outer_edges.size(); ++e) {
-    for (int k = 0; k < 2; ++k) mesh_texels.at<cv::Vec4f>(1, static_cast<int>(2 * e) + k) = texel(mesh_.outer_edges[e][k]);
+  for (const auto& edge : mesh_.outer_edges) {
+    for (int vertex : edge) mesh_uniforms_.push_back(corner(vertex));
   }
+  if (mesh_uniforms_.empty()) mesh_uniforms_.push_back({0, 0, 0, 0});
   if (mesh_.single_view) mesh_.vertex_view[0] = meshed[0];
-  PX_ASSIGN_OR_RETURN(mesh_texture_, UploadTexture(gl, GL_RGBA32F, GL_RGBA, GL_FLOAT, mesh_texels, "view mesh"));
+  GLint max_vectors = 0;
+  gl.GetIntegerv(GL_MAX_FRAGMENT_UNIFORM_VECTORS, &max_vectors);
+  constexpr int kOtherUniformVectors = 16;  // the weight shader's matrix, vectors and counts
+  if (static_cast<int>(mesh_uniforms_.size()) + kOtherUniformVectors > max_vectors) {
+    return FailedPreconditionError("gl renderer: the view mesh of " + std::to_string(mesh_.triangles.size()) +
+                                   " triangles needs " + std::to_string(mesh_uniforms_.size()) +
+                                   " uniform vectors, more than the context's GL_MAX_FRAGMENT_UNIFORM_VECTORS " +
+                                   std::to_string(max_vectors) + " allows");
+  }
   SceneDepthRange(views_, &rho_m_, &median_depth_m_);
 
-  PX_ASSIGN_OR_RETURN(weights_program_, BuildProgram(gl, "view_weights", kFullScreenVertexShader,
-                                                     kViewWeightsFragmentShader));
+  const std::string weights_shader = "#define MESH_VECTORS " + std::to_string(mesh_uniforms_.size()) + "\n" +
+                                     std::string(kViewWeightsFragmentShader);
+  PX_ASSIGN_OR_RETURN(weights_program_, BuildProgram(gl, "view_weights", kFullScreenVertexShader, weights_shader));
   PX_ASSIGN_OR_RETURN(segment_program_, BuildProgram(gl, "segments", kSegmentVertexShader, kSegmentFragmentShader));
   PX_ASSIGN_OR_RETURN(resolve_program_, BuildProgram(gl, "soft_z_resolve", kFullScreenVertexShader,
                                                      kSoftZResolveFragmentShader));
@@ -259,14 +301,7 @@ Status GlSceneRenderer::Upload() {
   instance_buffer_ = GlObject(&gl, GlObjectKind::kBuffer);
   gl.BindVertexArray(instance_vertex_array_.id());
   gl.BindBuffer(GL_ARRAY_BUFFER, instance_buffer_.id());
-  const GLsizei stride = kFloatsPerInstance * sizeof(float);
-  const std::array<std::pair<int, int>, 7> attributes = {{{4, 0}, {4, 4}, {3, 8}, {3, 11}, {3, 14}, {3, 17}, {1, 20}}};
-  for (int a = 0; a < static_cast<int>(attributes.size()); ++a) {
-    gl.EnableVertexAttribArray(a);
-    gl.VertexAttribPointer(a, attributes[a].first, GL_FLOAT, GL_FALSE, stride,
-                           reinterpret_cast<const void*>(static_cast<uintptr_t>(attributes[a].second * sizeof(float))));
-    gl.VertexAttribDivisor(a, 1);
-  }
+  PointInstanceAttributes(gl, 0);
   gl.BindVertexArray(0);
   const std::string errors = DrainGlErrors(gl);
   if (!errors.empty()) return InternalError("gl renderer: setting up raised " + errors);
@@ -286,11 +321,12 @@ StatusOr<GlSceneRenderer::Targets*> GlSceneRenderer::TargetsFor(int width, int h
     PX_ASSIGN_OR_RETURN(t.colour[k], MakeTexture2D(gl, GL_RGBA16, width, height, "rendering buffer " + size));
     PX_ASSIGN_OR_RETURN(t.depth[k], MakeTexture2D(gl, GL_RGBA16, width, height, "rendering buffer depth " + size));
   }
-  PX_ASSIGN_OR_RETURN(t.slots_fbo, MakeFramebuffer(gl, {t.colour[0].id(), t.colour[1].id(), t.colour[2].id(),
-                                                        t.depth[0].id(), t.depth[1].id(), t.depth[2].id()},
-                                                   "rendering buffers " + size));
+  for (int k = 0; k < 3; ++k) {
+    PX_ASSIGN_OR_RETURN(t.slot_fbo[k], MakeFramebuffer(gl, {t.colour[k].id(), t.depth[k].id()},
+                                                       "rendering buffer " + std::to_string(k) + " " + size));
+  }
   PX_ASSIGN_OR_RETURN(t.resolved_colour, MakeTexture2D(gl, GL_RGBA32F, width, height, "resolved colour " + size));
-  PX_ASSIGN_OR_RETURN(t.resolved_depth, MakeTexture2D(gl, GL_RGBA32F, width, height, "resolved depth " + size));
+  PX_ASSIGN_OR_RETURN(t.resolved_depth, MakeTexture2D(gl, GL_R32F, width, height, "resolved depth " + size));
   PX_ASSIGN_OR_RETURN(t.resolve_fbo, MakeFramebuffer(gl, {t.resolved_colour.id(), t.resolved_depth.id()},
                                                      "resolve " + size));
   return &targets_.emplace(std::make_pair(width, height), std::move(t)).first->second;
@@ -301,6 +337,8 @@ StatusOr<GlSceneRenderer::RawFrame> GlSceneRenderer::RenderRaw(const CameraModel
   const GlFunctions& gl = context_->gl();
   const int width = camera.width, height = camera.height;
   PX_ASSIGN_OR_RETURN(Targets * t, TargetsFor(width, height));
+  stats_ = GlFrameStats{};
+  PassClock clock(gl, time_passes_);
   const Eigen::Matrix3d k_novel = camera.K();
   const Eigen::Matrix3d rotation = cam_from_world.RotationMatrix();
   const Eigen::Vector3d centre = CameraCentre(cam_from_world);
@@ -317,17 +355,24 @@ StatusOr<GlSceneRenderer::RawFrame> GlSceneRenderer::RenderRaw(const CameraModel
   SetUniform3(gl, p, "mesh_normal", mesh_.normal);
   SetUniform3(gl, p, "mesh_axis1", mesh_.axis1);
   SetUniform3(gl, p, "mesh_axis2", mesh_.axis2);
-  BindTextureUnit(gl, p, "mesh", 0, mesh_texture_.id());
+  gl.Uniform4fv(gl.GetUniformLocation(p, "mesh"), static_cast<GLsizei>(mesh_uniforms_.size()),
+                mesh_uniforms_.front().data());
   gl.Uniform1i(gl.GetUniformLocation(p, "num_triangles"), static_cast<int>(mesh_.triangles.size()));
   gl.Uniform1i(gl.GetUniformLocation(p, "num_edges"), static_cast<int>(mesh_.outer_edges.size()));
-  gl.Uniform1i(gl.GetUniformLocation(p, "single_view"), mesh_.single_view ? 1 : 0);
+  gl.Uniform1i(gl.GetUniformLocation(p, "single_view"), mesh_.single_view ? mesh_.vertex_view[0] : -1);
+  const Eigen::Vector3d frame_centre(camera.width / 2.0, camera.height / 2.0, 1.0);
+  gl.Uniform1i(gl.GetUniformLocation(p, "hint_triangle"),
+               mesh_.single_view ? -1
+                                 : TriangleAt(mesh_, MeshPointOfRay(mesh_, centre, rotation.transpose() *
+                                                                                     k_novel.inverse() * frame_centre)));
   gl.BindVertexArray(empty_vertex_array_.id());
   gl.DrawArrays(GL_TRIANGLES, 0, 3);
 
   // Where each view holds a slot, from the CPU twin of the weight shader on a coarse grid (each
   // box grown by one cell): views drawn nowhere are skipped and the rest scissored to their box,
   // so a frame shades about three views' worth of fragments per pixel, not all of them.
-  const std::vector<cv::Rect> view_boxes = ViewBoxes(camera, cam_from_world);
+  clock.Mark(&stats_.weights_ms, /*finish_gl=*/true);
+  const std::vector<SlotBoxes> view_boxes = ViewBoxes(camera, cam_from_world);
 
   // Pass 2: every view's segments, front to back, into the three rendering buffers.
   std::vector<std::vector<float>> instances(views_.size());
@@ -345,7 +390,7 @@ StatusOr<GlSceneRenderer::RawFrame> GlSceneRenderer::RenderRaw(const CameraModel
       std::array<float, kFloatsPerInstance> data;
     };
     std::vector<Sorted> sorted;
-    if (view_boxes[v].empty()) continue;
+    if (std::all_of(view_boxes[v].begin(), view_boxes[v].end(), [](const cv::Rect& r) { return r.empty(); })) continue;
     for (int s : textures_[v].kept_segments) {
       const DepthSegment& seg = view.segments[s];
       const Eigen::Vector3d plane_source = k_source.transpose() * Eigen::Vector3d(seg.inv_depth_a, seg.inv_depth_b, seg.inv_depth_c);
@@ -392,10 +437,15 @@ StatusOr<GlSceneRenderer::RawFrame> GlSceneRenderer::RenderRaw(const CameraModel
     for (const Sorted& item : sorted) instances[v].insert(instances[v].end(), item.data.begin(), item.data.end());
   }
   const float z_scale = static_cast<float>(std::max(z_max, kNearDepthM) * 1.0001);
+  clock.Mark(&stats_.setup_ms, /*finish_gl=*/false);
 
-  gl.BindFramebuffer(GL_FRAMEBUFFER, t->slots_fbo.id());
-  const float zero[4] = {0, 0, 0, 0};
-  for (int a = 0; a < 6; ++a) gl.ClearBufferfv(GL_COLOR, a, zero);
+  // One buffer for every view's instances, uploaded once; each draw starts at its view's first.
+  std::vector<float> all_instances;
+  std::vector<size_t> first_instance(views_.size());
+  for (size_t v = 0; v < views_.size(); ++v) {
+    first_instance[v] = all_instances.size() / kFloatsPerInstance;
+    all_instances.insert(all_instances.end(), instances[v].begin(), instances[v].end());
+  }
   gl.Enable(GL_BLEND);
   gl.BlendEquation(GL_FUNC_ADD);
   gl.BlendFuncSeparate(GL_SRC_ALPHA_SATURATE, GL_ONE, GL_ONE, GL_ONE);
@@ -406,20 +456,33 @@ StatusOr<GlSceneRenderer::RawFrame> GlSceneRenderer::RenderRaw(const CameraModel
   BindTextureUnit(gl, p, "slot_views", 3, t->slot_views.id());
   gl.BindVertexArray(instance_vertex_array_.id());
   gl.BindBuffer(GL_ARRAY_BUFFER, instance_buffer_.id());
-  gl.Enable(GL_SCISSOR_TEST);
-  for (size_t v = 0; v < views_.size(); ++v) {
-    if (instances[v].empty()) continue;
-    gl.Scissor(view_boxes[v].x, view_boxes[v].y, view_boxes[v].width, view_boxes[v].height);
-    BindTextureUnit(gl, p, "layer0", 0, textures_[v].layer0.id());
-    BindTextureUnit(gl, p, "layer1", 1, textures_[v].layer1.id());
-    BindTextureUnit(gl, p, "segment_ids", 2, textures_[v].segment_ids.id());
-    gl.Uniform1f(gl.GetUniformLocation(p, "view_index"), static_cast<float>(v));
-    gl.BufferData(GL_ARRAY_BUFFER, static_cast<GLsizeiptr>(instances[v].size() * sizeof(float)), instances[v].data(),
-                  GL_STREAM_DRAW);
-    gl.DrawArraysInstanced(GL_TRIANGLE_STRIP, 0, 4, static_cast<GLsizei>(instances[v].size() / kFloatsPerInstance));
+  gl.BufferData(GL_ARRAY_BUFFER, static_cast<GLsizeiptr>(all_instances.size() * sizeof(float)), all_instances.data(),
+                GL_STREAM_DRAW);
+  // Slot by slot (each rendering buffer its own two targets), each view drawn where it holds that
+  // slot: a fragment blends into two targets, not six, and a view is rasterised only inside its
+  // box for the slot.
+  const float zero[4] = {0, 0, 0, 0};
+  for (int k = 0; k < 3; ++k) {
+    gl.BindFramebuffer(GL_FRAMEBUFFER, t->slot_fbo[k].id());
+    gl.Disable(GL_SCISSOR_TEST);
+    for (int a = 0; a < 2; ++a) gl.ClearBufferfv(GL_COLOR, a, zero);
+    gl.Enable(GL_SCISSOR_TEST);
+    gl.Uniform1i(gl.GetUniformLocation(p, "slot"), k);
+    for (size_t v = 0; v < views_.size(); ++v) {
+      const cv::Rect& box = view_boxes[v][k];
+      if (instances[v].empty() || box.empty()) continue;
+      gl.Scissor(box.x, box.y, box.width, box.height);
+      BindTextureUnit(gl, p, "texels", 0, textures_[v].texels.id());
+      gl.Uniform1f(gl.GetUniformLocation(p, "view_index"), static_cast<float>(v));
+      PointInstanceAttributes(gl, first_instance[v]);
+      gl.DrawArraysInstanced(GL_TRIANGLE_STRIP, 0, 4, static_cast<GLsizei>(instances[v].size() / kFloatsPerInstance));
+      ++stats_.draws;
+    }
   }
   gl.Disable(GL_SCISSOR_TEST);
   gl.Disable(GL_BLEND);
+  stats_.instances = static_cast<int>(all_instances.size() / kFloatsPerInstance);
+  clock.Mark(&stats_.segments_ms, /*finish_gl=*/true);
 
   // Pass 3: the soft z resolve.
   gl.BindFramebuffer(GL_FRAMEBUFFER, t->resolve_fbo.id());
@@ -438,11 +501,14 @@ StatusOr<GlSceneRenderer::RawFrame> GlSceneRenderer::RenderRaw(const CameraModel
   gl.BindVertexArray(empty_vertex_array_.id());
   gl.DrawArrays(GL_TRIANGLES, 0, 3);
 
+  clock.Mark(&stats_.resolve_ms, /*finish_gl=*/true);
   RawFrame raw;
   raw.colour_alpha.create(height, width, CV_32FC4);
-  raw.depth.create(height, width, CV_32FC4);
   ReadAttachment(gl, 0, width, height, GL_RGBA, GL_FLOAT, raw.colour_alpha.data);
-  ReadAttachment(gl, 1, width, height, GL_RGBA, GL_FLOAT, raw.depth.data);
+  if (with_slots) {  // Coverage needs alpha only
+    raw.depth.create(height, width, CV_32F);
+    ReadAttachment(gl, 1, width, height, GL_RED, GL_FLOAT, raw.depth.data);
+  }
   if (with_slots) {
     gl.BindFramebuffer(GL_FRAMEBUFFER, t->weights_fbo.id());
     raw.slot_views.create(height, width, CV_32FC4);
@@ -450,6 +516,7 @@ StatusOr<GlSceneRenderer::RawFrame> GlSceneRenderer::RenderRaw(const CameraModel
     ReadAttachment(gl, 0, width, height, GL_RGBA, GL_FLOAT, raw.slot_views.data);
     ReadAttachment(gl, 1, width, height, GL_RGBA, GL_FLOAT, raw.slot_weights.data);
   }
+  clock.Mark(&stats_.readback_ms, /*finish_gl=*/false);
   gl.BindFramebuffer(GL_FRAMEBUFFER, 0);
   gl.BindVertexArray(0);
   const std::string errors = DrainGlErrors(gl);
@@ -458,21 +525,23 @@ StatusOr<GlSceneRenderer::RawFrame> GlSceneRenderer::RenderRaw(const CameraModel
   return raw;
 }
 
-std::vector<cv::Rect> GlSceneRenderer::ViewBoxes(const CameraModel& camera, const Rigid3& cam_from_world) const {
+std::vector<GlSceneRenderer::SlotBoxes> GlSceneRenderer::ViewBoxes(const CameraModel& camera, const Rigid3& cam_from_world) const {
   constexpr int kGrid = 32;
   const Eigen::Matrix3d dir_from_pixel = cam_from_world.RotationMatrix().transpose() * camera.K().inverse();
   const Eigen::Vector3d centre = CameraCentre(cam_from_world);
   const double cell_x = static_cast<double>(camera.width) / kGrid, cell_y = static_cast<double>(camera.height) / kGrid;
-  std::vector<cv::Rect> boxes(views_.size());
+  std::vector<SlotBoxes> boxes(views_.size());
   const cv::Rect frame(0, 0, camera.width, camera.height);
   for (int gy = 0; gy <= kGrid; ++gy) {
     for (int gx = 0; gx <= kGrid; ++gx) {
       const Eigen::Vector3d pixel(std::min(gx * cell_x, camera.width - 1.0), std::min(gy * cell_y, camera.height - 1.0), 1);
-      for (int view : SlotViewsAt(mesh_, MeshPointOfRay(mesh_, centre, dir_from_pixel * pixel))) {
-        if (view < 0) continue;
+      const std::array<int, 3> slots = SlotViewsAt(mesh_, MeshPointOfRay(mesh_, centre, dir_from_pixel * pixel));
+      for (int k = 0; k < 3; ++k) {
+        if (slots[k] < 0) continue;
         const cv::Rect cell(static_cast<int>(std::floor(pixel.x() - cell_x - 1)), static_cast<int>(std::floor(pixel.y() - cell_y - 1)),
                             static_cast<int>(std::ceil(2 * cell_x + 3)), static_cast<int>(std::ceil(2 * cell_y + 3)));
-        boxes[view] = boxes[view].empty() ? (cell & frame) : ((boxes[view] | cell) & frame);
+        cv::Rect& box = boxes[slots[k]][k];
+        box = box.empty() ? (cell & frame) : ((box | cell) & frame);
       }
     }
   }
@@ -484,29 +553,35 @@ StatusOr<FrameRender> GlSceneRenderer::Render(const VirtualCamera& camera) {
   ScopedCurrent current(context_.get());
   PX_RETURN_IF_ERROR(current.status());
   PX_ASSIGN_OR_RETURN(RawFrame raw, RenderRaw(camera.camera, camera.cam_from_world, /*with_slots=*/true));
+  PassClock clock(context_->gl(), time_passes_);
   const int width = camera.camera.width, height = camera.camera.height;
   FrameRender frame;
   cv::Mat colour(height, width, CV_32FC3);  // 0..255, as the CPU reference keeps it until the end
   frame.depth_m.create(height, width, CV_32F);
   frame.coverage.create(height, width, CV_8U);
-  cv::Mat partial_alpha(height, width, CV_32F, cv::Scalar(0));
-  cv::Mat partial_colour(height, width, CV_32FC3, cv::Scalar::all(0));
+  // Soft edges with too little alpha to count as covered: blended over the hole fill below.
+  struct Partial {
+    cv::Point at;
+    float alpha;
+    cv::Vec3f colour;
+  };
+  std::vector<Partial> partial;
   std::vector<double> view_weight(views_.size(), 0.0);
   for (int y = 0; y < height; ++y) {
     const cv::Vec4f* ca = raw.colour_alpha.ptr<cv::Vec4f>(y);
-    const cv::Vec4f* d = raw.depth.ptr<cv::Vec4f>(y);
+    const float* d = raw.depth.ptr<float>(y);
     const cv::Vec4f* sv = raw.slot_views.ptr<cv::Vec4f>(y);
     const cv::Vec4f* sw = raw.slot_weights.ptr<cv::Vec4f>(y);
+    uint8_t* coverage = frame.coverage.ptr<uint8_t>(y);
+    cv::Vec3f* c = colour.ptr<cv::Vec3f>(y);
+    float* depth = frame.depth_m.ptr<float>(y);
     for (int x = 0; x < width; ++x) {
       const float alpha = ca[x][3];
       const bool covered = alpha >= 0.5f;
-      frame.coverage.at<uint8_t>(y, x) = covered ? 255 : 0;
-      colour.at<cv::Vec3f>(y, x) = covered ? cv::Vec3f(ca[x][0], ca[x][1], ca[x][2]) : cv::Vec3f(0, 0, 0);
-      frame.depth_m.at<float>(y, x) = covered ? d[x][0] : 0.0f;
-      if (!covered && alpha > 0) {
-        partial_alpha.at<float>(y, x) = alpha;
-        partial_colour.at<cv::Vec3f>(y, x) = cv::Vec3f(ca[x][0], ca[x][1], ca[x][2]);
-      }
+      coverage[x] = covered ? 255 : 0;
+      c[x] = covered ? cv::Vec3f(ca[x][0], ca[x][1], ca[x][2]) : cv::Vec3f(0, 0, 0);
+      depth[x] = covered ? d[x] : 0.0f;
+      if (!covered && alpha > 0) partial.push_back({cv::Point(x, y), alpha, cv::Vec3f(ca[x][0], ca[x][1], ca[x][2])});
       for (int k = 0; k < 3; ++k) {
         const int view = static_cast<int>(std::lround(sv[x][k]));
         if (view >= 0 && view < static_cast<int>(views_.size())) view_weight[view] += sw[x][k];
@@ -523,13 +598,9 @@ StatusOr<FrameRender> GlSceneRenderer::Render(const VirtualCamera& camera) {
     FillHolesReverseSoftZ(SoftZ(rho_m_, 0.1), 3, 0, &known, &colour, &frame.depth_m);
   }
   // A soft edge with nothing behind it keeps its share over the fill (ALGORITHM.md 6).
-  for (int y = 0; y < height; ++y) {
-    for (int x = 0; x < width; ++x) {
-      const float a = partial_alpha.at<float>(y, x);
-      if (a <= 0) continue;
-      cv::Vec3f& out = colour.at<cv::Vec3f>(y, x);
-      out = a * partial_colour.at<cv::Vec3f>(y, x) + (1 - a) * out;
-    }
+  for (const Partial& p : partial) {
+    cv::Vec3f& out = colour.at<cv::Vec3f>(p.at);
+    out = p.alpha * p.colour + (1 - p.alpha) * out;
   }
   // Colour effects and depth of field (ALGORITHM.md 7, 8): the CPU reference's passes on the
   // read-back frame, not yet in shaders (README.md).
@@ -538,6 +609,7 @@ StatusOr<FrameRender> GlSceneRenderer::Render(const VirtualCamera& camera) {
     ApplyPreviewDepthOfField(camera.aperture_m, camera.focus_depth_m, camera.camera.fx, frame.depth_m, &colour);
   }
   colour.convertTo(frame.bgr, CV_8UC3);
+  clock.Mark(&stats_.post_ms, /*finish_gl=*/false);
   std::vector<int> order;
   for (size_t v = 0; v < views_.size(); ++v) {
     if (view_weight[v] > 0) order.push_back(static_cast<int>(v));

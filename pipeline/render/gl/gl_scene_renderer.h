@@ -9,6 +9,7 @@
 // (gl_view_mesh.h). Preview quality only: offline (paper 6.2) is the CPU back end's.
 #pragma once
 
+#include <array>
 #include <map>
 #include <memory>
 #include <string>
@@ -35,6 +36,15 @@ struct GlSceneRendererOptions {
   Status Validate() const { return context.Validate(); }
 };
 
+// The last frame (Render or Coverage): what was drawn and, with set_time_passes(true), the
+// process CPU time of each pass in ms (a glFinish after each GL pass, so llvmpipe's rasteriser
+// threads count where they work; the finishes cost a little of the overlap).
+struct GlFrameStats {
+  int draws = 0;      // instanced draws: a view's segments into one rendering buffer
+  int instances = 0;  // segment rectangles set up (all views)
+  double weights_ms = 0, setup_ms = 0, segments_ms = 0, resolve_ms = 0, readback_ms = 0, post_ms = 0;
+};
+
 class GlSceneRenderer final : public SceneRenderer {
  public:
   // Creates the context, builds the view mesh and uploads every view's segment images. Bad
@@ -56,23 +66,25 @@ class GlSceneRenderer final : public SceneRenderer {
   const GlContextInfo& context_info() const { return context_->info(); }
   const std::vector<std::string>& warnings() const { return warnings_; }
   double rho_m() const { return rho_m_; }
+  const GlFrameStats& last_frame() const { return stats_; }
+  void set_time_passes(bool on) { time_passes_ = on; }
 
  private:
   struct ViewTextures {
-    GlObject layer0;
-    GlObject layer1;
-    GlObject segment_ids;
+    // Per texel (RGBA32UI): layer 0 and layer 1 as packed BGRA8 (weight in the top byte), then
+    // their segment indices (-1 none): one fetch per texel of the masked bilinear sample.
+    GlObject texels;
     std::vector<int> kept_segments;  // segments that survived sanitising
   };
   struct Targets {  // per output size
     GlObject slot_views, slot_weights, weights_fbo;
-    GlObject colour[3], depth[3], slots_fbo;
+    GlObject colour[3], depth[3], slot_fbo[3];  // the three rendering buffers, one FBO each
     GlObject resolved_colour, resolved_depth, resolve_fbo;
   };
-  // The resolved frame before hole filling: (B, G, R, alpha) and depth, CV_32FC4 and CV_32FC4.
+  // The resolved frame before hole filling: (B, G, R, alpha) and depth, CV_32FC4 and CV_32F.
   struct RawFrame {
     cv::Mat colour_alpha;
-    cv::Mat depth;
+    cv::Mat depth;         // only with the slots (Render; Coverage needs alpha only)
     cv::Mat slot_views;    // CV_32FC4, only when asked for
     cv::Mat slot_weights;  // CV_32FC4
   };
@@ -80,21 +92,24 @@ class GlSceneRenderer final : public SceneRenderer {
   GlSceneRenderer() = default;
   Status Upload();
   StatusOr<Targets*> TargetsFor(int width, int height);
-  // Per view, the box of output pixels where it may hold a slot (empty: nowhere).
-  std::vector<cv::Rect> ViewBoxes(const CameraModel& camera, const Rigid3& cam_from_world) const;
+  // Per view and slot, the box of output pixels where it may hold that slot (empty: nowhere).
+  using SlotBoxes = std::array<cv::Rect, 3>;
+  std::vector<SlotBoxes> ViewBoxes(const CameraModel& camera, const Rigid3& cam_from_world) const;
   StatusOr<RawFrame> RenderRaw(const CameraModel& camera, const Rigid3& cam_from_world, bool with_slots);
 
   std::unique_ptr<GlContext> context_;
   std::vector<PosedLayeredView> views_;
   std::vector<ViewTextures> textures_;
   GlViewMesh mesh_;
-  GlObject mesh_texture_;
+  std::vector<std::array<float, 4>> mesh_uniforms_;  // the weight shader's mesh (Upload)
   GlObject weights_program_, segment_program_, resolve_program_;
   GlObject empty_vertex_array_, instance_vertex_array_, instance_buffer_;
   std::map<std::pair<int, int>, Targets> targets_;
   double rho_m_ = 0;
   double median_depth_m_ = 0;
   std::vector<std::string> warnings_;
+  GlFrameStats stats_;
+  bool time_passes_ = false;
 };
 
 }  // namespace px::render::gl

@@ -166,6 +166,19 @@ Eigen::Vector2d MeshPointOfRay(const GlViewMesh& mesh, const Eigen::Vector3d& ce
   return Eigen::Vector2d((x - mesh.origin).dot(mesh.axis1), (x - mesh.origin).dot(mesh.axis2));
 }
 
+int TriangleAt(const GlViewMesh& mesh, const Eigen::Vector2d& q) {
+  for (size_t i = 0; i < mesh.triangles.size(); ++i) {
+    const auto& t = mesh.triangles[i];
+    const Eigen::Vector2d a = mesh.vertices[t[0]], v0 = mesh.vertices[t[1]] - a, v1 = mesh.vertices[t[2]] - a,
+                          v2 = q - a;
+    const double den = v0.x() * v1.y() - v1.x() * v0.y();
+    if (std::abs(den) < 1e-20) continue;
+    const double wb = (v2.x() * v1.y() - v1.x() * v2.y()) / den, wc = (v0.x() * v2.y() - v2.x() * v0.y()) / den;
+    if (1 - wb - wc >= -1e-6 && wb >= -1e-6 && wc >= -1e-6) return static_cast<int>(i);
+  }
+  return -1;
+}
+
 std::array<int, 3> SlotViewsAt(const GlViewMesh& mesh, const Eigen::Vector2d& q) {
   std::array<int, 3> views = {-1, -1, -1};
   auto add = [&](int view) {
@@ -181,16 +194,9 @@ std::array<int, 3> SlotViewsAt(const GlViewMesh& mesh, const Eigen::Vector2d& q)
     views[0] = mesh.vertex_view[0];
     return views;
   }
-  for (const auto& t : mesh.triangles) {
-    const Eigen::Vector2d a = mesh.vertices[t[0]], v0 = mesh.vertices[t[1]] - a, v1 = mesh.vertices[t[2]] - a,
-                          v2 = q - a;
-    const double den = v0.x() * v1.y() - v1.x() * v0.y();
-    if (std::abs(den) < 1e-20) continue;
-    const double wb = (v2.x() * v1.y() - v1.x() * v2.y()) / den, wc = (v0.x() * v2.y() - v2.x() * v0.y()) / den;
-    if (1 - wb - wc >= -1e-6 && wb >= -1e-6 && wc >= -1e-6) {
-      for (int k = 0; k < 3; ++k) add(mesh.vertex_view[t[k]]);
-      return views;
-    }
+  if (const int t = TriangleAt(mesh, q); t >= 0) {
+    for (int k = 0; k < 3; ++k) add(mesh.vertex_view[mesh.triangles[t][k]]);
+    return views;
   }
   double best = 1e300;
   std::array<int, 2> best_edge = {0, 0};

@@ -43,5 +43,8 @@ StatusOr<GlViewMesh> BuildGlViewMesh(const std::vector<Eigen::Vector3d>& centres
 // there (-1 = none). The renderer samples it on a coarse grid to bound where each view is drawn.
 Eigen::Vector2d MeshPointOfRay(const GlViewMesh& mesh, const Eigen::Vector3d& centre, const Eigen::Vector3d& dir);
 std::array<int, 3> SlotViewsAt(const GlViewMesh& mesh, const Eigen::Vector2d& q);
+// The first triangle of the mesh holding q (within 1e-6 in barycentric terms, as the shader
+// tests), -1 if none: the shader tries the frame centre's first.
+int TriangleAt(const GlViewMesh& mesh, const Eigen::Vector2d& q);
 
 }  // namespace px::render::gl
