@@ -118,6 +118,44 @@ void CarryColours(const cv::Mat& bgr, const cv::Mat& labels, const cv::Mat& in_b
   }
 }
 
+// Below this colour distance (0..255 levels, Euclidean over B, G, R) between the carried foreground
+// and background colours, a pixel's colour says little about their mix: alpha keeps the ramp.
+constexpr float kMatteMinContrast = 24.0f;
+
+// Alpha of `colour` as a mix a * foreground + (1 - a) * background: its projection on the line from
+// background to foreground, blended towards `prior` where the two are too alike to tell apart, and
+// kept within `max_change` of `prior` and within [0, 1] (a textured surface can look like the
+// other side; the prior says which side of the edge the pixel is on).
+float MatteAlpha(const cv::Vec3f& colour, const cv::Vec3f& foreground, const cv::Vec3f& background, float prior,
+                 float max_change) {
+  const cv::Vec3f span = foreground - background;
+  const float contrast_sq = span.dot(span);
+  const float trust = std::min(1.0f, contrast_sq / (kMatteMinContrast * kMatteMinContrast));
+  const float projected = contrast_sq > 0 ? (colour - background).dot(span) / contrast_sq : prior;
+  const float alpha = trust * projected + (1.0f - trust) * prior;
+  return std::clamp(alpha, std::max(0.0f, prior - max_change), std::min(1.0f, prior + max_change));
+}
+
+// Boundary matting over the band: each pixel's alpha from its colour between the two carried
+// colours, within 0.5 of the linear ramp, which it replaces where the colours differ enough to
+// tell: the real silhouette is about a pixel wide, the ramp 2 * band + 1 (a fixed ramp mixes
+// background into the foreground's edge pixels in every novel view), and a segment border that
+// misses the silhouette by a pixel is followed. Depth follows the dominant layer.
+void MatteBand(const cv::Mat& bgr, const cv::Mat& in_band, const std::vector<InversePlane>& planes,
+               LayeredDepthView* view) {
+  constexpr float kMaxChange = 0.5f;
+  std::vector<cv::Point> band;
+  cv::findNonZero(in_band, band);
+  for (const cv::Point& p : band) {
+    float& alpha = view->layers[0].weight.at<float>(p);
+    alpha = MatteAlpha(cv::Vec3f(bgr.at<cv::Vec3b>(p)), cv::Vec3f(view->layers[0].colour.at<cv::Vec3b>(p)),
+                       cv::Vec3f(view->layers[1].colour.at<cv::Vec3b>(p)), alpha, kMaxChange);
+    view->layers[1].weight.at<float>(p) = 1 - alpha;
+    const int32_t dominant = view->layers[alpha >= 0.5f ? 0 : 1].segment.at<int32_t>(p);
+    view->depth_m.at<float>(p) = static_cast<float>(1.0 / planes[dominant].At(p.x, p.y));
+  }
+}
+
 }  // namespace
 
 LayeredDepthView BuildTwoLayerView(ViewId id, const CameraModel& camera, const cv::Mat& bgr,
@@ -222,6 +260,7 @@ LayeredDepthView BuildTwoLayerView(ViewId id, const CameraModel& camera, const c
     }
   }
   CarryColours(bgr, labels, in_band, 2 * options.band_radius_px + 2, &view.layers);  // across the whole band
+  MatteBand(bgr, in_band, planes, &view);
 
   // Segments with their bounding boxes over both layers.
   view.segments.resize(num_segments);

@@ -1,7 +1,8 @@
 // The paper's two-layer representation at depth discontinuities (section 5): where two touching
 // segments' planes disagree by more than a depth-edge threshold, a band of pixels on both sides
 // of the edge is shared between them: the front (foreground) segment in layer 0 with an alpha
-// that falls from 1 inside it to 0 inside the background, the background segment extended
+// that falls from 1 inside it to 0 inside the background (the pixel's colour between the two
+// carried colours where they differ, else a linear ramp), the background segment extended
 // under it in layer 1 with the complement, each with its own colour carried in from its pure
 // pixels. The renderer then separates foreground from background without halos; elsewhere a
 // pixel belongs to its own segment alone.

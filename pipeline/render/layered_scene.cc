@@ -6,6 +6,8 @@
 
 #include <opencv2/core.hpp>
 
+#include "pipeline/render/bilinear_prefilter.h"
+
 namespace px::render {
 namespace {
 
@@ -73,11 +75,12 @@ SceneView PrepareView(const View& pose, const LayeredDepthView& layered, std::ve
   view.texels.resize(static_cast<size_t>(width + 2) * (height + 2));
   std::vector<int> used(num_segments, 0);
   int bad_texels = 0;
+  const std::array<cv::Mat, 2> colours = PrefilterForBilinear(layered);
   for (int y = 0; y < height; ++y) {
     SegmentTexel* row = view.texels.data() + static_cast<size_t>(y + 1) * view.TexelStride() + 1;
     for (int layer = 0; layer < 2; ++layer) {
       const SegmentLayer& l = layered.layers[layer];
-      const cv::Vec3b* colour = l.colour.ptr<cv::Vec3b>(y);
+      const cv::Vec3b* colour = colours[layer].ptr<cv::Vec3b>(y);
       const float* weight = l.weight.ptr<float>(y);
       const int32_t* segment = l.segment.ptr<int32_t>(y);
       for (int x = 0; x < width; ++x) {

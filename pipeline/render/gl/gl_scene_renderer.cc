@@ -11,6 +11,7 @@
 #include "pipeline/core/log.h"
 #include "pipeline/render/gl/gl_program.h"
 #include "pipeline/render/gl/gl_render_shaders.h"
+#include "pipeline/render/bilinear_prefilter.h"
 #include "pipeline/render/color_effects.h"
 #include "pipeline/render/depth_of_field.h"
 #include "pipeline/render/hole_fill.h"
@@ -199,6 +200,7 @@ Status GlSceneRenderer::Upload() {
       }
     }
     ViewTextures textures;
+    const std::array<cv::Mat, 2> colours = PrefilterForBilinear(view);  // as the CPU reference's texels
     std::vector<bool> usable(view.segments.size());
     int dropped_segments = 0;
     for (size_t s = 0; s < view.segments.size(); ++s) {
@@ -217,7 +219,7 @@ Status GlSceneRenderer::Upload() {
         for (int l = 0; l < 2; ++l) {
           const float weight = view.layers[l].weight.at<float>(y, x);
           const int segment = view.layers[l].segment.at<int32_t>(y, x);
-          const cv::Vec3b c = view.layers[l].colour.at<cv::Vec3b>(y, x);
+          const cv::Vec3b c = colours[l].at<cv::Vec3b>(y, x);
           const bool segment_ok = segment >= 0 && segment < view.NumSegments() && usable[segment];
           const bool weight_ok = std::isfinite(weight) && weight >= 0 && weight <= 1;
           float kept = 0;
