@@ -19,6 +19,7 @@
 #include "pipeline/core/pixel_format.h"
 #include "pipeline/depth/depth_stage.h"
 #include "pipeline/depth/plane_sweep.h"
+#include "pipeline/depth/working_view.h"
 #include "pipeline/lattice/split_lattice.h"
 #include "sim/synthetic/data_paths.h"
 #include "sim/synthetic/scene_json.h"
@@ -127,7 +128,7 @@ StatusOr<std::vector<cv::Mat>> RunPlaneSweep(const MultiViewSet& set, const Dept
   PlaneSweepOptions options;
   options.min_depth_m = set.min_depth_m;
   options.max_depth_m = set.max_depth_m;
-  options.working_scale = ours.working_scale;
+  options.working_scale = depth::MatchingScale(set.views, ours.working_scale, ours.min_working_width_px);
   options.num_threads = ours.num_threads;
   std::vector<cv::Mat> depths;
   for (int index : set.scored) {
@@ -160,6 +161,7 @@ DepthOptions LightFieldDepthOptions(const DepthOptions& ours) {
   options.working_scale = 1.0;
   options.matching.plane_step_px = 0.1;
   options.matching.num_neighbors = 16;
+  options.matching.spread_neighbors = 12;
   return options;
 }
 
