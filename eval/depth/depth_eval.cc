@@ -162,6 +162,7 @@ DepthOptions LightFieldDepthOptions(const DepthOptions& ours) {
   options.matching.plane_step_px = 0.1;
   options.matching.num_neighbors = 16;
   options.matching.spread_neighbors = 12;
+  options.segments.pixel_depth_tolerance_px = 1.0;
   return options;
 }
 

@@ -68,7 +68,7 @@ struct DepthEvalOptions {
 // Our options for a light field: its disparities between neighbours are a few pixels, so match
 // at full resolution with plane steps of 0.1 px, and use 16 of its many neighbours: the 4
 // nearest and 12 spread over the widest baselines (on the 9x9, the cross and the diagonals out
-// to the grid's edge).
+// to the grid's edge); depth_m keeps the per-pixel depth within 1 px of the segment planes.
 DepthOptions LightFieldDepthOptions(const DepthOptions& ours);
 
 // Runs every set found. Fails only when the data folder holds a set that cannot be read (the

@@ -24,8 +24,10 @@ struct MatchingOptions {
   // taken nearest first (farthest-point sampling of camera centres, neighbour_views.h): wide
   // baselines pin depth down finer, the nearest keep occlusions small. Only matters when the
   // shot has more views than num_neighbors + 1 (a lattice, a light field). [0, 16], at most
-  // num_neighbors of them are spread; 0 = all nearest.
-  int spread_neighbors = 6;
+  // num_neighbors of them are spread; 0 = all nearest. Off by default: on the 3x3 test rig
+  // with 4 of 8 neighbours it made a view with exposure differences worse (the light-field
+  // evaluation turns it on).
+  int spread_neighbors = 0;
   // ZNCC window radius in pixels at the working scale: the window is (2r+1)^2. [1, 15].
   int window_radius_px = 2;
   // Guided-filter aggregation of each cost slice (cost-volume filtering): radius in pixels at
@@ -75,8 +77,10 @@ struct SegmentOptions {
   // curved and steep surfaces, while pixels far off it are the matcher's outliers. [0, 64];
   // 0 = segment planes everywhere.
   // Only where matching ran at view resolution (working scale 1): below it the per-pixel depth
-  // is no finer than the plane and blurs across depth edges when upsampled.
-  double pixel_depth_tolerance_px = 1.0;
+  // is no finer than the plane and blurs across depth edges when upsampled. Off by default: on
+  // truly planar scenes (the synthetic test rigs) the plane is exact and the per-pixel depth
+  // only adds noise; the light-field evaluation turns it on (curved, relief-rich scenes).
+  double pixel_depth_tolerance_px = 0;
 };
 
 struct DepthOptions {
