@@ -159,7 +159,10 @@ DepthMethodRun TimeMultiView(const std::string& name, const MultiViewSet& set, c
 DepthOptions LightFieldDepthOptions(const DepthOptions& ours) {
   DepthOptions options = ours;
   options.working_scale = 1.0;
-  options.matching.plane_step_px = 0.1;
+  // 0.2 px steps, at most 64 planes: on the 3x3 BadPix.07 20.9 % against 22.4 % with 0.1 px,
+  // on the 9x9 12.9 % against 12.6 % with 128 planes for half the CPU time (the 5 s goal).
+  options.matching.plane_step_px = 0.2;
+  options.matching.max_planes = 64;
   options.matching.num_neighbors = 16;
   options.matching.spread_neighbors = 12;
   options.segments.pixel_depth_tolerance_px = 1.0;
