@@ -73,7 +73,7 @@ struct SegmentOptions {
   int band_radius_px = 2;
   // Pixels whose own matched depth lies within this many pixels of disparity (against the
   // nearest neighbour, view resolution) of their segment's plane keep it in depth_m instead of
-  // the plane (outside the two-layer bands; confident_pixel_depth.h): the plane fit flattens
+  // the plane (outside the two-layer bands; pixel_depth_near_planes.h): the plane fit flattens
   // curved and steep surfaces, while pixels far off it are the matcher's outliers. [0, 64];
   // 0 = segment planes everywhere.
   // Only where matching ran at view resolution (working scale 1): below it the per-pixel depth

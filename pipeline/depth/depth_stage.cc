@@ -8,7 +8,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include "pipeline/core/log.h"
-#include "pipeline/depth/confident_pixel_depth.h"
+#include "pipeline/depth/pixel_depth_near_planes.h"
 #include "pipeline/depth/consistency.h"
 #include "pipeline/depth/cost_volume.h"
 #include "pipeline/depth/neighbour_views.h"

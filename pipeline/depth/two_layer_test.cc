@@ -8,7 +8,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include "pipeline/core/layered_depth.h"
-#include "pipeline/depth/confident_pixel_depth.h"
+#include "pipeline/depth/pixel_depth_near_planes.h"
 #include "pipeline/depth/segment_planes.h"
 #include "pipeline/depth/superpixels.h"
 #include "pipeline/depth/two_layer.h"
@@ -99,7 +99,7 @@ TEST(TwoLayerTest, NoBandWhereNeighbouringPlanesAgree) {
   EXPECT_EQ(view.layers[0].segment.at<int32_t>(3, 32), 1);
 }
 
-TEST(ConfidentPixelDepthTest, KeepsPixelDepthNearThePlaneOutsideTheBands) {
+TEST(PixelDepthNearPlanesTest, KeepsPixelDepthNearThePlaneOutsideTheBands) {
   const EdgeScene scene = MakeEdgeScene(3.0);
   LayeredDepthView view = BuildTwoLayerView(ViewId{0}, scene.camera, scene.bgr, scene.segments,
                                             cv::Mat(32, 64, CV_32F, cv::Scalar(0.7f)), EdgeOptions());

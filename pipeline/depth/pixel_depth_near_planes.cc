@@ -1,4 +1,4 @@
-#include "pipeline/depth/confident_pixel_depth.h"
+#include "pipeline/depth/pixel_depth_near_planes.h"
 
 #include <cmath>
 
