@@ -19,6 +19,7 @@
 #include "pipeline/core/pixel_format.h"
 #include "pipeline/depth/depth_stage.h"
 #include "pipeline/depth/plane_sweep.h"
+#include "pipeline/depth/working_view.h"
 #include "pipeline/lattice/split_lattice.h"
 #include "sim/synthetic/data_paths.h"
 #include "sim/synthetic/scene_json.h"
@@ -127,7 +128,7 @@ StatusOr<std::vector<cv::Mat>> RunPlaneSweep(const MultiViewSet& set, const Dept
   PlaneSweepOptions options;
   options.min_depth_m = set.min_depth_m;
   options.max_depth_m = set.max_depth_m;
-  options.working_scale = ours.working_scale;
+  options.working_scale = depth::MatchingScale(set.views, ours.working_scale, ours.min_working_width_px);
   options.num_threads = ours.num_threads;
   std::vector<cv::Mat> depths;
   for (int index : set.scored) {
@@ -158,8 +159,13 @@ DepthMethodRun TimeMultiView(const std::string& name, const MultiViewSet& set, c
 DepthOptions LightFieldDepthOptions(const DepthOptions& ours) {
   DepthOptions options = ours;
   options.working_scale = 1.0;
-  options.matching.plane_step_px = 0.1;
+  // 0.2 px steps, at most 64 planes: on the 3x3 BadPix.07 20.9 % against 22.4 % with 0.1 px,
+  // on the 9x9 12.9 % against 12.6 % with 128 planes for half the CPU time (the 5 s goal).
+  options.matching.plane_step_px = 0.2;
+  options.matching.max_planes = 64;
   options.matching.num_neighbors = 16;
+  options.matching.spread_neighbors = 12;
+  options.segments.pixel_depth_tolerance_px = 1.0;
   return options;
 }
 

@@ -59,9 +59,9 @@ struct LayeredDepthView {
   CameraModel camera;      // the view's pinhole camera (no distortion); all images are its size
   std::vector<DepthSegment> segments;
   std::array<SegmentLayer, 2> layers;  // [0] front, [1] behind it at boundaries (see above)
-  // Per-pixel summaries for consumers that want a plain depth map: z in metres of the dominant
-  // layer's segment plane (layers[0] where its weight is at least 0.5, else layers[1]; 0 where
-  // no segment covers the pixel), and the stereo stage's per-pixel confidence in [0, 1].
+  // Per-pixel summaries for a plain depth map: z in metres of the dominant layer's plane (layers[0]
+  // where its weight is >= 0.5, else layers[1]; 0 where no segment covers the pixel; or the depth
+  // stage's own depth near that plane: pixel_depth_tolerance_px), and the stereo confidence in [0, 1].
   cv::Mat depth_m;     // CV_32F
   cv::Mat confidence;  // CV_32F
 

@@ -20,6 +20,7 @@ Status ValidateMatching(const MatchingOptions& m) {
   if (!(m.plane_step_px > 0 && m.plane_step_px <= 8)) return OutOfRange("matching.plane_step_px", m.plane_step_px, "(0, 8]");
   if (m.max_planes < 2 || m.max_planes > 1024) return OutOfRange("matching.max_planes", m.max_planes, "[2, 1024]");
   if (m.num_neighbors < 1 || m.num_neighbors > 16) return OutOfRange("matching.num_neighbors", m.num_neighbors, "[1, 16]");
+  if (m.spread_neighbors < 0 || m.spread_neighbors > 16) return OutOfRange("matching.spread_neighbors", m.spread_neighbors, "[0, 16]");
   if (m.window_radius_px < 1 || m.window_radius_px > 15) {
     return OutOfRange("matching.window_radius_px", m.window_radius_px, "[1, 15]");
   }
@@ -61,6 +62,9 @@ Status ValidateSegments(const SegmentOptions& s) {
     return OutOfRange("segments.edge_disparity_px", s.edge_disparity_px, "(0, 64]");
   }
   if (s.band_radius_px < 1 || s.band_radius_px > 16) return OutOfRange("segments.band_radius_px", s.band_radius_px, "[1, 16]");
+  if (!(s.pixel_depth_tolerance_px >= 0 && s.pixel_depth_tolerance_px <= 64)) {
+    return OutOfRange("segments.pixel_depth_tolerance_px", s.pixel_depth_tolerance_px, "[0, 64]");
+  }
   return OkStatus();
 }
 
@@ -75,6 +79,9 @@ Status DepthOptions::Validate() const {
     return InvalidArgumentError(error.str());
   }
   if (!(working_scale > 0 && working_scale <= 1)) return OutOfRange("working_scale", working_scale, "(0, 1]");
+  if (min_working_width_px < 0 || min_working_width_px > 4096) {
+    return OutOfRange("min_working_width_px", min_working_width_px, "[0, 4096]");
+  }
   PX_RETURN_IF_ERROR(ValidateMatching(matching));
   PX_RETURN_IF_ERROR(ValidateSegments(segments));
   if (!(consistency_tolerance_px > 0 && consistency_tolerance_px <= 16)) {

@@ -20,6 +20,14 @@ struct MatchingOptions {
   // aggregation holds at most 16 costs per pixel); fewer are used
   // when the shot has fewer.
   int num_neighbors = 8;
+  // How many of those are spread out over the widest baselines and every direction instead of
+  // taken nearest first (farthest-point sampling of camera centres, neighbour_views.h): wide
+  // baselines pin depth down finer, the nearest keep occlusions small. Only matters when the
+  // shot has more views than num_neighbors + 1 (a lattice, a light field). [0, 16], at most
+  // num_neighbors of them are spread; 0 = all nearest. Off by default: on the 3x3 test rig
+  // with 4 of 8 neighbours it made a view with exposure differences worse (the light-field
+  // evaluation turns it on).
+  int spread_neighbors = 0;
   // ZNCC window radius in pixels at the working scale: the window is (2r+1)^2. [1, 15].
   int window_radius_px = 2;
   // Guided-filter aggregation of each cost slice (cost-volume filtering): radius in pixels at
@@ -63,6 +71,16 @@ struct SegmentOptions {
   // a soft band band_radius_px wide on each side ([1, 16], view resolution).
   double edge_disparity_px = 1.0;
   int band_radius_px = 2;
+  // Pixels whose own matched depth lies within this many pixels of disparity (against the
+  // nearest neighbour, view resolution) of their segment's plane keep it in depth_m instead of
+  // the plane (outside the two-layer bands; pixel_depth_near_planes.h): the plane fit flattens
+  // curved and steep surfaces, while pixels far off it are the matcher's outliers. [0, 64];
+  // 0 = segment planes everywhere.
+  // Only where matching ran at view resolution (working scale 1): below it the per-pixel depth
+  // is no finer than the plane and blurs across depth edges when upsampled. Off by default: on
+  // truly planar scenes (the synthetic test rigs) the plane is exact and the per-pixel depth
+  // only adds noise; the light-field evaluation turns it on (curved, relief-rich scenes).
+  double pixel_depth_tolerance_px = 0;
 };
 
 struct DepthOptions {
@@ -73,6 +91,10 @@ struct DepthOptions {
   // Matching runs at this fraction of the view resolution; segments and layers are made at full
   // resolution. (0, 1].
   double working_scale = 0.5;
+  // Small views match at a larger scale: the working scale is raised (up to 1) so that matching
+  // runs on at least this many columns; a 320x240 lattice tile halved has too few pixels for
+  // its windows. [0, 4096]; 0 = working_scale as given.
+  int min_working_width_px = 320;
   MatchingOptions matching;
   SegmentOptions segments;
   // Consistency between views: a pixel whose depth no other view confirms within this many

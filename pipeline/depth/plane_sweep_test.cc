@@ -13,8 +13,10 @@
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
+#include "pipeline/depth/neighbour_views.h"
 #include "pipeline/depth/plane_homography.h"
 #include "pipeline/depth/plane_scene_test_util.h"
+#include "pipeline/depth/working_view.h"
 
 namespace px {
 namespace {
@@ -95,6 +97,51 @@ TEST(PlaneHomographyTest, MapsPointsOnThePlaneBetweenGeneralCameras) {
     EXPECT_NEAR(mapped.x() / mapped.z(), expected.x(), 1e-9);
     EXPECT_NEAR(mapped.y() / mapped.z(), expected.y(), 1e-9);
   }
+}
+
+// A 5x5 grid of parallel cameras 1 cm apart, the reference (12) in the middle.
+std::vector<View> GridViews() {
+  std::vector<View> views(25);
+  for (int i = 0; i < 25; ++i) {
+    views[i].id = ViewId{i};
+    views[i].camera = CameraModel::Pinhole(320, 240, 300.0);
+    const Eigen::Vector3d centre(0.01 * (i % 5 - 2), 0.01 * (i / 5 - 2), 0);
+    views[i].cam_from_world = Rigid3(Eigen::Quaterniond::Identity(), -centre);
+  }
+  return views;
+}
+
+TEST(NeighbourViewsTest, SpreadNeighboursTakeTheWidestBaselinesInEveryDirection) {
+  const std::vector<View> views = GridViews();
+  const std::vector<int> nearest_first = depth::NearestNeighbourViews(views, 12, 24);
+  // No spreading: the nearest ones as they come.
+  EXPECT_EQ(depth::ChooseNeighbourViews(views, 12, nearest_first, 4, 0),
+            (std::vector<int>(nearest_first.begin(), nearest_first.begin() + 4)));
+  // All four spread: the grid's corners, one per direction.
+  std::vector<int> corners = depth::ChooseNeighbourViews(views, 12, nearest_first, 4, 4);
+  std::sort(corners.begin(), corners.end());
+  EXPECT_EQ(corners, (std::vector<int>{0, 4, 20, 24}));
+  // The 4 nearest (the cross at one step), then the corners (farthest from those), then, with
+  // every other view one step from a chosen one, the nearest of the ties: the diagonals.
+  std::vector<int> mixed = depth::ChooseNeighbourViews(views, 12, nearest_first, 12, 8);
+  std::vector<int> near(mixed.begin(), mixed.begin() + 4), far_corners(mixed.begin() + 4, mixed.begin() + 8),
+      diagonals(mixed.begin() + 8, mixed.end());
+  std::sort(near.begin(), near.end());
+  std::sort(far_corners.begin(), far_corners.end());
+  std::sort(diagonals.begin(), diagonals.end());
+  EXPECT_EQ(near, (std::vector<int>{7, 11, 13, 17}));
+  EXPECT_EQ(far_corners, (std::vector<int>{0, 4, 20, 24}));
+  EXPECT_EQ(diagonals, (std::vector<int>{6, 8, 16, 18}));
+  // Fewer candidates than asked for: all of them.
+  EXPECT_EQ(depth::ChooseNeighbourViews(views, 12, {7, 13}, 8, 4).size(), 2u);
+}
+
+TEST(WorkingViewTest, SmallViewsMatchAtALargerScale) {
+  const std::vector<View> views = GridViews();  // 320 px wide
+  EXPECT_DOUBLE_EQ(depth::MatchingScale(views, 0.5, 0), 0.5);
+  EXPECT_DOUBLE_EQ(depth::MatchingScale(views, 0.5, 160), 0.5);
+  EXPECT_DOUBLE_EQ(depth::MatchingScale(views, 0.5, 240), 0.75);
+  EXPECT_DOUBLE_EQ(depth::MatchingScale(views, 0.5, 640), 1.0);
 }
 
 TEST(PlaneHomographyTest, NeighboursAreNearestCentresFirstAndSkipSameCentre) {

@@ -8,6 +8,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include "pipeline/core/layered_depth.h"
+#include "pipeline/depth/pixel_depth_near_planes.h"
 #include "pipeline/depth/segment_planes.h"
 #include "pipeline/depth/superpixels.h"
 #include "pipeline/depth/two_layer.h"
@@ -121,6 +122,36 @@ TEST(TwoLayerTest, NoBandWhereNeighbouringPlanesAgree) {
   EXPECT_EQ(CountBoundaryPixels(view), 0);
   EXPECT_EQ(view.layers[0].segment.at<int32_t>(3, 31), 0);
   EXPECT_EQ(view.layers[0].segment.at<int32_t>(3, 32), 1);
+}
+
+TEST(PixelDepthNearPlanesTest, KeepsPixelDepthNearThePlaneOutsideTheBands) {
+  const EdgeScene scene = MakeEdgeScene(3.0);
+  LayeredDepthView view = BuildTwoLayerView(ViewId{0}, scene.camera, scene.bgr, scene.segments,
+                                            cv::Mat(32, 64, CV_32F, cv::Scalar(0.7f)), EdgeOptions());
+  // The matcher saw relief on both planes (inverse depth off by up to +-0.02), an outlier far
+  // off the front plane and a pixel without depth.
+  cv::Mat inverse_depth(32, 64, CV_32F);
+  for (int y = 0; y < 32; ++y) {
+    for (int x = 0; x < 64; ++x) {
+      const float plane = x < 32 ? 1.0f : 1.0f / 3.0f;
+      inverse_depth.at<float>(y, x) = plane + 0.02f * std::sin(0.3f * static_cast<float>(x + y));
+    }
+  }
+  inverse_depth.at<float>(10, 5) = 0.5f;  // 2 m: an outlier, 0.5 off the plane
+  inverse_depth.at<float>(3, 3) = 0;      // no depth there
+  const int changed = KeepPixelDepthNearPlanes(inverse_depth, 0.05, &view);
+  ASSERT_TRUE(ValidateLayeredDepthView(view).ok());
+  EXPECT_EQ(changed, 64 * 32 - 6 * 32 - 2);  // all but the band (x 29..34), the outlier and (3, 3)
+  EXPECT_NEAR(view.depth_m.at<float>(20, 7), 1.0f / inverse_depth.at<float>(20, 7), 1e-5f);
+  EXPECT_NEAR(view.depth_m.at<float>(20, 50), 1.0f / inverse_depth.at<float>(20, 50), 1e-5f);
+  EXPECT_NE(view.depth_m.at<float>(20, 50), 3.0f);
+  EXPECT_NEAR(view.depth_m.at<float>(10, 5), 1.0f, 1e-5f);   // the outlier takes the plane
+  EXPECT_NEAR(view.depth_m.at<float>(3, 3), 1.0f, 1e-5f);
+  EXPECT_NEAR(view.depth_m.at<float>(10, 31), 1.0f, 1e-5f);  // band: the dominant layer's plane
+  EXPECT_NEAR(view.depth_m.at<float>(10, 33), 3.0f, 1e-5f);
+  // The segments the renderer draws keep their planes.
+  EXPECT_DOUBLE_EQ(view.segments[0].inv_depth_c, 1.0);
+  EXPECT_DOUBLE_EQ(view.segments[1].inv_depth_c, 1.0 / 3.0);
 }
 
 TEST(TwoLayerTest, PlanesBehindTheCameraBecomeFrontoParallel) {

@@ -1,5 +1,6 @@
 #include "pipeline/depth/working_view.h"
 
+#include <algorithm>
 #include <sstream>
 
 #include <opencv2/imgproc.hpp>
@@ -22,6 +23,14 @@ WorkingView MakeWorkingView(const View& view, double scale) {
   cv::cvtColor(working.bgr, gray8, cv::COLOR_BGR2GRAY);
   gray8.convertTo(working.gray, CV_32F, 1.0 / 255.0);
   return working;
+}
+
+double MatchingScale(const std::vector<View>& views, double working_scale, int min_width_px) {
+  double scale = working_scale;
+  for (const View& view : views) {
+    if (view.camera.width > 0) scale = std::max(scale, std::min(1.0, min_width_px / static_cast<double>(view.camera.width)));
+  }
+  return scale;
 }
 
 std::string ViewName(const View& view) { return "view " + std::to_string(view.id.value); }

@@ -26,6 +26,10 @@ struct WorkingView {
 // scale in (0, 1]: area-averaged down-sampling, intrinsics scaled to match.
 WorkingView MakeWorkingView(const View& view, double scale);
 
+// working_scale raised (up to 1) so that the narrowest view matches on at least min_width_px
+// columns; 0 leaves it as given.
+double MatchingScale(const std::vector<View>& views, double working_scale, int min_width_px);
+
 std::string ViewName(const View& view);
 
 // Checks what every depth method needs: at least 2 views; undistorted pinhole cameras; CV_8UC3
