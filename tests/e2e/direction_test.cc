@@ -177,6 +177,21 @@ TEST_F(DirectionTest, OneFaceTakesARowOneMoveAndTheDollyZoomHoldsItsSize) {
               zoom.path.NumFrames(), 1000 * travel_m);
 }
 
+// The product's size (9 views of 640x480): H(V) is not scale-free (a hole twice as many pixels
+// wide weighs 8 times as much), so the valid region is narrower than at 320x240; the dolly in
+// must still hold on the one-face scene, every frame valid at 640x480 and the face inside.
+TEST_F(DirectionTest, OneFaceDollyInHoldsAtTheProductSize) {
+  NeedFacePhotos();
+  if (IsSkipped()) return;
+  StatusOr<std::unique_ptr<Shot>> shot = e2e::MakeDirectionShot("one_face", 1.0);
+  ASSERT_TRUE(shot.ok()) << shot.status().ToString();
+  ASSERT_EQ((*shot)->views.front().camera.width, 640);
+  const Planned planned = Plan(shot->get(), detector_.get(), "dolly_in");
+  ASSERT_NO_FATAL_FAILURE(CheckPath(shot->get(), planned, 1));
+  EXPECT_EQ(planned.path.move, "dolly_in") << planned.path.reason;
+  ExpectFaceSlightlyAboveCentre(planned.path, planned.path.subjects.front(), 1.0);
+}
+
 TEST_F(DirectionTest, TwoFacesDollyBetweenThem) {
   NeedFacePhotos();
   if (IsSkipped()) return;
