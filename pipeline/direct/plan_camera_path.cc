@@ -309,8 +309,11 @@ StatusOr<CameraPath> PlanCameraPath(const std::vector<View>& views, const std::v
   planner.centre = direct::CentreViewIndex(views);
 
   StatusOr<direct::SubjectSearch> found =
-      direct::FindSubjects(views, depths, planner.centre, context.face_detector, options);
+      direct::FindSubjects(views, depths, planner.centre, context.face_detector, options, context.centre_faces);
   if (found.ok()) {
+    if (context.centre_faces != nullptr && context.centre_faces->view == views[planner.centre].id) {
+      report.faces_before_ms = context.centre_faces->ms;
+    }
     report.detector = found->detector;
     report.faces_detected = found->detections;
     report.subjects_ms = found->ms;
