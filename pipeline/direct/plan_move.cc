@@ -496,12 +496,15 @@ StatusOr<CameraPath> PlanMove(const MoveChoice& choice, const PlanContext& conte
       // The end framing a subject close up carries the full aperture of a depth-of-field change.
       size_t subject_end = last;
       if (choice.move == Move::kDollyOut || choice.move == Move::kDollyZoomIn) subject_end = 0;
-      std::vector<size_t> keys = {0, last};
+      // A focus pull holds the aperture at both ends; a depth-of-field change opens from a pinhole
+      // (already verified) to the full aperture at the subject's end, the only end it constrains.
+      const std::vector<size_t> keys =
+          effect == Effect::kFocusPull ? std::vector<size_t>{0, last} : std::vector<size_t>{subject_end};
       PX_ASSIGN_OR_RETURN(double aperture, PathAperture(path, keys, context));
       report->aperture_m = aperture;
       if (!(aperture >= 1e-4)) {
-        path.notes.push_back(std::string(EffectName(effect)) +
-                             " dropped: no aperture of 0.1 mm or more keeps both ends valid");
+        path.notes.push_back(std::string(EffectName(effect)) + " dropped: no aperture of 0.1 mm or more keeps " +
+                             (keys.size() > 1 ? "both ends" : "the subject's end") + " valid");
         effect = Effect::kNone;
       } else {
         for (size_t k = 0; k < path.keyframes.size(); ++k) {
