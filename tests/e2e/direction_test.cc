@@ -242,9 +242,8 @@ TEST_F(DirectionTest, TwoFacesDollyPullsFocusWithTheLargestValidAperture) {
 }
 
 // A depth-of-field change (4.3): the two-subject dolly opens from a pinhole to the largest aperture
-// that keeps its ends valid at the four corners of the aperture's box, focused on the subject it
-// ends on. (On the one-face scene the dolly in's close-up is already near H(V) 2, so no aperture
-// of 0.1 mm keeps it valid and the effect is dropped with a note.)
+// that keeps its end valid at the four corners of the aperture's box, focused on the subject it
+// ends on (the pinhole end constrains no aperture).
 TEST_F(DirectionTest, TwoFacesDollyRampsTheApertureFromPinholeToTheLargestValid) {
   NeedFacePhotos();
   if (IsSkipped()) return;
@@ -282,6 +281,32 @@ TEST_F(DirectionTest, TwoFacesDollyRampsTheApertureFromPinholeToTheLargestValid)
   }
   std::printf("[figures] dolly with a depth-of-field change: aperture 0 -> %.1f mm over %d frames\n",
               1000 * aperture, path.NumFrames());
+}
+
+// The one-face dolly in with a depth-of-field change: the aperture opens towards the close-up,
+// and every aperture corner of the close-up is valid at the output size.
+TEST_F(DirectionTest, OneFaceDollyInOpensTheApertureOnTheCloseUp) {
+  NeedFacePhotos();
+  if (IsSkipped()) return;
+  std::unique_ptr<Shot> shot = MakeShot("one_face");
+  ASSERT_NE(shot, nullptr);
+  const Planned planned = Plan(shot.get(), detector_.get(), "dolly_in", "dof_change");
+  const CameraPath& path = planned.path;
+  ASSERT_EQ(path.move, "dolly_in") << path.reason;
+  ASSERT_EQ(path.effect, "dof_change") << path.reason;
+  const CameraKeyframe& end = path.keyframes.back();
+  EXPECT_GT(end.aperture_m, 1e-4);
+  EXPECT_DOUBLE_EQ(path.keyframes.front().aperture_m, 0.0);
+  direct::Framing close_up;
+  close_up.centre_in_world = end.centre_in_world;
+  close_up.cam_from_world = end.CamFromWorld();
+  close_up.focal_px = end.focal_px;
+  for (const direct::Framing& corner : direct::ApertureCorners(close_up, end.aperture_m)) {
+    StatusOr<CoverageReport> coverage = shot->renderer->Coverage(path.CameraAt(1.0), corner.cam_from_world);
+    ASSERT_TRUE(coverage.ok()) << coverage.status().ToString();
+    EXPECT_LT(coverage->hole_score, 2.0) << "aperture corner of the close-up";
+  }
+  std::printf("[figures] one-face dolly in with a depth-of-field change: aperture 0 -> %.1f mm\n", 1000 * end.aperture_m);
 }
 
 // A saturation layer on the subject (4.3), keyframed from unchanged to its target.
