@@ -99,6 +99,20 @@ void CheckPath(Shot* shot, const Planned& planned, int subjects_expected) {
               planned.report.total_ms);
 }
 
+// Every corner of the aperture's box around `key` is a valid viewpoint at the output size (4.3).
+void ExpectApertureCornersValid(Shot* shot, const CameraPath& path, const CameraKeyframe& key, double aperture_m,
+                                const std::string& what) {
+  direct::Framing end;
+  end.centre_in_world = key.centre_in_world;
+  end.cam_from_world = key.CamFromWorld();
+  end.focal_px = key.focal_px;
+  for (const direct::Framing& corner : direct::ApertureCorners(end, aperture_m)) {
+    StatusOr<CoverageReport> coverage = shot->renderer->Coverage(path.CameraAt(key.t), corner.cam_from_world);
+    ASSERT_TRUE(coverage.ok()) << coverage.status().ToString();
+    EXPECT_LT(coverage->hole_score, 2.0) << "aperture corner of " << what;
+  }
+}
+
 class DirectionTest : public ::testing::Test {
  protected:
   void SetUp() override {
@@ -223,15 +237,7 @@ TEST_F(DirectionTest, TwoFacesDollyPullsFocusWithTheLargestValidAperture) {
   EXPECT_LE(aperture, DirectOptions{}.max_aperture_m);
   for (const CameraKeyframe* key : {&path.keyframes.front(), &path.keyframes.back()}) {
     EXPECT_DOUBLE_EQ(key->aperture_m, aperture);
-    direct::Framing end;
-    end.centre_in_world = key->centre_in_world;
-    end.cam_from_world = key->CamFromWorld();
-    end.focal_px = key->focal_px;
-    for (const direct::Framing& corner : direct::ApertureCorners(end, aperture)) {
-      StatusOr<CoverageReport> coverage = shot->renderer->Coverage(path.CameraAt(key->t), corner.cam_from_world);
-      ASSERT_TRUE(coverage.ok()) << coverage.status().ToString();
-      EXPECT_LT(coverage->hole_score, 2.0) << "aperture corner at t = " << key->t;
-    }
+    ExpectApertureCornersValid(shot.get(), path, *key, aperture, "the end at t = " + std::to_string(key->t));
   }
   EXPECT_NEAR(path.keyframes.front().focus_depth_m,
               direct::SubjectDepthIn(path.subjects[0], path.keyframes.front().CamFromWorld()), 1e-6);
@@ -270,15 +276,7 @@ TEST_F(DirectionTest, TwoFacesDollyRampsTheApertureFromPinholeToTheLargestValid)
     }
   }
   EXPECT_NEAR(previous, aperture, 1e-9);
-  direct::Framing close_up;
-  close_up.centre_in_world = end.centre_in_world;
-  close_up.cam_from_world = end.CamFromWorld();
-  close_up.focal_px = end.focal_px;
-  for (const direct::Framing& corner : direct::ApertureCorners(close_up, aperture)) {
-    StatusOr<CoverageReport> coverage = shot->renderer->Coverage(path.CameraAt(1.0), corner.cam_from_world);
-    ASSERT_TRUE(coverage.ok()) << coverage.status().ToString();
-    EXPECT_LT(coverage->hole_score, 2.0) << "aperture corner of the end";
-  }
+  ExpectApertureCornersValid(shot.get(), path, end, aperture, "the end");
   std::printf("[figures] dolly with a depth-of-field change: aperture 0 -> %.1f mm over %d frames\n",
               1000 * aperture, path.NumFrames());
 }
@@ -297,15 +295,7 @@ TEST_F(DirectionTest, OneFaceDollyInOpensTheApertureOnTheCloseUp) {
   const CameraKeyframe& end = path.keyframes.back();
   EXPECT_GT(end.aperture_m, 1e-4);
   EXPECT_DOUBLE_EQ(path.keyframes.front().aperture_m, 0.0);
-  direct::Framing close_up;
-  close_up.centre_in_world = end.centre_in_world;
-  close_up.cam_from_world = end.CamFromWorld();
-  close_up.focal_px = end.focal_px;
-  for (const direct::Framing& corner : direct::ApertureCorners(close_up, end.aperture_m)) {
-    StatusOr<CoverageReport> coverage = shot->renderer->Coverage(path.CameraAt(1.0), corner.cam_from_world);
-    ASSERT_TRUE(coverage.ok()) << coverage.status().ToString();
-    EXPECT_LT(coverage->hole_score, 2.0) << "aperture corner of the close-up";
-  }
+  ExpectApertureCornersValid(shot.get(), path, end, end.aperture_m, "the close-up");
   std::printf("[figures] one-face dolly in with a depth-of-field change: aperture 0 -> %.1f mm\n", 1000 * end.aperture_m);
 }
 
