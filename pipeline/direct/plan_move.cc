@@ -131,9 +131,11 @@ Status KeepSubjectsInFrame(const std::vector<Subject>& subjects, double margin_p
 }
 
 // The largest H(V) over `frames` frames evenly spread along the path, at the probe's size.
-StatusOr<double> WorstHoleScore(const CameraPath& path, int frames, CoverageProbe* probe) {
-  double worst = 0;
-  for (int i = 0; i < frames; ++i) {
+// `ends_score`: the ends' largest H(V), already measured at this size (then they are not again).
+StatusOr<double> WorstHoleScore(const CameraPath& path, int frames, CoverageProbe* probe,
+                                std::optional<double> ends_score = std::nullopt) {
+  double worst = ends_score.value_or(0.0);
+  for (int i = ends_score ? 1 : 0; i < (ends_score ? frames - 1 : frames); ++i) {
     const double t = frames > 1 ? static_cast<double>(i) / (frames - 1) : 0.0;
     PX_ASSIGN_OR_RETURN(double score, probe->HoleScore(path.CameraAt(t), path.PoseAt(t)));
     worst = std::max(worst, score);
@@ -413,6 +415,7 @@ StatusOr<CameraPath> PlanMove(const MoveChoice& choice, const PlanContext& conte
     double length = 0, parallax = 0, focal_scale = 1;
     CameraPath path;
     std::optional<Framing> start_pulled, end_pulled;  // ends pulled back to hold at the verify size
+    std::optional<double> ends_score;                  // the ends' largest H(V) at the verify size
   };
   std::vector<Pair> pairs;
   const double min_length = 1e-3;
@@ -493,15 +496,20 @@ StatusOr<CameraPath> PlanMove(const MoveChoice& choice, const PlanContext& conte
     double pull[2] = {0, 0};  // start, end: fraction of the path pulled back
     for (int round = 0; round < kPullBackRounds; ++round) {
       bool held = true;
+      double ends_score = 0;
       for (int side = 0; side < 2; ++side) {
         const double t = side == 0 ? 0.0 : 1.0;
-        PX_ASSIGN_OR_RETURN(bool valid, context.verify->Valid(pair->path.CameraAt(t), pair->path.PoseAt(t)));
-        if (valid) continue;
+        PX_ASSIGN_OR_RETURN(double score, context.verify->HoleScore(pair->path.CameraAt(t), pair->path.PoseAt(t)));
+        ends_score = std::max(ends_score, score);
+        if (score < context.verify->valid_hole_score()) continue;
         held = false;
         pull[side] = pull[side] == 0 ? kFirstPullBack : 2 * pull[side];
         if (pull[side] > kMaxPullBack) return false;
       }
-      if (held) return true;
+      if (held) {
+        pair->ends_score = ends_score;
+        return true;
+      }
       if (pull[0] > 0) pair->start_pulled = start_rule(a.centre_in_world + pull[0] * (b.centre_in_world - a.centre_in_world));
       if (pull[1] > 0) pair->end_pulled = end_rule(b.centre_in_world + pull[1] * (a.centre_in_world - b.centre_in_world));
       for (const std::optional<Framing>& pulled : {pair->start_pulled, pair->end_pulled}) {
@@ -538,7 +546,8 @@ StatusOr<CameraPath> PlanMove(const MoveChoice& choice, const PlanContext& conte
       path.notes.push_back(text);
     }
     report->focal_scale = pair.focal_scale;
-    PX_ASSIGN_OR_RETURN(double worst, WorstHoleScore(path, options.search.verify_frames, context.verify));
+    PX_ASSIGN_OR_RETURN(double worst,
+                        WorstHoleScore(path, options.search.verify_frames, context.verify, pair.ends_score));
     if (worst >= context.verify->valid_hole_score()) {
       char text[160];
       std::snprintf(text, sizeof(text), "a frame of the path has H(V) %.2f at the verify size", worst);
