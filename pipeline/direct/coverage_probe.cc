@@ -13,8 +13,11 @@ StatusOr<double> CoverageProbe::HoleScore(const CameraModel& output_camera, cons
   const auto start = std::chrono::steady_clock::now();
   const CameraModel camera = scale_ < 1.0 ? output_camera.Scaled(scale_) : output_camera;
   StatusOr<CoverageReport> report = (*coverage_)(camera, cam_from_world);
-  ++calls_;
-  ms_ += std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+  {
+    const std::lock_guard<std::mutex> lock(counters_);
+    ++calls_;
+    ms_ += std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+  }
   if (!report.ok()) return report.status().WithContext("coverage");
   if (report->width <= 0) {
     return InternalError("coverage: report without a size (width " + std::to_string(report->width) + ")");
@@ -22,6 +25,16 @@ StatusOr<double> CoverageProbe::HoleScore(const CameraModel& output_camera, cons
   const double measured_scale = static_cast<double>(report->width) / output_camera.width;
   const double at_output = report->hole_score / std::pow(measured_scale, 3);
   return at_output / ThinHoleBias(std::min(1.0, measured_scale));
+}
+
+int CoverageProbe::calls() const {
+  const std::lock_guard<std::mutex> lock(counters_);
+  return calls_;
+}
+
+double CoverageProbe::ms() const {
+  const std::lock_guard<std::mutex> lock(counters_);
+  return ms_;
 }
 
 StatusOr<bool> CoverageProbe::Valid(const CameraModel& output_camera, const Rigid3& cam_from_world) {

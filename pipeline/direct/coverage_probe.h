@@ -13,6 +13,8 @@
 // vanish); `parallax eval direction` prints how often reduced-size and full-size validity agree.
 #pragma once
 
+#include <mutex>
+
 #include "pipeline/core/camera_model.h"
 #include "pipeline/core/coverage_report.h"
 #include "pipeline/core/rigid3.h"
@@ -26,9 +28,10 @@ double ThinHoleBias(double scale);
 class CoverageProbe {
  public:
   // `coverage` must outlive the probe. `scale` in (0, 1]; `valid_hole_score` is the output-size
-  // threshold (2 in the paper).
-  CoverageProbe(const CoverageFunction* coverage, double scale, double valid_hole_score)
-      : coverage_(coverage), scale_(scale), valid_hole_score_(valid_hole_score) {}
+  // threshold (2 in the paper). `concurrent`: `coverage` may be called from several threads at
+  // once (the splat is; the renderer's Coverage is not), so the search may split its grid.
+  CoverageProbe(const CoverageFunction* coverage, double scale, double valid_hole_score, bool concurrent = false)
+      : coverage_(coverage), scale_(scale), valid_hole_score_(valid_hole_score), concurrent_(concurrent) {}
 
   // H(V) at the size of `output_camera` (a pinhole of the clip's size), estimated as above.
   StatusOr<double> HoleScore(const CameraModel& output_camera, const Rigid3& cam_from_world);
@@ -37,13 +40,16 @@ class CoverageProbe {
 
   double scale() const { return scale_; }
   double valid_hole_score() const { return valid_hole_score_; }
-  int calls() const { return calls_; }
-  double ms() const { return ms_; }
+  bool concurrent() const { return concurrent_; }
+  int calls() const;
+  double ms() const;  // summed over threads
 
  private:
   const CoverageFunction* coverage_;
   double scale_;
   double valid_hole_score_;
+  bool concurrent_;
+  mutable std::mutex counters_;
   int calls_ = 0;
   double ms_ = 0;
 };

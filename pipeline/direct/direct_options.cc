@@ -60,6 +60,7 @@ Status ViewpointSearchOptions::Validate() const {
   }
   if (!(search_scale > 0 && search_scale <= 1)) return RangeError("direct.search.search_scale", search_scale, "(0, 1]");
   if (!(verify_scale > 0 && verify_scale <= 1)) return RangeError("direct.search.verify_scale", verify_scale, "(0, 1]");
+  if (splat_stride < 0 || splat_stride > 64) return RangeError("direct.search.splat_stride", splat_stride, "[0, 64]");
   if (num_longest < 1 || num_longest > 1000) return RangeError("direct.search.num_longest", num_longest, "[1, 1000]");
   if (verify_frames < 2 || verify_frames > 100) {
     return RangeError("direct.search.verify_frames", verify_frames, "[2, 100]");

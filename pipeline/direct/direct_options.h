@@ -47,6 +47,12 @@ struct ViewpointSearchOptions {
   // renderer's wide holes, so the chosen path is verified at the output size itself.
   double search_scale = 0.125;
   double verify_scale = 1.0;
+  // The region search's probe: every splat_stride-th pixel of each view's depth splatted at
+  // search_scale (pipeline/direct/splat_coverage.h, several times cheaper than the renderer's
+  // Coverage); 0 = the renderer's Coverage at search_scale. [0, 64]. Off: the splat sees what
+  // any view saw while the renderer blends the views nearest each ray, and it reads too many
+  // viewpoints valid (direction_benchmark's BM_SearchProbeAgreement).
+  int splat_stride = 0;
   int num_longest = 12;        // candidate paths whose parallax is measured (paper: 12), [1, 1000]
   int verify_frames = 9;       // frames along the chosen path checked at verify_scale, [2, 100]
   // z search: first step and the precision it stops at, as fractions of the median scene depth.

@@ -60,7 +60,7 @@ SceneSamples SceneSamples::FromDepths(const std::vector<View>& views, const std:
   return samples;
 }
 
-cv::Mat SceneSamples::DepthSeenFrom(const CameraModel& camera, const Rigid3& cam_from_world) const {
+cv::Mat SceneSamples::DepthSeenFrom(const CameraModel& camera, const Rigid3& cam_from_world, float footprint) const {
   cv::Mat depth(camera.height, camera.width, CV_32F, cv::Scalar(0));
   const Eigen::Matrix3f r = cam_from_world.RotationMatrix().cast<float>();
   const Eigen::Vector3f t = cam_from_world.translation.cast<float>();
@@ -71,7 +71,7 @@ cv::Mat SceneSamples::DepthSeenFrom(const CameraModel& camera, const Rigid3& cam
     if (!(p.z() > 1e-3f)) continue;
     const float x = cx + fx * p.x() / p.z();
     const float y = cy + fy * p.y() / p.z();
-    const float half = 0.5f * std::clamp(fx * patch_m_[i] / p.z(), 1.0f, 6.0f);
+    const float half = 0.5f * std::clamp(footprint * fx * patch_m_[i] / p.z(), 1.0f, 6.0f);
     const int x0 = std::max(0, static_cast<int>(std::floor(x - half + 0.5f)));
     const int x1 = std::min(camera.width - 1, static_cast<int>(std::floor(x + half - 0.5f)));
     const int y0 = std::max(0, static_cast<int>(std::floor(y - half + 0.5f)));

@@ -23,8 +23,9 @@ class SceneSamples {
   static SceneSamples FromDepths(const std::vector<View>& views, const std::vector<DepthMap>& depths, int stride = 4);
 
   // z-buffer of the points seen by `camera` at `cam_from_world`: CV_32F, z in that camera,
-  // 0 where no point lands. Each point covers its patch's projected size (1 to 6 pixels).
-  cv::Mat DepthSeenFrom(const CameraModel& camera, const Rigid3& cam_from_world) const;
+  // 0 where no point lands. Each point covers its patch's projected size times `footprint`
+  // (1 to 6 pixels).
+  cv::Mat DepthSeenFrom(const CameraModel& camera, const Rigid3& cam_from_world, float footprint = 1.0f) const;
 
   size_t size() const { return points_.size(); }
 

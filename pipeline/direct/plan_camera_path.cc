@@ -10,6 +10,7 @@
 
 #include "pipeline/direct/pan_zoom_2d.h"
 #include "pipeline/direct/scene_geometry.h"
+#include "pipeline/direct/splat_coverage.h"
 #include "pipeline/direct/subjects.h"
 #include "pipeline/direct/taxonomy.h"
 
@@ -308,8 +309,11 @@ StatusOr<CameraPath> PlanCameraPath(const std::vector<View>& views, const std::v
   planner.centre = direct::CentreViewIndex(views);
 
   StatusOr<direct::SubjectSearch> found =
-      direct::FindSubjects(views, depths, planner.centre, context.face_detector, options);
+      direct::FindSubjects(views, depths, planner.centre, context.face_detector, options, context.centre_faces);
   if (found.ok()) {
+    if (context.centre_faces != nullptr && context.centre_faces->view == views[planner.centre].id) {
+      report.faces_before_ms = context.centre_faces->ms;
+    }
     report.detector = found->detector;
     report.faces_detected = found->detections;
     report.subjects_ms = found->ms;
@@ -343,17 +347,26 @@ StatusOr<CameraPath> PlanCameraPath(const std::vector<View>& views, const std::v
   StatusOr<CameraPath> path = FailedPreconditionError("not planned");
   std::optional<direct::SceneGeometry> scene;
   std::optional<direct::SceneSamples> samples;
-  direct::CoverageProbe search(&context.coverage, options.search.search_scale, options.search.valid_hole_score);
-  direct::CoverageProbe verify(&context.coverage, options.search.verify_scale, options.search.valid_hole_score);
+  std::optional<direct::SplatCoverage> splat;
   if (no_3d.empty()) {
     StatusOr<direct::SceneGeometry> described = direct::DescribeScene(views, depths);
     if (described.ok()) {
       scene = *described;
       samples = direct::SceneSamples::FromDepths(views, depths);
+      if (options.search.splat_stride > 0) {
+        splat = direct::SplatCoverage::FromDepths(views, depths, options.search.search_scale,
+                                                  options.search.splat_stride);
+      }
     } else {
       no_3d = described.status().message();
     }
   }
+  // The region search probes the splatted depth (splat_coverage.h) when asked, else the renderer
+  // at search_scale; the chosen path's frames are always checked through the renderer.
+  const CoverageFunction splat_function = splat ? splat->AsFunction() : CoverageFunction();
+  direct::CoverageProbe search(splat ? &splat_function : &context.coverage, splat ? 1.0 : options.search.search_scale,
+                               options.search.valid_hole_score, /*concurrent=*/splat.has_value());
+  direct::CoverageProbe verify(&context.coverage, options.search.verify_scale, options.search.valid_hole_score);
   // 3D moves need each subject's depth; a subject without it still frames a flat clip.
   std::vector<Subject> with_depth;
   for (const Subject& subject : planner.subjects) {

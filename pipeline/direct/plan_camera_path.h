@@ -15,12 +15,16 @@
 #include "pipeline/direct/face_detector.h"
 #include "pipeline/direct/plan_move.h"
 #include "pipeline/direct/shot_file.h"
+#include "pipeline/direct/subjects.h"
 #include "pipeline/direct/view_morph.h"
 
 namespace px {
 
 struct DirectionContext {
   const direct::FaceDetector* face_detector = nullptr;  // null: no face detection (said in the report)
+  // Faces found on the centre view beforehand (while depth ran); used when they are for the view
+  // the stage takes as its centre, else the detector runs here.
+  const direct::DetectedFaces* centre_faces = nullptr;
   // The renderer's Coverage (pipeline/render/scene_renderer.h); empty: no 3D move can be checked,
   // so none is planned.
   CoverageFunction coverage;
@@ -43,7 +47,8 @@ struct DirectionReport {
   double coverage_ms = 0;       // time inside them
   int verify_probes = 0;        // of which at the verify size (search_scale < verify_scale)
   double verify_ms = 0;
-  double subjects_ms = 0;
+  double subjects_ms = 0;        // finding subjects here (without faces found beforehand)
+  double faces_before_ms = 0;    // the detection behind DirectionContext::centre_faces, when used
   double total_ms = 0;
   // For a morph: the correspondences, for pipeline/run to render the frames from.
   std::shared_ptr<const direct::ViewMorph> morph;

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstdio>
 #include <limits>
+#include <optional>
 
 #include "pipeline/direct/aperture_search.h"
 #include "pipeline/direct/framing.h"
@@ -21,6 +22,11 @@ constexpr double kParallaxScale = 0.25;
 // Framing may narrow a move's zoom to keep subjects inside, but not below this share of the
 // focal length the move asks for: past that the move is not what it claims to be.
 constexpr double kMinFocalShare = 0.5;
+// Pulling an end back along its path to hold at the verify size (PlanMove, step 4): the first
+// pull, doubled each round, and the most (fractions of the path's length).
+constexpr double kFirstPullBack = 0.05;
+constexpr double kMaxPullBack = 0.4;
+constexpr int kPullBackRounds = 5;
 
 FramingRule Aim(const SceneGeometry& scene, const Eigen::Vector3d& target, double focal_px) {
   return [&scene, target, focal_px](const Eigen::Vector3d& centre) {
@@ -125,9 +131,11 @@ Status KeepSubjectsInFrame(const std::vector<Subject>& subjects, double margin_p
 }
 
 // The largest H(V) over `frames` frames evenly spread along the path, at the probe's size.
-StatusOr<double> WorstHoleScore(const CameraPath& path, int frames, CoverageProbe* probe) {
-  double worst = 0;
-  for (int i = 0; i < frames; ++i) {
+// `ends_score`: the ends' largest H(V), already measured at this size (then they are not again).
+StatusOr<double> WorstHoleScore(const CameraPath& path, int frames, CoverageProbe* probe,
+                                std::optional<double> ends_score = std::nullopt) {
+  double worst = ends_score.value_or(0.0);
+  for (int i = ends_score ? 1 : 0; i < (ends_score ? frames - 1 : frames); ++i) {
     const double t = frames > 1 ? static_cast<double>(i) / (frames - 1) : 0.0;
     PX_ASSIGN_OR_RETURN(double score, probe->HoleScore(path.CameraAt(t), path.PoseAt(t)));
     worst = std::max(worst, score);
@@ -406,6 +414,8 @@ StatusOr<CameraPath> PlanMove(const MoveChoice& choice, const PlanContext& conte
     size_t a = 0, b = 0;
     double length = 0, parallax = 0, focal_scale = 1;
     CameraPath path;
+    std::optional<Framing> start_pulled, end_pulled;  // ends pulled back to hold at the verify size
+    std::optional<double> ends_score;                  // the ends' largest H(V) at the verify size
   };
   std::vector<Pair> pairs;
   const double min_length = 1e-3;
@@ -421,8 +431,8 @@ StatusOr<CameraPath> PlanMove(const MoveChoice& choice, const PlanContext& conte
 
   // The path for a pair, its subjects kept in frame (or why they cannot be).
   const auto frame_path = [&](Pair* pair) -> Status {
-    Framing start = starts[pair->a].framing;
-    Framing end = ends[pair->b].framing;
+    Framing start = pair->start_pulled.value_or(starts[pair->a].framing);
+    Framing end = pair->end_pulled.value_or(ends[pair->b].framing);
     CameraPath path = BlankPath(PathKind::kNovelView, name, scene.output, options.fps, options.duration_s);
     if (choice.move == Move::kDolly) {
       // The second subject ends at the size the first started at.
@@ -473,12 +483,71 @@ StatusOr<CameraPath> PlanMove(const MoveChoice& choice, const PlanContext& conte
   std::stable_sort(measured.begin(), measured.end(),
                    [](const Pair& x, const Pair& y) { return x.parallax > y.parallax; });
 
+  // The search pushes every end to the farthest z its reduced-size probe calls valid, so the ends
+  // sit on the threshold as that probe sees it, and the frames the path uses are framed once more
+  // (the dolly's size ratio, subjects kept in frame by a wider zoom): at the verify size an end can
+  // read just past it (H 2.1 on the 640x480 one-face dolly-in). Such an end is pulled back along
+  // the path towards the other, re-framed by its rule, until the path's end frame holds at the
+  // verify size (at most kMaxPullBack of the path; the dolly zoom keeps its ends).
+  const auto hold_ends = [&](Pair* pair) -> StatusOr<bool> {
+    if (dolly_zoom) return true;
+    const Framing& a = starts[pair->a].framing;
+    const Framing& b = ends[pair->b].framing;
+    double pull[2] = {0, 0};  // start, end: fraction of the path pulled back
+    for (int round = 0; round < kPullBackRounds; ++round) {
+      bool held = true;
+      double ends_score = 0;
+      for (int side = 0; side < 2; ++side) {
+        const double t = side == 0 ? 0.0 : 1.0;
+        PX_ASSIGN_OR_RETURN(double score, context.verify->HoleScore(pair->path.CameraAt(t), pair->path.PoseAt(t)));
+        ends_score = std::max(ends_score, score);
+        if (score < context.verify->valid_hole_score()) continue;
+        held = false;
+        pull[side] = pull[side] == 0 ? kFirstPullBack : 2 * pull[side];
+        if (pull[side] > kMaxPullBack) return false;
+      }
+      if (held) {
+        pair->ends_score = ends_score;
+        return true;
+      }
+      if (pull[0] > 0) pair->start_pulled = start_rule(a.centre_in_world + pull[0] * (b.centre_in_world - a.centre_in_world));
+      if (pull[1] > 0) pair->end_pulled = end_rule(b.centre_in_world + pull[1] * (a.centre_in_world - b.centre_in_world));
+      for (const std::optional<Framing>& pulled : {pair->start_pulled, pair->end_pulled}) {
+        if (pulled && !(pulled->focal_px > 0)) return false;  // the rule cannot frame from there
+      }
+      if (!frame_path(pair).ok()) return false;
+    }
+    return false;
+  };
+
   // 4. The first (most parallax) path whose frames are all valid.
   for (Pair& pair : measured) {
     ++report->paths_verified;
+    PX_ASSIGN_OR_RETURN(bool ends_hold, hold_ends(&pair));
+    if (!ends_hold) {
+      last_failure = "an end does not hold at the verify size, pulled back by up to " +
+                     std::to_string(static_cast<int>(100 * kMaxPullBack)) + "% of the path";
+      continue;
+    }
     CameraPath& path = pair.path;
+    if (pair.start_pulled || pair.end_pulled) {
+      // The parallax and length of the path as it now is.
+      pair.parallax = ParallaxScore(*context.samples, path.CameraAt(0).Scaled(kParallaxScale), path.PoseAt(0),
+                                    path.CameraAt(1).Scaled(kParallaxScale), path.PoseAt(1));
+      pair.length = (path.keyframes.front().centre_in_world - path.keyframes.back().centre_in_world).norm();
+      const Eigen::Vector3d& a = starts[pair.a].framing.centre_in_world;
+      const Eigen::Vector3d& b = ends[pair.b].framing.centre_in_world;
+      const auto share = [&](const std::optional<Framing>& pulled, const Eigen::Vector3d& from) {
+        return pulled ? 100 * (pulled->centre_in_world - from).norm() / std::max(1e-9, (a - b).norm()) : 0.0;
+      };
+      char text[160];
+      std::snprintf(text, sizeof(text), "ends pulled back to hold at the verify size: start %.0f%%, end %.0f%% of the path",
+                    share(pair.start_pulled, a), share(pair.end_pulled, b));
+      path.notes.push_back(text);
+    }
     report->focal_scale = pair.focal_scale;
-    PX_ASSIGN_OR_RETURN(double worst, WorstHoleScore(path, options.search.verify_frames, context.verify));
+    PX_ASSIGN_OR_RETURN(double worst,
+                        WorstHoleScore(path, options.search.verify_frames, context.verify, pair.ends_score));
     if (worst >= context.verify->valid_hole_score()) {
       char text[160];
       std::snprintf(text, sizeof(text), "a frame of the path has H(V) %.2f at the verify size", worst);
@@ -496,12 +565,15 @@ StatusOr<CameraPath> PlanMove(const MoveChoice& choice, const PlanContext& conte
       // The end framing a subject close up carries the full aperture of a depth-of-field change.
       size_t subject_end = last;
       if (choice.move == Move::kDollyOut || choice.move == Move::kDollyZoomIn) subject_end = 0;
-      std::vector<size_t> keys = {0, last};
+      // A focus pull holds the aperture at both ends; a depth-of-field change opens from a pinhole
+      // (already verified) to the full aperture at the subject's end, the only end it constrains.
+      const std::vector<size_t> keys =
+          effect == Effect::kFocusPull ? std::vector<size_t>{0, last} : std::vector<size_t>{subject_end};
       PX_ASSIGN_OR_RETURN(double aperture, PathAperture(path, keys, context));
       report->aperture_m = aperture;
       if (!(aperture >= 1e-4)) {
-        path.notes.push_back(std::string(EffectName(effect)) +
-                             " dropped: no aperture of 0.1 mm or more keeps both ends valid");
+        path.notes.push_back(std::string(EffectName(effect)) + " dropped: no aperture of 0.1 mm or more keeps " +
+                             (keys.size() > 1 ? "both ends" : "the subject's end") + " valid");
         effect = Effect::kNone;
       } else {
         for (size_t k = 0; k < path.keyframes.size(); ++k) {

@@ -4,10 +4,12 @@
 //      in z: forwards for an endpoint framing a subject or dollying across, backwards for the
 //      wide end of a dolly-in/out and the far end of the moves along the axis;
 //   3. the `num_longest` longest candidate paths, the one with the most parallax first
-//      (parallax_measure.h), each checked frame by frame at the verify size until one holds;
+//      (parallax_measure.h), each checked frame by frame at the verify size until one holds (an
+//      end that fails there is first pulled back along the path, re-framed by its rule);
 //   4. framing: subjects kept wholly inside every frame by narrowing the zoom where needed;
-//   5. the image effect: the largest aperture valid at both ends (aperture_search.h) for a
-//      depth-of-field change or focus pull, or a colour-effect layer on the subject.
+//   5. the image effect: the largest aperture valid at both ends (aperture_search.h) for a focus
+//      pull, at the subject's end for a depth-of-field change (it opens from a pinhole), or a
+//      colour-effect layer on the subject.
 #pragma once
 
 #include <map>

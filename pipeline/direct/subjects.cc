@@ -85,7 +85,8 @@ StatusOr<Subject> SubjectFromBox(const View& view, const DepthMap* depth, const 
 }
 
 StatusOr<SubjectSearch> FindSubjects(const std::vector<View>& views, const std::vector<DepthMap>& depths,
-                                     int centre_index, const FaceDetector* detector, const DirectOptions& options) {
+                                     int centre_index, const FaceDetector* detector, const DirectOptions& options,
+                                     const DetectedFaces* detected) {
   const auto start = std::chrono::steady_clock::now();
   SubjectSearch search;
   if (views.empty()) return InvalidArgumentError("subjects: no views");
@@ -112,13 +113,14 @@ StatusOr<SubjectSearch> FindSubjects(const std::vector<View>& views, const std::
     }
   } else if (!options.faces.enabled || options.faces.max_subjects == 0) {
     search.detector = "face detection off";
-  } else if (detector == nullptr) {
+  } else if (detector == nullptr && (detected == nullptr || detected->view != views[centre_index].id)) {
     search.detector = "no face detector (cascades not loaded)";
   } else {
     const View& view = views[centre_index];
     const DepthMap* depth = FindDepth(depths, view.id);
-    search.detector = detector->Describe();
-    const std::vector<FaceBox> faces = detector->Detect(view.image, options.faces);
+    const bool found_before = detected != nullptr && detected->view == view.id;
+    search.detector = found_before ? detected->detector : detector->Describe();
+    const std::vector<FaceBox> faces = found_before ? detected->faces : detector->Detect(view.image, options.faces);
     search.detections = static_cast<int>(faces.size());
     for (const FaceBox& face : faces) {
       StatusOr<Subject> subject = SubjectFromBox(view, depth, face.box, "face");

@@ -27,6 +27,15 @@ inline constexpr double kNominalSubjectDepthM = 1.0;
 StatusOr<Subject> SubjectFromBox(const View& view, const DepthMap* depth, const cv::Rect2d& box_px,
                                  const std::string& source);
 
+// Faces already found on a view (pipeline/run detects them on the centre view while the depth
+// stage runs: detection needs the image only).
+struct DetectedFaces {
+  ViewId view;
+  std::vector<FaceBox> faces;
+  std::string detector;  // FaceDetector::Describe()
+  double ms = 0;         // wall time of the detection
+};
+
 struct SubjectSearch {
   std::vector<Subject> subjects;   // largest first, at most options.faces.max_subjects
   std::vector<std::string> notes;  // rejected detections and why, low-confidence depth
@@ -39,8 +48,10 @@ struct SubjectSearch {
 // else faces on views[centre_index] from `detector` (null: none, said in `detector`). A face
 // whose physical width at its depth is outside options.faces' range is dropped, so that a
 // face-like texture on a far wall or a tiny pattern up close does not become a subject; without
-// depth every face is kept.
+// depth every face is kept. `detected`, when it is for the centre view, replaces the detection
+// (its time is then not in SubjectSearch::ms).
 StatusOr<SubjectSearch> FindSubjects(const std::vector<View>& views, const std::vector<DepthMap>& depths,
-                                     int centre_index, const FaceDetector* detector, const DirectOptions& options);
+                                     int centre_index, const FaceDetector* detector, const DirectOptions& options,
+                                     const DetectedFaces* detected = nullptr);
 
 }  // namespace px::direct

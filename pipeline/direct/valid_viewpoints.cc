@@ -5,6 +5,8 @@
 #include <optional>
 #include <string>
 
+#include <opencv2/core/utility.hpp>
+
 namespace px::direct {
 
 namespace {
@@ -121,24 +123,13 @@ StatusOr<std::vector<Eigen::Vector2d>> GridPositions(const SceneGeometry& scene,
   return positions;
 }
 
-StatusOr<ValidRegion> FindValidViewpoints(const SceneGeometry& scene, const FramingRule& rule, CoverageProbe* probe,
-                                          const ViewpointSearchOptions& options, Sweep sweep, bool search_front,
-                                          bool search_back) {
+namespace {
+
+// The search along one chain of cells, each seeded by the previous cell's answers.
+StatusOr<ValidRegion> SearchChain(const SceneGeometry& scene, const FramingRule& rule, CoverageProbe* probe,
+                                  const ZLimits& z, const std::vector<Eigen::Vector2d>& positions,
+                                  const std::vector<int>& order, bool search_front, bool search_back) {
   ValidRegion region;
-  const ZLimits z = SearchLimits(scene, options);
-  std::vector<Eigen::Vector2d> positions;
-  std::vector<int> order;
-  if (sweep == Sweep::kAxis) {
-    positions.push_back(0.5 * (scene.box_min + scene.box_max));
-    order.push_back(0);
-  } else {
-    PX_ASSIGN_OR_RETURN(positions, GridPositions(scene, options));
-    // Serpentine: each cell follows a neighbour, whose answer seeds its search.
-    const int n = options.grid_size;
-    for (int r = 0; r < n; ++r) {
-      for (int k = 0; k < n; ++k) order.push_back(r * n + (r % 2 == 0 ? k : n - 1 - k));
-    }
-  }
   std::optional<double> front_hint, back_hint;
   for (int cell : order) {
     ++region.cells;
@@ -180,6 +171,60 @@ StatusOr<ValidRegion> FindValidViewpoints(const SceneGeometry& scene, const Fram
       region.back.push_back({back.framing, back.hole_score, cell});
     }
     region.probes += column.probes();
+  }
+  return region;
+}
+
+// Serpentine over rows [first, last): each cell follows a neighbour, whose answer seeds it.
+std::vector<int> Serpentine(int n, int first, int last) {
+  std::vector<int> order;
+  for (int r = first; r < last; ++r) {
+    for (int k = 0; k < n; ++k) order.push_back(r * n + (r % 2 == 0 ? k : n - 1 - k));
+  }
+  return order;
+}
+
+}  // namespace
+
+StatusOr<ValidRegion> FindValidViewpoints(const SceneGeometry& scene, const FramingRule& rule, CoverageProbe* probe,
+                                          const ViewpointSearchOptions& options, Sweep sweep, bool search_front,
+                                          bool search_back) {
+  const ZLimits z = SearchLimits(scene, options);
+  std::vector<Eigen::Vector2d> positions;
+  std::vector<std::vector<int>> chains;
+  if (sweep == Sweep::kAxis) {
+    positions.push_back(0.5 * (scene.box_min + scene.box_max));
+    chains.push_back({0});
+  } else {
+    PX_ASSIGN_OR_RETURN(positions, GridPositions(scene, options));
+    const int n = options.grid_size;
+    // A probe that may run concurrently searches the grid's two halves side by side (2 cores);
+    // the halves' chains are fixed, so the answer does not depend on the threads' timing.
+    if (probe->concurrent() && n >= 4) {
+      chains = {Serpentine(n, 0, n / 2), Serpentine(n, n / 2, n)};
+    } else {
+      chains = {Serpentine(n, 0, n)};
+    }
+  }
+  std::vector<StatusOr<ValidRegion>> found(chains.size(), InternalError("chain not searched"));
+  const auto search = [&](const cv::Range& range) {
+    for (int i = range.start; i < range.end; ++i) {
+      found[i] = SearchChain(scene, rule, probe, z, positions, chains[i], search_front, search_back);
+    }
+  };
+  if (chains.size() > 1) {
+    cv::parallel_for_(cv::Range(0, static_cast<int>(chains.size())), search, static_cast<double>(chains.size()));
+  } else {
+    search(cv::Range(0, 1));
+  }
+  ValidRegion region;
+  for (StatusOr<ValidRegion>& part : found) {
+    if (!part.ok()) return part.status();
+    region.cells += part->cells;
+    region.valid_cells += part->valid_cells;
+    region.probes += part->probes;
+    region.front.insert(region.front.end(), part->front.begin(), part->front.end());
+    region.back.insert(region.back.end(), part->back.begin(), part->back.end());
   }
   return region;
 }

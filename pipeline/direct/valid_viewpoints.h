@@ -8,7 +8,9 @@
 // A move fixes where each endpoint looks and its focal length from its position (4.2, second
 // assumption), so the search takes that rule as a function. Speed: cells are visited in a
 // serpentine order and each z search starts from its neighbour's answer (one probe confirms it
-// and a few refine it), which takes the search from ~10 to ~3 probes per cell.
+// and a few refine it), which takes the search from ~10 to ~3 probes per cell. With a probe that
+// may run concurrently (the splat, splat_coverage.h) the grid's two halves are two such chains,
+// searched side by side.
 #pragma once
 
 #include <functional>

@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <future>
+#include <optional>
 
 #include <opencv2/imgproc.hpp>
 
@@ -11,6 +13,7 @@
 #include "pipeline/depth/depth_stage.h"
 #include "pipeline/direct/pan_zoom_2d.h"
 #include "pipeline/direct/plan_camera_path.h"
+#include "pipeline/direct/scene_geometry.h"
 #include "pipeline/run/capture_calibration.h"
 #include "pipeline/run/stage_clock.h"
 
@@ -243,6 +246,23 @@ StatusOr<PipelineReport> RunPipeline(const FrameSet& capture, const RigCalibrati
             views.front().camera.height, report.timings[0].ms, report.timings[1].ms);
   PX_RETURN_IF_ERROR(report_progress("calib", 1));
 
+  // Face detection needs only the centre view's image: it runs beside the depth stage, so the
+  // direction stage after depth only places the faces it found.
+  std::future<direct::DetectedFaces> centre_faces;
+  if (options.face_detector != nullptr && options.direct.faces.enabled && options.direct.subject_boxes_px.empty()) {
+    const View& centre = views[direct::CentreViewIndex(views)];
+    // The image is shared (reference-counted), not borrowed: `views` may change meanwhile.
+    centre_faces = std::async(std::launch::async, [image = centre.image, id = centre.id, &options] {
+      const auto detect_start = Clock::now();
+      direct::DetectedFaces found;
+      found.view = id;
+      found.faces = options.face_detector->Detect(image, options.direct.faces);
+      found.detector = options.face_detector->Describe();
+      found.ms = MsSince(detect_start);
+      return found;
+    });
+  }
+
   // Stage 3: depth.
   Clock::time_point start = Clock::now();
   DepthOptions depth_options = options.depth.WithDefaultDepthRange(calibrated.depth_min_m, calibrated.depth_max_m);
@@ -317,6 +337,9 @@ StatusOr<PipelineReport> RunPipeline(const FrameSet& capture, const RigCalibrati
   };
   direction.face_detector = options.face_detector.get();
   direction.shot = options.shot.get();
+  std::optional<direct::DetectedFaces> faces_found;
+  if (centre_faces.valid()) faces_found = centre_faces.get();
+  direction.centre_faces = faces_found ? &*faces_found : nullptr;
   StatusOr<CameraPath> path = PlanCameraPath(views, depth_maps, options.direct, direction, &report.direction);
   if (!path.ok()) return path.status().WithContext("direct");
   report.path = *path;

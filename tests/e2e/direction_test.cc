@@ -99,6 +99,20 @@ void CheckPath(Shot* shot, const Planned& planned, int subjects_expected) {
               planned.report.total_ms);
 }
 
+// Every corner of the aperture's box around `key` is a valid viewpoint at the output size (4.3).
+void ExpectApertureCornersValid(Shot* shot, const CameraPath& path, const CameraKeyframe& key, double aperture_m,
+                                const std::string& what) {
+  direct::Framing end;
+  end.centre_in_world = key.centre_in_world;
+  end.cam_from_world = key.CamFromWorld();
+  end.focal_px = key.focal_px;
+  for (const direct::Framing& corner : direct::ApertureCorners(end, aperture_m)) {
+    StatusOr<CoverageReport> coverage = shot->renderer->Coverage(path.CameraAt(key.t), corner.cam_from_world);
+    ASSERT_TRUE(coverage.ok()) << coverage.status().ToString();
+    EXPECT_LT(coverage->hole_score, 2.0) << "aperture corner of " << what;
+  }
+}
+
 class DirectionTest : public ::testing::Test {
  protected:
   void SetUp() override {
@@ -177,6 +191,21 @@ TEST_F(DirectionTest, OneFaceTakesARowOneMoveAndTheDollyZoomHoldsItsSize) {
               zoom.path.NumFrames(), 1000 * travel_m);
 }
 
+// The product's size (9 views of 640x480): H(V) is not scale-free (a hole twice as many pixels
+// wide weighs 8 times as much), so the valid region is narrower than at 320x240; the dolly in
+// must still hold on the one-face scene, every frame valid at 640x480 and the face inside.
+TEST_F(DirectionTest, OneFaceDollyInHoldsAtTheProductSize) {
+  NeedFacePhotos();
+  if (IsSkipped()) return;
+  StatusOr<std::unique_ptr<Shot>> shot = e2e::MakeDirectionShot("one_face", 1.0);
+  ASSERT_TRUE(shot.ok()) << shot.status().ToString();
+  ASSERT_EQ((*shot)->views.front().camera.width, 640);
+  const Planned planned = Plan(shot->get(), detector_.get(), "dolly_in");
+  ASSERT_NO_FATAL_FAILURE(CheckPath(shot->get(), planned, 1));
+  EXPECT_EQ(planned.path.move, "dolly_in") << planned.path.reason;
+  ExpectFaceSlightlyAboveCentre(planned.path, planned.path.subjects.front(), 1.0);
+}
+
 TEST_F(DirectionTest, TwoFacesDollyBetweenThem) {
   NeedFacePhotos();
   if (IsSkipped()) return;
@@ -208,15 +237,7 @@ TEST_F(DirectionTest, TwoFacesDollyPullsFocusWithTheLargestValidAperture) {
   EXPECT_LE(aperture, DirectOptions{}.max_aperture_m);
   for (const CameraKeyframe* key : {&path.keyframes.front(), &path.keyframes.back()}) {
     EXPECT_DOUBLE_EQ(key->aperture_m, aperture);
-    direct::Framing end;
-    end.centre_in_world = key->centre_in_world;
-    end.cam_from_world = key->CamFromWorld();
-    end.focal_px = key->focal_px;
-    for (const direct::Framing& corner : direct::ApertureCorners(end, aperture)) {
-      StatusOr<CoverageReport> coverage = shot->renderer->Coverage(path.CameraAt(key->t), corner.cam_from_world);
-      ASSERT_TRUE(coverage.ok()) << coverage.status().ToString();
-      EXPECT_LT(coverage->hole_score, 2.0) << "aperture corner at t = " << key->t;
-    }
+    ExpectApertureCornersValid(shot.get(), path, *key, aperture, "the end at t = " + std::to_string(key->t));
   }
   EXPECT_NEAR(path.keyframes.front().focus_depth_m,
               direct::SubjectDepthIn(path.subjects[0], path.keyframes.front().CamFromWorld()), 1e-6);
@@ -227,9 +248,8 @@ TEST_F(DirectionTest, TwoFacesDollyPullsFocusWithTheLargestValidAperture) {
 }
 
 // A depth-of-field change (4.3): the two-subject dolly opens from a pinhole to the largest aperture
-// that keeps its ends valid at the four corners of the aperture's box, focused on the subject it
-// ends on. (On the one-face scene the dolly in's close-up is already near H(V) 2, so no aperture
-// of 0.1 mm keeps it valid and the effect is dropped with a note.)
+// that keeps its end valid at the four corners of the aperture's box, focused on the subject it
+// ends on (the pinhole end constrains no aperture).
 TEST_F(DirectionTest, TwoFacesDollyRampsTheApertureFromPinholeToTheLargestValid) {
   NeedFacePhotos();
   if (IsSkipped()) return;
@@ -256,17 +276,27 @@ TEST_F(DirectionTest, TwoFacesDollyRampsTheApertureFromPinholeToTheLargestValid)
     }
   }
   EXPECT_NEAR(previous, aperture, 1e-9);
-  direct::Framing close_up;
-  close_up.centre_in_world = end.centre_in_world;
-  close_up.cam_from_world = end.CamFromWorld();
-  close_up.focal_px = end.focal_px;
-  for (const direct::Framing& corner : direct::ApertureCorners(close_up, aperture)) {
-    StatusOr<CoverageReport> coverage = shot->renderer->Coverage(path.CameraAt(1.0), corner.cam_from_world);
-    ASSERT_TRUE(coverage.ok()) << coverage.status().ToString();
-    EXPECT_LT(coverage->hole_score, 2.0) << "aperture corner of the end";
-  }
+  ExpectApertureCornersValid(shot.get(), path, end, aperture, "the end");
   std::printf("[figures] dolly with a depth-of-field change: aperture 0 -> %.1f mm over %d frames\n",
               1000 * aperture, path.NumFrames());
+}
+
+// The one-face dolly in with a depth-of-field change: the aperture opens towards the close-up,
+// and every aperture corner of the close-up is valid at the output size.
+TEST_F(DirectionTest, OneFaceDollyInOpensTheApertureOnTheCloseUp) {
+  NeedFacePhotos();
+  if (IsSkipped()) return;
+  std::unique_ptr<Shot> shot = MakeShot("one_face");
+  ASSERT_NE(shot, nullptr);
+  const Planned planned = Plan(shot.get(), detector_.get(), "dolly_in", "dof_change");
+  const CameraPath& path = planned.path;
+  ASSERT_EQ(path.move, "dolly_in") << path.reason;
+  ASSERT_EQ(path.effect, "dof_change") << path.reason;
+  const CameraKeyframe& end = path.keyframes.back();
+  EXPECT_GT(end.aperture_m, 1e-4);
+  EXPECT_DOUBLE_EQ(path.keyframes.front().aperture_m, 0.0);
+  ExpectApertureCornersValid(shot.get(), path, end, end.aperture_m, "the close-up");
+  std::printf("[figures] one-face dolly in with a depth-of-field change: aperture 0 -> %.1f mm\n", 1000 * end.aperture_m);
 }
 
 // A saturation layer on the subject (4.3), keyframed from unchanged to its target.
