@@ -7,7 +7,7 @@
 
 #include <gtest/gtest.h>
 
-#include "eval/datasets/exif.h"
+#include "pipeline/core/exif.h"
 #include "eval/datasets/hci_light_field.h"
 #include "eval/datasets/image_folder.h"
 #include "eval/datasets/middlebury_mview.h"
