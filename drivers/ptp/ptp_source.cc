@@ -7,6 +7,7 @@
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
+#include "pipeline/core/exif.h"
 #include "pipeline/core/log.h"
 
 namespace px {
@@ -203,6 +204,14 @@ class PtpSource final : public FrameSource {
       frame->status = FrameStatus::kCorrupt;
       frame->status_detail = what + ": " + object + ": not a decodable image (format " + Hex16(info.object_format) + ")";
       return OkStatus();
+    }
+    // The lens's focal length from the JPEG's EXIF, for structure from motion (imdecode has
+    // turned the image upright, which FocalPx expects). A missing or unreadable EXIF leaves it unknown.
+    if (StatusOr<ExifInfo> exif = ParseJpegExif(jpeg); exif.ok()) {
+      frame->focal_length_px = exif->FocalPx(bgr.cols, bgr.rows, &frame->focal_length_source);
+    } else {
+      Logger("ptp")->warn("{}: {}: {}: {}; its focal length will be self-calibrated", device_name_, what, object,
+                          exif.status().ToString());
     }
     if (granted_.pixel_format == PixelFormat::kRgb888) cv::cvtColor(bgr, bgr, cv::COLOR_BGR2RGB);
     frame->image.format = granted_.pixel_format;

@@ -99,19 +99,20 @@ StatusOr<std::vector<CalibEvalRow>> EvalOneFolder(const fs::path& dir, const Eva
   if (Exists(dir / "parameters.cfg")) {
     PX_ASSIGN_OR_RETURN(HciLightField field, LoadHciLightField(dir));
     const std::vector<View> grid = field.CentreGrid(1);
-    say("central 3x3, focal from parameters.cfg");
+    // parameters.cfg is the lenses' configuration (a calibration, not a rounded EXIF focal
+    // length): its focal length is held like one (ExactIntrinsicsSfm). The same cameras as the
+    // loader's reference, which derives them from the same file.
+    say("central 3x3, focal and lens shifts from parameters.cfg");
     PX_ASSIGN_OR_RETURN(CalibEvalRow metadata_row,
-                        EvalStructureFromMotion(name + " 3x3", "sfm, focal from metadata", HciMetadataImages(field, grid),
-                                                PosesOf(grid), FocalsOf(grid), "exact"));
+                        EvalStructureFromMotion(name + " 3x3", "sfm, intrinsics from metadata",
+                                                HciMetadataImages(field, grid), PosesOf(grid), FocalsOf(grid), "exact",
+                                                ExactIntrinsicsSfm()));
     rows.push_back(metadata_row);
-    for (bool known : {true, false}) {
-      say(known ? "central 3x3, exact intrinsics" : "central 3x3, self-calibrated");
-      PX_ASSIGN_OR_RETURN(CalibEvalRow row,
-                          EvalStructureFromMotion(name + " 3x3", known ? "sfm, intrinsics known" : "sfm, self-calibrated",
-                                                  ImagesOf(grid, known), PosesOf(grid), FocalsOf(grid), "exact",
-                                                  known ? ExactIntrinsicsSfm() : calib::SfmOptions()));
-      rows.push_back(row);
-    }
+    say("central 3x3, self-calibrated");
+    PX_ASSIGN_OR_RETURN(CalibEvalRow row, EvalStructureFromMotion(name + " 3x3", "sfm, self-calibrated",
+                                                                  ImagesOf(grid, false), PosesOf(grid), FocalsOf(grid),
+                                                                  "exact"));
+    rows.push_back(row);
   } else if (Exists(dir / "poses_bounds.npy")) {
     say("images_8, self-calibrated");
     PX_ASSIGN_OR_RETURN(LlffScene scene, LoadLlffScene(dir));
@@ -156,7 +157,8 @@ std::vector<calib::SfmImage> HciMetadataImages(const HciLightField& field, const
   for (const View& view : views) {
     calib::SfmImage image;
     image.image = view.image;
-    image.intrinsics = CameraModel::Pinhole(view.image.cols, view.image.rows, field.focal_px);
+    image.intrinsics = field.MetadataCamera(view.id.value, view.image.cols, view.image.rows);
+    image.camera_id = view.id.value;  // each view's own lens shift
     images.push_back(image);
   }
   return images;

@@ -56,8 +56,9 @@ StatusOr<CalibEvalRow> EvalStructureFromMotion(const std::string& name, const st
                                                const calib::SfmOptions& options = {});
 
 // The HCI views as photos with metadata: the focal length from parameters.cfg (as EXIF gives it
-// for a photo), the principal point assumed central (metadata does not give the HCI's per-view
-// principal-point shifts).
+// for a photo) and each view's lens shift (principal point) from its `offset` (the focus plane's
+// disparity) and the view's place in the grid (its file number), as a shift lens records it.
+// No pose is given.
 std::vector<calib::SfmImage> HciMetadataImages(const HciLightField& field, const std::vector<View>& views);
 
 // SfM options for images whose intrinsics come from an exact calibration (not EXIF): the focal
@@ -65,9 +66,8 @@ std::vector<calib::SfmImage> HciMetadataImages(const HciLightField& field, const
 // ambiguity: images alone cannot fix the focal length, and a loose prior lets it trade with rotation.
 calib::SfmOptions ExactIntrinsicsSfm();
 
-// Every set of a data folder, by its layout: HCI (parameters.cfg: the central 3x3 with the focal
-// length from parameters.cfg as photo metadata, with the exact per-view intrinsics, and
-// self-calibrated), LLFF (poses_bounds.npy), Middlebury multi-view (*_par.txt), a folder of
+// Every set of a data folder, by its layout: HCI (parameters.cfg: the central 3x3 with the
+// intrinsics from parameters.cfg, and self-calibrated), LLFF (poses_bounds.npy), Middlebury multi-view (*_par.txt), a folder of
 // photos (hand-held), or a folder of such folders (../shared/data itself, or data/handheld).
 // Errors when `dir` holds none of these.
 StatusOr<std::vector<CalibEvalRow>> EvalDataFolder(const std::filesystem::path& dir, const EvalProgress& progress);

@@ -53,6 +53,13 @@ cv::Mat HciLightField::GtDepth() const {
   return depth;
 }
 
+CameraModel HciLightField::MetadataCamera(int index, int width, int height) const {
+  CameraModel camera = CameraModel::Pinhole(width, height, focal_px);
+  camera.cx += offset_px * (index % cols - cols / 2);
+  camera.cy += offset_px * (index / cols - rows / 2);
+  return camera;
+}
+
 std::vector<View> HciLightField::CentreGrid(int radius) const {
   std::vector<View> grid;
   for (int r = rows / 2 - radius; r <= rows / 2 + radius; ++r) {
@@ -104,9 +111,7 @@ StatusOr<HciLightField> LoadHciLightField(const fs::path& dir) {
       view.image = image;
       const int dc = c - lf.cols / 2;
       const int dr = r - lf.rows / 2;
-      view.camera = CameraModel::Pinhole(image.cols, image.rows, lf.focal_px);
-      view.camera.cx += lf.offset_px * dc;
-      view.camera.cy += lf.offset_px * dr;
+      view.camera = lf.MetadataCamera(index, image.cols, image.rows);
       const Eigen::Vector3d centre(dc * lf.baseline_m, dr * lf.baseline_m, 0);
       view.cam_from_world = Rigid3(Eigen::Quaterniond::Identity(), -centre);
       lf.views.push_back(std::move(view));

@@ -35,6 +35,9 @@ struct HciLightField {
   cv::Mat gt_disparity;      // CV_32F of the centre view; empty when the set has none
 
   int CentreIndex() const { return (rows / 2) * cols + cols / 2; }
+  // The camera of view `index` as parameters.cfg gives it: focal length from focal_length_mm and
+  // sensor_size_mm, principal point shifted by offset_px per grid step from the centre view.
+  CameraModel MetadataCamera(int index, int width, int height) const;
   double DepthFromDisparity(double d) const { return focal_px * baseline_m / (d + offset_px); }
   double DisparityFromDepth(double z) const { return focal_px * baseline_m / z - offset_px; }
   // Ground-truth depth (z, metres) of the centre view from gt_disparity.

@@ -6,7 +6,7 @@
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
-#include "eval/datasets/exif.h"
+#include "pipeline/core/exif.h"
 
 namespace px::eval {
 

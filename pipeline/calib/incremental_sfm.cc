@@ -8,6 +8,7 @@
 #include <map>
 #include <optional>
 
+#include <Eigen/SVD>
 #include <opencv2/calib3d.hpp>
 #include <opencv2/core/utility.hpp>
 
@@ -27,6 +28,8 @@ constexpr int kMinFeatures = 30;
 // Triangulated points must be seen at least this far apart (degrees): below, their depth is
 // noise. Small on purpose: 3 cm at 3 m is 0.57 degrees.
 constexpr double kMinTriangulationAngleDeg = 0.05;
+// Views already within this of parallel (degrees) gain nothing from a parallel restart.
+constexpr double kMinRotationForParallelRestartDeg = 0.25;
 // A homography that explains a pair's matches to within this many times their epipolar noise
 // means a plane or a scene at infinity (pure noise gives ~1.3).
 constexpr double kPlanarHomographyRatio = 3.0;
@@ -264,6 +267,20 @@ class Reconstruction {
     }
   }
 
+  // Reprojection RMS (input-image pixels) and count of the current observations.
+  double Rms(int* count) const {
+    double sum_squares = 0;
+    *count = 0;
+    ForEachObservation([&](int image, int point, const Eigen::Vector2d& pixel) {
+      Eigen::Vector2d projected;
+      if (images_[image].camera.Project(images_[image].cam_from_world * points_[point], &projected)) {
+        sum_squares += (projected - pixel).squaredNorm();
+        ++*count;
+      }
+    });
+    return *count > 0 ? std::sqrt(sum_squares / *count) : 0.0;
+  }
+
   // Moves the world to `anchor`'s camera frame, scaled by `scale`.
   void Transform(int anchor, double scale) {
     const Rigid3 anchor_from_world = images_[anchor].cam_from_world;
@@ -358,6 +375,98 @@ StatusOr<BundleAdjustmentReport> InitialisePair(Reconstruction* reconstruction, 
                                    " and " + std::to_string(pair.view_b));
   }
   return reconstruction->Adjust(pair.view_a, pair.view_b, /*refine_focal=*/false, /*refine_radial=*/false, 50);
+}
+
+// 5-6. Registers the rest of the images, best connected first (P3P), triangulating and adjusting
+// after each; then the final adjustment, focal lengths (and distortion when asked) with every view.
+Status RegisterAndAdjust(Reconstruction* reconstruction_ptr, int anchor, int second, const SfmOptions& options) {
+  Reconstruction& reconstruction = *reconstruction_ptr;
+  const int n = static_cast<int>(reconstruction.images().size());
+  std::vector<char> failed(n, 0);
+  while (true) {
+    int best_image = -1;
+    size_t best_count = 0;
+    for (int i = 0; i < n; ++i) {
+      if (reconstruction.images()[i].registered || failed[i] || !reconstruction.images()[i].note.empty()) continue;
+      std::vector<Eigen::Vector3d> rays, points;
+      std::vector<std::pair<int, int>> sources;
+      reconstruction.Correspondences(i, &rays, &points, &sources);
+      if (rays.size() > best_count) {
+        best_count = rays.size();
+        best_image = i;
+      }
+    }
+    if (best_image < 0) break;
+    std::vector<Eigen::Vector3d> rays, points;
+    std::vector<std::pair<int, int>> sources;
+    reconstruction.Correspondences(best_image, &rays, &points, &sources);
+    ImageState& image = reconstruction.images()[best_image];
+    RansacOptions ransac = options.ransac;
+    ransac.focal_px = image.camera.fx / image.pixel_scale;
+    ransac.max_error_px = options.max_error_px;
+    ransac.seed = options.ransac.seed * 104729ULL + static_cast<uint64_t>(best_image);
+    const AbsolutePoseResult pose = EstimateAbsolutePose(rays, points, AbsolutePoseSolver::kP3p, ransac);
+    if (!pose.success || static_cast<int>(pose.inliers.size()) < options.min_registration_inliers) {
+      failed[best_image] = 1;
+      image.note = "P3P found " + std::to_string(pose.success ? pose.inliers.size() : 0) + " inliers among " +
+                   std::to_string(rays.size()) + " 2D-3D matches (need " +
+                   std::to_string(options.min_registration_inliers) + ")";
+      continue;
+    }
+    std::vector<char> inlier(rays.size(), 0);
+    for (int i : pose.inliers) inlier[i] = 1;
+    for (size_t i = 0; i < sources.size(); ++i) {
+      if (!inlier[i]) reconstruction.Reject(sources[i].first, sources[i].second);
+    }
+    image.registered = true;
+    image.cam_from_world = pose.cam_from_world;
+    reconstruction.TriangulateNewTracks();
+    const bool refine_focal =
+        reconstruction.NumRegistered() >= 3 && reconstruction.FocalRefinable(options.min_rotation_for_focal_deg);
+    PX_ASSIGN_OR_RETURN(BundleAdjustmentReport adjusted,
+                        reconstruction.Adjust(anchor, second, refine_focal, false, 50));
+    (void)adjusted;
+    reconstruction.TriangulateNewTracks();
+  }
+
+  // 6. Final adjustment, twice (the first one's outliers are dropped before the second).
+  const bool refine_focal = reconstruction.FocalRefinable(options.min_rotation_for_focal_deg);
+  for (int pass = 0; pass < 2; ++pass) {
+    PX_RETURN_IF_ERROR(
+        reconstruction.Adjust(anchor, second, refine_focal, options.refine_radial_distortion, 100).status());
+  }
+  return OkStatus();
+}
+
+// The initial pair's pose if the cameras are parallel (rotation identity): the translation
+// direction that best satisfies x_b . (t x x_a) = 0 over the five-point inliers, of the sign
+// whose two-view adjustment fits better; the pair initialised from it, or nothing if it fails.
+std::optional<Reconstruction> ParallelStart(const std::vector<ImageState>& images, const std::vector<Track>& tracks,
+                                            const PairMatches& pair, const RelativePoseResult& pose,
+                                            const SfmOptions& options) {
+  Eigen::MatrixXd constraints(pose.inliers.size(), 3);
+  for (size_t k = 0; k < pose.inliers.size(); ++k) {
+    const FeatureMatch& m = pair.matches[pose.inliers[k]];
+    const Eigen::Vector3d a = images[pair.view_a].camera.Unproject(images[pair.view_a].features.keypoints_px[m.a]);
+    const Eigen::Vector3d b = images[pair.view_b].camera.Unproject(images[pair.view_b].features.keypoints_px[m.b]);
+    constraints.row(k) = a.cross(b).normalized().transpose();
+  }
+  if (constraints.rows() < 8) return std::nullopt;
+  const Eigen::JacobiSVD<Eigen::MatrixXd> svd(constraints, Eigen::ComputeFullV);
+  const Eigen::Vector3d direction = svd.matrixV().col(2);
+  std::optional<Reconstruction> best;
+  double best_rms = std::numeric_limits<double>::infinity();
+  for (double sign : {1.0, -1.0}) {
+    RelativePoseResult parallel = pose;
+    parallel.b_from_a = Rigid3(Eigen::Quaterniond::Identity(), sign * direction);
+    Reconstruction candidate(images, tracks, options);
+    StatusOr<BundleAdjustmentReport> adjusted = InitialisePair(&candidate, pair, parallel);
+    if (adjusted.ok() && adjusted->final_rms_px < best_rms) {
+      best_rms = adjusted->final_rms_px;
+      best = std::move(candidate);
+    }
+  }
+  return best;
 }
 
 }  // namespace
@@ -573,7 +682,7 @@ StatusOr<SfmResult> RunIncrementalSfm(const std::vector<SfmImage>& input, const 
   report.initial_parallax_ratio = initial->parallax_ratio;
   report.initial_homography_ratio = initial->pose.HomographyRatio();
 
-  Reconstruction reconstruction(images, std::move(tracks), options);
+  Reconstruction reconstruction(images, tracks, options);
   StatusOr<BundleAdjustmentReport> two_view = InitialisePair(&reconstruction, initial_pair, initial->pose);
   if (!two_view.ok()) {
     note_images();
@@ -581,60 +690,30 @@ StatusOr<SfmResult> RunIncrementalSfm(const std::vector<SfmImage>& input, const 
   }
   const int anchor = initial_pair.view_a, second = initial_pair.view_b;
 
-  // 5. Register the rest, best connected first; triangulate and adjust after each.
-  std::vector<char> failed(n, 0);
-  while (true) {
-    int best_image = -1;
-    size_t best_count = 0;
-    for (int i = 0; i < n; ++i) {
-      if (reconstruction.images()[i].registered || failed[i] || !reconstruction.images()[i].note.empty()) continue;
-      std::vector<Eigen::Vector3d> rays, points;
-      std::vector<std::pair<int, int>> sources;
-      reconstruction.Correspondences(i, &rays, &points, &sources);
-      if (rays.size() > best_count) {
-        best_count = rays.size();
-        best_image = i;
+  PX_RETURN_IF_ERROR(RegisterAndAdjust(&reconstruction, anchor, second, options));
+  // Parallel cameras (a lattice, a slider) with little parallax: the five-point pose can land in
+  // the wrong basin of the rotation / inverse-depth ambiguity (on the HCI grid 1.3 degrees off,
+  // at a worse RMS), so the set is rebuilt from the pair's translation-only pose and the better
+  // fit (an RMS at least 3 % lower) is kept.
+  const double max_rotation_deg = reconstruction.MaxRotationDeg();
+  if (max_rotation_deg >= kMinRotationForParallelRestartDeg &&
+      max_rotation_deg < options.parallel_restart_max_rotation_deg) {
+    std::optional<Reconstruction> parallel =
+        ParallelStart(images, tracks, initial_pair, initial->pose, options);
+    if (parallel) {
+      PX_RETURN_IF_ERROR(RegisterAndAdjust(&*parallel, anchor, second, options));
+      int count = 0, parallel_count = 0;
+      const double rms = reconstruction.Rms(&count), parallel_rms = parallel->Rms(&parallel_count);
+      if (parallel->NumRegistered() >= reconstruction.NumRegistered() && parallel_count >= 0.95 * count &&
+          parallel_rms < 0.97 * rms) {
+        report.warnings.push_back(Printf("rebuilt from a translation-only initial pair (parallel cameras): RMS %.3f px "
+                                         "instead of %.3f px",
+                                         parallel_rms, rms));
+        reconstruction = std::move(*parallel);
       }
     }
-    if (best_image < 0) break;
-    std::vector<Eigen::Vector3d> rays, points;
-    std::vector<std::pair<int, int>> sources;
-    reconstruction.Correspondences(best_image, &rays, &points, &sources);
-    ImageState& image = reconstruction.images()[best_image];
-    RansacOptions ransac = options.ransac;
-    ransac.focal_px = image.camera.fx / image.pixel_scale;
-    ransac.max_error_px = options.max_error_px;
-    ransac.seed = options.ransac.seed * 104729ULL + static_cast<uint64_t>(best_image);
-    const AbsolutePoseResult pose = EstimateAbsolutePose(rays, points, AbsolutePoseSolver::kP3p, ransac);
-    if (!pose.success || static_cast<int>(pose.inliers.size()) < options.min_registration_inliers) {
-      failed[best_image] = 1;
-      image.note = "P3P found " + std::to_string(pose.success ? pose.inliers.size() : 0) + " inliers among " +
-                   std::to_string(rays.size()) + " 2D-3D matches (need " +
-                   std::to_string(options.min_registration_inliers) + ")";
-      continue;
-    }
-    std::vector<char> inlier(rays.size(), 0);
-    for (int i : pose.inliers) inlier[i] = 1;
-    for (size_t i = 0; i < sources.size(); ++i) {
-      if (!inlier[i]) reconstruction.Reject(sources[i].first, sources[i].second);
-    }
-    image.registered = true;
-    image.cam_from_world = pose.cam_from_world;
-    reconstruction.TriangulateNewTracks();
-    const bool refine_focal =
-        reconstruction.NumRegistered() >= 3 && reconstruction.FocalRefinable(options.min_rotation_for_focal_deg);
-    PX_ASSIGN_OR_RETURN(BundleAdjustmentReport adjusted,
-                        reconstruction.Adjust(anchor, second, refine_focal, false, 50));
-    (void)adjusted;
-    reconstruction.TriangulateNewTracks();
   }
-
-  // 6. Final adjustment: focal lengths (and distortion when asked) with every view.
   const bool refine_focal = reconstruction.FocalRefinable(options.min_rotation_for_focal_deg);
-  PX_ASSIGN_OR_RETURN(BundleAdjustmentReport final_adjustment,
-                      reconstruction.Adjust(anchor, second, refine_focal, options.refine_radial_distortion, 100));
-  PX_ASSIGN_OR_RETURN(final_adjustment, reconstruction.Adjust(anchor, second, refine_focal,
-                                                               options.refine_radial_distortion, 100));
   report.reconstruction_ms = MsSince(step);
 
   // 7. World = the first registered image's camera; scale = median depth.

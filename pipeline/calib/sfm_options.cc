@@ -41,6 +41,9 @@ Status SfmOptions::Validate() const {
   if (!(min_rotation_for_focal_deg >= 0 && min_rotation_for_focal_deg <= 45)) {
     return OutOfRange("min_rotation_for_focal_deg", min_rotation_for_focal_deg, "[0, 45]");
   }
+  if (!(parallel_restart_max_rotation_deg >= 0 && parallel_restart_max_rotation_deg <= 45)) {
+    return OutOfRange("parallel_restart_max_rotation_deg", parallel_restart_max_rotation_deg, "[0, 45]");
+  }
   if (focal_sweep_steps < 3 || focal_sweep_steps > 100) {
     return OutOfRange("focal_sweep_steps", focal_sweep_steps, "[3, 100]");
   }

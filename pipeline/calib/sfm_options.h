@@ -51,6 +51,11 @@ struct SfmOptions {
   // unobservable: a self-calibrated one is reported so (a warning, report.focal_observable), and
   // focal lengths from metadata are held rather than refined.
   double min_rotation_for_focal_deg = 1.0;
+  // When no two registered views are turned by this much, degrees [0, 45] (0 = never), but
+  // some by 0.25 degree or more, the set is rebuilt from the initial pair's translation-only
+  // pose and the better fit kept: parallel cameras with little parallax let the five-point pose
+  // start in the wrong basin.
+  double parallel_restart_max_rotation_deg = 5.0;
   bool refine_radial_distortion = false;  // k1, k2 in the final adjustment
 
   double loss_scale_px = 2.0;     // Cauchy loss scale, (0, 100]

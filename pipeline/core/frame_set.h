@@ -34,6 +34,10 @@ struct Frame {
   int64_t timestamp_ns = 0;    // capture time (CLOCK_MONOTONIC or the source's injected clock)
   FrameStatus status = FrameStatus::kOk;
   std::string status_detail;   // why status is not kOk, for logs and reports
+  // The lens's focal length in this image's pixels, from the image's own metadata (a JPEG's
+  // EXIF); 0 = unknown, and structure from motion then self-calibrates it.
+  double focal_length_px = 0;
+  std::string focal_length_source;  // how it was found ("EXIF 35 mm equivalent focal length"); "" if unknown
 };
 
 struct FrameSet {

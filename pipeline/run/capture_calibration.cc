@@ -211,6 +211,7 @@ StatusOr<CalibratedViews> ImageSetViews(const FrameSet& capture, const RigCalibr
   const Clock::time_point start = Clock::now();
   std::vector<calib::SfmImage> images;
   std::vector<size_t> frame_of_image;
+  int with_exif_focal = 0;
   for (size_t i = 0; i < capture.frames.size(); ++i) {
     const Frame& frame = capture.frames[i];
     StatusOr<cv::Mat> bgr = frame.status == FrameStatus::kOk ? ToBgr(frame.image) : StatusOr<cv::Mat>(
@@ -221,10 +222,15 @@ StatusOr<CalibratedViews> ImageSetViews(const FrameSet& capture, const RigCalibr
     }
     calib::SfmImage image;
     image.image = *bgr;
-    // A rig with one lens per image (a replayed, calibrated set) gives the intrinsics.
+    // A rig with one lens per image (a replayed, calibrated set) gives the intrinsics; else the
+    // image's own focal length (EXIF) when it has one, with the principal point at the centre.
     if (rig.NumViews() == static_cast<int>(capture.frames.size())) {
       const CameraModel& lens = rig.lenses[i].camera;
       if (lens.width == bgr->cols && lens.height == bgr->rows) image.intrinsics = lens;
+    }
+    if (image.intrinsics.fx == 0 && frame.focal_length_px > 0) {
+      image.intrinsics = CameraModel::Pinhole(bgr->cols, bgr->rows, frame.focal_length_px);
+      ++with_exif_focal;
     }
     images.push_back(std::move(image));
     frame_of_image.push_back(i);
@@ -239,6 +245,10 @@ StatusOr<CalibratedViews> ImageSetViews(const FrameSet& capture, const RigCalibr
   const Clock::time_point calib_start = Clock::now();
   PX_ASSIGN_OR_RETURN(CalibratedViews out, SfmViews(name, images, frame_of_image, image_names, calib_options, sfm,
                                                     warnings));
+  if (with_exif_focal > 0) {
+    out.summary += "; focal length of " + std::to_string(with_exif_focal) + " of " + std::to_string(images.size()) +
+                   " images from their metadata (" + capture.frames[frame_of_image[0]].focal_length_source + ")";
+  }
   timings->push_back({"calib", MsSince(calib_start)});
   return out;
 }

@@ -111,6 +111,8 @@ StatusOr<Manifest> PlanManifest(const Recording& recording) {
     entry.timestamp_ns = frame.timestamp_ns;
     entry.status = frame.status;
     entry.status_detail = frame.status_detail;
+    entry.focal_length_px = frame.focal_length_px;
+    entry.focal_length_source = frame.focal_length_source;
     if (!frame.image.bytes.empty()) {
       const replay::FrameFileType type = replay::ChooseFrameFileType(frame.image);
       entry.file = replay::FrameFileName(i, replay::FrameFileExtension(type));
@@ -240,6 +242,8 @@ StatusOr<Recording> ReadRecording(const fs::path& dir) {
     frame.timestamp_ns = entry.timestamp_ns;
     frame.status = entry.status;
     frame.status_detail = entry.status_detail;
+    frame.focal_length_px = entry.focal_length_px;
+    frame.focal_length_source = entry.focal_length_source;
     if (entry.file) {
       PX_ASSIGN_OR_RETURN(frame.image.bytes, LoadFrameFile(dir, entry, i));
       total_bytes += entry.bytes;

@@ -1,6 +1,7 @@
 #include "sim/replay/recording_manifest.h"
 
 #include <cctype>
+#include <cmath>
 #include <chrono>
 #include <cstdio>
 #include <ctime>
@@ -111,6 +112,9 @@ StatusOr<FrameEntry> FrameEntryFromJson(const Json& j, const std::string& path) 
   if (!status.ok()) return status.status().WithContext(FieldPath(path, "status"));
   entry.status = *status;
   PX_ASSIGN_OR_RETURN(entry.status_detail, json::GetStringOr(j, "status_detail", path, ""));
+  // Optional (recordings before it have none: unknown).
+  PX_ASSIGN_OR_RETURN(entry.focal_length_px, json::GetNumberOr(j, "focal_length_px", path, 0.0));
+  PX_ASSIGN_OR_RETURN(entry.focal_length_source, json::GetStringOr(j, "focal_length_source", path, ""));
   PX_ASSIGN_OR_RETURN(entry.bytes, GetUnsigned(j, "bytes", path));
   PX_ASSIGN_OR_RETURN(entry.sha256, GetStringOrNull(j, "sha256", path));
   return entry;
@@ -126,6 +130,10 @@ nlohmann::ordered_json FrameEntryToJson(const FrameEntry& entry) {
   j["timestamp_ns"] = entry.timestamp_ns;
   j["status"] = std::string(FrameStatusName(entry.status));
   j["status_detail"] = entry.status_detail;
+  if (entry.focal_length_px > 0) {  // written only when known: absent means unknown
+    j["focal_length_px"] = entry.focal_length_px;
+    j["focal_length_source"] = entry.focal_length_source;
+  }
   j["bytes"] = entry.bytes;
   j["sha256"] = entry.sha256 ? nlohmann::ordered_json(*entry.sha256) : nlohmann::ordered_json(nullptr);
   return j;
@@ -137,6 +145,10 @@ Status ValidateFrameEntry(const FrameEntry& entry, const std::string& path) {
       return InvalidArgumentError(FieldPath(path, key) + ": " + std::to_string(side) + " is not in [0, " +
                                   std::to_string(kMaxSidePx) + "] pixels");
     }
+  }
+  if (!(std::isfinite(entry.focal_length_px) && entry.focal_length_px >= 0 && entry.focal_length_px <= 1e6)) {
+    return InvalidArgumentError(FieldPath(path, "focal_length_px") + ": " + std::to_string(entry.focal_length_px) +
+                                " is not in [0, 1e6] pixels");
   }
   if (entry.file.has_value() != entry.sha256.has_value()) {
     return InvalidArgumentError(FieldPath(path, entry.file ? "sha256" : "file") +

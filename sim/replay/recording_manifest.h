@@ -28,6 +28,8 @@ struct FrameEntry {
   int64_t timestamp_ns = 0;
   FrameStatus status = FrameStatus::kOk;
   std::string status_detail;
+  double focal_length_px = 0;       // from the image's metadata (Frame::focal_length_px); 0 = unknown
+  std::string focal_length_source;
   uint64_t bytes = 0;               // size of `file` in bytes (0 without a file)
   std::optional<std::string> sha256;  // lowercase hex of the file's SHA-256; set iff `file` is
 };

@@ -27,17 +27,26 @@ Eigen::Quaterniond Turn(double rx_deg, double ry_deg, double rz_deg) {
 
 ImageSet Render(const std::string& scene_name, const std::vector<Eigen::Vector3d>& centres_m,
                 const std::vector<Eigen::Vector3d>& turns_deg, bool known_focal) {
+  std::vector<Rigid3> poses;
+  for (size_t i = 0; i < centres_m.size(); ++i) {
+    const Eigen::Quaterniond rotation = Turn(turns_deg[i].x(), turns_deg[i].y(), turns_deg[i].z());
+    poses.emplace_back(rotation, -(rotation * centres_m[i]));
+  }
+  const CameraModel camera = CameraModel::Pinhole(640, 480, kFocalPx);
+  return RenderCameras(scene_name, std::vector<CameraModel>(poses.size(), camera), poses, known_focal);
+}
+
+ImageSet RenderCameras(const std::string& scene_name, const std::vector<CameraModel>& cameras,
+                       const std::vector<Rigid3>& cam_from_world, bool known_intrinsics) {
   ImageSet set;
-  set.camera = CameraModel::Pinhole(640, 480, kFocalPx);
+  set.camera = cameras.front();
   StatusOr<sim::Scene> scene = sim::LoadScene(scene_name.find('/') != std::string::npos
                                                    ? std::filesystem::path(scene_name)
                                                    : sim::ScenesDir() / (scene_name + ".json"));
   EXPECT_TRUE(scene.ok()) << scene.status().ToString();
   if (!scene.ok()) return set;
-  for (size_t i = 0; i < centres_m.size(); ++i) {
-    const Eigen::Quaterniond rotation = Turn(turns_deg[i].x(), turns_deg[i].y(), turns_deg[i].z());
-    const Rigid3 cam_from_world(rotation, -(rotation * centres_m[i]));
-    StatusOr<sim::RenderedView> view = sim::RenderView(*scene, set.camera, cam_from_world);
+  for (size_t i = 0; i < cameras.size(); ++i) {
+    StatusOr<sim::RenderedView> view = sim::RenderView(*scene, cameras[i], cam_from_world[i]);
     EXPECT_TRUE(view.ok()) << view.status().ToString();
     if (!view.ok()) return set;
     calib::SfmImage image;
@@ -49,9 +58,18 @@ ImageSet Render(const std::string& scene_name, const std::vector<Eigen::Vector3d
     image.image.convertTo(noisy, CV_16SC3);
     noisy += noise;
     noisy.convertTo(image.image, CV_8UC3);
-    if (known_focal) image.intrinsics = set.camera;
+    if (known_intrinsics) {
+      image.intrinsics = cameras[i];
+      // One camera id per distinct camera (shifted principal points are separate cameras).
+      size_t first = 0;
+      while (cameras[first].cx != cameras[i].cx || cameras[first].cy != cameras[i].cy ||
+             cameras[first].fx != cameras[i].fx) {
+        ++first;
+      }
+      image.camera_id = static_cast<int>(first);
+    }
     set.images.push_back(image);
-    set.truth.push_back(cam_from_world);
+    set.truth.push_back(cam_from_world[i]);
   }
   return set;
 }

@@ -25,6 +25,11 @@ struct ImageSet {
 ImageSet Render(const std::string& scene_name, const std::vector<Eigen::Vector3d>& centres_m,
                 const std::vector<Eigen::Vector3d>& turns_deg, bool known_focal);
 
+// The same through one camera per view (e.g. a grid of cameras with shifted principal points);
+// with `known_intrinsics` every image carries its own camera and camera id.
+ImageSet RenderCameras(const std::string& scene_name, const std::vector<CameraModel>& cameras,
+                       const std::vector<Rigid3>& cam_from_world, bool known_intrinsics);
+
 // Four hand-held shots 8 cm apart (about 3 inches), each turned by up to 2 degrees.
 ImageSet HandHeld(bool known_focal, const std::string& scene = "still_life");
 

@@ -10,7 +10,7 @@
 
 #include "pipeline/core/status.h"
 
-namespace px::eval {
+namespace px {
 
 struct ExifInfo {
   std::string make;
@@ -34,4 +34,4 @@ struct ExifInfo {
 StatusOr<ExifInfo> ParseJpegExif(const std::vector<uint8_t>& bytes);
 StatusOr<ExifInfo> ReadJpegExif(const std::filesystem::path& file);
 
-}  // namespace px::eval
+}  // namespace px

@@ -1,10 +1,10 @@
-#include "eval/datasets/exif.h"
+#include "pipeline/core/exif.h"
 
 #include <cmath>
 #include <fstream>
 #include <iterator>
 
-namespace px::eval {
+namespace px {
 
 namespace {
 
@@ -166,4 +166,4 @@ StatusOr<ExifInfo> ReadJpegExif(const std::filesystem::path& file) {
   return info;
 }
 
-}  // namespace px::eval
+}  // namespace px
