@@ -51,7 +51,8 @@ struct SegmentLayer {
   static constexpr int32_t kNoSegment = -1;
   cv::Mat colour;   // CV_8UC3, BGR: this layer's colour at each pixel
   cv::Mat weight;   // CV_32F in [0, 1]: this layer's share of the pixel
-  cv::Mat segment;  // CV_32S: index into LayeredDepthView::segments, kNoSegment where weight is 0
+  cv::Mat segment;  // CV_32S: index into LayeredDepthView::segments; kNoSegment where no segment
+                    // covers the pixel (a band pixel keeps both, even where its matte weighs one 0)
 };
 
 struct LayeredDepthView {

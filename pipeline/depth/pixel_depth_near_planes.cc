@@ -12,10 +12,11 @@ int KeepPixelDepthNearPlanes(const cv::Mat& inverse_depth, double max_difference
   int changed = 0;
   for (int y = 0; y < inverse_depth.rows; ++y) {
     const float* u = inverse_depth.ptr<float>(y);
-    const float* behind = view->layers[1].weight.ptr<float>(y);
+    // A band pixel has a second segment, even where its matte gives that segment no weight.
+    const int32_t* behind = view->layers[1].segment.ptr<int32_t>(y);
     float* z = view->depth_m.ptr<float>(y);
     for (int x = 0; x < inverse_depth.cols; ++x) {
-      if (u[x] > 0 && z[x] > 0 && behind[x] <= 0 && std::abs(u[x] - 1.0f / z[x]) <= tolerance) {
+      if (u[x] > 0 && z[x] > 0 && behind[x] == SegmentLayer::kNoSegment && std::abs(u[x] - 1.0f / z[x]) <= tolerance) {
         z[x] = 1.0f / u[x];
         ++changed;
       }

@@ -15,7 +15,7 @@ namespace px::depth {
 
 // view->depth_m becomes 1 / inverse_depth (CV_32F, the view's size, 1/m) wherever that inverse
 // depth is positive and within max_difference (1/m) of the plane's (1 / depth_m), and the pixel
-// is covered by layer 0 alone (layer 1's weight is 0). Returns how many pixels changed.
+// is covered by layer 0 alone (no second segment: outside the two-layer bands). Returns how many pixels changed.
 int KeepPixelDepthNearPlanes(const cv::Mat& inverse_depth, double max_difference, LayeredDepthView* view);
 
 }  // namespace px::depth

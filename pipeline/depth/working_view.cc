@@ -75,7 +75,10 @@ Status CheckViews(const std::vector<View>& views, double working_scale, int wind
   return OkStatus();
 }
 
-ScopedNumThreads::ScopedNumThreads(int num_threads) : previous_(cv::getNumThreads()), active_(num_threads > 0) {
+// Only a change calls setNumThreads: it rebuilds OpenCV's worker pool, which must not happen while
+// another thread (the pipeline's face detection) is inside cv::parallel_for_.
+ScopedNumThreads::ScopedNumThreads(int num_threads)
+    : previous_(cv::getNumThreads()), active_(num_threads > 0 && num_threads != previous_) {
   if (active_) cv::setNumThreads(num_threads);
 }
 

@@ -267,6 +267,11 @@ StatusOr<PipelineReport> RunPipeline(const FrameSet& capture, const RigCalibrati
   Clock::time_point start = Clock::now();
   DepthOptions depth_options = options.depth.WithDefaultDepthRange(calibrated.depth_min_m, calibrated.depth_max_m);
   if (depth_options.num_threads == 0) depth_options.num_threads = options.num_threads;
+  // A depth stage with its own OpenCV worker count changes the process-wide pool, which would pull
+  // it from under the face detection running beside it (a crash in TBB): detection finishes first.
+  if (depth_options.num_threads > 0 && depth_options.num_threads != cv::getNumThreads() && centre_faces.valid()) {
+    centre_faces.wait();
+  }
   bool cancelled = false;
   StatusOr<DepthStageResult> depth = ComputeLayeredDepth(views, depth_options, [&](double fraction) {
     cancelled = !report_progress("depth", fraction).ok();
