@@ -10,6 +10,8 @@
 #include <ceres/ceres.h>
 #include <ceres/rotation.h>
 
+#include "pipeline/core/stage_clock.h"
+
 namespace px::calib {
 namespace {
 
@@ -324,7 +326,7 @@ StatusOr<BundleAdjustmentReport> BundleAdjust(BaProblem* problem, const std::vec
   report.converged = ceres_problem.NumResidualBlocks() == 0 || summary.termination_type == ceres::CONVERGENCE;
   report.message = ceres_problem.NumResidualBlocks() == 0 ? "nothing to adjust" : summary.message;
   report.final_rms_px = ReprojectionRms(*problem);
-  report.ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+  report.ms = MsSince(start);
   return report;
 }
 

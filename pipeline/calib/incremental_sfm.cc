@@ -17,11 +17,10 @@
 #include "pipeline/calib/relative_pose.h"
 #include "pipeline/calib/tracks.h"
 #include "pipeline/calib/triangulation.h"
+#include "pipeline/core/stage_clock.h"
 
 namespace px::calib {
 namespace {
-
-using Clock = std::chrono::steady_clock;
 
 // Features below this make an image useless for matching.
 constexpr int kMinFeatures = 30;
@@ -33,10 +32,6 @@ constexpr double kMinRotationForParallelRestartDeg = 0.25;
 // A homography that explains a pair's matches to within this many times their epipolar noise
 // means a plane or a scene at infinity (pure noise gives ~1.3).
 constexpr double kPlanarHomographyRatio = 3.0;
-
-double MsSince(Clock::time_point start) {
-  return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
-}
 
 double Percentile(std::vector<double> values, double fraction) {
   if (values.empty()) return 0;

@@ -7,6 +7,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include "pipeline/core/log.h"
+#include "pipeline/core/stage_clock.h"
 
 namespace px {
 namespace {
@@ -74,7 +75,7 @@ StatusOr<std::vector<View>> MakeViews(const std::vector<cv::Mat>& upright_tiles,
     num_undistorted += lens.camera.HasDistortion() ? 1 : 0;
     views.push_back(std::move(view));
   }
-  const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+  const double ms = MsSince(start);
   Logger("calib")->info("made {} views ({} undistorted, {} cached camera maps) in {:.1f} ms", views.size(),
                         num_undistorted, maps->NumCached(), ms);
   return views;

@@ -9,6 +9,8 @@
 #include <opencv2/calib3d.hpp>
 #include <opencv2/core/eigen.hpp>
 
+#include "pipeline/core/stage_clock.h"
+
 namespace px {
 namespace {
 
@@ -208,7 +210,7 @@ StatusOr<RigCalibrationResult> CalibrateRig(const std::vector<std::vector<cv::Ma
   }
   report.tiles = figures;
   PX_RETURN_IF_ERROR(rig.Validate().WithContext("rig calibration result"));
-  report.ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+  report.ms = MsSince(start);
   return result;
 }
 

@@ -13,11 +13,10 @@
 #include "pipeline/calib/relative_pose.h"
 #include "pipeline/calib/tracks.h"
 #include "pipeline/calib/triangulation.h"
+#include "pipeline/core/stage_clock.h"
 
 namespace px::calib {
 namespace {
-
-using Clock = std::chrono::steady_clock;
 
 // Below this many features a view cannot contribute (P3P and a few tracks need more).
 constexpr int kMinFeaturesPerView = 30;
@@ -26,10 +25,6 @@ constexpr int kMinPairMatches = 16;
 // A factory calibration whose reprojection RMS on the shot is at most this (pixels) fits it:
 // refinement that cannot improve on it leaves it without a warning.
 constexpr double kFactoryFitsRmsPx = 1.0;
-
-double MsSince(Clock::time_point start) {
-  return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
-}
 
 double Median(std::vector<double> values) {
   if (values.empty()) return 0;

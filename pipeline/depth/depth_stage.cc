@@ -8,6 +8,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include "pipeline/core/log.h"
+#include "pipeline/core/stage_clock.h"
 #include "pipeline/depth/pixel_depth_near_planes.h"
 #include "pipeline/depth/consistency.h"
 #include "pipeline/depth/cost_volume.h"
@@ -25,12 +26,7 @@
 namespace px {
 namespace {
 
-using Clock = std::chrono::steady_clock;
 using depth::WorkingView;
-
-double MsSince(Clock::time_point start) {
-  return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
-}
 
 Status CheckInputs(const std::vector<View>& views, const DepthOptions& options) {
   PX_RETURN_IF_ERROR(options.Validate());

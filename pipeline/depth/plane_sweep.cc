@@ -10,6 +10,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include "pipeline/core/log.h"
+#include "pipeline/core/stage_clock.h"
 #include "pipeline/depth/depth_cleanup.h"
 #include "pipeline/depth/cost_volume.h"
 #include "pipeline/depth/plane_homography.h"
@@ -122,7 +123,7 @@ StatusOr<std::vector<DepthMap>> ComputePlaneSweepDepth(const std::vector<View>& 
     mean_confidence += cv::mean(maps.back().confidence)[0] / views.size();
   }
   if (progress) progress(1.0);
-  const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+  const double ms = MsSince(start);
   Logger("depth")->info("{} depth maps ({} planes, {} neighbours, scale {}) in {:.0f} ms, mean confidence {:.2f}",
                         maps.size(), options.num_planes, options.num_neighbors, options.working_scale, ms,
                         mean_confidence);

@@ -4,6 +4,8 @@
 #include <cmath>
 #include <string>
 
+#include "pipeline/core/stage_clock.h"
+
 namespace px::direct {
 
 double ThinHoleBias(double scale) { return std::pow(2.0 / (1.0 + scale), 3); }
@@ -16,7 +18,7 @@ StatusOr<double> CoverageProbe::HoleScore(const CameraModel& output_camera, cons
   {
     const std::lock_guard<std::mutex> lock(counters_);
     ++calls_;
-    ms_ += std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+    ms_ += MsSince(start);
   }
   if (!report.ok()) return report.status().WithContext("coverage");
   if (report->width <= 0) {

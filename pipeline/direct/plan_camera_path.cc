@@ -8,6 +8,7 @@
 #include <map>
 #include <optional>
 
+#include "pipeline/core/stage_clock.h"
 #include "pipeline/direct/pan_zoom_2d.h"
 #include "pipeline/direct/scene_geometry.h"
 #include "pipeline/direct/splat_coverage.h"
@@ -17,12 +18,6 @@
 namespace px {
 
 namespace {
-
-using Clock = std::chrono::steady_clock;
-
-double MsSince(Clock::time_point start) {
-  return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
-}
 
 // A morph needs most of the frame matched both ways to look like one scene moving.
 constexpr double kMinMorphConsistency = 0.5;

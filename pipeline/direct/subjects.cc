@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstdio>
 
+#include "pipeline/core/stage_clock.h"
 #include "pipeline/direct/scene_geometry.h"
 
 namespace px::direct {
@@ -158,7 +159,7 @@ StatusOr<SubjectSearch> FindSubjects(const std::vector<View>& views, const std::
       search.notes.push_back(note);
     }
   }
-  search.ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+  search.ms = MsSince(start);
   return search;
 }
 

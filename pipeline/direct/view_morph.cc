@@ -9,6 +9,8 @@
 #include <opencv2/imgproc.hpp>
 #include <opencv2/video/tracking.hpp>
 
+#include "pipeline/core/stage_clock.h"
+
 namespace px::direct {
 
 namespace {
@@ -256,7 +258,7 @@ StatusOr<std::unique_ptr<ViewMorph>> ViewMorph::Create(const cv::Mat& a, const c
   cv::absdiff(grey_a, warped, diff_warped);
   report.mean_abs_diff_unwarped = cv::mean(diff_unwarped)[0];
   report.mean_abs_diff_warped = cv::mean(diff_warped, morph->seen_ab_)[0];
-  report.ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+  report.ms = MsSince(start);
   return morph;
 }
 

@@ -9,6 +9,7 @@
 
 #include <opencv2/imgproc.hpp>
 
+#include "pipeline/core/stage_clock.h"
 #include "pipeline/lattice/axis_grid.h"
 #include "pipeline/lattice/boundary_profile.h"
 #include "pipeline/lattice/median.h"
@@ -668,7 +669,7 @@ StatusOr<LatticeDetection> DetectLattice(const cv::Mat& sensor_bgr, const Lattic
                                                           : DetectBlind(frame, options);
   if (detection.ok()) {
     detection->report.ms =
-        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+        MsSince(start);
   }
   return detection;
 }

@@ -7,6 +7,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include "pipeline/core/log.h"
+#include "pipeline/core/stage_clock.h"
 #include "pipeline/render/color_effects.h"
 #include "pipeline/render/compositor.h"
 #include "pipeline/render/depth_of_field.h"
@@ -17,12 +18,6 @@
 
 namespace px {
 namespace {
-
-using Clock = std::chrono::steady_clock;
-
-double MsSince(Clock::time_point start) {
-  return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
-}
 
 cv::Mat ToBgr8(const cv::Mat& colour) {
   cv::Mat bgr;

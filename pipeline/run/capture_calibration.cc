@@ -11,10 +11,10 @@
 #include "pipeline/calib/undistort_cache.h"
 #include "pipeline/core/log.h"
 #include "pipeline/core/pixel_format.h"
+#include "pipeline/core/stage_clock.h"
 #include "pipeline/lattice/lattice_detector.h"
 #include "pipeline/lattice/split_lattice.h"
 #include "pipeline/run/frame_salvage.h"
-#include "pipeline/run/stage_clock.h"
 
 namespace px {
 

@@ -10,12 +10,12 @@
 
 #include "pipeline/core/log.h"
 #include "pipeline/core/pixel_format.h"
+#include "pipeline/core/stage_clock.h"
 #include "pipeline/depth/depth_stage.h"
 #include "pipeline/direct/pan_zoom_2d.h"
 #include "pipeline/direct/plan_camera_path.h"
 #include "pipeline/direct/scene_geometry.h"
 #include "pipeline/run/capture_calibration.h"
-#include "pipeline/run/stage_clock.h"
 
 namespace px {
 

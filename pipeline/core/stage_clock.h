@@ -1,4 +1,4 @@
-// The clock the pipeline times its stages with (PipelineReport::timings).
+// The clock the pipeline times its stages and their steps with (PipelineReport::timings, stage reports).
 #pragma once
 
 #include <chrono>
