@@ -12,6 +12,7 @@
 #include "device/cli/depth_option_override.h"
 #include "device/cli/machine_info.h"
 #include "device/cli/progress_bar.h"
+#include "device/cli/run_or_fail.h"
 #include "device/cli/scene_path.h"
 #include "pipeline/clip/mp4_writer.h"
 #include "pipeline/core/log.h"
@@ -166,13 +167,7 @@ void AddBenchCommand(CLI::App& app) {
                     "Override one depth option, name=value as in pipeline/depth/depth_options.h (repeatable), "
                     "e.g. --option matching.sgm_paths=0");
   bench->add_flag("--json", args->json, "Print the figures as JSON (machine-readable)");
-  bench->callback([args]() {
-    Status status = RunBench(*args);
-    if (!status.ok()) {
-      Logger("bench")->error("{}", status.ToString());
-      throw CLI::RuntimeError(1);
-    }
-  });
+  bench->callback(RunOrFail("bench", [args] { return RunBench(*args); }));
 }
 
 }  // namespace px::cli

@@ -10,6 +10,7 @@
 
 #include <opencv2/imgcodecs.hpp>
 
+#include "device/cli/run_or_fail.h"
 #include "pipeline/calib/rig_calibrator.h"
 #include "pipeline/core/log.h"
 #include "pipeline/core/rig_calibration_json.h"
@@ -130,13 +131,7 @@ void AddCalibrateCommand(CLI::App& app) {
       ->capture_default_str();
   cmd->add_flag("--fit-k3", args->fit_k3, "Also fit the sixth-order radial term k3");
   cmd->add_flag("--fit-tangential", args->fit_tangential, "Also fit tangential distortion p1, p2");
-  cmd->callback([args]() {
-    Status status = RunCalibrate(*args);
-    if (!status.ok()) {
-      Logger("calibrate")->error("{}", status.ToString());
-      throw CLI::RuntimeError(1);
-    }
-  });
+  cmd->callback(RunOrFail("calibrate", [args] { return RunCalibrate(*args); }));
 }
 
 }  // namespace px::cli

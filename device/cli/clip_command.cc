@@ -9,6 +9,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "device/cli/run_or_fail.h"
 #include "device/clip_job.h"
 #include "device/face_cascades.h"
 #include "pipeline/core/durable_file.h"
@@ -166,13 +167,7 @@ void AddClipCommand(CLI::App& app) {
       ->capture_default_str();
   clip->add_option("--threads", args->threads, "Worker threads, 0 = all cores")->capture_default_str();
   clip->add_flag("-q,--quiet", args->quiet, "No progress bar");
-  clip->callback([args]() {
-    Status status = RunClip(*args);
-    if (!status.ok()) {
-      Logger("clip")->error("{}", status.ToString());
-      throw CLI::RuntimeError(1);
-    }
-  });
+  clip->callback(RunOrFail("clip", [args] { return RunClip(*args); }));
 }
 
 }  // namespace px::cli

@@ -6,6 +6,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "device/cli/run_or_fail.h"
 #include "eval/calib/calib_eval.h"
 #include "pipeline/core/log.h"
 #include "sim/synthetic/data_paths.h"
@@ -116,13 +117,7 @@ void AddEvalCalibCommand(CLI::App& eval) {
   calib->add_flag("--no-sim", args->no_sim, "Skip the simulated rigs");
   calib->add_flag("--no-data", args->no_data, "Skip the data folders (simulated rigs only)");
   calib->add_option("--seed", args->seed, "Lens perturbation seed of the simulated rigs")->capture_default_str();
-  calib->callback([args]() {
-    Status status = RunEvalCalib(*args);
-    if (!status.ok()) {
-      Logger("eval")->error("{}", status.ToString());
-      throw CLI::RuntimeError(1);
-    }
-  });
+  calib->callback(RunOrFail("eval", [args] { return RunEvalCalib(*args); }));
 }
 
 }  // namespace px::cli

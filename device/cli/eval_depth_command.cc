@@ -13,6 +13,7 @@
 #include "device/cli/depth_option_override.h"
 #include "device/cli/machine_info.h"
 #include "device/cli/progress_bar.h"
+#include "device/cli/run_or_fail.h"
 #include "eval/depth/depth_eval.h"
 #include "pipeline/core/log.h"
 
@@ -183,13 +184,7 @@ void AddEvalDepthCommand(CLI::App& eval) {
   depth->add_option("--dump", args->dump,
                     "Write each method's estimate, the truth and an error picture per set into this folder");
   depth->add_flag("--json", args->json, "Print the figures as JSON (machine-readable)");
-  depth->callback([args]() {
-    Status status = RunEvalDepth(*args);
-    if (!status.ok()) {
-      Logger("eval")->error("{}", status.ToString());
-      throw CLI::RuntimeError(1);
-    }
-  });
+  depth->callback(RunOrFail("eval", [args] { return RunEvalDepth(*args); }));
 }
 
 }  // namespace px::cli

@@ -9,6 +9,7 @@
 
 #include "device/cli/machine_info.h"
 #include "device/cli/progress_bar.h"
+#include "device/cli/run_or_fail.h"
 #include "device/face_cascades.h"
 #include "eval/faces/faces_eval.h"
 #include "eval/faces/sim_face_scenes.h"
@@ -130,13 +131,7 @@ void AddEvalFacesCommand(CLI::App& eval) {
   faces->add_option("--upscale-below-px", args->upscale_below_px,
                     "Override direct.faces.upscale_below_px, [0, 4096], 0 = never (tuning)");
   faces->add_option("--profiles", args->profiles, "Override direct.faces.profiles: on or off (tuning)");
-  faces->callback([args]() {
-    Status status = RunEvalFaces(*args);
-    if (!status.ok()) {
-      Logger("eval")->error("{}", status.ToString());
-      throw CLI::RuntimeError(1);
-    }
-  });
+  faces->callback(RunOrFail("eval", [args] { return RunEvalFaces(*args); }));
 }
 
 }  // namespace px::cli

@@ -10,6 +10,7 @@
 #include <nlohmann/json.hpp>
 
 #include "device/cli/machine_info.h"
+#include "device/cli/run_or_fail.h"
 #include "device/cli/scene_path.h"
 #include "eval/render/render_eval.h"
 #include "pipeline/core/log.h"
@@ -194,13 +195,7 @@ void AddEvalRenderCommand(CLI::App& eval) {
                    "HCI: skip rendering from the whole 9x9 (depth for 80 views takes minutes)");
   render->add_option("--dump", args->dump_dir, "Folder to write each case's render, truth and error map (x4) to");
   render->add_flag("--json", args->json, "Print the figures as JSON (machine-readable)");
-  render->callback([args]() {
-    Status status = RunEvalRender(*args);
-    if (!status.ok()) {
-      Logger("eval")->error("{}", status.ToString());
-      throw CLI::RuntimeError(1);
-    }
-  });
+  render->callback(RunOrFail("eval", [args] { return RunEvalRender(*args); }));
 }
 
 }  // namespace px::cli

@@ -9,6 +9,7 @@
 #include <nlohmann/json.hpp>
 #include <opencv2/imgcodecs.hpp>
 
+#include "device/cli/run_or_fail.h"
 #include "device/cli/scene_path.h"
 #include "pipeline/core/log.h"
 #include "pipeline/core/rig_calibration_json.h"
@@ -203,13 +204,7 @@ void AddSimCommand(CLI::App& app) {
                   "(for `parallax calibrate`)");
   sim->add_option("-o,--output", args->output, "Recording folder to create (must not exist or be empty)")
       ->required();
-  sim->callback([args]() {
-    Status status = RunSim(*args);
-    if (!status.ok()) {
-      Logger("sim")->error("{}", status.ToString());
-      throw CLI::RuntimeError(1);
-    }
-  });
+  sim->callback(RunOrFail("sim", [args] { return RunSim(*args); }));
 }
 
 }  // namespace px::cli
