@@ -188,6 +188,7 @@ CpuSceneRenderer::Core CpuSceneRenderer::RenderCore(const CameraModel& camera, c
       inpaint_options.patch_radius_px = options_.inpaint_patch_radius_px;
       inpaint_options.window_radius_px = options_.inpaint_window_radius_px;
       inpaint_options.depth_radius_px = radius;
+      inpaint_options.fill_border_holes = false;  // smeared below: better outside the sources' view
       const render::InpaintReport inpainted = render::InpaintDepthAware(soft_z, inpaint_options, known == 0, &known,
                                                                         &composite.colour, &composite.depth);
       stats_.inpainted_pixels = inpainted.pixels - inpainted.fallback_pixels;
