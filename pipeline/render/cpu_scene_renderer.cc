@@ -168,6 +168,7 @@ CpuSceneRenderer::Core CpuSceneRenderer::RenderCore(const CameraModel& camera, c
     }
   }
   stats_.hole_pixels = width * height - cv::countNonZero(known);
+  stats_.other_view_pixels = 0;
   if (stats_.hole_pixels > 0 && options_.holes_from_other_views) {
     // The preview leaves holes under 2 radius + 1 px across to its 7x7 fill (the paper's rule).
     const int small_radius = quality == RenderQuality::kPreview ? options_.hole_window_radius_px : 0;

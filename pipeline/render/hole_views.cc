@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <array>
-#include <numeric>
 
 #include <Eigen/Core>
 #include <Eigen/LU>
