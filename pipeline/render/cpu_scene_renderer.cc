@@ -13,6 +13,7 @@
 #include "pipeline/render/depth_of_field.h"
 #include "pipeline/render/exemplar_inpaint.h"
 #include "pipeline/render/hole_fill.h"
+#include "pipeline/render/hole_views.h"
 #include "pipeline/render/layered_from_depth.h"
 #include "pipeline/render/segment_raster.h"
 
@@ -167,9 +168,18 @@ CpuSceneRenderer::Core CpuSceneRenderer::RenderCore(const CameraModel& camera, c
     }
   }
   stats_.hole_pixels = width * height - cv::countNonZero(known);
+  stats_.other_view_pixels = 0;
+  if (stats_.hole_pixels > 0 && options_.holes_from_other_views) {
+    // The preview leaves holes under 2 radius + 1 px across to its 7x7 fill (the paper's rule).
+    const int small_radius = quality == RenderQuality::kPreview ? options_.hole_window_radius_px : 0;
+    stats_.other_view_pixels = render::CoverHolesFromOtherViews(scene_, camera, cam_from_world, slots_, quality,
+                                                                options_.covered_alpha, small_radius, &known,
+                                                                &composite)
+                                   .covered;
+  }
   const render::SoftZ& soft_z = scene_.soft_z();
   const int radius = options_.hole_window_radius_px;
-  if (stats_.hole_pixels > 0) {
+  if (stats_.hole_pixels > stats_.other_view_pixels) {
     if (inpaint) {
       const cv::Mat small = render::SmallHoles(known, radius);
       const render::HoleFillReport first =
@@ -179,6 +189,7 @@ CpuSceneRenderer::Core CpuSceneRenderer::RenderCore(const CameraModel& camera, c
       inpaint_options.patch_radius_px = options_.inpaint_patch_radius_px;
       inpaint_options.window_radius_px = options_.inpaint_window_radius_px;
       inpaint_options.depth_radius_px = radius;
+      inpaint_options.fill_border_holes = false;  // smeared below: better outside the sources' view
       const render::InpaintReport inpainted = render::InpaintDepthAware(soft_z, inpaint_options, known == 0, &known,
                                                                         &composite.colour, &composite.depth);
       stats_.inpainted_pixels = inpainted.pixels - inpainted.fallback_pixels;

@@ -25,6 +25,7 @@ struct CpuFrameStats {
   int segments_drawn = 0;     // segments set up (after culling)
   long fragments = 0;         // fragments generated (each a segment's sample at a pixel that holds its view)
   int hole_pixels = 0;        // before filling
+  int other_view_pixels = 0;  // holes covered by views the mesh did not blend there (hole_views.h)
   int small_hole_pixels = 0;  // filled by the 7x7 reverse soft z pass
   int propagated_pixels = 0;  // filled by the later passes (preview) or the blend fallback
   int inpainted_pixels = 0;   // filled by exemplar inpainting (offline)

@@ -76,6 +76,9 @@ class LayeredScene {
   const ViewMesh& mesh() const { return mesh_; }
   const SoftZ& soft_z() const { return soft_z_; }
   double depth_range_m() const { return soft_z_.rho(); }
+  // The 1st and 99th percentiles of the views' front-layer depths (metres, in each view's camera).
+  double near_m() const { return near_m_; }
+  double far_m() const { return far_m_; }
   // Repairs and exclusions, one line each ("view 3: 12 segments dropped: plane not finite").
   const std::vector<std::string>& warnings() const { return warnings_; }
 
@@ -83,6 +86,8 @@ class LayeredScene {
   std::vector<SceneView> views_;
   ViewMesh mesh_;
   SoftZ soft_z_;
+  double near_m_ = 1.0;
+  double far_m_ = 1.0;
   std::vector<std::string> warnings_;
 };
 
