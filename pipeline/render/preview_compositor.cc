@@ -1,8 +1,16 @@
 // The preview: each view's segments composited front to back into its slot of the three rendering
 // buffers, then the soft z-buffer across the slots (ALGORITHM.md sections 4 and 5).
+//
+// Speed: a band of rows keeps its rendering buffers in a per-thread buffer that stays in cache
+// (slot-major planes of 4-lane cells, premultiplied B, G, R and alpha, plus a depth plane), a
+// fragment is one 4-lane multiply-add per texel layer and one 4-lane add into its cell, and the
+// resolve clears the cells it has read, so the next band (or frame) starts from zeros without a
+// separate pass and nothing is allocated per frame.
 #include <algorithm>
 #include <atomic>
 #include <limits>
+
+#include <opencv2/core/hal/intrin.hpp>
 
 #include "pipeline/render/compositor.h"
 
@@ -11,69 +19,158 @@ namespace {
 
 // Below this alpha a slot saw nothing.
 constexpr float kSeenAlpha = 1e-4f;
-// Per pixel and slot: premultiplied B, G, R, alpha, alpha-weighted depth.
-constexpr int kCell = 5;
-constexpr int kPixelFloats = 3 * kCell;
 
-struct Resolved {
-  float bgr[3] = {0, 0, 0};
-  float alpha = 0;
-  float depth = 0;
+// One band's three rendering buffers: cell (slot k, pixel p) is cells[4 (k pixels + p) ..] =
+// premultiplied B, G, R, alpha, and depths[k pixels + p] its alpha-weighted depth. All zero
+// between bands (the resolve clears what it reads).
+struct BandBuffers {
+  std::vector<float> cells;
+  std::vector<float> depths;
+  int pixels = 0;  // pixels per slot plane: rows * width of the current band layout
+
+  void Reserve(int band_pixels) {
+    pixels = band_pixels;
+    const size_t needed = 3 * static_cast<size_t>(band_pixels);
+    if (depths.size() < needed) {
+      cells.assign(4 * needed, 0.0f);
+      depths.assign(needed, 0.0f);
+    }
+  }
 };
 
-// The soft z-buffer across one pixel's slots (section 5).
-inline Resolved ResolveSlots(const float* cells, const ViewSlots& slots, const SoftZ& soft_z, bool with_colour) {
-  Resolved out;
-  float z[3], view_weight[3];
+BandBuffers& ThreadBandBuffers() {
+  thread_local BandBuffers buffers;
+  return buffers;
+}
+
+// Segment `s` of frame view `fv` into the band's rendering buffers (ALGORITHM.md section 4):
+// the same fragments, samples and saturating blend as RasterizeSegment + the preview's emit, with
+// the per-row terms hoisted. Returns the fragments generated.
+long CompositeSegment(const SceneView& view, const FrameView& fv, const SegmentSetup& s,
+                      const std::vector<ViewSlots>& slots, int width, int row_begin, int row_end, bool with_colour,
+                      BandBuffers* band) {
+  const int view_index = fv.view;
+  const SceneSegment& segment = view.segments[s.segment];
+  float* cells = band->cells.data();
+  float* depths = band->depths.data();
+  const int plane = band->pixels;
+  long fragments = 0;
+  ForEachSegmentRow(fv, s, width, row_begin, row_end, [&](const SegmentRow& r) {
+    const ViewSlots* slot_row = slots.data() + static_cast<size_t>(r.y) * width;
+    const int row_offset = (r.y - row_begin) * width;
+    for (int x = r.x_begin; x < r.x_end; ++x) {
+      const int slot = SlotOf(slot_row[x], view_index);
+      if (slot < 0) continue;
+      const int index = slot * plane + row_offset + x;
+      float* cell = cells + 4 * static_cast<size_t>(index);
+      if (cell[3] >= 1.0f) continue;  // saturated: nothing behind can add to it
+      const float fx = static_cast<float>(x);
+      float u, v;
+      if (!FragmentSource(s, segment, r, fx, &u, &v)) continue;
+      const cv::v_float32x4 sample = SampleSegmentPremultiplied(view, s.segment, u, v);
+      const float alpha = cv::v_extract_n<3>(sample);
+      if (alpha <= 1e-6f) continue;
+      const float inv_z = s.inv_depth[0] * fx + r.iz0;
+      if (!(inv_z > 0)) continue;
+      const float z = 1.0f / inv_z;
+      ++fragments;
+      // Front to back, saturating (GL's SRC_ALPHA_SATURATE): the fragment adds min(alpha, 1 - A).
+      const float f = std::min(alpha, 1.0f - cell[3]);
+      if (f <= 0) continue;
+      if (!with_colour) {
+        cell[3] += f;
+      } else if (f == alpha) {
+        cv::v_store(cell, cv::v_load(cell) + sample);  // the whole sample: alpha lane += f
+      } else {
+        float scaled[4];
+        cv::v_store(scaled, sample * cv::v_setall_f32(f / alpha));  // bgr is premultiplied by alpha
+        scaled[3] = f;
+        cv::v_store(cell, cv::v_load(cell) + cv::v_load(scaled));
+      }
+      depths[index] += f * z;
+    }
+  });
+  return fragments;
+}
+
+// The soft z-buffer across one pixel's three slots (section 5): `cells[k]` is slot k's cell
+// (premultiplied B, G, R, alpha), `depth_sums[k]` its alpha-weighted depth. Writes the blended
+// alpha and depth, and the colour when `bgr` is not null.
+inline void ResolvePixel(const float* const cells[3], const float depth_sums[3], const ViewSlots& slots,
+                         const SoftZ& soft_z, float* alpha, float* depth, float* bgr) {
   bool seen[3];
   bool tier1 = false;
   for (int k = 0; k < 3; ++k) {
-    const float a = cells[k * kCell + 3];
-    seen[k] = slots.view[k] != ViewSlots::kNone && a > kSeenAlpha;
-    z[k] = seen[k] ? cells[k * kCell + 4] / a : 0.0f;
-    view_weight[k] = slots.weight[k];
-    tier1 = tier1 || (seen[k] && view_weight[k] > 0);
+    seen[k] = slots.view[k] != ViewSlots::kNone && cells[k][3] > kSeenAlpha;
+    tier1 = tier1 || (seen[k] && slots.weight[k] > 0);
   }
-  bool any = false;
-  for (int k = 0; k < 3; ++k) {
-    if (!seen[k]) continue;
-    if (tier1 && !(view_weight[k] > 0)) {
-      seen[k] = false;
-    } else if (!tier1) {
-      view_weight[k] = 1.0f;
-    }
-    any = any || seen[k];
-  }
-  if (!any) return out;
+  // Tier 1: the slots of weighted views that saw something; else every slot that saw something,
+  // each weighing 1.
+  bool in[3];
+  float view_weight[3], z[3];
   float z_near = std::numeric_limits<float>::infinity();
   for (int k = 0; k < 3; ++k) {
-    if (seen[k]) z_near = std::min(z_near, z[k]);
+    in[k] = seen[k] && (!tier1 || slots.weight[k] > 0);
+    view_weight[k] = tier1 ? slots.weight[k] : 1.0f;
+    z[k] = in[k] ? depth_sums[k] / cells[k][3] : 0.0f;
+    if (in[k]) z_near = std::min(z_near, z[k]);
   }
-  float sum_b = 0, sum_ba = 0, sum_w = 0, sum_wz = 0;
-  float bgr[3] = {0, 0, 0};
+  *alpha = 0;
+  *depth = 0;
+  if (bgr != nullptr) bgr[0] = bgr[1] = bgr[2] = 0;
+  if (!(in[0] || in[1] || in[2])) return;
+  // (B, G, R, alpha) lanes sum b_k C_k and b_k A_k at once.
+  cv::v_float32x4 sum = cv::v_setzero_f32();
+  float sum_b = 0, sum_w = 0, sum_wz = 0;
   for (int k = 0; k < 3; ++k) {
-    if (!seen[k]) continue;
+    if (!in[k]) continue;
     const float w = soft_z.Weight(z[k] - z_near);
     const float b = view_weight[k] * w;
-    const float* cell = cells + k * kCell;
     sum_b += b;
-    sum_ba += b * cell[3];
     sum_w += w;
     sum_wz += w * z[k];
-    if (with_colour) {
-      bgr[0] += b * cell[0];
-      bgr[1] += b * cell[1];
-      bgr[2] += b * cell[2];
+    sum = sum + cv::v_load(cells[k]) * cv::v_setall_f32(b);
+  }
+  const float sum_ba = cv::v_extract_n<3>(sum);
+  if (!(sum_b > 0) || !(sum_ba > 0)) return;
+  *alpha = sum_ba / sum_b;
+  *depth = sum_wz / sum_w;
+  if (bgr != nullptr) {
+    float lanes[4];
+    cv::v_store(lanes, sum * cv::v_setall_f32(1.0f / sum_ba));
+    bgr[0] = lanes[0];
+    bgr[1] = lanes[1];
+    bgr[2] = lanes[2];
+  }
+}
+
+// Rows [row_begin, row_end) of the band resolved into `out`; the band's cells cleared.
+void ResolveBand(const std::vector<ViewSlots>& slots, const SoftZ& soft_z, int width, int row_begin, int row_end,
+                 bool with_colour, BandBuffers* band, FrameComposite* out) {
+  float* cells = band->cells.data();
+  float* depths = band->depths.data();
+  const size_t plane = static_cast<size_t>(band->pixels);
+  const cv::v_float32x4 zero = cv::v_setzero_f32();
+  for (int y = row_begin; y < row_end; ++y) {
+    const ViewSlots* slot_row = slots.data() + static_cast<size_t>(y) * width;
+    float* alpha_row = out->alpha.ptr<float>(y);
+    float* depth_row = out->depth.ptr<float>(y);
+    float* colour_row = with_colour ? out->colour.ptr<float>(y) : nullptr;
+    const size_t row_offset = static_cast<size_t>(y - row_begin) * width;
+    for (int x = 0; x < width; ++x) {
+      const size_t index = row_offset + x;
+      float* const cell[3] = {cells + 4 * index, cells + 4 * (plane + index), cells + 4 * (2 * plane + index)};
+      float* const depth_sum[3] = {depths + index, depths + plane + index, depths + 2 * plane + index};
+      const float* const read[3] = {cell[0], cell[1], cell[2]};
+      const float sums[3] = {*depth_sum[0], *depth_sum[1], *depth_sum[2]};
+      ResolvePixel(read, sums, slot_row[x], soft_z, alpha_row + x, depth_row + x,
+                   colour_row != nullptr ? colour_row + 3 * x : nullptr);
+      for (int k = 0; k < 3; ++k) {
+        cv::v_store(cell[k], zero);
+        *depth_sum[k] = 0.0f;
+      }
     }
   }
-  if (!(sum_b > 0) || !(sum_ba > 0)) return out;
-  out.alpha = sum_ba / sum_b;
-  out.depth = sum_wz / sum_w;
-  if (with_colour) {
-    const float inv = 1.0f / sum_ba;
-    for (int c = 0; c < 3; ++c) out.bgr[c] = bgr[c] * inv;
-  }
-  return out;
 }
 
 }  // namespace
@@ -92,51 +189,17 @@ void CompositePreview(const LayeredScene& scene, const std::vector<FrameView>& f
   const SoftZ& soft_z = scene.soft_z();
   std::atomic<long> fragments{0};
   cv::parallel_for_(cv::Range(0, static_cast<int>(bands.size())), [&](const cv::Range& range) {
-    std::vector<float> buffer;
+    BandBuffers& band = ThreadBandBuffers();
+    band.Reserve(kBandRows * width);
     long count = 0;
-    for (int band = range.start; band < range.end; ++band) {
-      const int row_begin = band * kBandRows, row_end = std::min(height, row_begin + kBandRows);
-      buffer.assign(static_cast<size_t>(row_end - row_begin) * width * kPixelFloats, 0.0f);
-      for (const BandEntry& entry : bands[band]) {
+    for (int b = range.start; b < range.end; ++b) {
+      const int row_begin = b * kBandRows, row_end = std::min(height, row_begin + kBandRows);
+      for (const BandEntry& entry : bands[b]) {
         const FrameView& fv = frame_views[entry.frame_view];
-        const SceneView& view = scene.views()[fv.view];
-        RasterizeSegment(view, fv, fv.segments[entry.setup], slots, width, row_begin, row_end, with_colour,
-                         [&](int x, int y, int slot) {
-                           return buffer[(static_cast<size_t>(y - row_begin) * width + x) * kPixelFloats +
-                                         slot * kCell + 3] >= 1.0f;
-                         },
-                         [&](int x, int y, int slot, float alpha, const float* bgr, float z) {
-                           ++count;
-                           float* cell = buffer.data() +
-                                         (static_cast<size_t>(y - row_begin) * width + x) * kPixelFloats +
-                                         slot * kCell;
-                           // Front to back, saturating (GL's SRC_ALPHA_SATURATE).
-                           const float f = std::min(alpha, 1.0f - cell[3]);
-                           if (f <= 0) return;
-                           if (bgr != nullptr) {
-                             const float scale = f / alpha;  // bgr is premultiplied by alpha
-                             cell[0] += scale * bgr[0];
-                             cell[1] += scale * bgr[1];
-                             cell[2] += scale * bgr[2];
-                           }
-                           cell[3] += f;
-                           cell[4] += f * z;
-                         });
+        count += CompositeSegment(scene.views()[fv.view], fv, fv.segments[entry.setup], slots, width, row_begin,
+                                  row_end, with_colour, &band);
       }
-      for (int y = row_begin; y < row_end; ++y) {
-        const ViewSlots* slot_row = slots.data() + static_cast<size_t>(y) * width;
-        const float* cells = buffer.data() + static_cast<size_t>(y - row_begin) * width * kPixelFloats;
-        float* alpha_row = out->alpha.ptr<float>(y);
-        float* depth_row = out->depth.ptr<float>(y);
-        cv::Vec3f* colour_row = with_colour ? out->colour.ptr<cv::Vec3f>(y) : nullptr;
-        for (int x = 0; x < width; ++x) {
-          const Resolved r = ResolveSlots(cells + static_cast<size_t>(x) * kPixelFloats, slot_row[x], soft_z,
-                                          with_colour);
-          alpha_row[x] = r.alpha;
-          depth_row[x] = r.depth;
-          if (colour_row != nullptr) colour_row[x] = cv::Vec3f(r.bgr[0], r.bgr[1], r.bgr[2]);
-        }
-      }
+      ResolveBand(slots, soft_z, width, row_begin, row_end, with_colour, &band, out);
     }
     fragments += count;
   });

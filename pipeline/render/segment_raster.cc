@@ -90,15 +90,27 @@ std::vector<FrameView> SetUpFrame(const LayeredScene& scene, const CameraModel& 
       std::vector<double>& weights = chunk_weights[chunk];
       for (int y = chunk * height / num_chunks; y < (chunk + 1) * height / num_chunks; ++y) {
         const ViewSlots* row = slots.data() + static_cast<size_t>(y) * width;
-        for (int x = 0; x < width; ++x) {
-          for (int k = 0; k < 3; ++k) {
-            const int v = row[x].view[k];
-            if (v == ViewSlots::kNone) continue;
-            weights[v] += row[x].weight[k];
-            std::array<int, 2>& span = rows[v][y];
-            span[0] = std::min(span[0], x);
-            span[1] = std::max(span[1], x);
+        // Runs of pixels holding the same three views (a triangle of the mesh): spans and weight
+        // sums are settled once per run.
+        for (int run_begin = 0; run_begin < width;) {
+          const std::array<uint8_t, 3> views = row[run_begin].view;
+          const auto same_views = [&](const ViewSlots& slot) {
+            return slot.view[0] == views[0] && slot.view[1] == views[1] && slot.view[2] == views[2];
+          };
+          double sum[3] = {0, 0, 0};
+          int x = run_begin;
+          for (; x < width && same_views(row[x]); ++x) {
+            for (int k = 0; k < 3; ++k) sum[k] += row[x].weight[k];
           }
+          for (int k = 0; k < 3; ++k) {
+            const int v = views[k];
+            if (v == ViewSlots::kNone) continue;
+            weights[v] += sum[k];
+            std::array<int, 2>& span = rows[v][y];
+            span[0] = std::min(span[0], run_begin);
+            span[1] = std::max(span[1], x - 1);
+          }
+          run_begin = x;
         }
       }
     }
