@@ -15,7 +15,9 @@
 #include "pipeline/core/view.h"
 #include "pipeline/render/layered_scene.h"
 #include "pipeline/render/render_options.h"
+#include "pipeline/render/compositor.h"
 #include "pipeline/render/scene_renderer.h"
+#include "pipeline/render/segment_raster.h"
 
 namespace px {
 
@@ -78,7 +80,9 @@ class CpuSceneRenderer final : public SceneRenderer {
   double min_source_focal_px_ = 0;
   RenderOptions options_;
   CpuFrameStats stats_;
-  std::vector<render::ViewSlots> slots_;  // reused between frames
+  std::vector<render::ViewSlots> slots_;         // reused between frames
+  std::vector<render::FrameView> frame_views_;   // reused between frames
+  render::FrameComposite composite_;             // the preview's colour and alpha, reused
 };
 
 }  // namespace px

@@ -95,35 +95,38 @@ long CompositeSegment(const SceneView& view, const FrameView& fv, const SegmentS
 
 // The soft z-buffer across one pixel's three slots (section 5): `cells[k]` is slot k's cell
 // (premultiplied B, G, R, alpha), `depth_sums[k]` its alpha-weighted depth. Writes the blended
-// alpha and depth, and the colour when `bgr` is not null.
+// alpha and depth, and the colour when `bgr` is not null. The slots taking part are a bit mask,
+// and the usual pixel (three weighted views that all saw something) takes a branch-free path;
+// the sums run over the slots in order either way, as the reference's loop adds them.
 inline void ResolvePixel(const float* const cells[3], const float depth_sums[3], const ViewSlots& slots,
                          const SoftZ& soft_z, float* alpha, float* depth, float* bgr) {
-  bool seen[3];
-  bool tier1 = false;
+  int seen = 0, weighted = 0;
   for (int k = 0; k < 3; ++k) {
-    seen[k] = slots.view[k] != ViewSlots::kNone && cells[k][3] > kSeenAlpha;
-    tier1 = tier1 || (seen[k] && slots.weight[k] > 0);
+    seen |= (slots.view[k] != ViewSlots::kNone && cells[k][3] > kSeenAlpha) << k;
+    weighted |= (slots.weight[k] > 0) << k;
   }
   // Tier 1: the slots of weighted views that saw something; else every slot that saw something,
   // each weighing 1.
-  bool in[3];
-  float view_weight[3], z[3];
-  float z_near = std::numeric_limits<float>::infinity();
-  for (int k = 0; k < 3; ++k) {
-    in[k] = seen[k] && (!tier1 || slots.weight[k] > 0);
-    view_weight[k] = tier1 ? slots.weight[k] : 1.0f;
-    z[k] = in[k] ? depth_sums[k] / cells[k][3] : 0.0f;
-    if (in[k]) z_near = std::min(z_near, z[k]);
-  }
+  int in = seen & weighted;
+  const bool tier1 = in != 0;
+  if (!tier1) in = seen;
   *alpha = 0;
   *depth = 0;
   if (bgr != nullptr) bgr[0] = bgr[1] = bgr[2] = 0;
-  if (!(in[0] || in[1] || in[2])) return;
+  if (in == 0) return;
+  float z[3], view_weight[3];
+  float z_near = std::numeric_limits<float>::infinity();
+  for (int k = 0; k < 3; ++k) {
+    const bool taking_part = (in >> k) & 1;
+    view_weight[k] = tier1 ? slots.weight[k] : 1.0f;
+    z[k] = taking_part ? depth_sums[k] / cells[k][3] : 0.0f;
+    if (taking_part) z_near = std::min(z_near, z[k]);
+  }
   // (B, G, R, alpha) lanes sum b_k C_k and b_k A_k at once.
   cv::v_float32x4 sum = cv::v_setzero_f32();
   float sum_b = 0, sum_w = 0, sum_wz = 0;
   for (int k = 0; k < 3; ++k) {
-    if (!in[k]) continue;
+    if (!((in >> k) & 1)) continue;
     const float w = soft_z.Weight(z[k] - z_near);
     const float b = view_weight[k] * w;
     sum_b += b;

@@ -39,9 +39,10 @@ struct FrameView {
 };
 
 // The views the slots refer to and their segments, set up for one frame (parallel over views'
-// segments). Views never referenced are absent.
-std::vector<FrameView> SetUpFrame(const LayeredScene& scene, const CameraModel& camera, const Rigid3& cam_from_world,
-                                  const std::vector<ViewSlots>& slots);
+// segments) into `frame_views`, whose storage is reused from the previous frame (a frame sets up
+// tens of thousands of segments). Views never referenced are absent.
+void SetUpFrame(const LayeredScene& scene, const CameraModel& camera, const Rigid3& cam_from_world,
+                const std::vector<ViewSlots>& slots, std::vector<FrameView>* frame_views);
 
 // Pixels [*x_begin, *x_end) of row y whose centres lie in the segment's projected rectangle,
 // clipped to [0, width). False when none.
