@@ -13,6 +13,7 @@
 #include "pipeline/render/depth_of_field.h"
 #include "pipeline/render/exemplar_inpaint.h"
 #include "pipeline/render/hole_fill.h"
+#include "pipeline/render/hole_regions.h"
 #include "pipeline/render/layered_from_depth.h"
 #include "pipeline/render/segment_raster.h"
 
@@ -28,34 +29,76 @@ cv::Mat ToBgr8(const cv::Mat& colour) {
   return bgr;
 }
 
-// The bounding box of the holes (coverage 0) grown by `margin_px` and clipped to the image; empty
-// when there is no hole. Outside it every pixel is covered, so hole filling and H(V) computed on
-// it equal those on the whole frame when the margin holds every window and distance step that
-// reaches out of a hole.
-cv::Rect HoleRegion(const cv::Mat& coverage, int margin_px) {
-  const cv::Rect holes = cv::boundingRect(coverage == 0);
-  if (holes.empty()) return holes;
-  const cv::Rect grown(holes.x - margin_px, holes.y - margin_px, holes.width + 2 * margin_px,
-                       holes.height + 2 * margin_px);
-  return grown & cv::Rect(0, 0, coverage.cols, coverage.rows);
-}
-
-// cv::distanceTransform's 5x5 mask moves up to 2 pixels at a step.
+// cv::distanceTransform's 5x5 mask (H(V)) reaches 2 pixels from a hole at a step.
 constexpr int kHoleScoreMarginPx = 2;
 
-CoverageReport MeasureCoverage(const cv::Mat& coverage) {
+// Hole ratio and H(V) of `coverage`, H(V) summed over `regions` (render::HoleRegions with a margin
+// of at least kHoleScoreMarginPx: the distances are the same there, every other pixel is covered
+// and adds 0) and normalised by the whole frame.
+CoverageReport MeasureCoverage(const cv::Mat& coverage, const std::vector<cv::Rect>& regions) {
   CoverageReport report;
   report.width = coverage.cols;
   report.height = coverage.rows;
   const double total = static_cast<double>(coverage.total());
   report.hole_ratio = 1.0 - cv::countNonZero(coverage) / total;
-  if (report.hole_ratio > 0) {
-    // H(V) over the holes' region only (the distances are the same there; every other pixel is
-    // covered and adds 0), normalised by the whole frame.
-    const cv::Rect region = HoleRegion(coverage, kHoleScoreMarginPx);
-    report.hole_score = render::HoleScore(coverage(region)) * (static_cast<double>(region.area()) / total);
+  for (const cv::Rect& region : regions) {
+    report.hole_score += render::HoleScore(coverage(region)) * (static_cast<double>(region.area()) / total);
   }
   return report;
+}
+
+CoverageReport MeasureCoverage(const cv::Mat& coverage) {
+  return MeasureCoverage(coverage, render::HoleRegions(coverage, kHoleScoreMarginPx));
+}
+
+struct HoleCounts {
+  int small = 0, propagated = 0, inpainted = 0;
+};
+
+// Fills the holes of the frame inside `region` (a render::HoleRegions box, or the whole frame):
+// reverse soft z (section 6), after exemplar inpainting of the large holes when `inpaint`
+// (offline, section 10); soft edges keep their share of colour over the fill.
+HoleCounts FillHolesIn(const cv::Rect& region, bool inpaint, const RenderOptions& options,
+                       const render::SoftZ& soft_z, const cv::Mat& coverage, render::FrameComposite* composite) {
+  HoleCounts counts;
+  const int radius = options.hole_window_radius_px;
+  cv::Mat known = coverage(region).clone();
+  cv::Mat colour = composite->colour(region), depth = composite->depth(region), alpha = composite->alpha(region);
+  // Partly covered holes keep their share of colour over the fill (section 6).
+  struct Partial {
+    cv::Point at;
+    float alpha;
+    cv::Vec3f colour;
+  };
+  std::vector<Partial> partial;
+  for (int y = 0; y < region.height; ++y) {
+    const float* a = alpha.ptr<float>(y);
+    const uint8_t* k = known.ptr<uint8_t>(y);
+    for (int x = 0; x < region.width; ++x) {
+      if (k[x] == 0 && a[x] > 0) partial.push_back({{x, y}, a[x], colour.at<cv::Vec3f>(y, x)});
+    }
+  }
+  if (inpaint) {
+    const cv::Mat small = render::SmallHoles(known, radius);
+    const render::HoleFillReport first = render::FillHolesReverseSoftZ(soft_z, radius, 1, &known, &colour, &depth, &small);
+    counts.small = first.first_pass;
+    render::InpaintOptions inpaint_options;
+    inpaint_options.patch_radius_px = options.inpaint_patch_radius_px;
+    inpaint_options.window_radius_px = options.inpaint_window_radius_px;
+    inpaint_options.depth_radius_px = radius;
+    const render::InpaintReport inpainted =
+        render::InpaintDepthAware(soft_z, inpaint_options, known == 0, &known, &colour, &depth);
+    counts.inpainted = inpainted.pixels - inpainted.fallback_pixels;
+    counts.propagated = inpainted.fallback_pixels;
+  }
+  const render::HoleFillReport rest = render::FillHolesReverseSoftZ(soft_z, radius, 0, &known, &colour, &depth);
+  if (!inpaint) counts.small = rest.first_pass;
+  counts.propagated += inpaint ? rest.first_pass + rest.later_passes : rest.later_passes;
+  for (const Partial& p : partial) {
+    cv::Vec3f& c = colour.at<cv::Vec3f>(p.at);
+    c = p.alpha * p.colour + (1.0f - p.alpha) * c;
+  }
+  return counts;
 }
 
 // Coverage() at or below this fraction of the sources' focal length draws the coarse scene, whose
@@ -180,50 +223,31 @@ CpuSceneRenderer::Core CpuSceneRenderer::RenderCore(const CameraModel& camera, c
   Core core;
   core.coverage = composite.alpha >= options_.covered_alpha;
   stats_.hole_pixels = width * height - cv::countNonZero(core.coverage);
-  const render::SoftZ& soft_z = scene_.soft_z();
   const int radius = options_.hole_window_radius_px;
-  if (stats_.hole_pixels > 0) {
-    // Filling works on the holes' region grown by the fill window: the windows of its hole
-    // pixels and their distances to the covered ones all lie inside it, so the result is the
-    // whole frame's (exemplar inpainting searches wider: the whole frame there).
-    const cv::Rect region = inpaint ? cv::Rect(0, 0, width, height) : HoleRegion(core.coverage, std::max(1, radius));
-    cv::Mat known = core.coverage(region).clone();
-    cv::Mat colour = composite.colour(region), depth = composite.depth(region), alpha = composite.alpha(region);
-    // Partly covered holes keep their share of colour over the fill (section 6).
-    struct Partial {
-      cv::Point at;
-      float alpha;
-      cv::Vec3f colour;
-    };
-    std::vector<Partial> partial;
-    for (int y = 0; y < region.height; ++y) {
-      const float* a = alpha.ptr<float>(y);
-      const uint8_t* k = known.ptr<uint8_t>(y);
-      for (int x = 0; x < region.width; ++x) {
-        if (k[x] == 0 && a[x] > 0) partial.push_back({{x, y}, a[x], colour.at<cv::Vec3f>(y, x)});
+  // Hole filling works box by box on the holes' regions grown by the fill window (the windows
+  // and the distances to covered pixels all lie inside them, so the result is the whole frame's;
+  // exemplar inpainting searches wider: the whole frame), the boxes in parallel, with H(V), which
+  // reads the coverage only, beside them.
+  const std::vector<cv::Rect> regions =
+      stats_.hole_pixels == 0 ? std::vector<cv::Rect>()
+      : inpaint               ? std::vector<cv::Rect>{cv::Rect(0, 0, width, height)}
+                              : render::HoleRegions(core.coverage, std::max(radius, kHoleScoreMarginPx));
+  std::vector<HoleCounts> counts(regions.size());
+  const int num_regions = static_cast<int>(regions.size());
+  cv::parallel_for_(cv::Range(0, num_regions + 1), [&](const cv::Range& range) {
+    for (int i = range.start; i < range.end; ++i) {
+      if (i == num_regions) {
+        core.holes = MeasureCoverage(core.coverage, inpaint ? render::HoleRegions(core.coverage, kHoleScoreMarginPx)
+                                                            : regions);
+      } else {
+        counts[i] = FillHolesIn(regions[i], inpaint, options_, scene_.soft_z(), core.coverage, &composite);
       }
     }
-    if (inpaint) {
-      const cv::Mat small = render::SmallHoles(known, radius);
-      const render::HoleFillReport first =
-          render::FillHolesReverseSoftZ(soft_z, radius, 1, &known, &colour, &depth, &small);
-      stats_.small_hole_pixels = first.first_pass;
-      render::InpaintOptions inpaint_options;
-      inpaint_options.patch_radius_px = options_.inpaint_patch_radius_px;
-      inpaint_options.window_radius_px = options_.inpaint_window_radius_px;
-      inpaint_options.depth_radius_px = radius;
-      const render::InpaintReport inpainted =
-          render::InpaintDepthAware(soft_z, inpaint_options, known == 0, &known, &colour, &depth);
-      stats_.inpainted_pixels = inpainted.pixels - inpainted.fallback_pixels;
-      stats_.propagated_pixels = inpainted.fallback_pixels;
-    }
-    const render::HoleFillReport rest = render::FillHolesReverseSoftZ(soft_z, radius, 0, &known, &colour, &depth);
-    if (!inpaint) stats_.small_hole_pixels = rest.first_pass;
-    stats_.propagated_pixels += inpaint ? rest.first_pass + rest.later_passes : rest.later_passes;
-    for (const Partial& p : partial) {
-      cv::Vec3f& c = colour.at<cv::Vec3f>(p.at);
-      c = p.alpha * p.colour + (1.0f - p.alpha) * c;
-    }
+  });
+  for (const HoleCounts& c : counts) {
+    stats_.small_hole_pixels += c.small;
+    stats_.propagated_pixels += c.propagated;
+    stats_.inpainted_pixels += c.inpainted;
   }
   stats_.holes_ms += MsSince(start);
 
@@ -269,7 +293,7 @@ StatusOr<FrameRender> CpuSceneRenderer::Render(const VirtualCamera& camera) {
   frame.bgr = ToBgr8(core.colour);
   frame.depth_m = core.depth;
   frame.coverage = core.coverage;
-  frame.holes = MeasureCoverage(core.coverage);
+  frame.holes = core.holes;
   frame.sources = std::move(core.sources);
   stats_.total_ms = MsSince(start);
   Logger("render")->debug(

@@ -69,6 +69,7 @@ class CpuSceneRenderer final : public SceneRenderer {
     cv::Mat colour;    // CV_32FC3
     cv::Mat depth;     // CV_32F
     cv::Mat coverage;  // CV_8U
+    CoverageReport holes;  // of `coverage`
     std::vector<ViewId> sources;
   };
   Status CheckCamera(const CameraModel& camera, const Rigid3& cam_from_world) const;

@@ -100,6 +100,33 @@ long CompositeSegment(const SceneView& view, const FrameView& fv, const SegmentS
 // the sums run over the slots in order either way, as the reference's loop adds them.
 inline void ResolvePixel(const float* const cells[3], const float depth_sums[3], const ViewSlots& slots,
                          const SoftZ& soft_z, float* alpha, float* depth, float* bgr) {
+  const float a0 = cells[0][3], a1 = cells[1][3], a2 = cells[2][3];
+  if (slots.view[0] != ViewSlots::kNone && slots.view[1] != ViewSlots::kNone && slots.view[2] != ViewSlots::kNone &&
+      a0 > kSeenAlpha && a1 > kSeenAlpha && a2 > kSeenAlpha && slots.weight[0] > 0 && slots.weight[1] > 0 &&
+      slots.weight[2] > 0) {
+    // The usual pixel: three weighted views that all saw something (tier 1 is all three).
+    const float z0 = depth_sums[0] / a0, z1 = depth_sums[1] / a1, z2 = depth_sums[2] / a2;
+    const float z_near = std::min(std::min(z0, z1), z2);
+    const float w0 = soft_z.Weight(z0 - z_near), w1 = soft_z.Weight(z1 - z_near), w2 = soft_z.Weight(z2 - z_near);
+    const float b0 = slots.weight[0] * w0, b1 = slots.weight[1] * w1, b2 = slots.weight[2] * w2;
+    const float sum_b = b0 + b1 + b2, sum_w = w0 + w1 + w2, sum_wz = w0 * z0 + w1 * z1 + w2 * z2;
+    const cv::v_float32x4 sum = cv::v_load(cells[0]) * cv::v_setall_f32(b0) +
+                                cv::v_load(cells[1]) * cv::v_setall_f32(b1) +
+                                cv::v_load(cells[2]) * cv::v_setall_f32(b2);
+    const float sum_ba = cv::v_extract_n<3>(sum);
+    if (sum_b > 0 && sum_ba > 0) {
+      *alpha = sum_ba / sum_b;
+      *depth = sum_wz / sum_w;
+      if (bgr != nullptr) {
+        float lanes[4];
+        cv::v_store(lanes, sum * cv::v_setall_f32(1.0f / sum_ba));
+        bgr[0] = lanes[0];
+        bgr[1] = lanes[1];
+        bgr[2] = lanes[2];
+      }
+      return;
+    }
+  }
   int seen = 0, weighted = 0;
   for (int k = 0; k < 3; ++k) {
     seen |= (slots.view[k] != ViewSlots::kNone && cells[k][3] > kSeenAlpha) << k;

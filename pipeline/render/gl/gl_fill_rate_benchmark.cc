@@ -1,6 +1,6 @@
 // The floor of a GL pass on this machine (llvmpipe on OSMesa, or EGL: PX_GL=egl|osmesa picks):
 // the process CPU time of drawing with a shader that writes a constant, by target format
-// (RGBA8, RGBA16, RGBA16F, RGBA32F), primitive size (one full-screen triangle, or 10x10 px
+// (RGBA8, RGBA16, RGBA16F, RGBA32F), texel fetches per fragment, primitive size (one full-screen triangle, or 10x10 px
 // rectangles overlapping to 3.2 fragments a pixel as the segment pass draws them) and with or
 // without an 8-bit (RGBA8) or float read-back. What no shader work can go below: the renderer's
 // design needs a weights pass, ~3.2 fragments a pixel of segments and a resolve. Prints
@@ -46,6 +46,19 @@ layout(location = 0) out vec4 colour;
 void main() { colour = vec4(0.25, 0.5, 0.75, 1.0); }
 )";
 
+// FETCHES texelFetch calls from a texture of the target's format at neighbouring texels, summed
+// (the segment shader makes 5 per fragment, the resolve 7 per pixel).
+constexpr std::string_view kFetchFragment = R"(
+uniform sampler2D source;
+layout(location = 0) out vec4 colour;
+void main() {
+  ivec2 p = ivec2(gl_FragCoord.xy);
+  vec4 sum = vec4(0.0);
+  for (int i = 0; i < FETCHES; ++i) sum += texelFetch(source, p + ivec2(i & 1, i >> 1), 0);
+  colour = sum;
+}
+)";
+
 struct Format {
   GLenum internal_format;
   const char* name;
@@ -57,11 +70,13 @@ constexpr Format kFormats[] = {{GL_RGBA8, "rgba8", GL_UNSIGNED_BYTE},
                                {GL_RGBA32F, "rgba32f", GL_FLOAT}};
 
 // range(0): width (height 2/3 of it); range(1): format index in kFormats; range(2): 0 one
-// full-screen triangle, 1 overlapping 10x10 px tiles (3.2 fragments a pixel); range(3): read back.
+// full-screen triangle, 1 overlapping 10x10 px tiles (3.2 fragments a pixel); range(3): read back;
+// range(4): texel fetches per fragment from a texture of the same format (0: a constant).
 void BM_GlPassFloor(benchmark::State& state) {
   const int width = static_cast<int>(state.range(0)), height = width * 2 / 3;
   const Format& format = kFormats[state.range(1)];
   const bool tiles = state.range(2) != 0, read_back = state.range(3) != 0;
+  const int fetches = static_cast<int>(state.range(4));
   GlContextOptions options;
   if (const char* name = std::getenv("PX_GL")) {
     if (auto platform = ParseGlPlatform(name); platform.ok()) options.platform = *platform;
@@ -79,7 +94,14 @@ void BM_GlPassFloor(benchmark::State& state) {
       return;
     }
     auto fbo = MakeFramebuffer(gl, {target->id()}, "floor");
-    auto program = BuildProgram(gl, "floor", tiles ? kTileVertex : kFullScreenVertexShader, kConstantFragment);
+    auto source = MakeTexture2D(gl, format.internal_format, width + 2, height + 2, "floor source");
+    const std::string fetch_shader = "#define FETCHES " + std::to_string(fetches) + "\n" + std::string(kFetchFragment);
+    auto program = BuildProgram(gl, "floor", tiles ? kTileVertex : kFullScreenVertexShader,
+                                fetches > 0 ? std::string_view(fetch_shader) : kConstantFragment);
+    if (!source.ok()) {
+      state.SkipWithError(source.status().ToString().c_str());
+      return;
+    }
     if (!fbo.ok() || !program.ok()) {
       state.SkipWithError(!fbo.ok() ? fbo.status().ToString().c_str() : program.status().ToString().c_str());
       return;
@@ -89,6 +111,11 @@ void BM_GlPassFloor(benchmark::State& state) {
     gl.BindFramebuffer(GL_FRAMEBUFFER, fbo->id());
     gl.Viewport(0, 0, width, height);
     gl.UseProgram(program->id());
+    if (fetches > 0) {
+      gl.ActiveTexture(GL_TEXTURE0);
+      gl.BindTexture(GL_TEXTURE_2D, source->id());
+      gl.Uniform1i(gl.GetUniformLocation(program->id(), "source"), 0);
+    }
     // Tiles of 10 px every 5.6 px: (10 / 5.6)^2 = 3.2 fragments a pixel, as the segment pass.
     constexpr float kTilePx = 10.0f, kStepPx = 5.6f;
     const int columns = static_cast<int>(width / kStepPx) + 1, rows = static_cast<int>(height / kStepPx) + 1;
@@ -119,15 +146,18 @@ void BM_GlPassFloor(benchmark::State& state) {
     const double cpu_s = ProcessCpuSeconds() - cpu_start;
     state.counters["ns_per_pixel"] = 1e9 * cpu_s / std::max(passes, 1L) / (static_cast<double>(width) * height);
     state.SetLabel(std::string(format.name) + (tiles ? " tiles" : " full-screen") +
-                   (read_back ? " + read-back" : "") + ", " + (*context)->info().renderer);
+                   (read_back ? " + read-back" : "") +
+                   (fetches > 0 ? ", " + std::to_string(fetches) + " fetches" : std::string()) + ", " +
+                   (*context)->info().renderer);
   }
   (*context)->ReleaseCurrent();
 }
 BENCHMARK(BM_GlPassFloor)
-    ->ArgNames({"width", "format", "tiles", "read"})
-    ->ArgsProduct({{480, 1200}, {0, 1, 2, 3}, {0}, {0}})
-    ->ArgsProduct({{480, 1200}, {0, 3}, {1}, {0}})
-    ->ArgsProduct({{480, 1200}, {0, 3}, {0}, {1}})
+    ->ArgNames({"width", "format", "tiles", "read", "fetches"})
+    ->ArgsProduct({{480, 1200}, {0, 1, 2, 3}, {0}, {0}, {0}})
+    ->ArgsProduct({{480, 1200}, {0, 3}, {1}, {0}, {0}})
+    ->ArgsProduct({{480, 1200}, {0, 3}, {0}, {1}, {0}})
+    ->ArgsProduct({{480, 1200}, {0, 3}, {0}, {0}, {1, 4}})
     ->Unit(benchmark::kMillisecond)
     ->MeasureProcessCPUTime()
     ->UseRealTime();
