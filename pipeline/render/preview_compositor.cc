@@ -93,6 +93,24 @@ long CompositeSegment(const SceneView& view, const FrameView& fv, const SegmentS
   return fragments;
 }
 
+// The blended pixel from the soft z sums: `sum` = (sum b_k C_k, sum b_k A_k), sum_b = sum b_k,
+// sum_w = sum w_k, sum_wz = sum w_k z_k. False (nothing written) when nothing was seen.
+inline bool WriteBlend(const cv::v_float32x4& sum, float sum_b, float sum_w, float sum_wz, float* alpha, float* depth,
+                       float* bgr) {
+  const float sum_ba = cv::v_extract_n<3>(sum);
+  if (!(sum_b > 0) || !(sum_ba > 0)) return false;
+  *alpha = sum_ba / sum_b;
+  *depth = sum_wz / sum_w;
+  if (bgr != nullptr) {
+    float lanes[4];
+    cv::v_store(lanes, sum * cv::v_setall_f32(1.0f / sum_ba));
+    bgr[0] = lanes[0];
+    bgr[1] = lanes[1];
+    bgr[2] = lanes[2];
+  }
+  return true;
+}
+
 // The soft z-buffer across one pixel's three slots (section 5): `cells[k]` is slot k's cell
 // (premultiplied B, G, R, alpha), `depth_sums[k]` its alpha-weighted depth. Writes the blended
 // alpha and depth, and the colour when `bgr` is not null. The slots taking part are a bit mask,
@@ -113,19 +131,7 @@ inline void ResolvePixel(const float* const cells[3], const float depth_sums[3],
     const cv::v_float32x4 sum = cv::v_load(cells[0]) * cv::v_setall_f32(b0) +
                                 cv::v_load(cells[1]) * cv::v_setall_f32(b1) +
                                 cv::v_load(cells[2]) * cv::v_setall_f32(b2);
-    const float sum_ba = cv::v_extract_n<3>(sum);
-    if (sum_b > 0 && sum_ba > 0) {
-      *alpha = sum_ba / sum_b;
-      *depth = sum_wz / sum_w;
-      if (bgr != nullptr) {
-        float lanes[4];
-        cv::v_store(lanes, sum * cv::v_setall_f32(1.0f / sum_ba));
-        bgr[0] = lanes[0];
-        bgr[1] = lanes[1];
-        bgr[2] = lanes[2];
-      }
-      return;
-    }
+    if (WriteBlend(sum, sum_b, sum_w, sum_wz, alpha, depth, bgr)) return;
   }
   int seen = 0, weighted = 0;
   for (int k = 0; k < 3; ++k) {
@@ -161,17 +167,7 @@ inline void ResolvePixel(const float* const cells[3], const float depth_sums[3],
     sum_wz += w * z[k];
     sum = sum + cv::v_load(cells[k]) * cv::v_setall_f32(b);
   }
-  const float sum_ba = cv::v_extract_n<3>(sum);
-  if (!(sum_b > 0) || !(sum_ba > 0)) return;
-  *alpha = sum_ba / sum_b;
-  *depth = sum_wz / sum_w;
-  if (bgr != nullptr) {
-    float lanes[4];
-    cv::v_store(lanes, sum * cv::v_setall_f32(1.0f / sum_ba));
-    bgr[0] = lanes[0];
-    bgr[1] = lanes[1];
-    bgr[2] = lanes[2];
-  }
+  WriteBlend(sum, sum_b, sum_w, sum_wz, alpha, depth, bgr);
 }
 
 // Rows [row_begin, row_end) of the band resolved into `out`; the band's cells cleared.
