@@ -1,6 +1,7 @@
 #include "pipeline/run/overlapped_frame_sink.h"
 
 #include <algorithm>
+#include <exception>
 #include <string>
 
 #include "pipeline/core/stage_clock.h"
@@ -48,7 +49,12 @@ void OverlappedFrameSink::Run() {
     if (!error_.ok()) continue;  // drop the frames after an error
     lock.unlock();
     const Clock::time_point start = Clock::now();
-    Status consumed = sink_->Consume(frame.first, frame.second);
+    Status consumed;
+    try {
+      consumed = sink_->Consume(frame.first, frame.second);
+    } catch (const std::exception& e) {  // on this thread an escaping exception would end the process
+      consumed = InternalError("frame sink: frame " + std::to_string(frame.first) + ": " + e.what());
+    }
     const double ms = MsSince(start);
     frame.second.release();
     lock.lock();

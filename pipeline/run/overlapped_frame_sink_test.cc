@@ -2,6 +2,7 @@
 
 #include <atomic>
 #include <chrono>
+#include <stdexcept>
 #include <thread>
 #include <vector>
 
@@ -80,6 +81,23 @@ TEST(OverlappedFrameSinkTest, TheSinksErrorStopsTheClipAndIsReturned) {
   EXPECT_EQ(sink.indices.back(), 3);
   EXPECT_LE(i, 3 + 2 + 2);
   EXPECT_FALSE(overlapped.Consume(99, Frame(99)).ok());
+}
+
+class ThrowingSink : public FrameSink {
+ public:
+  Status Consume(int index, const cv::Mat&) override {
+    if (index == 1) throw std::runtime_error("codec exploded");
+    return OkStatus();
+  }
+};
+
+TEST(OverlappedFrameSinkTest, AnExceptionInTheSinkBecomesAnError) {
+  ThrowingSink sink;
+  OverlappedFrameSink overlapped(&sink, 2);
+  for (int i = 0; i < 3; ++i) (void)overlapped.Consume(i, Frame(i));
+  const Status finished = overlapped.Finish();
+  EXPECT_FALSE(finished.ok());
+  EXPECT_NE(finished.message().find("codec exploded"), std::string::npos) << finished.ToString();
 }
 
 TEST(OverlappedFrameSinkTest, DestroyingWithoutFinishConsumesWhatWasQueued) {
