@@ -8,6 +8,7 @@
 // separate pass and nothing is allocated per frame.
 #include <algorithm>
 #include <atomic>
+#include <cstddef>
 #include <limits>
 
 #include <opencv2/core/hal/intrin.hpp>
@@ -170,6 +171,67 @@ inline void ResolvePixel(const float* const cells[3], const float depth_sums[3],
   WriteBlend(sum, sum_b, sum_w, sum_wz, alpha, depth, bgr);
 }
 
+// ResolvePixel for four pixels at once (x .. x + 3 of a row) when each has a tier-1 slot (a
+// weighted view that saw something) and its tier-1 slots' depths lie within gamma of their
+// nearest (soft z weight 1): `cells[k]` and `depth_sums[k]` point at slot k of pixel x, `slots` at
+// pixel x's. Lane by lane the same operations in the same order as ResolvePixel, the slots not
+// taking part adding exact zeros. False, with nothing written, when one of the four is not such
+// a pixel.
+inline bool ResolveFourUsualPixels(const float* const cells[3], const float* const depth_sums[3],
+                                   const ViewSlots* slots, float gamma, float* alpha, float* depth, float* bgr) {
+  using cv::v_float32x4;
+  static_assert(sizeof(ViewSlots) == 16 && offsetof(ViewSlots, weight) == 4, "view bytes, then three weights");
+  // Per slot: the four pixels' B, G, R, alpha and depth sums as lanes.
+  v_float32x4 b[3], g[3], r[3], a[3], z[3];
+  for (int k = 0; k < 3; ++k) {
+    cv::v_transpose4x4(cv::v_load(cells[k]), cv::v_load(cells[k] + 4), cv::v_load(cells[k] + 8),
+                       cv::v_load(cells[k] + 12), b[k], g[k], r[k], a[k]);
+    z[k] = cv::v_load(depth_sums[k]);
+  }
+  const float* slot_words = reinterpret_cast<const float*>(slots);
+  v_float32x4 views, w[3];
+  cv::v_transpose4x4(cv::v_load(slot_words), cv::v_load(slot_words + 4), cv::v_load(slot_words + 8),
+                     cv::v_load(slot_words + 12), views, w[0], w[1], w[2]);
+  const cv::v_uint32x4 view_bytes = cv::v_reinterpret_as_u32(views), none = cv::v_setall_u32(ViewSlots::kNone);
+  const v_float32x4 zero = cv::v_setzero_f32(), one = cv::v_setall_f32(1.0f), seen = cv::v_setall_f32(kSeenAlpha);
+  const v_float32x4 infinity = cv::v_setall_f32(std::numeric_limits<float>::infinity());
+  // Tier 1 per slot: a view, weighted, that saw something.
+  v_float32x4 in[3];
+  for (int k = 0; k < 3; ++k) {
+    const cv::v_uint32x4 no_view = ((view_bytes >> (8 * k)) & none) == none;
+    in[k] = cv::v_reinterpret_as_f32(~no_view) & (a[k] > seen) & (w[k] > zero);
+  }
+  if (!cv::v_check_all(in[0] | in[1] | in[2])) return false;
+  v_float32x4 z_in[3], near = infinity;
+  for (int k = 0; k < 3; ++k) {
+    z[k] = cv::v_select(in[k], z[k] / a[k], zero);
+    z_in[k] = cv::v_select(in[k], z[k], infinity);
+    near = cv::v_select(z_in[k] < near, z_in[k], near);  // std::min over the slots, in order
+  }
+  const v_float32x4 gamma4 = cv::v_setall_f32(gamma);
+  for (int k = 0; k < 3; ++k) {
+    if (!cv::v_check_all(~in[k] | ((z[k] - near) <= gamma4))) return false;
+  }
+  // Soft z weights 1 where taking part, 0 elsewhere: b_k = v_k, w z_k = z_k.
+  v_float32x4 v[3], count[3];
+  for (int k = 0; k < 3; ++k) {
+    v[k] = cv::v_select(in[k], w[k], zero);
+    count[k] = cv::v_select(in[k], one, zero);
+  }
+  const v_float32x4 sum_b = v[0] + v[1] + v[2];
+  const v_float32x4 sum_ba = a[0] * v[0] + a[1] * v[1] + a[2] * v[2];
+  if (!cv::v_check_all((sum_b > zero) & (sum_ba > zero))) return false;
+  cv::v_store(alpha, sum_ba / sum_b);
+  cv::v_store(depth, (z[0] + z[1] + z[2]) / (count[0] + count[1] + count[2]));
+  if (bgr != nullptr) {
+    const v_float32x4 inv = one / sum_ba;
+    cv::v_store_interleave(bgr, (b[0] * v[0] + b[1] * v[1] + b[2] * v[2]) * inv,
+                           (g[0] * v[0] + g[1] * v[1] + g[2] * v[2]) * inv,
+                           (r[0] * v[0] + r[1] * v[1] + r[2] * v[2]) * inv);
+  }
+  return true;
+}
+
 // Rows [row_begin, row_end) of the band resolved into `out`; the band's cells cleared.
 void ResolveBand(const std::vector<ViewSlots>& slots, const SoftZ& soft_z, int width, int row_begin, int row_end,
                  bool with_colour, BandBuffers* band, FrameComposite* out) {
@@ -183,17 +245,29 @@ void ResolveBand(const std::vector<ViewSlots>& slots, const SoftZ& soft_z, int w
     float* depth_row = out->depth.ptr<float>(y);
     float* colour_row = with_colour ? out->colour.ptr<float>(y) : nullptr;
     const size_t row_offset = static_cast<size_t>(y - row_begin) * width;
-    for (int x = 0; x < width; ++x) {
-      const size_t index = row_offset + x;
-      float* const cell[3] = {cells + 4 * index, cells + 4 * (plane + index), cells + 4 * (2 * plane + index)};
-      float* const depth_sum[3] = {depths + index, depths + plane + index, depths + 2 * plane + index};
-      const float* const read[3] = {cell[0], cell[1], cell[2]};
-      const float sums[3] = {*depth_sum[0], *depth_sum[1], *depth_sum[2]};
-      ResolvePixel(read, sums, slot_row[x], soft_z, alpha_row + x, depth_row + x,
-                   colour_row != nullptr ? colour_row + 3 * x : nullptr);
+    // Four pixels at a time; a group with an unusual pixel (or the row's last few) one by one.
+    for (int x0 = 0; x0 < width; x0 += 4) {
+      const int x1 = std::min(width, x0 + 4);
+      const size_t first = row_offset + x0;
+      const float* const group[3] = {cells + 4 * first, cells + 4 * (plane + first), cells + 4 * (2 * plane + first)};
+      const float* const group_depths[3] = {depths + first, depths + plane + first, depths + 2 * plane + first};
+      if (x1 - x0 < 4 ||
+          !ResolveFourUsualPixels(group, group_depths, slot_row + x0, soft_z.gamma(), alpha_row + x0, depth_row + x0,
+                                  colour_row != nullptr ? colour_row + 3 * x0 : nullptr)) {
+        for (int x = x0; x < x1; ++x) {
+          const size_t index = row_offset + x;
+          const float* const cell[3] = {cells + 4 * index, cells + 4 * (plane + index), cells + 4 * (2 * plane + index)};
+          const float sums[3] = {depths[index], depths[plane + index], depths[2 * plane + index]};
+          ResolvePixel(cell, sums, slot_row[x], soft_z, alpha_row + x, depth_row + x,
+                       colour_row != nullptr ? colour_row + 3 * x : nullptr);
+        }
+      }
       for (int k = 0; k < 3; ++k) {
-        cv::v_store(cell[k], zero);
-        *depth_sum[k] = 0.0f;
+        float* const cell = cells + 4 * (k * plane + first);
+        for (int i = 0; i < x1 - x0; ++i) {
+          cv::v_store(cell + 4 * i, zero);
+          depths[k * plane + first + i] = 0.0f;
+        }
       }
     }
   }
