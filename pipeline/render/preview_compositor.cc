@@ -54,16 +54,19 @@ long CompositeSegment(const SceneView& view, const FrameView& fv, const SegmentS
   const SceneSegment& segment = view.segments[s.segment];
   float* cells = band->cells.data();
   float* depths = band->depths.data();
-  const int plane = band->pixels;
+  const size_t plane = static_cast<size_t>(band->pixels);
   long fragments = 0;
   ForEachSegmentRow(fv, s, width, row_begin, row_end, [&](const SegmentRow& r) {
     const ViewSlots* slot_row = slots.data() + static_cast<size_t>(r.y) * width;
-    const int row_offset = (r.y - row_begin) * width;
+    // This row's cells and depth sums in each slot's plane.
+    const size_t row_offset = static_cast<size_t>(r.y - row_begin) * width;
+    float* const row_cells[3] = {cells + 4 * row_offset, cells + 4 * (plane + row_offset),
+                                 cells + 4 * (2 * plane + row_offset)};
+    float* const row_depths[3] = {depths + row_offset, depths + plane + row_offset, depths + 2 * plane + row_offset};
     for (int x = r.x_begin; x < r.x_end; ++x) {
       const int slot = SlotOf(slot_row[x], view_index);
       if (slot < 0) continue;
-      const int index = slot * plane + row_offset + x;
-      float* cell = cells + 4 * static_cast<size_t>(index);
+      float* cell = row_cells[slot] + 4 * x;
       if (cell[3] >= 1.0f) continue;  // saturated: nothing behind can add to it
       const float fx = static_cast<float>(x);
       float u, v;
@@ -88,7 +91,7 @@ long CompositeSegment(const SceneView& view, const FrameView& fv, const SegmentS
         scaled[3] = f;
         cv::v_store(cell, cv::v_load(cell) + cv::v_load(scaled));
       }
-      depths[index] += f * z;
+      row_depths[slot][x] += f * z;
     }
   });
   return fragments;
