@@ -206,7 +206,7 @@ CpuSceneRenderer::Core CpuSceneRenderer::RenderCore(const CameraModel& camera, c
   for (const render::FrameView& fv : frame_views) stats_.segments_drawn += static_cast<int>(fv.segments.size());
 
   start = Clock::now();
-  // The preview reuses its colour and alpha buffers from frame to frame (23 MB of fresh pages a
+  // The preview reuses its colour and alpha buffers from frame to frame (15 MB of fresh pages a
   // 1200x800 frame otherwise); depth leaves with the frame, so it is always a new buffer.
   render::FrameComposite offline_composite;
   render::FrameComposite& composite = quality == RenderQuality::kPreview ? composite_ : offline_composite;
