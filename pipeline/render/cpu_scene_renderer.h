@@ -15,7 +15,9 @@
 #include "pipeline/core/view.h"
 #include "pipeline/render/layered_scene.h"
 #include "pipeline/render/render_options.h"
+#include "pipeline/render/compositor.h"
 #include "pipeline/render/scene_renderer.h"
+#include "pipeline/render/segment_raster.h"
 
 namespace px {
 
@@ -68,6 +70,7 @@ class CpuSceneRenderer final : public SceneRenderer {
     cv::Mat colour;    // CV_32FC3
     cv::Mat depth;     // CV_32F
     cv::Mat coverage;  // CV_8U
+    CoverageReport holes;  // of `coverage`
     std::vector<ViewId> sources;
   };
   Status CheckCamera(const CameraModel& camera, const Rigid3& cam_from_world) const;
@@ -79,7 +82,9 @@ class CpuSceneRenderer final : public SceneRenderer {
   double min_source_focal_px_ = 0;
   RenderOptions options_;
   CpuFrameStats stats_;
-  std::vector<render::ViewSlots> slots_;  // reused between frames
+  std::vector<render::ViewSlots> slots_;         // reused between frames
+  std::vector<render::FrameView> frame_views_;   // reused between frames
+  render::FrameComposite composite_;             // the preview's colour and alpha, reused
 };
 
 }  // namespace px

@@ -142,7 +142,8 @@ OtherViewsReport CoverHolesFromOtherViews(const LayeredScene& scene, const Camer
   crop_camera.height = crop.height;
   crop_camera.cx -= crop.x;
   crop_camera.cy -= crop.y;
-  const std::vector<FrameView> frame_views = SetUpFrame(scene, crop_camera, cam_from_world, crop_slots);
+  std::vector<FrameView> frame_views;
+  SetUpFrame(scene, crop_camera, cam_from_world, crop_slots, &frame_views);
   FrameComposite drawn;
   if (quality == RenderQuality::kOffline) {
     CompositeOffline(scene, frame_views, crop_slots, crop.width, crop.height, &drawn);

@@ -94,8 +94,8 @@ SceneView PrepareView(const View& pose, const LayeredDepthView& layered, std::ve
         }
         SegmentTexel& t = row[x];
         t.segment[layer] = s;
-        t.weight[layer] = static_cast<uint16_t>(std::lround(w * SegmentTexel::kWeightScale));
-        t.colour[layer] = {colour[x][0], colour[x][1], colour[x][2]};
+        t.weight[layer] = static_cast<float>(std::lround(w * SegmentTexel::kWeightScale));
+        t.colour[layer] = {colour[x][0], colour[x][1], colour[x][2], 1};
         used[s] = 1;
       }
     }
