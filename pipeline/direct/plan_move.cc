@@ -98,6 +98,24 @@ Status KeepSubjectsInFrame(const std::vector<Subject>& subjects, double margin_p
   if (uniform) {
     for (CameraKeyframe& key : path->keyframes) key.focal_px *= uniform_scale;
   }
+  // The share of the move's focal each key keeps; below kMinFocalShare the move is not itself.
+  const auto check_shares = [&]() -> Status {
+    *scale = 1.0;
+    for (size_t i = 0; i < path->keyframes.size(); ++i) {
+      const double share = path->keyframes[i].focal_px / wanted[i];
+      *scale = std::min(*scale, share);
+      if (!(share >= kMinFocalShare)) {
+        char text[200];
+        std::snprintf(text, sizeof(text),
+                      "the subjects fit in frame only at %.0f%% of the move's focal length at keyframe %zu",
+                      100 * share, i);
+        return FailedPreconditionError(text);
+      }
+    }
+    return OkStatus();
+  };
+  // The frames below only narrow the keys further: a key already short fails without them.
+  PX_RETURN_IF_ERROR(check_shares());
   // Between keys the subjects move on their own curves: check every frame, narrow all keys by
   // the worst frame's shortfall, and repeat (it converges in one or two rounds).
   for (int round = 0; round < 4; ++round) {
@@ -110,17 +128,7 @@ Status KeepSubjectsInFrame(const std::vector<Subject>& subjects, double margin_p
     if (worst >= 1.0) break;
     for (CameraKeyframe& key : path->keyframes) key.focal_px *= 0.995 * worst;
   }
-  for (size_t i = 0; i < path->keyframes.size(); ++i) {
-    const double share = path->keyframes[i].focal_px / wanted[i];
-    *scale = std::min(*scale, share);
-    if (!(share >= kMinFocalShare)) {
-      char text[200];
-      std::snprintf(text, sizeof(text),
-                    "the subjects fit in frame only at %.0f%% of the move's focal length at keyframe %zu", 100 * share,
-                    i);
-      return FailedPreconditionError(text);
-    }
-  }
+  PX_RETURN_IF_ERROR(check_shares());
   for (int i = 0; i < path->NumFrames(); ++i) {
     const double t = path->FrameTime(i);
     if (!SubjectsInside(subjects, path->CameraAt(t), path->PoseAt(t), 0.5 * margin_px)) {
@@ -130,13 +138,26 @@ Status KeepSubjectsInFrame(const std::vector<Subject>& subjects, double margin_p
   return OkStatus();
 }
 
-// The largest H(V) over `frames` frames evenly spread along the path, at the probe's size.
-// `ends_score`: the ends' largest H(V), already measured at this size (then they are not again).
+// The largest H(V) over `frames` frames evenly spread along the path, at the probe's size; it
+// stops at the first frame over the threshold. `ends_score`: the ends' largest H(V), already
+// measured at this size (then they are not again). `screen` (may be null): a cheaper probe by
+// which the frames are measured the worst first, so that a path that fails is usually rejected
+// by its first measurement at the probe's size (whether the path holds does not depend on the
+// order).
 StatusOr<double> WorstHoleScore(const CameraPath& path, int frames, CoverageProbe* probe,
-                                std::optional<double> ends_score = std::nullopt) {
-  double worst = ends_score.value_or(0.0);
+                                std::optional<double> ends_score = std::nullopt, CoverageProbe* screen = nullptr) {
+  std::vector<std::pair<double, double>> order;  // (screened H(V), t), the worst first
   for (int i = ends_score ? 1 : 0; i < (ends_score ? frames - 1 : frames); ++i) {
     const double t = frames > 1 ? static_cast<double>(i) / (frames - 1) : 0.0;
+    double screened = 0;
+    if (screen != nullptr) {
+      PX_ASSIGN_OR_RETURN(screened, screen->HoleScore(path.CameraAt(t), path.PoseAt(t)));
+    }
+    order.emplace_back(screened, t);
+  }
+  std::stable_sort(order.begin(), order.end(), [](const auto& a, const auto& b) { return a.first > b.first; });
+  double worst = ends_score.value_or(0.0);
+  for (const auto& [screened, t] : order) {
     PX_ASSIGN_OR_RETURN(double score, probe->HoleScore(path.CameraAt(t), path.PoseAt(t)));
     worst = std::max(worst, score);
     if (worst >= probe->valid_hole_score()) break;  // early exit: this path is out
@@ -546,8 +567,8 @@ StatusOr<CameraPath> PlanMove(const MoveChoice& choice, const PlanContext& conte
       path.notes.push_back(text);
     }
     report->focal_scale = pair.focal_scale;
-    PX_ASSIGN_OR_RETURN(double worst,
-                        WorstHoleScore(path, options.search.verify_frames, context.verify, pair.ends_score));
+    PX_ASSIGN_OR_RETURN(double worst, WorstHoleScore(path, options.search.verify_frames, context.verify,
+                                                     pair.ends_score, context.search));
     if (worst >= context.verify->valid_hole_score()) {
       char text[160];
       std::snprintf(text, sizeof(text), "a frame of the path has H(V) %.2f at the verify size", worst);

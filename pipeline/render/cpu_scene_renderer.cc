@@ -253,10 +253,11 @@ StatusOr<CoverageReport> CpuSceneRenderer::Coverage(const CameraModel& camera, c
   PX_RETURN_IF_ERROR(CheckCamera(camera, cam_from_world));
   const bool coarse = coarse_scene_ != nullptr && std::max(camera.fx, camera.fy) <= kCoarseScale * min_source_focal_px_;
   const render::LayeredScene& scene = coarse ? *coarse_scene_ : scene_;
-  scene.mesh().ComputeWeights(camera, cam_from_world, &slots_);
-  const std::vector<render::FrameView> frame_views = render::SetUpFrame(scene, camera, cam_from_world, slots_);
+  std::vector<render::ViewSlots> slots;  // this call's own: calls may run side by side
+  scene.mesh().ComputeWeights(camera, cam_from_world, &slots);
+  const std::vector<render::FrameView> frame_views = render::SetUpFrame(scene, camera, cam_from_world, slots);
   render::FrameComposite composite;
-  render::CompositePreview(scene, frame_views, slots_, camera.width, camera.height, false, &composite);
+  render::CompositePreview(scene, frame_views, slots, camera.width, camera.height, false, &composite);
   return MeasureCoverage(composite.alpha >= options_.covered_alpha);
 }
 

@@ -48,7 +48,8 @@ class CpuSceneRenderer final : public SceneRenderer {
   // The preview's coverage (sections 3 to 5 without colour) at `camera`'s size. At a quarter of
   // the sources' focal length or less (the direction stage's reduced-size search) it draws the
   // coarse scene instead: the same depth as 32 px planar blocks (16x fewer segments to set up,
-  // each still several output pixels wide), so its cost follows the output size.
+  // each still several output pixels wide), so its cost follows the output size. It keeps no
+  // state between calls: calls may run on several threads at once, and beside Render().
   StatusOr<CoverageReport> Coverage(const CameraModel& camera, const Rigid3& cam_from_world) override;
 
   const render::LayeredScene& scene() const { return scene_; }
@@ -78,7 +79,7 @@ class CpuSceneRenderer final : public SceneRenderer {
   double min_source_focal_px_ = 0;
   RenderOptions options_;
   CpuFrameStats stats_;
-  std::vector<render::ViewSlots> slots_;  // reused between frames
+  std::vector<render::ViewSlots> slots_;  // reused between Render() frames
 };
 
 }  // namespace px
