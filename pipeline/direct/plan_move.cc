@@ -1,10 +1,13 @@
 #include "pipeline/direct/plan_move.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <limits>
 #include <optional>
+
+#include <opencv2/core/utility.hpp>
 
 #include "pipeline/direct/aperture_search.h"
 #include "pipeline/direct/framing.h"
@@ -493,14 +496,37 @@ StatusOr<CameraPath> PlanMove(const MoveChoice& choice, const PlanContext& conte
       last_failure = framed_ok.message();
       continue;
     }
-    const Framing& a = starts[pair.a].framing;
-    const Framing& b = ends[pair.b].framing;
-    pair.parallax = ParallaxScore(*context.samples, scene.OutputWithFocal(a.focal_px).Scaled(kParallaxScale),
-                                  a.cam_from_world, scene.OutputWithFocal(b.focal_px).Scaled(kParallaxScale),
-                                  b.cam_from_world);
     measured.push_back(std::move(pair));
   }
   report->paths_measured = static_cast<int>(measured.size());
+  // Their parallax, from each end's view of the scene (made once per end: the pairs share ends),
+  // on every core.
+  std::vector<const Framing*> ends_seen;
+  for (const Pair& pair : measured) {
+    for (const Framing* end : std::array<const Framing*, 2>{&starts[pair.a].framing, &ends[pair.b].framing}) {
+      if (std::find(ends_seen.begin(), ends_seen.end(), end) == ends_seen.end()) ends_seen.push_back(end);
+    }
+  }
+  const auto small_camera = [&](const Framing& end) {
+    return scene.OutputWithFocal(end.focal_px).Scaled(kParallaxScale);
+  };
+  std::vector<cv::Mat> seen(ends_seen.size());
+  cv::parallel_for_(cv::Range(0, static_cast<int>(ends_seen.size())), [&](const cv::Range& range) {
+    for (int i = range.start; i < range.end; ++i) {
+      seen[i] = context.samples->DepthSeenFrom(small_camera(*ends_seen[i]), ends_seen[i]->cam_from_world);
+    }
+  });
+  const auto seen_from = [&](const Framing& end) -> const cv::Mat& {
+    return seen[std::find(ends_seen.begin(), ends_seen.end(), &end) - ends_seen.begin()];
+  };
+  cv::parallel_for_(cv::Range(0, static_cast<int>(measured.size())), [&](const cv::Range& range) {
+    for (int i = range.start; i < range.end; ++i) {
+      const Framing& a = starts[measured[i].a].framing;
+      const Framing& b = ends[measured[i].b].framing;
+      measured[i].parallax =
+          ParallaxScore(seen_from(a), small_camera(a), a.cam_from_world, seen_from(b), small_camera(b), b.cam_from_world);
+    }
+  });
   std::stable_sort(measured.begin(), measured.end(),
                    [](const Pair& x, const Pair& y) { return x.parallax > y.parallax; });
 
