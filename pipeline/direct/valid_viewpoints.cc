@@ -1,7 +1,9 @@
 #include "pipeline/direct/valid_viewpoints.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
+#include <map>
 #include <optional>
 #include <string>
 
@@ -151,14 +153,39 @@ StatusOr<std::vector<Eigen::Vector2d>> GridPositions(const SceneGeometry& scene,
 
 namespace {
 
-// The search along one chain of cells, each seeded by the previous cell's answers.
+// A cell's expected answer (z) from its neighbours' in the chain: the last valid cell's; with
+// its left neighbour, the one above it and the one above that in the same row all answered, the
+// median of the left's, the upper's and the plane through the three (left + up - up-left), since
+// the frontier is smooth and a slope seen in the row above usually carries on (about a tenth
+// fewer probes on the 640x480 shots than the last valid cell's answer alone).
+std::optional<double> ExpectedAnswer(const std::map<int, double>& answers, std::optional<double> last_valid,
+                                     int cell, int previous_cell, int n) {
+  const int row = cell / n, column = cell % n, previous_column = previous_cell % n;
+  if (row == 0 || previous_cell / n != row) return last_valid;
+  const auto left = answers.find(previous_cell), up = answers.find(cell - n),
+             up_left = answers.find((row - 1) * n + previous_column);
+  if (left == answers.end() || up == answers.end() || up_left == answers.end() || std::abs(column - previous_column) != 1) {
+    return last_valid;
+  }
+  std::array<double, 3> guesses = {left->second, up->second, left->second + up->second - up_left->second};
+  std::sort(guesses.begin(), guesses.end());
+  return guesses[1];
+}
+
+// The search along one chain of cells, each seeded by the previous cells' answers.
 StatusOr<ValidRegion> SearchChain(const SceneGeometry& scene, const FramingRule& rule, CoverageProbe* probe,
                                   const ZLimits& z, const std::vector<Eigen::Vector2d>& positions,
                                   const std::vector<int>& order, bool search_front, bool search_back) {
   ValidRegion region;
-  std::optional<double> front_hint, back_hint;  // the previous valid cell's answers (z)
+  const int n = std::max(1, static_cast<int>(std::lround(std::sqrt(static_cast<double>(positions.size())))));
+  std::optional<double> last_front, last_back;     // the last valid cell's answers (z)
+  std::map<int, double> front_answers, back_answers;  // by cell, this chain's
+  int previous_cell = -1;
   for (int cell : order) {
     ++region.cells;
+    const std::optional<double> front_hint = ExpectedAnswer(front_answers, last_front, cell, previous_cell, n);
+    const std::optional<double> back_hint = ExpectedAnswer(back_answers, last_back, cell, previous_cell, n);
+    previous_cell = cell;
     ColumnSearch column(scene, rule, probe, positions[cell]);
     // A valid position to search from. The neighbour's answers first: next to a valid cell they
     // usually hold, and then the searches start there (no probe at z = 0 is needed).
@@ -192,12 +219,12 @@ StatusOr<ValidRegion> SearchChain(const SceneGeometry& scene, const FramingRule&
     ++region.valid_cells;
     if (search_front) {
       PX_ASSIGN_OR_RETURN(Probed front, column.Extreme(*anchor, anchor_z, +1.0, z.forward_m, z, front_hint));
-      front_hint = column.last_z();
+      last_front = front_answers[cell] = column.last_z();
       region.front.push_back({front.framing, front.hole_score, cell});
     }
     if (search_back) {
       PX_ASSIGN_OR_RETURN(Probed back, column.Extreme(*anchor, anchor_z, -1.0, -z.back_m, z, back_hint));
-      back_hint = column.last_z();
+      last_back = back_answers[cell] = column.last_z();
       region.back.push_back({back.framing, back.hole_score, cell});
     }
     region.probes += column.probes();
