@@ -66,6 +66,28 @@ struct SegmentOptions {
   // preferred over a nearer one when assigning planes to unfitted segments.
   double propagation_cost_margin = 0.02;
   uint64_t random_seed = 1;
+  // Segment-level PatchMatch after the fits (refine_segment_planes.h): in each of
+  // refine_iterations sweeps ([0, 20], 0 = off) every segment tries its neighbours' planes and
+  // refine_random_trials ([0, 20]) random changes of its own (depth at its centre by up to
+  // refine_offset_px, each slope by up to refine_slope_px per pixel, halved at every trial;
+  // disparity against the nearest neighbour at the working scale, (0, 8] and (0, 1]), and keeps
+  // the plane with the lowest matching cost along it over the segment (the cost volume). Lets
+  // well-matched planes spread over weakly textured surfaces. Off by default: it helps the light
+  // fields' fine plane steps (HCI) but not the product's 1 px steps (worse on the simulated Pop9).
+  int refine_iterations = 0;
+  int refine_random_trials = 6;
+  double refine_offset_px = 0.25;
+  double refine_slope_px = 0.03;
+  // Then segments steeper than slanted_min_slope_px (disparity px per pixel, [0, 1]; 0 = off)
+  // are refined again by the same sweeps with the exact slanted cost (segment_match_cost.h: the
+  // segment's pixels, and a ring of slanted_ring_px ([0, 8]) around it on the same surface,
+  // carried through the plane into every neighbour), keeping within slanted_max_change_px
+  // ((0, 8]) of their plane: the sweep's fronto-parallel windows are biased on steep slants (the
+  // HCI floor), while the exact cost is noisier than the volume's on flat, weak texture and
+  // fattens foreground edges if let jump. Needs refine_iterations > 0.
+  double slanted_min_slope_px = 0;
+  double slanted_max_change_px = 0.5;
+  int slanted_ring_px = 2;
   // Two layers at depth edges: touching segments whose planes differ by more than
   // edge_disparity_px of disparity against the nearest neighbour (view resolution, (0, 64]) share
   // a soft band band_radius_px wide on each side ([1, 16], view resolution).
@@ -81,6 +103,9 @@ struct SegmentOptions {
   // truly planar scenes (the synthetic test rigs) the plane is exact and the per-pixel depth
   // only adds noise; the light-field evaluation turns it on (curved, relief-rich scenes).
   double pixel_depth_tolerance_px = 0;
+  // ... and only where its matching confidence is at least this ([0, 1]): unconfident pixels
+  // (weak texture) take the plane, which sums the evidence of the whole segment.
+  double pixel_depth_min_confidence = 0;
 };
 
 struct DepthOptions {
