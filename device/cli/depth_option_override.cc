@@ -35,6 +35,11 @@ Status ApplyDepthOptionOverride(const std::string& text, DepthOptions* options) 
       {"segments.refine_random_trials", &options->segments.refine_random_trials},
       {"segments.slanted_ring_px", &options->segments.slanted_ring_px},
       {"min_working_width_px", &options->min_working_width_px}};
+  if (name == "fill_unconfirmed") {
+    if (number != 0 && number != 1) return InvalidArgumentError("--option fill_unconfirmed: '" + value + "' is not 0 or 1");
+    options->fill_unconfirmed = number != 0;
+    return OkStatus();
+  }
   for (const auto& [field, target] : doubles) {
     if (name == field) {
       *target = number;

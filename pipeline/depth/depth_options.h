@@ -126,6 +126,10 @@ struct DepthOptions {
   // pixels of disparity (view resolution, (0, 16]) keeps half its confidence and counts as
   // unconfirmed in the report.
   double consistency_tolerance_px = 1.0;
+  // Unconfirmed pixels also take, along their row, the farther of the confirmed depths on either
+  // side in depth_m (fill_unconfirmed.h: occlusions filled from the background side; the segments
+  // the renderer draws are unchanged). Needs at least two computed views.
+  bool fill_unconfirmed = true;
   // A view whose median best matching cost over its textured pixels exceeds this ((0, 2]; 1 =
   // uncorrelated) matches none of its neighbours (another scene, a black or saturated frame): it
   // is reported and left out as a neighbour of the others.

@@ -13,6 +13,7 @@
 #include "pipeline/depth/pixel_depth_near_planes.h"
 #include "pipeline/depth/consistency.h"
 #include "pipeline/depth/cost_volume.h"
+#include "pipeline/depth/fill_unconfirmed.h"
 #include "pipeline/depth/neighbour_views.h"
 #include "pipeline/depth/plane_homography.h"
 #include "pipeline/depth/refine_segment_planes.h"
@@ -115,6 +116,18 @@ depth::InversePlane ToViewPixels(const depth::InversePlane& plane, double factor
   full.b = plane.b * factor;
   full.c = plane.c + (plane.a + plane.b) * 0.5 * (factor - 1);
   return full;
+}
+
+// Per segment, the fraction of its pixels that no neighbour view sampled at any plane
+// (`sampled`: CV_8U, 0 there).
+std::vector<float> UnseenFractions(const std::vector<std::vector<int>>& segment_pixels, const cv::Mat& sampled) {
+  std::vector<float> unseen(segment_pixels.size(), 0.0f);
+  for (size_t s = 0; s < segment_pixels.size(); ++s) {
+    int count = 0;
+    for (int index : segment_pixels[s]) count += sampled.at<uint8_t>(index / sampled.cols, index % sampled.cols) == 0;
+    unseen[s] = static_cast<float>(count) / static_cast<float>(std::max<size_t>(segment_pixels[s].size(), 1));
+  }
+  return unseen;
 }
 
 // Segment-level PatchMatch (refine_segment_planes.h): every segment against the cost volume,
@@ -233,7 +246,8 @@ ReferenceDepth MatchReference(const std::vector<View>& views, const std::vector<
       depth::FitSegmentPlanes(segments, pixel_inverse_depth, selection.confidence, fit);
   const std::vector<std::vector<int>> segment_pixels = depth::SegmentPixels(segments);
   const depth::VolumePlaneCost volume_cost(volume.slices, planes, segment_pixels);
-  depth::AssignUnfittedSegments(segments, std::cref(volume_cost), {}, so.propagation_cost_margin, &segment_planes);
+  depth::AssignUnfittedSegments(segments, std::cref(volume_cost), {}, UnseenFractions(segment_pixels, volume.sampled),
+                                so.propagation_cost_margin, &segment_planes);
   if (so.refine_iterations > 0) {
     RefineSegmentPlanes(ref, neighbours, segments, volume_cost, pixel_inverse_depth, 1.0 / (ref.camera.fx * nearest_m),
                         options, &segment_planes);
@@ -297,7 +311,8 @@ void ApplyConsistency(const std::vector<View>& views, const std::vector<int>& re
                       const DepthOptions& options, std::vector<ReferenceDepth>* references) {
   std::vector<cv::Mat> depth_m(views.size());
   for (size_t i = 0; i < reference_indices.size(); ++i) {
-    if (!(*references)[i].report.disagrees) depth_m[reference_indices[i]] = (*references)[i].layered.depth_m;
+    // A copy: filling one view's depth must not change what the views after it are checked against.
+    if (!(*references)[i].report.disagrees) depth_m[reference_indices[i]] = (*references)[i].layered.depth_m.clone();
   }
   constexpr int kCheckedNeighbours = 4;
   for (size_t i = 0; i < reference_indices.size(); ++i) {
@@ -313,6 +328,7 @@ void ApplyConsistency(const std::vector<View>& views, const std::vector<int>& re
     layered.confidence.setTo(0, layered.confidence < 0);  // keeps the mask ops below well-defined
     cv::Mat halved = layered.confidence * 0.5;
     halved.copyTo(layered.confidence, consistent == 0);
+    if (options.fill_unconfirmed) depth::FillUnconfirmedFromBackground(consistent, &layered.depth_m);
     reference.report.consistent_fraction = cv::countNonZero(consistent) / static_cast<double>(consistent.total());
     // A segment keeps confidence in proportion to how much of it is confirmed.
     std::vector<int> total(layered.segments.size(), 0), confirmed(layered.segments.size(), 0);
