@@ -19,7 +19,7 @@ struct MatchingOptions {
   // Neighbour views per reference view, nearest camera centres first. [1, 16] (the best-half
   // aggregation holds at most 16 costs per pixel); fewer are used
   // when the shot has fewer.
-  int num_neighbors = 8;
+  int num_neighbors = 12;
   // How many of those are spread out over the widest baselines and every direction instead of
   // taken nearest first (farthest-point sampling of camera centres, neighbour_views.h): wide
   // baselines pin depth down finer, the nearest keep occlusions small. Only matters when the
