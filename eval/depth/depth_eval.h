@@ -70,8 +70,8 @@ struct DepthEvalOptions {
 // neighbours: the 4
 // nearest and 12 spread over the widest baselines (on the 9x9, the cross and the diagonals out
 // to the grid's edge); segments of 24 px refined by segment-level PatchMatch, the steep ones
-// against the exact slanted cost; depth_m keeps the per-pixel depth within 1 px of the segment
-// planes where its confidence is at least 0.2.
+// against the exact slanted cost; a guided filter of radius 3; depth_m keeps the per-pixel depth
+// within 1 px of the segment planes where its confidence is at least 0.2.
 DepthOptions LightFieldDepthOptions(const DepthOptions& ours);
 
 // Runs every set found. Fails only when the data folder holds a set that cannot be read (the
