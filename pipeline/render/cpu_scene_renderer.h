@@ -51,7 +51,8 @@ class CpuSceneRenderer final : public SceneRenderer {
   // The preview's coverage (sections 3 to 5 without colour) at `camera`'s size. At a quarter of
   // the sources' focal length or less (the direction stage's reduced-size search) it draws the
   // coarse scene instead: the same depth as 32 px planar blocks (16x fewer segments to set up,
-  // each still several output pixels wide), so its cost follows the output size.
+  // each still several output pixels wide), so its cost follows the output size. It keeps no
+  // state between calls: calls may run on several threads at once, and beside Render().
   StatusOr<CoverageReport> Coverage(const CameraModel& camera, const Rigid3& cam_from_world) override;
 
   const render::LayeredScene& scene() const { return scene_; }
@@ -82,9 +83,11 @@ class CpuSceneRenderer final : public SceneRenderer {
   double min_source_focal_px_ = 0;
   RenderOptions options_;
   CpuFrameStats stats_;
-  std::vector<render::ViewSlots> slots_;         // reused between frames
-  std::vector<render::FrameView> frame_views_;   // reused between frames
-  render::FrameComposite composite_;             // the preview's colour and alpha, reused
+  // Render()'s buffers, reused between frames (Coverage() keeps its own per call: it may run on
+  // several threads at once).
+  std::vector<render::ViewSlots> slots_;
+  std::vector<render::FrameView> frame_views_;
+  render::FrameComposite composite_;  // the preview's colour and alpha
 };
 
 }  // namespace px

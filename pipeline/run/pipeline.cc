@@ -347,6 +347,8 @@ StatusOr<PipelineReport> RunPipeline(const FrameSet& capture, const RigCalibrati
   direction.coverage = [&renderer](const CameraModel& camera, const Rigid3& cam_from_world) {
     return renderer->Coverage(camera, cam_from_world);
   };
+  // The CPU renderer's Coverage may run on several threads at once; GL's may not.
+  direction.coverage_concurrent = renderer->BackendName() == "cpu";
   direction.face_detector = options.face_detector.get();
   direction.shot = options.shot.get();
   std::optional<direct::DetectedFaces> faces_found;
