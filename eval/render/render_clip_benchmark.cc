@@ -5,7 +5,7 @@
 // on its own thread (OverlappedFrameSink) while the next frame renders. The goal: under
 // 8 s on 2 cores. Prints the clip's seconds, the process CPU seconds (every thread: on a shared
 // machine the figure to compare), and the time the render loop spent rendering and waiting for
-// the encoder; asserts nothing. PX_FRAGMENTS=scalar composites without AVX2 (A/B runs).
+// the encoder; asserts nothing.
 #include <benchmark/benchmark.h>
 
 #include <chrono>
@@ -51,7 +51,7 @@ using render::testing::LatticeShot;
 void BM_RenderAndEncodeClip(benchmark::State& state) {
   constexpr int kFrames = 150;
   const LatticeShot& shot = CachedLatticeShot(static_cast<int>(state.range(0)), static_cast<int>(state.range(1)));
-  auto renderer = CpuSceneRenderer::Create(shot.views, shot.layers, render::testing::BenchmarkRenderOptions());
+  auto renderer = CpuSceneRenderer::Create(shot.views, shot.layers, RenderOptions{});
   if (!renderer.ok()) {
     state.SkipWithError(renderer.status().ToString().c_str());
     return;

@@ -21,15 +21,11 @@ struct FrameComposite {
   cv::Mat depth;   // CV_32F, z in the novel camera, 0 where alpha == 0
 };
 
-// How the preview composites its fragments: one at a time, or eight at a time with AVX2
-// (fragment_row_avx2.h; the same output bit for bit); kAuto takes AVX2 where the CPU has it.
-enum class FragmentPath { kAuto, kScalar, kAvx2 };
-
 // `slots` are the frame's viewing weights (width * height), `frame_views` its set-up segments.
-// with_colour = false skips colour (Coverage()). `path` kAvx2 needs CpuHasAvx2().
+// with_colour = false skips colour (Coverage()).
 void CompositePreview(const LayeredScene& scene, const std::vector<FrameView>& frame_views,
                       const std::vector<ViewSlots>& slots, int width, int height, bool with_colour,
-                      FrameComposite* out, FragmentPath path = FragmentPath::kAuto);
+                      FrameComposite* out);
 
 void CompositeOffline(const LayeredScene& scene, const std::vector<FrameView>& frame_views,
                       const std::vector<ViewSlots>& slots, int width, int height, FrameComposite* out);

@@ -168,10 +168,6 @@ std::unique_ptr<render::LayeredScene> MakeCoarseScene(const std::vector<View>& v
   return std::make_unique<render::LayeredScene>(std::move(scene).value());
 }
 
-render::FragmentPath FragmentPathOf(const RenderOptions& options) {
-  return options.avx2_fragments ? render::FragmentPath::kAuto : render::FragmentPath::kScalar;
-}
-
 }  // namespace
 
 StatusOr<std::unique_ptr<CpuSceneRenderer>> CpuSceneRenderer::Create(const std::vector<View>& views,
@@ -237,8 +233,7 @@ CpuSceneRenderer::Core CpuSceneRenderer::RenderCore(const CameraModel& camera, c
   if (quality == RenderQuality::kOffline) {
     render::CompositeOffline(scene_, frame_views, slots_, width, height, &composite);
   } else {
-    render::CompositePreview(scene_, frame_views, slots_, width, height, true, &composite,
-                             FragmentPathOf(options_));
+    render::CompositePreview(scene_, frame_views, slots_, width, height, true, &composite);
   }
   stats_.composite_ms += MsSince(start);
   stats_.fragments += composite.fragments;
@@ -266,10 +261,10 @@ CpuSceneRenderer::Core CpuSceneRenderer::RenderCore(const CameraModel& camera, c
     known = core.coverage.clone();
     // The preview leaves holes under 2 radius + 1 px across to its 7x7 fill (the paper's rule).
     const int small_radius = quality == RenderQuality::kPreview ? radius : 0;
-    stats_.other_view_pixels =
-        render::CoverHolesFromOtherViews(scene_, camera, cam_from_world, slots_, quality, options_.covered_alpha,
-                                         small_radius, FragmentPathOf(options_), &known, &composite)
-            .covered;
+    stats_.other_view_pixels = render::CoverHolesFromOtherViews(scene_, camera, cam_from_world, slots_, quality,
+                                                                options_.covered_alpha, small_radius, &known,
+                                                                &composite)
+                                   .covered;
   }
   std::vector<HoleCounts> counts(regions.size());
   cv::parallel_for_(cv::Range(0, num_regions + 1), [&](const cv::Range& range) {
@@ -353,8 +348,7 @@ StatusOr<CoverageReport> CpuSceneRenderer::Coverage(const CameraModel& camera, c
   std::vector<render::FrameView> frame_views;
   render::SetUpFrame(scene, camera, cam_from_world, slots, &frame_views);
   render::FrameComposite composite;
-  render::CompositePreview(scene, frame_views, slots, camera.width, camera.height, false, &composite,
-                           FragmentPathOf(options_));
+  render::CompositePreview(scene, frame_views, slots, camera.width, camera.height, false, &composite);
   return MeasureCoverage(composite.alpha >= options_.covered_alpha);
 }
 

@@ -3,8 +3,7 @@
 // same size, 9 views (3x3, 25 mm) and 20 views (5x4, 12.5 mm), preview and offline quality; and
 // Coverage() at 1/8 of 1200x800 (the direction stage's viewpoint search). Prints, asserts nothing.
 // The CPU column of BM_RenderFrame is the process's (every thread's) CPU time per frame: on a
-// shared machine the figure to compare. PX_LOG=render=debug prints each frame's pass timings;
-// PX_FRAGMENTS=scalar composites without AVX2 (BenchmarkRenderOptions) for A/B runs.
+// shared machine the figure to compare. PX_LOG=render=debug prints each frame's pass timings.
 #include <benchmark/benchmark.h>
 
 #include <cstdlib>
@@ -25,7 +24,7 @@ using render::testing::LatticeShot;
 void BM_RenderFrame(benchmark::State& state) {
   if (const char* levels = std::getenv("PX_LOG")) (void)SetLogLevels(levels);
   const LatticeShot& shot = CachedLatticeShot(static_cast<int>(state.range(0)), static_cast<int>(state.range(1)));
-  RenderOptions options = render::testing::BenchmarkRenderOptions();
+  RenderOptions options;
   options.quality = state.range(2) == 0 ? RenderQuality::kPreview : RenderQuality::kOffline;
   auto renderer = CpuSceneRenderer::Create(shot.views, shot.layers, options);
   if (!renderer.ok()) {
@@ -75,7 +74,7 @@ BENCHMARK(BM_RenderFrame)
 void BM_Coverage(benchmark::State& state) {
   if (const char* levels = std::getenv("PX_LOG")) (void)SetLogLevels(levels);
   const LatticeShot& shot = CachedLatticeShot(1200, static_cast<int>(state.range(0)));
-  auto renderer = CpuSceneRenderer::Create(shot.views, shot.layers, render::testing::BenchmarkRenderOptions());
+  auto renderer = CpuSceneRenderer::Create(shot.views, shot.layers, RenderOptions{});
   if (!renderer.ok()) {
     state.SkipWithError(renderer.status().ToString().c_str());
     return;

@@ -107,8 +107,7 @@ std::vector<ViewSlots> OtherViewSlots(const LayeredScene& scene, const CameraMod
 OtherViewsReport CoverHolesFromOtherViews(const LayeredScene& scene, const CameraModel& camera,
                                           const Rigid3& cam_from_world, const std::vector<ViewSlots>& slots,
                                           RenderQuality quality, double covered_alpha,
-                                          int small_hole_radius_px, FragmentPath path, cv::Mat* known,
-                                          FrameComposite* composite) {
+                                          int small_hole_radius_px, cv::Mat* known, FrameComposite* composite) {
   PX_CHECK(known != nullptr && composite != nullptr) << "CoverHolesFromOtherViews needs outputs";
   OtherViewsReport report;
   cv::Mat holes = *known == 0;
@@ -149,7 +148,7 @@ OtherViewsReport CoverHolesFromOtherViews(const LayeredScene& scene, const Camer
   if (quality == RenderQuality::kOffline) {
     CompositeOffline(scene, frame_views, crop_slots, crop.width, crop.height, &drawn);
   } else {
-    CompositePreview(scene, frame_views, crop_slots, crop.width, crop.height, true, &drawn, path);
+    CompositePreview(scene, frame_views, crop_slots, crop.width, crop.height, true, &drawn);
   }
   for (int y = 0; y < crop.height; ++y) {
     const uint8_t* hole = holes.ptr<uint8_t>(crop.y + y) + crop.x;

@@ -40,11 +40,9 @@ struct OtherViewsReport {
 // `composite` (colour, depth), marking them in `known`. `slots` are the frame's viewing weights.
 // small_hole_radius_px > 0: holes that the reverse soft z's first pass with this radius fills
 // whole (SmallHoles, hole_fill.h) are left alone, so frames with only small holes cost nothing.
-// `path`: the preview's fragment path (CompositePreview).
 OtherViewsReport CoverHolesFromOtherViews(const LayeredScene& scene, const CameraModel& camera,
                                           const Rigid3& cam_from_world, const std::vector<ViewSlots>& slots,
                                           RenderQuality quality, double covered_alpha,
-                                          int small_hole_radius_px, FragmentPath path, cv::Mat* known,
-                                          FrameComposite* composite);
+                                          int small_hole_radius_px, cv::Mat* known, FrameComposite* composite);
 
 }  // namespace px::render

@@ -14,8 +14,6 @@
 #include <opencv2/core/hal/intrin.hpp>
 
 #include "pipeline/render/compositor.h"
-#include "pipeline/core/check.h"
-#include "pipeline/render/fragment_row_avx2.h"
 
 namespace px::render {
 namespace {
@@ -51,47 +49,17 @@ BandBuffers& ThreadBandBuffers() {
 // the per-row terms hoisted. Returns the fragments generated.
 long CompositeSegment(const SceneView& view, const FrameView& fv, const SegmentSetup& s,
                       const std::vector<ViewSlots>& slots, int width, int row_begin, int row_end, bool with_colour,
-                      FragmentPath path, BandBuffers* band) {
+                      BandBuffers* band) {
   const int view_index = fv.view;
   const SceneSegment& segment = view.segments[s.segment];
   float* cells = band->cells.data();
   float* depths = band->depths.data();
   const size_t plane = static_cast<size_t>(band->pixels);
   long fragments = 0;
-  FragmentRow eight_at_a_time;
-  if (path == FragmentPath::kAvx2) {
-    FragmentRow& row = eight_at_a_time;
-    row.texels = view.TexelPtr(-1, -1);
-    row.texel_stride = view.TexelStride();
-    row.segment = s.segment;
-    row.view = static_cast<uint8_t>(view_index);
-    row.rect = segment.rect;
-    row.h0 = s.homography[0];
-    row.h3 = s.homography[3];
-    row.h6 = s.homography[6];
-    row.iz_x = s.inv_depth[0];
-    row.cells = cells;
-    row.depths = depths;
-    row.plane = band->pixels;
-    row.with_colour = with_colour;
-  }
   ForEachSegmentRow(fv, s, width, row_begin, row_end, [&](const SegmentRow& r) {
     const ViewSlots* slot_row = slots.data() + static_cast<size_t>(r.y) * width;
     // This row's cells and depth sums in each slot's plane.
     const size_t row_offset = static_cast<size_t>(r.y - row_begin) * width;
-    if (path == FragmentPath::kAvx2) {
-      FragmentRow& row = eight_at_a_time;
-      row.hx0 = r.hx0;
-      row.hy0 = r.hy0;
-      row.hw0 = r.hw0;
-      row.iz0 = r.iz0;
-      row.x_begin = r.x_begin;
-      row.x_end = r.x_end;
-      row.slot_row = slot_row;
-      row.row_offset = static_cast<int>(row_offset);
-      fragments += CompositeFragmentRowAvx2(row);
-      return;
-    }
     float* const row_cells[3] = {cells + 4 * row_offset, cells + 4 * (plane + row_offset),
                                  cells + 4 * (2 * plane + row_offset)};
     float* const row_depths[3] = {depths + row_offset, depths + plane + row_offset, depths + 2 * plane + row_offset};
@@ -312,9 +280,7 @@ void ResolveBand(const std::vector<ViewSlots>& slots, const SoftZ& soft_z, int w
 
 void CompositePreview(const LayeredScene& scene, const std::vector<FrameView>& frame_views,
                       const std::vector<ViewSlots>& slots, int width, int height, bool with_colour,
-                      FrameComposite* out, FragmentPath path) {
-  if (path == FragmentPath::kAuto) path = CpuHasAvx2() ? FragmentPath::kAvx2 : FragmentPath::kScalar;
-  PX_CHECK(path == FragmentPath::kScalar || CpuHasAvx2()) << "AVX2 fragments asked for on a CPU without AVX2";
+                      FrameComposite* out) {
   if (with_colour) {
     out->colour.create(height, width, CV_32FC3);
   } else {
@@ -334,7 +300,7 @@ void CompositePreview(const LayeredScene& scene, const std::vector<FrameView>& f
       for (const BandEntry& entry : bands[b]) {
         const FrameView& fv = frame_views[entry.frame_view];
         count += CompositeSegment(scene.views()[fv.view], fv, fv.segments[entry.setup], slots, width, row_begin,
-                                  row_end, with_colour, path, &band);
+                                  row_end, with_colour, &band);
       }
       ResolveBand(slots, soft_z, width, row_begin, row_end, with_colour, &band, out);
     }

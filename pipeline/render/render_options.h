@@ -37,10 +37,6 @@ struct RenderOptions {
   int inpaint_window_radius_px = 50;
   // Offline depth of field: viewpoints averaged over the aperture. [1, 256].
   int aperture_samples = 24;
-  // The preview composites fragments eight at a time with AVX2 where the CPU has it
-  // (fragment_row_avx2.h; the same output bit for bit); false: one at a time, the portable path
-  // (for A/B measurements and the test that compares the two).
-  bool avx2_fragments = true;
   // Output images larger than this many pixels are refused (memory: about 100 bytes per pixel
   // while rendering). [1, 1e9].
   double max_output_pixels = 64e6;

@@ -5,10 +5,8 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdlib>
 #include <map>
 #include <memory>
-#include <string_view>
 #include <utility>
 #include <vector>
 
@@ -19,18 +17,8 @@
 #include "pipeline/core/view.h"
 #include "pipeline/render/layered_from_depth.h"
 #include "pipeline/render/plane_scene_testing.h"
-#include "pipeline/render/render_options.h"
 
 namespace px::render::testing {
-
-// The benchmarks' render options: the defaults, except that PX_FRAGMENTS=scalar forces the
-// preview's one-fragment-at-a-time path (RenderOptions::avx2_fragments = false) for A/B runs.
-inline RenderOptions BenchmarkRenderOptions() {
-  RenderOptions options;
-  const char* fragments = std::getenv("PX_FRAGMENTS");
-  options.avx2_fragments = fragments == nullptr || std::string_view(fragments) != "scalar";
-  return options;
-}
 
 // The views and their layered depth for a rows x cols lattice of `scene` (exact depth).
 inline void MakeLayeredLattice(const PlaneScene& scene, int rows, int cols, double baseline_m,

@@ -2,7 +2,7 @@
 // (1200x800), with 9 (3x3) and 20 (4x5) input views of the analytic two-plane scene cut into
 // 16 px segments (~600 per 480x320 view, ~3750 per 1200x800 view), along a dolly across the rig.
 // Back ends: gl (OSMesa llvmpipe, or EGL: PX_GL=egl|osmesa picks, default auto), and the CPU
-// reference renderer on the same segments (PX_FRAGMENTS=scalar: without AVX2, for A/B runs).
+// reference renderer on the same segments.
 // Plus a whole 5 s, 30 fps, 1200x800 clip rendered on GL and encoded as H.264. Prints, asserts
 // nothing. The CPU column is the whole process's CPU time (llvmpipe's rasteriser threads and
 // OpenCV's workers included): on a shared, loaded machine it is the figure to compare, the wall
@@ -19,7 +19,6 @@
 #include "pipeline/render/gl/gl_scene_renderer.h"
 #include "pipeline/render/gl/layered_plane_scene_testing.h"
 #include "pipeline/render/cpu_scene_renderer.h"
-#include "pipeline/render/render_test_util.h"
 
 namespace px::render::gl {
 namespace {
@@ -171,7 +170,7 @@ void BM_CpuSceneFrame(benchmark::State& state) {
        testing::LayeredPlaneScene(render::testing::PlaneScene{}, rows, cols, kBaselineM, camera, kTilePx)) {
     layers.push_back(std::move(posed.depth));
   }
-  auto renderer = CpuSceneRenderer::Create(views, layers, render::testing::BenchmarkRenderOptions());
+  auto renderer = CpuSceneRenderer::Create(views, layers, RenderOptions{});
   if (!renderer.ok()) {
     state.SkipWithError(renderer.status().ToString().c_str());
     return;
