@@ -5,10 +5,14 @@
 // on its own thread (OverlappedFrameSink) while the next frame renders. The goal: under
 // 8 s on 2 cores. Prints the clip's seconds, the process CPU seconds (every thread: on a shared
 // machine the figure to compare), and the time the render loop spent rendering and waiting for
-// the encoder; asserts nothing.
+// the encoder; asserts nothing. For encoder comparisons (the preset is a product decision; the
+// default stays the product's): PX_CLIP_PRESET=<x264 preset> encodes with another preset,
+// PX_CLIP_FORMAT=<mp4|png|...> writes another format, PX_CLIP_KEEP=<path> keeps the clip there
+// (without it the clip goes to a temporary file, then away); clip_mb is its size.
 #include <benchmark/benchmark.h>
 
 #include <chrono>
+#include <cstdlib>
 #include <filesystem>
 #include <memory>
 #include <string>
@@ -44,6 +48,30 @@ class WriterSink final : public FrameSink {
   clip::ClipWriter* writer_;
 };
 
+// The clip options and path from PX_CLIP_PRESET, PX_CLIP_FORMAT and PX_CLIP_KEEP (see above).
+StatusOr<clip::ClipOptions> ClipOptionsFromEnvironment() {
+  clip::ClipOptions options;
+  if (const char* preset = std::getenv("PX_CLIP_PRESET")) options.preset = preset;
+  if (const char* format = std::getenv("PX_CLIP_FORMAT")) {
+    PX_ASSIGN_OR_RETURN(options.format, clip::ParseClipFormat(format));
+  }
+  return options;
+}
+std::filesystem::path ClipPathFromEnvironment(const clip::ClipOptions& options) {
+  if (const char* keep = std::getenv("PX_CLIP_KEEP")) return keep;
+  return std::filesystem::temp_directory_path() /
+         ("px_render_clip_benchmark_" + std::to_string(getpid()) + std::string(clip::ClipFormatExtension(options.format)));
+}
+
+// Bytes under `path` (a file, or a folder of frames).
+double SizeOnDisk(const std::filesystem::path& path) {
+  std::error_code error;
+  if (!std::filesystem::is_directory(path, error)) return static_cast<double>(std::filesystem::file_size(path, error));
+  double bytes = 0;
+  for (const auto& entry : std::filesystem::directory_iterator(path, error)) bytes += entry.file_size(error);
+  return bytes;
+}
+
 using render::testing::CachedLatticeShot;
 using render::testing::LatticeShot;
 
@@ -56,14 +84,18 @@ void BM_RenderAndEncodeClip(benchmark::State& state) {
     state.SkipWithError(renderer.status().ToString().c_str());
     return;
   }
-  const std::filesystem::path path =
-      std::filesystem::temp_directory_path() / ("px_render_clip_benchmark_" + std::to_string(getpid()) + ".mp4");
+  const StatusOr<clip::ClipOptions> clip_options = ClipOptionsFromEnvironment();
+  if (!clip_options.ok()) {
+    state.SkipWithError(clip_options.status().ToString().c_str());
+    return;
+  }
+  const std::filesystem::path path = ClipPathFromEnvironment(*clip_options);
   double render_s = 0, wait_s = 0, encode_s = 0, clip_s = 0, cpu_s = 0;
   int clips = 0;
   for (auto _ : state) {
     const Clock::time_point clip_start = Clock::now();
     const double cpu_start = ProcessCpuSeconds();
-    auto writer = clip::OpenClipWriter(path, shot.camera.width, shot.camera.height, clip::ClipOptions{});
+    auto writer = clip::OpenClipWriter(path, shot.camera.width, shot.camera.height, *clip_options);
     if (!writer.ok()) {
       state.SkipWithError(writer.status().ToString().c_str());
       return;
@@ -101,10 +133,14 @@ void BM_RenderAndEncodeClip(benchmark::State& state) {
     cpu_s += ProcessCpuSeconds() - cpu_start;
     ++clips;
   }
-  std::error_code ignored;
-  std::filesystem::remove(path, ignored);
+  const double clip_bytes = SizeOnDisk(path);
+  if (std::getenv("PX_CLIP_KEEP") == nullptr) {
+    std::error_code ignored;
+    std::filesystem::remove_all(path, ignored);
+  }
   const double n = std::max(clips, 1);
   state.counters["clip_s"] = clip_s / n;
+  state.counters["clip_mb"] = clip_bytes / 1e6;
   state.counters["cpu_s"] = cpu_s / n;
   state.counters["render_ms_per_frame"] = 1000 * render_s / n / kFrames;
   state.counters["wait_ms_per_frame"] = 1000 * wait_s / n / kFrames;
