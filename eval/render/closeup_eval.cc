@@ -5,7 +5,6 @@
 #include <memory>
 
 #include "eval/render/render_eval_steps.h"
-#include "pipeline/direct/camera_path.h"
 #include "sim/synthetic/ray_caster.h"
 
 namespace px::eval {
@@ -63,22 +62,31 @@ std::vector<std::string> CloseUpScenes() {
   return scenes;
 }
 
+StatusOr<CameraPath> RecordedDollyIn(const std::string& scene, const CameraModel& source_camera, double scale) {
+  const auto move = std::find_if(kDollyIns.begin(), kDollyIns.end(),
+                                 [&](const RecordedMove& m) { return scene == m.scene; });
+  if (move == kDollyIns.end()) {
+    return InvalidArgumentError("eval render: no recorded dolly in for scene '" + scene + "' (close-ups exist for " +
+                                "one_face and two_faces)");
+  }
+  CameraPath path = BlankPath(PathKind::kNovelView, "dolly_in", source_camera, 30, 5);
+  path.keyframes = {Keyframe(move->start, 0, scale), Keyframe(move->end, 1, scale)};
+  PX_RETURN_IF_ERROR(path.Validate().WithContext("eval render: recorded dolly in of " + scene));
+  return path;
+}
+
 StatusOr<std::vector<RenderEvalCase>> EvaluateSimulatedCloseUps(const std::filesystem::path& scene_file,
                                                                 const RenderEvalOptions& options) {
   PX_RETURN_IF_ERROR(options.Validate());
   const std::string stem = scene_file.stem().string();
-  const auto move = std::find_if(kDollyIns.begin(), kDollyIns.end(),
-                                 [&](const RecordedMove& m) { return stem == m.scene; });
-  if (move == kDollyIns.end()) {
+  const std::vector<std::string> scenes = CloseUpScenes();
+  if (std::find(scenes.begin(), scenes.end(), stem) == scenes.end()) {
     return InvalidArgumentError("eval render: no recorded dolly in for scene '" + stem + "' (close-ups exist for " +
                                 "one_face and two_faces)");
   }
   PX_ASSIGN_OR_RETURN(SimLattice lattice, RenderSimLattice(scene_file, SimCameraSpec::Pop9(), options));
   const std::string dataset = lattice.dataset + " close-up";
-  const CameraModel& source_camera = lattice.views.front().camera;
-  CameraPath path = BlankPath(PathKind::kNovelView, "dolly_in", source_camera, 30, 5);
-  path.keyframes = {Keyframe(move->start, 0, options.sim_scale), Keyframe(move->end, 1, options.sim_scale)};
-  PX_RETURN_IF_ERROR(path.Validate().WithContext("eval render: recorded dolly in of " + stem));
+  PX_ASSIGN_OR_RETURN(const CameraPath path, RecordedDollyIn(stem, lattice.views.front().camera, options.sim_scale));
 
   struct Viewpoint {
     std::string name;

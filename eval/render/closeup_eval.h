@@ -12,11 +12,16 @@
 #include <vector>
 
 #include "eval/render/render_eval.h"
+#include "pipeline/direct/camera_path.h"
 
 namespace px::eval {
 
 // Scenes with a recorded dolly in ("one_face", "two_faces"), by file stem.
 std::vector<std::string> CloseUpScenes();
+
+// The recorded dolly in of `scene` (a stem of CloseUpScenes()) for views like `source_camera` (the
+// Pop9's 640x480 tile scaled by `scale`), as a linear CameraPath of 150 frames.
+StatusOr<CameraPath> RecordedDollyIn(const std::string& scene, const CameraModel& source_camera, double scale);
 
 // The close-up cases of `scene_file` (one of CloseUpScenes(), error otherwise) on the Pop9 lattice
 // at options.sim_scale: 2 viewpoints per depth source.

@@ -15,6 +15,7 @@
 #include "pipeline/render/color_effects.h"
 #include "pipeline/render/depth_of_field.h"
 #include "pipeline/render/hole_fill.h"
+#include "pipeline/render/seam_skirts.h"
 
 namespace px::render::gl {
 namespace {
@@ -183,6 +184,7 @@ Status GlSceneRenderer::Upload() {
   std::vector<Eigen::Vector3d> centres, axes, x_axes;
   for (int v = 0; v < static_cast<int>(views_.size()); ++v) {
     LayeredDepthView& view = views_[v].depth;
+    view = WithSeamSkirts(view, SeamSkirtOptions());  // as the CPU reference's texels (its default options)
     const std::string name = ViewName(view, v);
     const int w = view.camera.width, h = view.camera.height;
     if (w > max_size || h > max_size) {
