@@ -42,6 +42,10 @@ Status RenderOptions::Validate() const {
     error << "render.seam_skirts.max_step: " << seam_skirts.max_step << " is outside [0, 1)";
   } else if (!(seam_skirts.weight > 0 && seam_skirts.weight <= 1)) {
     error << "render.seam_skirts.weight: " << seam_skirts.weight << " is outside (0, 1]";
+  } else if (!(seam_planes.seam_weight >= 0 && seam_planes.seam_weight <= 1e4)) {
+    error << "render.seam_planes.seam_weight: " << seam_planes.seam_weight << " is outside [0, 1e4]";
+  } else if (!(seam_planes.max_step > 0 && seam_planes.max_step < 1)) {
+    error << "render.seam_planes.max_step: " << seam_planes.max_step << " is outside (0, 1)";
   } else if (!(max_output_pixels >= 1 && max_output_pixels <= 1e9)) {
     error << "render.max_output_pixels: " << max_output_pixels << " is outside [1, 1e9]";
   }

@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include "pipeline/render/cpu_scene_renderer.h"
+#include "pipeline/render/seam_test_util.h"
 
 namespace px::render {
 namespace {
@@ -17,38 +18,16 @@ constexpr int kWall = 0, kCardLeft = 1, kCardRight = 2;
 // two segments at x = 20 whose fronto-parallel planes disagree: the left one at 1 m, the right
 // one at `right_depth_m` (a plane fit's error on one surface). Hard seams, no two-layer band.
 LayeredDepthView CardOverWall(double right_depth_m) {
-  LayeredDepthView view;
-  view.id = ViewId(0);
-  view.camera = kCamera;
-  const std::array<double, 3> depth_m = {3.0, 1.0, right_depth_m};
-  const std::array<cv::Vec3b, 3> colour = {cv::Vec3b(20, 20, 20), cv::Vec3b(100, 150, 200), cv::Vec3b(100, 150, 200)};
-  SegmentLayer& front = view.layers[0];
-  front.colour.create(kCamera.height, kCamera.width, CV_8UC3);
-  front.weight = cv::Mat(kCamera.height, kCamera.width, CV_32F, cv::Scalar(1));
-  front.segment.create(kCamera.height, kCamera.width, CV_32S);
-  view.segments.resize(3);
+  cv::Mat labels(kCamera.height, kCamera.width, CV_32S);
   for (int y = 0; y < kCamera.height; ++y) {
     for (int x = 0; x < kCamera.width; ++x) {
       const bool card = x >= 14 && x < 50 && y >= 8 && y < 40;
-      const int s = !card ? kWall : x < 20 ? kCardLeft : kCardRight;
-      front.segment.at<int32_t>(y, x) = s;
-      front.colour.at<cv::Vec3b>(y, x) = colour[s];
-      DepthSegment& segment = view.segments[s];
-      segment.bbox = segment.num_pixels == 0 ? cv::Rect(x, y, 1, 1) : (segment.bbox | cv::Rect(x, y, 1, 1));
-      ++segment.num_pixels;
+      labels.at<int32_t>(y, x) = !card ? kWall : x < 20 ? kCardLeft : kCardRight;
     }
   }
-  for (int s = 0; s < 3; ++s) {
-    view.segments[s].inv_depth_c = 1.0 / depth_m[s];
-    view.segments[s].confidence = 1;
-  }
-  SegmentLayer& back = view.layers[1];
-  back.colour = cv::Mat::zeros(kCamera.height, kCamera.width, CV_8UC3);
-  back.weight = cv::Mat::zeros(kCamera.height, kCamera.width, CV_32F);
-  back.segment = cv::Mat(kCamera.height, kCamera.width, CV_32S, cv::Scalar(SegmentLayer::kNoSegment));
-  view.depth_m = cv::Mat(kCamera.height, kCamera.width, CV_32F, cv::Scalar(1));
-  view.confidence = cv::Mat(kCamera.height, kCamera.width, CV_32F, cv::Scalar(1));
-  return view;
+  return testing::OneLayerView(kCamera, labels,
+                               {cv::Vec3b(20, 20, 20), cv::Vec3b(100, 150, 200), cv::Vec3b(100, 150, 200)},
+                               {{{0, 0, 1.0 / 3.0}, {0, 0, 1.0}, {0, 0, 1.0 / right_depth_m}}});
 }
 
 // The card's pixels (true depth about 0.5 m from the camera) that render the wall: the crack.
@@ -58,6 +37,7 @@ int WallPixelsInsideTheCard(const SeamSkirtOptions& skirts) {
   pose.camera = kCamera;
   RenderOptions options;
   options.seam_skirts = skirts;
+  options.seam_planes.seam_weight = 0;  // the skirts alone (seam_planes_test.cc has the planes)
   auto renderer = CpuSceneRenderer::Create({pose}, {CardOverWall(1.04)}, options);
   EXPECT_TRUE(renderer.ok()) << renderer.status().ToString();
   if (!renderer.ok()) return -1;
