@@ -19,14 +19,27 @@ Status ApplyDepthOptionOverride(const std::string& text, DepthOptions* options) 
       {"matching.sgm_step_penalty", &m.sgm_step_penalty}, {"matching.sgm_jump_penalty", &m.sgm_jump_penalty},
       {"segments.compactness", &options->segments.compactness},
       {"segments.inlier_px", &options->segments.inlier_px},
-      {"segments.pixel_depth_tolerance_px", &options->segments.pixel_depth_tolerance_px}};
+      {"segments.pixel_depth_tolerance_px", &options->segments.pixel_depth_tolerance_px},
+      {"segments.pixel_depth_min_confidence", &options->segments.pixel_depth_min_confidence},
+      {"segments.refine_offset_px", &options->segments.refine_offset_px},
+      {"segments.refine_slope_px", &options->segments.refine_slope_px},
+      {"segments.slanted_min_slope_px", &options->segments.slanted_min_slope_px},
+      {"segments.slanted_max_change_px", &options->segments.slanted_max_change_px}};
   const std::pair<const char*, int*> ints[] = {
       {"matching.num_planes", &m.num_planes}, {"matching.max_planes", &m.max_planes},
       {"matching.num_neighbors", &m.num_neighbors}, {"matching.window_radius_px", &m.window_radius_px},
       {"matching.cost_filter_radius_px", &m.cost_filter_radius_px},
       {"matching.sgm_paths", &m.sgm_paths}, {"matching.spread_neighbors", &m.spread_neighbors},
       {"segments.region_size_px", &options->segments.region_size_px},
+      {"segments.refine_iterations", &options->segments.refine_iterations},
+      {"segments.refine_random_trials", &options->segments.refine_random_trials},
+      {"segments.slanted_ring_px", &options->segments.slanted_ring_px},
       {"min_working_width_px", &options->min_working_width_px}};
+  if (name == "fill_unconfirmed") {
+    if (number != 0 && number != 1) return InvalidArgumentError("--option fill_unconfirmed: '" + value + "' is not 0 or 1");
+    options->fill_unconfirmed = number != 0;
+    return OkStatus();
+  }
   for (const auto& [field, target] : doubles) {
     if (name == field) {
       *target = number;

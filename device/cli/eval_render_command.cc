@@ -37,6 +37,7 @@ struct EvalRenderArgs {
   int block_px = LayeredFromDepthOptions().block_px;
   double edge_front_weight = LayeredFromDepthOptions().edge_front_weight;
   bool skip_hci_full_grid = false;
+  bool holes_from_other_views = RenderOptions().holes_from_other_views;
   std::string dump_dir;
   bool json = false;
 };
@@ -61,6 +62,7 @@ Status RunEvalRender(const EvalRenderArgs& args) {
   options.layered.block_px = args.block_px;
   options.layered.edge_front_weight = args.edge_front_weight;
   options.hci_full_grid = !args.skip_hci_full_grid;
+  options.render.holes_from_other_views = args.holes_from_other_views;
   options.dump_dir = args.dump_dir;
   options.depths.clear();
   for (const std::string& depth : args.depths) {
@@ -247,7 +249,11 @@ void AddEvalRenderCommand(CLI::App& eval) {
       ->capture_default_str();
   render->add_flag("--no-hci-full-grid", args->skip_hci_full_grid,
                    "HCI: skip rendering from the whole 9x9 (depth for 80 views takes minutes)");
-  render->add_option("--dump", args->dump_dir, "Folder to write each case's render, truth and error map (x4) to");
+  render->add_option("--holes-from-other-views", args->holes_from_other_views,
+                     "Draw holes again from the views the view mesh did not blend there before filling them "
+                     "(true, false)")
+      ->capture_default_str();
+  render->add_option("--dump", args->dump_dir, "Folder to write each case's render, truth, error map (x4) and coverage to");
   render->add_flag("--json", args->json, "Print the figures as JSON (machine-readable)");
   render->callback(RunOrFail("eval", [args] { return RunEvalRender(*args); }));
 }

@@ -145,7 +145,8 @@ StatusOr<RenderEvalCase> RenderAndScore(CpuSceneRenderer& renderer, const Camera
     cv::absdiff(frame.bgr, truth, diff);
     diff.convertTo(diff, CV_8UC3, 4.0);
     if (!cv::imwrite(stem + "_render.png", frame.bgr) || !cv::imwrite(stem + "_truth.png", truth) ||
-        !cv::imwrite(stem + "_error_x4.png", diff) || (!cracks.empty() && !cv::imwrite(stem + "_cracks.png", cracks))) {
+        !cv::imwrite(stem + "_error_x4.png", diff) || !cv::imwrite(stem + "_coverage.png", frame.coverage) ||
+        (!cracks.empty() && !cv::imwrite(stem + "_cracks.png", cracks))) {
       return InternalError("eval render: cannot write " + stem + "_*.png");
     }
   }

@@ -74,7 +74,8 @@ struct RenderEvalOptions {
   bool hci_full_grid = true;
   // LLFF: hold out every n-th view, [2, 100].
   int llff_hold_out_every = 8;
-  // When not empty: each case's render, truth and error map (x4) are written here as PNGs.
+  // When not empty: each case's render, truth, error map (x4) and coverage before hole filling
+  // (255 = covered) are written here as PNGs.
   std::filesystem::path dump_dir;
   // Called with a short line as each step starts (may be empty).
   std::function<void(const std::string&)> progress;

@@ -9,6 +9,7 @@
 #include "pipeline/depth/box_mean.h"
 #include "pipeline/depth/cost_filter.h"
 #include "pipeline/depth/depth_cleanup.h"
+#include "pipeline/depth/fill_unconfirmed.h"
 #include "pipeline/depth/plane_warp.h"
 #include "pipeline/depth/select_planes.h"
 #include "pipeline/depth/zncc_cost.h"
@@ -220,6 +221,25 @@ TEST(DepthCleanupTest, FillReplacesOnlyUnreliablePixels) {
   FillLowConfidence(guide, confidence, 0.15f, 0.1f, 2.0f, &inverse_depth);
   EXPECT_NEAR(inverse_depth.at<float>(12, 12), 0.5f, 0.01f);
   EXPECT_EQ(inverse_depth.at<float>(2, 2), 0.5f);
+}
+
+TEST(FillUnconfirmedTest, RunsTakeTheFartherConfirmedEnd) {
+  // Row 0: a run between a near (2 m) and a far (5 m) confirmed pixel; row 1: a run at the left
+  // border; row 2: nothing confirmed.
+  cv::Mat depth = (cv::Mat_<float>(3, 6) << 2, 2, 1, 9, 5, 5,  //
+                   7, 8, 3, 3, 3, 3,                          //
+                   4, 4, 4, 4, 4, 4);
+  const cv::Mat confirmed = (cv::Mat_<uint8_t>(3, 6) << 255, 255, 0, 0, 255, 255,  //
+                             0, 0, 255, 255, 255, 255,                             //
+                             0, 0, 0, 0, 0, 0);
+  const cv::Mat before = depth.clone();
+  EXPECT_EQ(FillUnconfirmedFromBackground(confirmed, &depth), 4);
+  EXPECT_EQ(depth.at<float>(0, 2), 5.0f);
+  EXPECT_EQ(depth.at<float>(0, 3), 5.0f);
+  EXPECT_EQ(depth.at<float>(1, 0), 3.0f);
+  EXPECT_EQ(depth.at<float>(1, 1), 3.0f);
+  EXPECT_EQ(cv::norm(depth.row(2), before.row(2), cv::NORM_INF), 0.0);
+  EXPECT_EQ(cv::norm(depth(cv::Rect(4, 0, 2, 1)), before(cv::Rect(4, 0, 2, 1)), cv::NORM_INF), 0.0);
 }
 
 }  // namespace

@@ -58,12 +58,32 @@ Status ValidateSegments(const SegmentOptions& s) {
   if (!(s.propagation_cost_margin >= 0 && s.propagation_cost_margin <= 1)) {
     return OutOfRange("segments.propagation_cost_margin", s.propagation_cost_margin, "[0, 1]");
   }
+  if (s.refine_iterations < 0 || s.refine_iterations > 20) {
+    return OutOfRange("segments.refine_iterations", s.refine_iterations, "[0, 20]");
+  }
+  if (s.refine_random_trials < 0 || s.refine_random_trials > 20) {
+    return OutOfRange("segments.refine_random_trials", s.refine_random_trials, "[0, 20]");
+  }
+  if (!(s.refine_offset_px > 0 && s.refine_offset_px <= 8)) {
+    return OutOfRange("segments.refine_offset_px", s.refine_offset_px, "(0, 8]");
+  }
+  if (!(s.refine_slope_px > 0 && s.refine_slope_px <= 1)) return OutOfRange("segments.refine_slope_px", s.refine_slope_px, "(0, 1]");
+  if (!(s.slanted_min_slope_px >= 0 && s.slanted_min_slope_px <= 1)) {
+    return OutOfRange("segments.slanted_min_slope_px", s.slanted_min_slope_px, "[0, 1]");
+  }
+  if (!(s.slanted_max_change_px > 0 && s.slanted_max_change_px <= 8)) {
+    return OutOfRange("segments.slanted_max_change_px", s.slanted_max_change_px, "(0, 8]");
+  }
+  if (s.slanted_ring_px < 0 || s.slanted_ring_px > 8) return OutOfRange("segments.slanted_ring_px", s.slanted_ring_px, "[0, 8]");
   if (!(s.edge_disparity_px > 0 && s.edge_disparity_px <= 64)) {
     return OutOfRange("segments.edge_disparity_px", s.edge_disparity_px, "(0, 64]");
   }
   if (s.band_radius_px < 1 || s.band_radius_px > 16) return OutOfRange("segments.band_radius_px", s.band_radius_px, "[1, 16]");
   if (!(s.pixel_depth_tolerance_px >= 0 && s.pixel_depth_tolerance_px <= 64)) {
     return OutOfRange("segments.pixel_depth_tolerance_px", s.pixel_depth_tolerance_px, "[0, 64]");
+  }
+  if (!(s.pixel_depth_min_confidence >= 0 && s.pixel_depth_min_confidence <= 1)) {
+    return OutOfRange("segments.pixel_depth_min_confidence", s.pixel_depth_min_confidence, "[0, 1]");
   }
   return OkStatus();
 }

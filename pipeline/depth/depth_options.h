@@ -17,9 +17,11 @@ struct MatchingOptions {
   double plane_step_px = 1.0;  // (0, 8]
   int max_planes = 128;        // [2, 1024]
   // Neighbour views per reference view, nearest camera centres first. [1, 16] (the best-half
-  // aggregation holds at most 16 costs per pixel); fewer are used
-  // when the shot has fewer.
-  int num_neighbors = 8;
+  // aggregation holds at most 16 costs per pixel); fewer are used when the shot has fewer (a 3x3
+  // lattice uses its 8 others). 12 rather than 8 for the 5x4 lattice: pixels off by > 5 % 43.2
+  // -> 40.0 %, within 3 px of depth edges 65.0 -> 59.4 %, for 40 % more CPU (16: 37.2 / 54.8 %
+  // for twice the CPU).
+  int num_neighbors = 12;
   // How many of those are spread out over the widest baselines and every direction instead of
   // taken nearest first (farthest-point sampling of camera centres, neighbour_views.h): wide
   // baselines pin depth down finer, the nearest keep occlusions small. Only matters when the
@@ -66,11 +68,36 @@ struct SegmentOptions {
   // preferred over a nearer one when assigning planes to unfitted segments.
   double propagation_cost_margin = 0.02;
   uint64_t random_seed = 1;
+  // Segment-level PatchMatch after the fits (refine_segment_planes.h): in each of
+  // refine_iterations sweeps ([0, 20], 0 = off) every segment tries its neighbours' planes and
+  // refine_random_trials ([0, 20]) random changes of its own (depth at its centre by up to
+  // refine_offset_px, each slope by up to refine_slope_px per pixel, halved at every trial;
+  // disparity against the nearest neighbour at the working scale, (0, 8] and (0, 1]), and keeps
+  // the plane with the lowest matching cost along it over the segment (the cost volume). Lets
+  // well-matched planes spread over weakly textured surfaces. Off by default: it helps the light
+  // fields' fine plane steps (HCI) but not the product's 1 px steps (worse on the simulated Pop9).
+  int refine_iterations = 0;
+  int refine_random_trials = 6;
+  double refine_offset_px = 0.25;
+  double refine_slope_px = 0.03;
+  // Then segments steeper than slanted_min_slope_px (disparity px per pixel, [0, 1]; 0 = off)
+  // are refined again by the same sweeps with the exact slanted cost (segment_match_cost.h: the
+  // segment's pixels, and a ring of slanted_ring_px ([0, 8]) around it on the same surface,
+  // carried through the plane into every neighbour), keeping within slanted_max_change_px
+  // ((0, 8]) of their plane: the sweep's fronto-parallel windows are biased on steep slants (the
+  // HCI floor), while the exact cost is noisier than the volume's on flat, weak texture and
+  // fattens foreground edges if let jump. Needs refine_iterations > 0.
+  double slanted_min_slope_px = 0;
+  double slanted_max_change_px = 0.5;
+  int slanted_ring_px = 2;
   // Two layers at depth edges: touching segments whose planes differ by more than
   // edge_disparity_px of disparity against the nearest neighbour (view resolution, (0, 64]) share
   // a soft band band_radius_px wide on each side ([1, 16], view resolution).
   double edge_disparity_px = 1.0;
-  int band_radius_px = 2;
+  // 1 (a 3 px band): with the boundary matte, a narrower band mixes fewer pixels wrongly; against
+  // 2, eval render sim 36.01 -> 36.26 dB, HCI 48.55 -> 49.15, fern 24.15 -> 24.17, and eval
+  // depth better on every set but HCI 3x3's BadPix.07 (20.78 -> 20.87).
+  int band_radius_px = 1;
   // Pixels whose own matched depth lies within this many pixels of disparity (against the
   // nearest neighbour, view resolution) of their segment's plane keep it in depth_m instead of
   // the plane (outside the two-layer bands; pixel_depth_near_planes.h): the plane fit flattens
@@ -81,6 +108,9 @@ struct SegmentOptions {
   // truly planar scenes (the synthetic test rigs) the plane is exact and the per-pixel depth
   // only adds noise; the light-field evaluation turns it on (curved, relief-rich scenes).
   double pixel_depth_tolerance_px = 0;
+  // ... and only where its matching confidence is at least this ([0, 1]): unconfident pixels
+  // (weak texture) take the plane, which sums the evidence of the whole segment.
+  double pixel_depth_min_confidence = 0;
 };
 
 struct DepthOptions {
@@ -101,6 +131,10 @@ struct DepthOptions {
   // pixels of disparity (view resolution, (0, 16]) keeps half its confidence and counts as
   // unconfirmed in the report.
   double consistency_tolerance_px = 1.0;
+  // Unconfirmed pixels also take, along their row, the farther of the confirmed depths on either
+  // side in depth_m (fill_unconfirmed.h: occlusions filled from the background side; the segments
+  // the renderer draws are unchanged). Needs at least two computed views.
+  bool fill_unconfirmed = true;
   // A view whose median best matching cost over its textured pixels exceeds this ((0, 2]; 1 =
   // uncorrelated) matches none of its neighbours (another scene, a black or saturated frame): it
   // is reported and left out as a neighbour of the others.

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <functional>
 #include <sstream>
 
 #include <opencv2/imgproc.hpp>
@@ -12,14 +13,18 @@
 #include "pipeline/depth/pixel_depth_near_planes.h"
 #include "pipeline/depth/consistency.h"
 #include "pipeline/depth/cost_volume.h"
+#include "pipeline/depth/fill_unconfirmed.h"
 #include "pipeline/depth/neighbour_views.h"
 #include "pipeline/depth/plane_homography.h"
+#include "pipeline/depth/refine_segment_planes.h"
+#include "pipeline/depth/segment_match_cost.h"
 #include "pipeline/depth/segment_planes.h"
 #include "pipeline/depth/semi_global.h"
 #include "pipeline/depth/sub_plane.h"
 #include "pipeline/depth/select_planes.h"
 #include "pipeline/depth/superpixels.h"
 #include "pipeline/depth/two_layer.h"
+#include "pipeline/depth/volume_plane_cost.h"
 #include "pipeline/depth/zncc_cost.h"
 #include "pipeline/depth/working_view.h"
 
@@ -113,6 +118,49 @@ depth::InversePlane ToViewPixels(const depth::InversePlane& plane, double factor
   return full;
 }
 
+// Per segment, the fraction of its pixels that no neighbour view sampled at any plane
+// (`sampled`: CV_8U, 0 there).
+std::vector<float> UnseenFractions(const std::vector<std::vector<int>>& segment_pixels, const cv::Mat& sampled) {
+  std::vector<float> unseen(segment_pixels.size(), 0.0f);
+  for (size_t s = 0; s < segment_pixels.size(); ++s) {
+    int count = 0;
+    for (int index : segment_pixels[s]) count += sampled.at<uint8_t>(index / sampled.cols, index % sampled.cols) == 0;
+    unseen[s] = static_cast<float>(count) / static_cast<float>(std::max<size_t>(segment_pixels[s].size(), 1));
+  }
+  return unseen;
+}
+
+// Segment-level PatchMatch (refine_segment_planes.h): every segment against the cost volume,
+// then the steep ones against the exact slanted cost, within slanted_max_change_px of their plane.
+// `inverse_per_px` converts disparity against the nearest neighbour (working scale) to inverse depth.
+void RefineSegmentPlanes(const WorkingView& ref, const std::vector<const WorkingView*>& neighbours,
+                         const depth::Superpixels& segments, const depth::VolumePlaneCost& volume_cost,
+                         const cv::Mat& pixel_inverse_depth, double inverse_per_px, const DepthOptions& options,
+                         std::vector<depth::SegmentPlane>* planes) {
+  const SegmentOptions& so = options.segments;
+  depth::PlaneRefinementOptions refine;
+  refine.iterations = so.refine_iterations;
+  refine.random_trials = so.refine_random_trials;
+  refine.offset_inverse_m = so.refine_offset_px * inverse_per_px;
+  refine.slope_inverse_m_per_px = so.refine_slope_px * inverse_per_px;
+  refine.seed = so.random_seed;
+  depth::RefineSegmentPlanes(segments, std::cref(volume_cost), refine, planes);
+  if (so.slanted_min_slope_px <= 0) return;
+  refine.active.assign(segments.count, 0);
+  const double min_slope = so.slanted_min_slope_px * inverse_per_px;
+  bool any = false;
+  for (int s = 0; s < segments.count; ++s) {
+    refine.active[s] = std::hypot((*planes)[s].plane.a, (*planes)[s].plane.b) > min_slope ? 1 : 0;
+    any = any || refine.active[s];
+  }
+  if (!any) return;
+  refine.max_change_inverse_m = so.slanted_max_change_px * inverse_per_px;
+  constexpr double kRingTolerancePx = 1.0;  // ring pixels whose own depth is this near the plane
+  const depth::SegmentMatchCost slanted(ref, neighbours, segments, pixel_inverse_depth, *planes, so.slanted_ring_px,
+                                        kRingTolerancePx * inverse_per_px, options.matching.min_texture_stddev);
+  depth::RefineSegmentPlanes(segments, std::cref(slanted), refine, planes);
+}
+
 ReferenceDepth MatchReference(const std::vector<View>& views, const std::vector<WorkingView>& working, int reference,
                               const std::vector<char>& excluded, const DepthOptions& options, StageTimes* times) {
   Clock::time_point start = Clock::now();
@@ -197,22 +245,13 @@ ReferenceDepth MatchReference(const std::vector<View>& views, const std::vector<
   std::vector<depth::SegmentPlane> segment_planes =
       depth::FitSegmentPlanes(segments, pixel_inverse_depth, selection.confidence, fit);
   const std::vector<std::vector<int>> segment_pixels = depth::SegmentPixels(segments);
-  const auto plane_cost = [&](int s, const depth::InversePlane& plane) {
-    double sum = 0;
-    for (int index : segment_pixels[s]) {
-      const int x = index % size.width, y = index / size.width;
-      const double p = planes.PlaneOf(plane.At(x, y));
-      if (p < 0 || p > planes.count - 1) {
-        sum += depth::kNoDataCost;
-        continue;
-      }
-      const int p0 = std::min(static_cast<int>(p), planes.count - 2);
-      const double t = p - p0;
-      sum += (1 - t) * volume.slices[p0].at<float>(y, x) + t * volume.slices[p0 + 1].at<float>(y, x);
-    }
-    return sum / std::max<size_t>(segment_pixels[s].size(), 1);
-  };
-  depth::AssignUnfittedSegments(segments, plane_cost, {}, so.propagation_cost_margin, &segment_planes);
+  const depth::VolumePlaneCost volume_cost(volume.slices, planes, segment_pixels);
+  depth::AssignUnfittedSegments(segments, std::cref(volume_cost), {}, UnseenFractions(segment_pixels, volume.sampled),
+                                so.propagation_cost_margin, &segment_planes);
+  if (so.refine_iterations > 0) {
+    RefineSegmentPlanes(ref, neighbours, segments, volume_cost, pixel_inverse_depth, 1.0 / (ref.camera.fx * nearest_m),
+                        options, &segment_planes);
+  }
   volume.slices.clear();
   times->segments_ms += MsSince(start);
 
@@ -250,6 +289,8 @@ ReferenceDepth MatchReference(const std::vector<View>& views, const std::vector<
   // Matched below view resolution, the per-pixel depth is no finer than the plane and blurs
   // across depth edges when upsampled (measured worse near edges on the simulated Pop9).
   if (so.pixel_depth_tolerance_px > 0 && !scaled) {
+    // Unconfident pixels (weak texture) are left out: inverse depth 0 keeps the plane.
+    pixel_inverse_depth.setTo(0, selection.confidence < so.pixel_depth_min_confidence);
     depth::KeepPixelDepthNearPlanes(pixel_inverse_depth, so.pixel_depth_tolerance_px / (view.camera.fx * nearest_m),
                                     &result.layered);
   }
@@ -270,7 +311,8 @@ void ApplyConsistency(const std::vector<View>& views, const std::vector<int>& re
                       const DepthOptions& options, std::vector<ReferenceDepth>* references) {
   std::vector<cv::Mat> depth_m(views.size());
   for (size_t i = 0; i < reference_indices.size(); ++i) {
-    if (!(*references)[i].report.disagrees) depth_m[reference_indices[i]] = (*references)[i].layered.depth_m;
+    // A copy: filling one view's depth must not change what the views after it are checked against.
+    if (!(*references)[i].report.disagrees) depth_m[reference_indices[i]] = (*references)[i].layered.depth_m.clone();
   }
   constexpr int kCheckedNeighbours = 4;
   for (size_t i = 0; i < reference_indices.size(); ++i) {
@@ -286,6 +328,7 @@ void ApplyConsistency(const std::vector<View>& views, const std::vector<int>& re
     layered.confidence.setTo(0, layered.confidence < 0);  // keeps the mask ops below well-defined
     cv::Mat halved = layered.confidence * 0.5;
     halved.copyTo(layered.confidence, consistent == 0);
+    if (options.fill_unconfirmed) depth::FillUnconfirmedFromBackground(consistent, &layered.depth_m);
     reference.report.consistent_fraction = cv::countNonZero(consistent) / static_cast<double>(consistent.total());
     // A segment keeps confidence in proportion to how much of it is confirmed.
     std::vector<int> total(layered.segments.size(), 0), confirmed(layered.segments.size(), 0);

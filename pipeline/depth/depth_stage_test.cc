@@ -74,6 +74,44 @@ TEST(DepthStageTest, TwoViewRectifiedPair) {
   }
 }
 
+// A square before a wall seen by a horizontal pair: beside the square each view sees a strip of
+// wall the other cannot (and a border strip), where matching has no partner. The views confirm
+// each other elsewhere; filling the unconfirmed runs from the background side puts those strips
+// on the wall instead of wherever matching left them.
+TEST(DepthStageTest, PairOcclusionsAreFilledFromTheBackground) {
+  TexturedPlane square;
+  square.depth_m = 1.0;
+  square.extent_m = cv::Rect2d(-0.15, -0.12, 0.3, 0.24);
+  square.metres_per_texel = 1.0 / depth::testing::kStageFocalPx;
+  square.texture = depth::testing::RandomTexture(cv::Size(100, 80), 22);
+  std::vector<cv::Mat> truth;
+  const std::vector<View> views = RenderGridRig(1, 2, 0.06, SmallCamera(), {square, Wall(3.0, 23)}, &truth);
+  // The left view's strip that the right one cannot see: left of the square, as wide as the
+  // difference in disparity (300 * 0.06 * (1 - 1/3) = 12 px), and its left border.
+  cv::Mat occluded = cv::Mat::zeros(truth[0].size(), CV_8U);
+  for (int y = 0; y < truth[0].rows; ++y) {
+    for (int x = 12; x < truth[0].cols; ++x) {
+      if (truth[0].at<float>(y, x) < 2 && truth[0].at<float>(y, x - 12) > 2) occluded.at<uint8_t>(y, x - 6) = 255;
+    }
+  }
+  cv::dilate(occluded, occluded, cv::getStructuringElement(cv::MORPH_RECT, cv::Size(9, 1)));
+  occluded &= truth[0] > 2;
+  ASSERT_GT(cv::countNonZero(occluded), 500);
+  DepthOptions options = StageTestOptions();
+  double bad[2] = {0, 0};
+  for (bool fill : {false, true}) {
+    options.fill_unconfirmed = fill;
+    StatusOr<DepthStageResult> result = ComputeLayeredDepth(views, options);
+    ASSERT_TRUE(result.ok()) << result.status().ToString();
+    bad[fill] = BadFraction(result->maps[0].depth_m, truth[0], occluded, 0.05);
+  }
+  std::printf("occluded strip off by > 5 %%: %.1f %% without filling, %.1f %% with\n", 100 * bad[0], 100 * bad[1]);
+  // Measured 58.5 % without and 29.3 % with (what stays bad is next to the square's edge, where
+  // a segment or the two-layer band straddles it).
+  EXPECT_LT(bad[1], 0.4);
+  EXPECT_LT(bad[1], 0.7 * bad[0]);
+}
+
 TEST(DepthStageTest, RejectsBadInputsNamingTheCulprit) {
   std::vector<View> views = RenderGridRig(1, 2, 0.05, CameraModel::Pinhole(64, 48, 60.0), {Wall(1.0, 51)});
   DepthOptions options = StageTestOptions();

@@ -176,8 +176,8 @@ std::vector<SegmentPlane> FitSegmentPlanes(const Superpixels& segments, const cv
 }
 
 void AssignUnfittedSegments(const Superpixels& segments, const PlaneCost& cost,
-                            const std::vector<float>& occluded_fraction, double cost_margin,
-                            std::vector<SegmentPlane>* planes) {
+                            const std::vector<float>& occluded_fraction, const std::vector<float>& unseen_fraction,
+                            double cost_margin, std::vector<SegmentPlane>* planes) {
   const int n = segments.count;
   // Segments that need a plane, most-supported neighbours first: repeat sweeps until no segment
   // changes, each sweep taking segments with at least one settled neighbour.
@@ -210,6 +210,25 @@ void AssignUnfittedSegments(const Superpixels& segments, const PlaneCost& cost,
         if (settled[t]) candidates.emplace_back(cost(s, (*planes)[t].plane), (*planes)[t].plane);
       }
       if (candidates.empty()) continue;
+      SegmentPlane assigned = (*planes)[s];
+      assigned.source = PlaneSource::kPropagated;
+      assigned.confidence = std::min(assigned.confidence, 0.25f);
+      if (!unseen_fraction.empty() && unseen_fraction[s] > 0.5f) {
+        int closest = -1;
+        float closest_distance = 0;
+        for (int t : segments.adjacent[s]) {
+          const float distance = static_cast<float>(cv::norm(segments.mean_lab[t] - segments.mean_lab[s]));
+          if (settled[t] && (closest < 0 || distance < closest_distance)) {
+            closest = t;
+            closest_distance = distance;
+          }
+        }
+        if (closest >= 0) {
+          assigned.plane = (*planes)[closest].plane;
+          updates.emplace_back(s, assigned);
+          continue;
+        }
+      }
       const bool occluded = !occluded_fraction.empty() && occluded_fraction[s] > 0.5f;
       double best_cost = 1e300;
       for (const auto& candidate : candidates) best_cost = std::min(best_cost, candidate.first);
@@ -220,10 +239,7 @@ void AssignUnfittedSegments(const Superpixels& segments, const PlaneCost& cost,
         if (!occluded && c > best_cost + cost_margin) continue;
         if (chosen == nullptr || plane.At(centre.x, centre.y) < chosen->At(centre.x, centre.y)) chosen = &plane;
       }
-      SegmentPlane assigned = (*planes)[s];
       assigned.plane = *chosen;
-      assigned.source = PlaneSource::kPropagated;
-      assigned.confidence = std::min(assigned.confidence, 0.25f);
       updates.emplace_back(s, assigned);
     }
     for (auto& [s, plane] : updates) {

@@ -57,9 +57,12 @@ using PlaneCost = std::function<double(int segment, const InversePlane& plane)>;
 // textured regions: the candidate with the lowest cost, where costs within `cost_margin` of the
 // best count as ties broken towards the farther plane (the background continues behind an
 // occluder; the foreground rarely hides in flat regions). Segments whose pixels are mostly
-// occluded (`occluded_fraction` > 0.5) take the farthest neighbour plane outright.
+// occluded (`occluded_fraction` > 0.5) take the farthest neighbour plane outright. Segments mostly
+// outside every other view (`unseen_fraction` > 0.5: the strip along a border that no neighbour
+// sees, where all costs are kNoDataCost) have no occluder to go behind: they continue the
+// adjacent surface closest to them in colour. Either vector may be empty (none).
 void AssignUnfittedSegments(const Superpixels& segments, const PlaneCost& cost,
-                            const std::vector<float>& occluded_fraction, double cost_margin,
-                            std::vector<SegmentPlane>* planes);
+                            const std::vector<float>& occluded_fraction, const std::vector<float>& unseen_fraction,
+                            double cost_margin, std::vector<SegmentPlane>* planes);
 
 }  // namespace px::depth

@@ -13,7 +13,9 @@
 // vanish); `parallax eval direction` prints how often reduced-size and full-size validity agree.
 #pragma once
 
+#include <deque>
 #include <mutex>
+#include <optional>
 
 #include "pipeline/core/camera_model.h"
 #include "pipeline/core/coverage_report.h"
@@ -29,11 +31,14 @@ class CoverageProbe {
  public:
   // `coverage` must outlive the probe. `scale` in (0, 1]; `valid_hole_score` is the output-size
   // threshold (2 in the paper). `concurrent`: `coverage` may be called from several threads at
-  // once (the splat is; the renderer's Coverage is not), so the search may split its grid.
+  // once (the splat and CpuSceneRenderer's Coverage may; a GL renderer's may not), so the search
+  // may split its grid.
   CoverageProbe(const CoverageFunction* coverage, double scale, double valid_hole_score, bool concurrent = false)
       : coverage_(coverage), scale_(scale), valid_hole_score_(valid_hole_score), concurrent_(concurrent) {}
 
-  // H(V) at the size of `output_camera` (a pinhole of the clip's size), estimated as above.
+  // H(V) at the size of `output_camera` (a pinhole of the clip's size), estimated as above. The
+  // last kRemembered answers are kept: a viewpoint asked for again (candidate paths share ends;
+  // an end not pulled back is checked again after the other was) is not measured again.
   StatusOr<double> HoleScore(const CameraModel& output_camera, const Rigid3& cam_from_world);
   // HoleScore < valid_hole_score.
   StatusOr<bool> Valid(const CameraModel& output_camera, const Rigid3& cam_from_world);
@@ -41,17 +46,26 @@ class CoverageProbe {
   double scale() const { return scale_; }
   double valid_hole_score() const { return valid_hole_score_; }
   bool concurrent() const { return concurrent_; }
-  int calls() const;
+  int calls() const;  // coverage measurements made (answers remembered are not counted)
   double ms() const;  // summed over threads
 
  private:
+  static constexpr size_t kRemembered = 32;
+  struct Remembered {
+    CameraModel camera;
+    Rigid3 cam_from_world;
+    double score = 0;
+  };
+  std::optional<double> Recall(const CameraModel& output_camera, const Rigid3& cam_from_world) const;
+
   const CoverageFunction* coverage_;
   double scale_;
   double valid_hole_score_;
   bool concurrent_;
-  mutable std::mutex counters_;
+  mutable std::mutex mutex_;  // guards the counters and the remembered answers
   int calls_ = 0;
   double ms_ = 0;
+  std::deque<Remembered> remembered_;  // newest last
 };
 
 }  // namespace px::direct

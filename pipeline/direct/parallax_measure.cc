@@ -88,8 +88,13 @@ cv::Mat SceneSamples::DepthSeenFrom(const CameraModel& camera, const Rigid3& cam
 
 double ParallaxScore(const SceneSamples& samples, const CameraModel& camera_a, const Rigid3& cam_a_from_world,
                      const CameraModel& camera_b, const Rigid3& cam_b_from_world, double relative_gap) {
-  const cv::Mat depth_a = samples.DepthSeenFrom(camera_a, cam_a_from_world);
-  const cv::Mat depth_b = samples.DepthSeenFrom(camera_b, cam_b_from_world);
+  return ParallaxScore(samples.DepthSeenFrom(camera_a, cam_a_from_world), camera_a, cam_a_from_world,
+                       samples.DepthSeenFrom(camera_b, cam_b_from_world), camera_b, cam_b_from_world, relative_gap);
+}
+
+double ParallaxScore(const cv::Mat& depth_a, const CameraModel& camera_a, const Rigid3& cam_a_from_world,
+                     const cv::Mat& depth_b, const CameraModel& camera_b, const Rigid3& cam_b_from_world,
+                     double relative_gap) {
   const int a_hidden_in_b =
       CountOccluded(depth_a, camera_a, cam_a_from_world, depth_b, camera_b, cam_b_from_world, relative_gap);
   const int b_hidden_in_a =

@@ -39,5 +39,10 @@ class SceneSamples {
 // is plenty). A surface counts as occluded behind one more than `relative_gap` nearer.
 double ParallaxScore(const SceneSamples& samples, const CameraModel& camera_a, const Rigid3& cam_a_from_world,
                      const CameraModel& camera_b, const Rigid3& cam_b_from_world, double relative_gap = 0.05);
+// The same from the endpoints' z-buffers (SceneSamples::DepthSeenFrom with footprint 1), for
+// endpoints shared by several candidate paths.
+double ParallaxScore(const cv::Mat& depth_a, const CameraModel& camera_a, const Rigid3& cam_a_from_world,
+                     const cv::Mat& depth_b, const CameraModel& camera_b, const Rigid3& cam_b_from_world,
+                     double relative_gap = 0.05);
 
 }  // namespace px::direct

@@ -360,7 +360,8 @@ StatusOr<CameraPath> PlanCameraPath(const std::vector<View>& views, const std::v
   // at search_scale; the chosen path's frames are always checked through the renderer.
   const CoverageFunction splat_function = splat ? splat->AsFunction() : CoverageFunction();
   direct::CoverageProbe search(splat ? &splat_function : &context.coverage, splat ? 1.0 : options.search.search_scale,
-                               options.search.valid_hole_score, /*concurrent=*/splat.has_value());
+                               options.search.valid_hole_score,
+                               /*concurrent=*/splat.has_value() || context.coverage_concurrent);
   direct::CoverageProbe verify(&context.coverage, options.search.verify_scale, options.search.valid_hole_score);
   // 3D moves need each subject's depth; a subject without it still frames a flat clip.
   std::vector<Subject> with_depth;

@@ -28,6 +28,9 @@ struct DirectionContext {
   // The renderer's Coverage (pipeline/render/scene_renderer.h); empty: no 3D move can be checked,
   // so none is planned.
   CoverageFunction coverage;
+  // `coverage` may be called from several threads at once (CpuSceneRenderer's may; a GL back
+  // end's may not): the region search then searches its grid's two halves side by side.
+  bool coverage_concurrent = false;
   // The earlier stages' verdict: false when calibration or depth cannot be trusted; 3D moves are
   // then not attempted and `distrust_reason` goes into the path's notes.
   bool depth_trusted = true;

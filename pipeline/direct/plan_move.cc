@@ -1,10 +1,13 @@
 #include "pipeline/direct/plan_move.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <limits>
 #include <optional>
+
+#include <opencv2/core/utility.hpp>
 
 #include "pipeline/direct/aperture_search.h"
 #include "pipeline/direct/framing.h"
@@ -98,6 +101,24 @@ Status KeepSubjectsInFrame(const std::vector<Subject>& subjects, double margin_p
   if (uniform) {
     for (CameraKeyframe& key : path->keyframes) key.focal_px *= uniform_scale;
   }
+  // The share of the move's focal each key keeps; below kMinFocalShare the move is not itself.
+  const auto check_shares = [&]() -> Status {
+    *scale = 1.0;
+    for (size_t i = 0; i < path->keyframes.size(); ++i) {
+      const double share = path->keyframes[i].focal_px / wanted[i];
+      *scale = std::min(*scale, share);
+      if (!(share >= kMinFocalShare)) {
+        char text[200];
+        std::snprintf(text, sizeof(text),
+                      "the subjects fit in frame only at %.0f%% of the move's focal length at keyframe %zu",
+                      100 * share, i);
+        return FailedPreconditionError(text);
+      }
+    }
+    return OkStatus();
+  };
+  // The frames below only narrow the keys further: a key already short fails without them.
+  PX_RETURN_IF_ERROR(check_shares());
   // Between keys the subjects move on their own curves: check every frame, narrow all keys by
   // the worst frame's shortfall, and repeat (it converges in one or two rounds).
   for (int round = 0; round < 4; ++round) {
@@ -110,17 +131,7 @@ Status KeepSubjectsInFrame(const std::vector<Subject>& subjects, double margin_p
     if (worst >= 1.0) break;
     for (CameraKeyframe& key : path->keyframes) key.focal_px *= 0.995 * worst;
   }
-  for (size_t i = 0; i < path->keyframes.size(); ++i) {
-    const double share = path->keyframes[i].focal_px / wanted[i];
-    *scale = std::min(*scale, share);
-    if (!(share >= kMinFocalShare)) {
-      char text[200];
-      std::snprintf(text, sizeof(text),
-                    "the subjects fit in frame only at %.0f%% of the move's focal length at keyframe %zu", 100 * share,
-                    i);
-      return FailedPreconditionError(text);
-    }
-  }
+  PX_RETURN_IF_ERROR(check_shares());
   for (int i = 0; i < path->NumFrames(); ++i) {
     const double t = path->FrameTime(i);
     if (!SubjectsInside(subjects, path->CameraAt(t), path->PoseAt(t), 0.5 * margin_px)) {
@@ -130,13 +141,26 @@ Status KeepSubjectsInFrame(const std::vector<Subject>& subjects, double margin_p
   return OkStatus();
 }
 
-// The largest H(V) over `frames` frames evenly spread along the path, at the probe's size.
-// `ends_score`: the ends' largest H(V), already measured at this size (then they are not again).
+// The largest H(V) over `frames` frames evenly spread along the path, at the probe's size; it
+// stops at the first frame over the threshold. `ends_score`: the ends' largest H(V), already
+// measured at this size (then they are not again). `screen` (may be null): a cheaper probe by
+// which the frames are measured the worst first, so that a path that fails is usually rejected
+// by its first measurement at the probe's size (whether the path holds does not depend on the
+// order).
 StatusOr<double> WorstHoleScore(const CameraPath& path, int frames, CoverageProbe* probe,
-                                std::optional<double> ends_score = std::nullopt) {
-  double worst = ends_score.value_or(0.0);
+                                std::optional<double> ends_score = std::nullopt, CoverageProbe* screen = nullptr) {
+  std::vector<std::pair<double, double>> order;  // (screened H(V), t), the worst first
   for (int i = ends_score ? 1 : 0; i < (ends_score ? frames - 1 : frames); ++i) {
     const double t = frames > 1 ? static_cast<double>(i) / (frames - 1) : 0.0;
+    double screened = 0;
+    if (screen != nullptr) {
+      PX_ASSIGN_OR_RETURN(screened, screen->HoleScore(path.CameraAt(t), path.PoseAt(t)));
+    }
+    order.emplace_back(screened, t);
+  }
+  std::stable_sort(order.begin(), order.end(), [](const auto& a, const auto& b) { return a.first > b.first; });
+  double worst = ends_score.value_or(0.0);
+  for (const auto& [screened, t] : order) {
     PX_ASSIGN_OR_RETURN(double score, probe->HoleScore(path.CameraAt(t), path.PoseAt(t)));
     worst = std::max(worst, score);
     if (worst >= probe->valid_hole_score()) break;  // early exit: this path is out
@@ -472,14 +496,37 @@ StatusOr<CameraPath> PlanMove(const MoveChoice& choice, const PlanContext& conte
       last_failure = framed_ok.message();
       continue;
     }
-    const Framing& a = starts[pair.a].framing;
-    const Framing& b = ends[pair.b].framing;
-    pair.parallax = ParallaxScore(*context.samples, scene.OutputWithFocal(a.focal_px).Scaled(kParallaxScale),
-                                  a.cam_from_world, scene.OutputWithFocal(b.focal_px).Scaled(kParallaxScale),
-                                  b.cam_from_world);
     measured.push_back(std::move(pair));
   }
   report->paths_measured = static_cast<int>(measured.size());
+  // Their parallax, from each end's view of the scene (made once per end: the pairs share ends),
+  // on every core.
+  std::vector<const Framing*> ends_seen;
+  for (const Pair& pair : measured) {
+    for (const Framing* end : std::array<const Framing*, 2>{&starts[pair.a].framing, &ends[pair.b].framing}) {
+      if (std::find(ends_seen.begin(), ends_seen.end(), end) == ends_seen.end()) ends_seen.push_back(end);
+    }
+  }
+  const auto small_camera = [&](const Framing& end) {
+    return scene.OutputWithFocal(end.focal_px).Scaled(kParallaxScale);
+  };
+  std::vector<cv::Mat> seen(ends_seen.size());
+  cv::parallel_for_(cv::Range(0, static_cast<int>(ends_seen.size())), [&](const cv::Range& range) {
+    for (int i = range.start; i < range.end; ++i) {
+      seen[i] = context.samples->DepthSeenFrom(small_camera(*ends_seen[i]), ends_seen[i]->cam_from_world);
+    }
+  });
+  const auto seen_from = [&](const Framing& end) -> const cv::Mat& {
+    return seen[std::find(ends_seen.begin(), ends_seen.end(), &end) - ends_seen.begin()];
+  };
+  cv::parallel_for_(cv::Range(0, static_cast<int>(measured.size())), [&](const cv::Range& range) {
+    for (int i = range.start; i < range.end; ++i) {
+      const Framing& a = starts[measured[i].a].framing;
+      const Framing& b = ends[measured[i].b].framing;
+      measured[i].parallax =
+          ParallaxScore(seen_from(a), small_camera(a), a.cam_from_world, seen_from(b), small_camera(b), b.cam_from_world);
+    }
+  });
   std::stable_sort(measured.begin(), measured.end(),
                    [](const Pair& x, const Pair& y) { return x.parallax > y.parallax; });
 
@@ -520,77 +567,37 @@ StatusOr<CameraPath> PlanMove(const MoveChoice& choice, const PlanContext& conte
     return false;
   };
 
-  // 4. The first (most parallax) path whose frames are all valid.
-  for (Pair& pair : measured) {
-    ++report->paths_verified;
-    PX_ASSIGN_OR_RETURN(bool ends_hold, hold_ends(&pair));
-    if (!ends_hold) {
-      last_failure = "an end does not hold at the verify size, pulled back by up to " +
-                     std::to_string(static_cast<int>(100 * kMaxPullBack)) + "% of the path";
-      continue;
-    }
+  // The end framing a subject close up carries the full aperture of a depth-of-field change; a
+  // focus pull holds the aperture at both ends, a depth-of-field change opens from a pinhole
+  // (already verified) to the full aperture at the subject's end, the only end it constrains.
+  const bool subject_at_start = choice.move == Move::kDollyOut || choice.move == Move::kDollyZoomIn;
+  const auto aperture_keys = [&](Effect effect, size_t last) {
+    return effect == Effect::kFocusPull ? std::vector<size_t>{0, last}
+                                        : std::vector<size_t>{subject_at_start ? 0 : last};
+  };
+  // The chosen path with its effect (`aperture`: a depth-of-field effect's, the largest valid).
+  const auto complete = [&](Pair& pair, double worst, Effect effect, double aperture) -> StatusOr<CameraPath> {
     CameraPath& path = pair.path;
-    if (pair.start_pulled || pair.end_pulled) {
-      // The parallax and length of the path as it now is.
-      pair.parallax = ParallaxScore(*context.samples, path.CameraAt(0).Scaled(kParallaxScale), path.PoseAt(0),
-                                    path.CameraAt(1).Scaled(kParallaxScale), path.PoseAt(1));
-      pair.length = (path.keyframes.front().centre_in_world - path.keyframes.back().centre_in_world).norm();
-      const Eigen::Vector3d& a = starts[pair.a].framing.centre_in_world;
-      const Eigen::Vector3d& b = ends[pair.b].framing.centre_in_world;
-      const auto share = [&](const std::optional<Framing>& pulled, const Eigen::Vector3d& from) {
-        return pulled ? 100 * (pulled->centre_in_world - from).norm() / std::max(1e-9, (a - b).norm()) : 0.0;
-      };
-      char text[160];
-      std::snprintf(text, sizeof(text), "ends pulled back to hold at the verify size: start %.0f%%, end %.0f%% of the path",
-                    share(pair.start_pulled, a), share(pair.end_pulled, b));
-      path.notes.push_back(text);
-    }
-    report->focal_scale = pair.focal_scale;
-    PX_ASSIGN_OR_RETURN(double worst,
-                        WorstHoleScore(path, options.search.verify_frames, context.verify, pair.ends_score));
-    if (worst >= context.verify->valid_hole_score()) {
-      char text[160];
-      std::snprintf(text, sizeof(text), "a frame of the path has H(V) %.2f at the verify size", worst);
-      last_failure = text;
-      continue;
-    }
     report->parallax = pair.parallax;
     report->length_m = pair.length;
     report->max_hole_score = worst;
-
-    // 5. The image effect.
-    Effect effect = choice.effect;
-    const size_t last = path.keyframes.size() - 1;
+    report->focal_scale = pair.focal_scale;
+    report->aperture_m = aperture;
     if (effect == Effect::kDofChange || effect == Effect::kFocusPull) {
-      // The end framing a subject close up carries the full aperture of a depth-of-field change.
-      size_t subject_end = last;
-      if (choice.move == Move::kDollyOut || choice.move == Move::kDollyZoomIn) subject_end = 0;
-      // A focus pull holds the aperture at both ends; a depth-of-field change opens from a pinhole
-      // (already verified) to the full aperture at the subject's end, the only end it constrains.
-      const std::vector<size_t> keys =
-          effect == Effect::kFocusPull ? std::vector<size_t>{0, last} : std::vector<size_t>{subject_end};
-      PX_ASSIGN_OR_RETURN(double aperture, PathAperture(path, keys, context));
-      report->aperture_m = aperture;
-      if (!(aperture >= 1e-4)) {
-        path.notes.push_back(std::string(EffectName(effect)) + " dropped: no aperture of 0.1 mm or more keeps " +
-                             (keys.size() > 1 ? "both ends" : "the subject's end") + " valid");
-        effect = Effect::kNone;
-      } else {
-        for (size_t k = 0; k < path.keyframes.size(); ++k) {
-          CameraKeyframe& key = path.keyframes[k];
-          const double t = key.t;
-          if (effect == Effect::kFocusPull) {
-            key.aperture_m = aperture;
-            key.focus_depth_m = SubjectDepthIn(t < 0.5 ? *first : *second, key.CamFromWorld());
-          } else {
-            key.aperture_m = aperture * (subject_end == 0 ? 1.0 - t : t);
-            key.focus_depth_m = SubjectDepthIn(second != nullptr ? *second : *first, key.CamFromWorld());
-          }
-        }
+      for (size_t k = 0; k < path.keyframes.size(); ++k) {
+        CameraKeyframe& key = path.keyframes[k];
+        const double t = key.t;
         if (effect == Effect::kFocusPull) {
-          path.keyframes.front().focus_depth_m = SubjectDepthIn(*first, path.keyframes.front().CamFromWorld());
-          path.keyframes.back().focus_depth_m = SubjectDepthIn(*second, path.keyframes.back().CamFromWorld());
+          key.aperture_m = aperture;
+          key.focus_depth_m = SubjectDepthIn(t < 0.5 ? *first : *second, key.CamFromWorld());
+        } else {
+          key.aperture_m = aperture * (subject_at_start ? 1.0 - t : t);
+          key.focus_depth_m = SubjectDepthIn(second != nullptr ? *second : *first, key.CamFromWorld());
         }
+      }
+      if (effect == Effect::kFocusPull) {
+        path.keyframes.front().focus_depth_m = SubjectDepthIn(*first, path.keyframes.front().CamFromWorld());
+        path.keyframes.back().focus_depth_m = SubjectDepthIn(*second, path.keyframes.back().CamFromWorld());
       }
     } else if (effect != Effect::kNone && first != nullptr) {
       for (CameraKeyframe& key : path.keyframes) {
@@ -620,6 +627,68 @@ StatusOr<CameraPath> PlanMove(const MoveChoice& choice, const PlanContext& conte
     path.reason = text;
     PX_RETURN_IF_ERROR(path.Validate());
     return path;
+  };
+  // The first path that held whose ends hold no aperture for the effect asked for.
+  struct HeldPath {
+    Pair* pair = nullptr;
+    double worst = 0;
+  };
+  std::optional<HeldPath> without_effect;
+
+  // 4. The first (most parallax) path whose frames are all valid.
+  for (Pair& pair : measured) {
+    ++report->paths_verified;
+    PX_ASSIGN_OR_RETURN(bool ends_hold, hold_ends(&pair));
+    if (!ends_hold) {
+      last_failure = "an end does not hold at the verify size, pulled back by up to " +
+                     std::to_string(static_cast<int>(100 * kMaxPullBack)) + "% of the path";
+      continue;
+    }
+    CameraPath& path = pair.path;
+    if (pair.start_pulled || pair.end_pulled) {
+      // The parallax and length of the path as it now is.
+      pair.parallax = ParallaxScore(*context.samples, path.CameraAt(0).Scaled(kParallaxScale), path.PoseAt(0),
+                                    path.CameraAt(1).Scaled(kParallaxScale), path.PoseAt(1));
+      pair.length = (path.keyframes.front().centre_in_world - path.keyframes.back().centre_in_world).norm();
+      const Eigen::Vector3d& a = starts[pair.a].framing.centre_in_world;
+      const Eigen::Vector3d& b = ends[pair.b].framing.centre_in_world;
+      const auto share = [&](const std::optional<Framing>& pulled, const Eigen::Vector3d& from) {
+        return pulled ? 100 * (pulled->centre_in_world - from).norm() / std::max(1e-9, (a - b).norm()) : 0.0;
+      };
+      char text[160];
+      std::snprintf(text, sizeof(text), "ends pulled back to hold at the verify size: start %.0f%%, end %.0f%% of the path",
+                    share(pair.start_pulled, a), share(pair.end_pulled, b));
+      path.notes.push_back(text);
+    }
+    PX_ASSIGN_OR_RETURN(double worst, WorstHoleScore(path, options.search.verify_frames, context.verify,
+                                                     pair.ends_score, context.search));
+    if (worst >= context.verify->valid_hole_score()) {
+      char text[160];
+      std::snprintf(text, sizeof(text), "a frame of the path has H(V) %.2f at the verify size", worst);
+      last_failure = text;
+      continue;
+    }
+    // 5. The image effect. An aperture the path's ends cannot hold (an end on the valid region's
+    //    frontier) sends the search on to the next path; the first path that held is kept, without
+    //    the effect, in case none can.
+    double aperture = 0;
+    if (choice.effect == Effect::kDofChange || choice.effect == Effect::kFocusPull) {
+      PX_ASSIGN_OR_RETURN(aperture,
+                          PathAperture(path, aperture_keys(choice.effect, path.keyframes.size() - 1), context));
+      if (!(aperture >= 1e-4)) {
+        if (!without_effect) without_effect = HeldPath{&pair, worst};
+        last_failure = std::string(EffectName(choice.effect)) + ": no aperture of 0.1 mm or more keeps " +
+                       (choice.effect == Effect::kFocusPull ? "both ends" : "the subject's end") + " valid";
+        continue;
+      }
+    }
+    return complete(pair, worst, choice.effect, aperture);
+  }
+  if (without_effect) {
+    without_effect->pair->path.notes.push_back(
+        std::string(EffectName(choice.effect)) + " dropped: no aperture of 0.1 mm or more keeps " +
+        (choice.effect == Effect::kFocusPull ? "both ends" : "the subject's end") + " of any path that holds valid");
+    return complete(*without_effect->pair, without_effect->worst, Effect::kNone, 0.0);
   }
   return FailedPreconditionError(name + ": none of the " + std::to_string(pairs.size()) +
                                  " candidate paths holds (" + std::to_string(measured.size()) +

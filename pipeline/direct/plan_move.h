@@ -5,11 +5,13 @@
 //      wide end of a dolly-in/out and the far end of the moves along the axis;
 //   3. the `num_longest` longest candidate paths, the one with the most parallax first
 //      (parallax_measure.h), each checked frame by frame at the verify size until one holds (an
-//      end that fails there is first pulled back along the path, re-framed by its rule);
+//      end that fails there is first pulled back along the path, re-framed by its rule; the
+//      frames the search probe ranks worst are checked first);
 //   4. framing: subjects kept wholly inside every frame by narrowing the zoom where needed;
 //   5. the image effect: the largest aperture valid at both ends (aperture_search.h) for a focus
-//      pull, at the subject's end for a depth-of-field change (it opens from a pinhole), or a
-//      colour-effect layer on the subject.
+//      pull, at the subject's end for a depth-of-field change (it opens from a pinhole; a path
+//      whose ends hold no aperture leaves the effect to the next path that holds, and is kept
+//      without it only when none does), or a colour-effect layer on the subject.
 #pragma once
 
 #include <map>

@@ -1,7 +1,9 @@
 #include "pipeline/direct/valid_viewpoints.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
+#include <map>
 #include <optional>
 #include <string>
 
@@ -17,45 +19,69 @@ struct Probed {
   Framing framing;
 };
 
+// One cell's column of positions along z. Probes are remembered by z, so a position asked for
+// twice (a neighbour's answer tried while looking for a valid anchor, then as a search's first
+// step) costs one coverage measurement.
 class ColumnSearch {
  public:
   ColumnSearch(const SceneGeometry& scene, const FramingRule& rule, CoverageProbe* probe, Eigen::Vector2d xy)
       : scene_(scene), rule_(rule), probe_(probe), xy_(std::move(xy)) {}
 
   StatusOr<Probed> At(double z) {
+    for (const auto& [probed_z, probed] : probed_) {
+      if (probed_z == z) return probed;
+    }
     Probed result;
     result.framing = rule_(scene_.WorldFromRig(Eigen::Vector3d(xy_.x(), xy_.y(), z)));
-    if (!(result.framing.focal_px > 0)) return result;  // the rule cannot frame from here
-    PX_ASSIGN_OR_RETURN(result.hole_score, probe_->HoleScore(scene_.OutputWithFocal(result.framing.focal_px),
-                                                             result.framing.cam_from_world));
-    result.valid = result.hole_score < probe_->valid_hole_score();
-    ++probes_;
+    if (result.framing.focal_px > 0) {  // else the rule cannot frame from here
+      PX_ASSIGN_OR_RETURN(result.hole_score, probe_->HoleScore(scene_.OutputWithFocal(result.framing.focal_px),
+                                                               result.framing.cam_from_world));
+      result.valid = result.hole_score < probe_->valid_hole_score();
+      ++probes_;
+    }
+    probed_.emplace_back(z, result);
     return result;
   }
 
-  // The farthest valid z in direction `sign` (+1 forwards, -1 backwards) from the valid `start`
-  // at z = `base`, at most `limit` away: double the step while valid, then halve between the last
-  // valid and the first invalid distance. `hint` (a distance from a neighbour's answer) is tried
-  // first. Sets last_z() to the answer's z.
-  StatusOr<Probed> Extreme(const Probed& start, double base, double sign, double limit, const ZLimits& z,
-                           std::optional<double> hint) {
-    Probed best = start;
-    double lo = 0;                   // distance of `best` from z = 0 along sign
-    std::optional<double> hi;        // first invalid distance found
-    double step = z.first_step_m;
-    if (hint && *hint > z.precision_m) {
-      PX_ASSIGN_OR_RETURN(Probed at, At(base + sign * std::min(*hint, limit)));
+  // The farthest valid z in direction `sign` (+1 forwards, -1 backwards) from the valid `anchor`
+  // at `anchor_z`, not past `limit_z`, to within z.precision_m. `hint_z` (a neighbour's answer)
+  // is tried first: when valid, the search steps on from it by the precision, doubling; when
+  // not, it steps back from it the same way (the answer is usually a step or two away, so a
+  // cell costs about two probes a direction instead of a search from the anchor; an anchor at
+  // the hint steps on by the precision too). Without a hint the step starts at
+  // z.first_step_m, doubling while valid; then halving between the last valid and the first
+  // invalid distance. Sets last_z() to the answer's z.
+  StatusOr<Probed> Extreme(const Probed& anchor, double anchor_z, double sign, double limit_z, const ZLimits& z,
+                           std::optional<double> hint_z) {
+    Probed best = anchor;
+    const double limit = sign * (limit_z - anchor_z);  // distances from the anchor along sign
+    double lo = 0;                                      // distance of `best`
+    std::optional<double> hi;                           // first invalid distance found
+    // With a neighbour's answer the frontier is expected near it: small steps.
+    double step = hint_z ? z.precision_m : z.first_step_m;
+    const auto probe_at = [&](double distance) { return At(anchor_z + sign * distance); };
+    if (hint_z && sign * (*hint_z - anchor_z) > z.precision_m && limit > 0) {
+      const double hint = std::min(sign * (*hint_z - anchor_z), limit);
+      PX_ASSIGN_OR_RETURN(Probed at, probe_at(hint));
       if (at.valid) {
         best = at;
-        lo = std::min(*hint, limit);
-        step = 2 * z.precision_m;
+        lo = hint;
       } else {
-        hi = std::min(*hint, limit);
+        hi = hint;
+        for (double back = step; *hi - back > lo; back *= 2) {
+          PX_ASSIGN_OR_RETURN(Probed nearer, probe_at(*hi - back));
+          if (nearer.valid) {
+            best = nearer;
+            lo = *hi - back;
+            break;
+          }
+          hi = *hi - back;
+        }
       }
     }
     while (!hi && lo < limit - 1e-9) {
       const double next = std::min(limit, lo + step);
-      PX_ASSIGN_OR_RETURN(Probed at, At(base + sign * next));
+      PX_ASSIGN_OR_RETURN(Probed at, probe_at(next));
       if (at.valid) {
         best = at;
         lo = next;
@@ -64,9 +90,10 @@ class ColumnSearch {
         hi = next;
       }
     }
-    while (hi && *hi - lo > z.precision_m) {
+    // A bracket one precision step wide is resolved (the tolerance absorbs the rounding of z).
+    while (hi && *hi - lo > z.precision_m * (1 + 1e-6)) {
       const double mid = 0.5 * (lo + *hi);
-      PX_ASSIGN_OR_RETURN(Probed at, At(base + sign * mid));
+      PX_ASSIGN_OR_RETURN(Probed at, probe_at(mid));
       if (at.valid) {
         best = at;
         lo = mid;
@@ -74,7 +101,7 @@ class ColumnSearch {
         hi = mid;
       }
     }
-    last_z_ = base + sign * lo;
+    last_z_ = anchor_z + sign * std::max(0.0, lo);
     return best;
   }
 
@@ -86,6 +113,7 @@ class ColumnSearch {
   const FramingRule& rule_;
   CoverageProbe* probe_;
   Eigen::Vector2d xy_;
+  std::vector<std::pair<double, Probed>> probed_;
   int probes_ = 0;
   double last_z_ = 0;
 };
@@ -125,49 +153,78 @@ StatusOr<std::vector<Eigen::Vector2d>> GridPositions(const SceneGeometry& scene,
 
 namespace {
 
-// The search along one chain of cells, each seeded by the previous cell's answers.
+// A cell's expected answer (z) from its neighbours' in the chain: the last valid cell's; with
+// its left neighbour, the one above it and the one above that in the same row all answered, the
+// median of the left's, the upper's and the plane through the three (left + up - up-left), since
+// the frontier is smooth and a slope seen in the row above usually carries on (about a tenth
+// fewer probes on the 640x480 shots than the last valid cell's answer alone).
+std::optional<double> ExpectedAnswer(const std::map<int, double>& answers, std::optional<double> last_valid,
+                                     int cell, int previous_cell, int n) {
+  const int row = cell / n, column = cell % n, previous_column = previous_cell % n;
+  if (row == 0 || previous_cell / n != row) return last_valid;
+  const auto left = answers.find(previous_cell), up = answers.find(cell - n),
+             up_left = answers.find((row - 1) * n + previous_column);
+  if (left == answers.end() || up == answers.end() || up_left == answers.end() || std::abs(column - previous_column) != 1) {
+    return last_valid;
+  }
+  std::array<double, 3> guesses = {left->second, up->second, left->second + up->second - up_left->second};
+  std::sort(guesses.begin(), guesses.end());
+  return guesses[1];
+}
+
+// The search along one chain of cells, each seeded by the previous cells' answers.
 StatusOr<ValidRegion> SearchChain(const SceneGeometry& scene, const FramingRule& rule, CoverageProbe* probe,
                                   const ZLimits& z, const std::vector<Eigen::Vector2d>& positions,
                                   const std::vector<int>& order, bool search_front, bool search_back) {
   ValidRegion region;
-  std::optional<double> front_hint, back_hint;
+  const int n = std::max(1, static_cast<int>(std::lround(std::sqrt(static_cast<double>(positions.size())))));
+  std::optional<double> last_front, last_back;     // the last valid cell's answers (z)
+  std::map<int, double> front_answers, back_answers;  // by cell, this chain's
+  int previous_cell = -1;
   for (int cell : order) {
     ++region.cells;
+    const std::optional<double> front_hint = ExpectedAnswer(front_answers, last_front, cell, previous_cell, n);
+    const std::optional<double> back_hint = ExpectedAnswer(back_answers, last_back, cell, previous_cell, n);
+    previous_cell = cell;
     ColumnSearch column(scene, rule, probe, positions[cell]);
-    PX_ASSIGN_OR_RETURN(Probed origin, column.At(0.0));
-    // A cell invalid at z = 0 may still be valid a little forwards (zooming in narrows the view):
-    // try its neighbour's forward answer before giving it up.
-    if (!origin.valid && search_front && front_hint && *front_hint > z.precision_m) {
-      PX_ASSIGN_OR_RETURN(Probed ahead, column.At(*front_hint));
-      if (ahead.valid) origin = ahead;
+    // A valid position to search from. The neighbour's answers first: next to a valid cell they
+    // usually hold, and then the searches start there (no probe at z = 0 is needed).
+    std::optional<Probed> anchor;
+    double anchor_z = 0;
+    for (const auto& [wanted, hint] : {std::pair{search_front, front_hint}, std::pair{search_back, back_hint}}) {
+      if (anchor || !wanted || !hint) continue;
+      PX_ASSIGN_OR_RETURN(Probed at, column.At(*hint));
+      if (at.valid) {
+        anchor = at;
+        anchor_z = *hint;
+      }
+    }
+    if (!anchor) {
+      PX_ASSIGN_OR_RETURN(Probed origin, column.At(0.0));
+      if (origin.valid) anchor = origin;
     }
     // A view turned towards a subject off the axis lacks rays at its far edge from z = 0, but
     // nearer the scene the same edge falls on surfaces the inputs saw: step forwards, doubling.
-    for (double ahead_m = z.first_step_m; !origin.valid && search_front && ahead_m <= z.forward_m; ahead_m *= 2) {
+    for (double ahead_m = z.first_step_m; !anchor && search_front && ahead_m <= z.forward_m; ahead_m *= 2) {
       PX_ASSIGN_OR_RETURN(Probed ahead, column.At(ahead_m));
-      if (ahead.valid) origin = ahead;
+      if (ahead.valid) {
+        anchor = ahead;
+        anchor_z = ahead_m;
+      }
     }
-    if (!origin.valid) {
+    if (!anchor) {
       region.probes += column.probes();
       continue;
     }
     ++region.valid_cells;
-    const double origin_z = scene.RigFromWorld(origin.framing.centre_in_world).z();
-    // Hints are the neighbour's answers (z); each search takes the distance to it.
-    const auto distance_to = [&](const std::optional<double>& hint_z, double sign) -> std::optional<double> {
-      if (!hint_z || sign * (*hint_z - origin_z) <= 0) return std::nullopt;
-      return sign * (*hint_z - origin_z);
-    };
     if (search_front) {
-      PX_ASSIGN_OR_RETURN(Probed front, column.Extreme(origin, origin_z, +1.0, z.forward_m - origin_z, z,
-                                                       distance_to(front_hint, +1.0)));
-      front_hint = column.last_z();
+      PX_ASSIGN_OR_RETURN(Probed front, column.Extreme(*anchor, anchor_z, +1.0, z.forward_m, z, front_hint));
+      last_front = front_answers[cell] = column.last_z();
       region.front.push_back({front.framing, front.hole_score, cell});
     }
     if (search_back) {
-      PX_ASSIGN_OR_RETURN(Probed back, column.Extreme(origin, origin_z, -1.0, z.back_m + origin_z, z,
-                                                      distance_to(back_hint, -1.0)));
-      back_hint = column.last_z();
+      PX_ASSIGN_OR_RETURN(Probed back, column.Extreme(*anchor, anchor_z, -1.0, -z.back_m, z, back_hint));
+      last_back = back_answers[cell] = column.last_z();
       region.back.push_back({back.framing, back.hole_score, cell});
     }
     region.probes += column.probes();

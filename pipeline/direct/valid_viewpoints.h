@@ -7,10 +7,11 @@
 //
 // A move fixes where each endpoint looks and its focal length from its position (4.2, second
 // assumption), so the search takes that rule as a function. Speed: cells are visited in a
-// serpentine order and each z search starts from its neighbour's answer (one probe confirms it
-// and a few refine it), which takes the search from ~10 to ~3 probes per cell. With a probe that
-// may run concurrently (the splat, splat_coverage.h) the grid's two halves are two such chains,
-// searched side by side.
+// serpentine order; each cell's searches start from its neighbour's answers (about two probes a
+// direction: one valid at or near the answer, one invalid a precision step beyond), and no probe
+// at z = 0 is needed when a neighbour's answer is valid there. With a probe that may run
+// concurrently (the CPU renderer's Coverage, or the splat, splat_coverage.h) the grid's two halves
+// are two such chains, searched side by side.
 #pragma once
 
 #include <functional>

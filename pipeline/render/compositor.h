@@ -3,6 +3,7 @@
 // all fragments of all contributing views (section 10). Both work in bands of rows in parallel.
 #pragma once
 
+#include <algorithm>
 #include <vector>
 
 #include <opencv2/core.hpp>
@@ -29,6 +30,51 @@ void CompositePreview(const LayeredScene& scene, const std::vector<FrameView>& f
 void CompositeOffline(const LayeredScene& scene, const std::vector<FrameView>& frame_views,
                       const std::vector<ViewSlots>& slots, int width, int height, FrameComposite* out);
 
+// One row of a segment's projected rectangle: pixels [x_begin, x_end) of row y whose centres are
+// inside it and that may hold its view, and the row's terms of the homogeneous source coordinates
+// (hx0 + h[0] x, hy0 + h[3] x, hw0 + h[6] x) and of the inverse depth (iz0 + inv_depth[0] x).
+struct SegmentRow {
+  int y = 0, x_begin = 0, x_end = 0;
+  float hx0 = 0, hy0 = 0, hw0 = 0, iz0 = 0;
+};
+
+// The source pixel (u, v) of setup `s`'s fragment at column fx of row `r`: false when the
+// homography puts it behind the source camera or outside the segment's rectangle (rounding at the
+// rectangle's edges; the sampler needs it within one pixel of the image).
+inline bool FragmentSource(const SegmentSetup& s, const SceneSegment& segment, const SegmentRow& r, float fx,
+                           float* u, float* v) {
+  const float* h = s.homography.data();
+  const float hw = h[6] * fx + r.hw0;
+  if (!(hw > 0)) return false;
+  const float inv_w = 1.0f / hw;
+  *u = (h[0] * fx + r.hx0) * inv_w;
+  *v = (h[3] * fx + r.hy0) * inv_w;
+  return *u >= segment.rect[0] && *u <= segment.rect[2] && *v >= segment.rect[1] && *v <= segment.rect[3];
+}
+
+// Calls row(SegmentRow) for each row of setup `s` within [row_begin, row_end) that has pixels.
+template <typename Row>
+inline void ForEachSegmentRow(const FrameView& frame_view, const SegmentSetup& s, int width, int row_begin,
+                              int row_end, Row&& row) {
+  const float* h = s.homography.data();
+  const int y_begin = std::max(row_begin, s.y_min), y_end = std::min(row_end, s.y_max + 1);
+  for (int y = y_begin; y < y_end; ++y) {
+    SegmentRow r;
+    r.y = y;
+    if (!RowSpan(s, y, width, &r.x_begin, &r.x_end)) continue;
+    r.x_begin = std::max(r.x_begin, frame_view.rows[y][0]);
+    r.x_end = std::min(r.x_end, frame_view.rows[y][1] + 1);
+    if (r.x_begin >= r.x_end) continue;
+    const float fy = static_cast<float>(y);
+    // Homogeneous source coordinates and inverse depth, linear along the row.
+    r.hx0 = h[1] * fy + h[2];
+    r.hy0 = h[4] * fy + h[5];
+    r.hw0 = h[7] * fy + h[8];
+    r.iz0 = s.inv_depth[1] * fy + s.inv_depth[2];
+    row(r);
+  }
+}
+
 // Calls emit(x, y, slot, alpha, bgr_premultiplied, z) for every fragment of setup `s` of `view` in
 // rows [row_begin, row_end) whose pixel holds the view (`frame_view`) in a slot. `skip(x, y, slot)`
 // is asked first, before any sampling (a saturated pixel needs no more fragments). bgr is null
@@ -39,36 +85,23 @@ inline void RasterizeSegment(const SceneView& view, const FrameView& frame_view,
                              bool with_colour, Skip&& skip, Emit&& emit) {
   const int view_index = frame_view.view;
   const SceneSegment& segment = view.segments[s.segment];
-  const float* h = s.homography.data();
-  const int y_begin = std::max(row_begin, s.y_min), y_end = std::min(row_end, s.y_max + 1);
-  for (int y = y_begin; y < y_end; ++y) {
-    int x_begin = 0, x_end = 0;
-    if (!RowSpan(s, y, width, &x_begin, &x_end)) continue;
-    x_begin = std::max(x_begin, frame_view.rows[y][0]);
-    x_end = std::min(x_end, frame_view.rows[y][1] + 1);
-    const float fy = static_cast<float>(y);
+  ForEachSegmentRow(frame_view, s, width, row_begin, row_end, [&](const SegmentRow& r) {
+    const int y = r.y;
     const ViewSlots* slot_row = slots.data() + static_cast<size_t>(y) * width;
-    // Homogeneous source coordinates and inverse depth, linear along the row.
-    const float hx0 = h[1] * fy + h[2], hy0 = h[4] * fy + h[5], hw0 = h[7] * fy + h[8];
-    const float iz0 = s.inv_depth[1] * fy + s.inv_depth[2];
-    for (int x = x_begin; x < x_end; ++x) {
+    for (int x = r.x_begin; x < r.x_end; ++x) {
       const int slot = SlotOf(slot_row[x], view_index);
       if (slot < 0 || skip(x, y, slot)) continue;
       const float fx = static_cast<float>(x);
-      const float hw = h[6] * fx + hw0;
-      if (!(hw > 0)) continue;
-      const float inv_w = 1.0f / hw;
-      const float u = (h[0] * fx + hx0) * inv_w;
-      const float v = (h[3] * fx + hy0) * inv_w;
-      if (!(u >= segment.rect[0] && u <= segment.rect[2] && v >= segment.rect[1] && v <= segment.rect[3])) continue;
+      float u, v;
+      if (!FragmentSource(s, segment, r, fx, &u, &v)) continue;
       float bgr[3] = {0, 0, 0};
       const float alpha = SampleSegment(view, s.segment, u, v, bgr);
       if (alpha <= 1e-6f) continue;
-      const float inv_z = s.inv_depth[0] * fx + iz0;
+      const float inv_z = s.inv_depth[0] * fx + r.iz0;
       if (!(inv_z > 0)) continue;
       emit(x, y, slot, alpha, with_colour ? bgr : nullptr, 1.0f / inv_z);
     }
-  }
+  });
 }
 
 }  // namespace px::render

@@ -13,6 +13,8 @@
 #include "pipeline/render/depth_of_field.h"
 #include "pipeline/render/exemplar_inpaint.h"
 #include "pipeline/render/hole_fill.h"
+#include "pipeline/render/hole_regions.h"
+#include "pipeline/render/hole_views.h"
 #include "pipeline/render/layered_from_depth.h"
 #include "pipeline/render/segment_raster.h"
 
@@ -20,27 +22,110 @@ namespace px {
 namespace {
 
 cv::Mat ToBgr8(const cv::Mat& colour) {
-  cv::Mat bgr;
-  colour.convertTo(bgr, CV_8UC3);  // rounds to nearest and saturates
+  cv::Mat bgr(colour.size(), CV_8UC3);
+  // Rounds to nearest and saturates; in stripes on every core (a 1200x800 frame is 3M values).
+  cv::parallel_for_(cv::Range(0, colour.rows), [&](const cv::Range& rows) {
+    colour.rowRange(rows.start, rows.end).convertTo(bgr.rowRange(rows.start, rows.end), CV_8UC3);
+  });
   return bgr;
 }
 
-CoverageReport MeasureCoverage(const cv::Mat& coverage) {
+// cv::distanceTransform's 5x5 mask (H(V)) reaches 2 pixels from a hole at a step.
+constexpr int kHoleScoreMarginPx = 2;
+
+// Hole ratio and H(V) of `coverage`, H(V) summed over `regions` (render::HoleRegions with a margin
+// of at least kHoleScoreMarginPx: the distances are the same there, every other pixel is covered
+// and adds 0) and normalised by the whole frame.
+CoverageReport MeasureCoverage(const cv::Mat& coverage, const std::vector<cv::Rect>& regions) {
   CoverageReport report;
   report.width = coverage.cols;
   report.height = coverage.rows;
   const double total = static_cast<double>(coverage.total());
   report.hole_ratio = 1.0 - cv::countNonZero(coverage) / total;
-  report.hole_score = report.hole_ratio > 0 ? render::HoleScore(coverage) : 0.0;
+  for (const cv::Rect& region : regions) {
+    report.hole_score += render::HoleScore(coverage(region)) * (static_cast<double>(region.area()) / total);
+  }
   return report;
 }
 
+CoverageReport MeasureCoverage(const cv::Mat& coverage) {
+  return MeasureCoverage(coverage, render::HoleRegions(coverage, kHoleScoreMarginPx));
+}
+
+struct HoleCounts {
+  int small = 0, propagated = 0, inpainted = 0;
+};
+
+// A hole pixel with some alpha (a soft edge with nothing behind it), in its region's coordinates.
+struct PartialPixel {
+  cv::Point at;
+  float alpha;
+  cv::Vec3f colour;
+};
+
+// The partly covered hole pixels of `region` (section 6: they keep their share of colour over the
+// fill), read before anything draws over the holes.
+std::vector<PartialPixel> PartialPixelsIn(const cv::Rect& region, const cv::Mat& coverage,
+                                          const render::FrameComposite& composite) {
+  std::vector<PartialPixel> partial;
+  for (int y = 0; y < region.height; ++y) {
+    const float* a = composite.alpha.ptr<float>(region.y + y) + region.x;
+    const uint8_t* k = coverage.ptr<uint8_t>(region.y + y) + region.x;
+    const cv::Vec3f* c = composite.colour.ptr<cv::Vec3f>(region.y + y) + region.x;
+    for (int x = 0; x < region.width; ++x) {
+      if (k[x] == 0 && a[x] > 0) partial.push_back({{x, y}, a[x], c[x]});
+    }
+  }
+  return partial;
+}
+
+// Fills the pixels of `region` (a render::HoleRegions box, or the whole frame) that `known` does
+// not hold: reverse soft z (section 6), after exemplar inpainting of the large holes when
+// `inpaint` (offline, section 10; holes at the image border are left to the smear, better outside
+// the sources' view); then the soft edges' `partial` colours go back over the fill.
+HoleCounts FillHolesIn(const cv::Rect& region, bool inpaint, const RenderOptions& options,
+                       const render::SoftZ& soft_z, const cv::Mat& known_in_frame,
+                       const std::vector<PartialPixel>& partial, render::FrameComposite* composite) {
+  HoleCounts counts;
+  const int radius = options.hole_window_radius_px;
+  cv::Mat known = known_in_frame(region).clone();
+  cv::Mat colour = composite->colour(region), depth = composite->depth(region);
+  if (cv::countNonZero(known) < static_cast<int>(known.total())) {
+    if (inpaint) {
+      const cv::Mat small = render::SmallHoles(known, radius);
+      const render::HoleFillReport first =
+          render::FillHolesReverseSoftZ(soft_z, radius, 1, &known, &colour, &depth, &small);
+      counts.small = first.first_pass;
+      render::InpaintOptions inpaint_options;
+      inpaint_options.patch_radius_px = options.inpaint_patch_radius_px;
+      inpaint_options.window_radius_px = options.inpaint_window_radius_px;
+      inpaint_options.depth_radius_px = radius;
+      inpaint_options.fill_border_holes = false;  // smeared below: better outside the sources' view
+      const render::InpaintReport inpainted =
+          render::InpaintDepthAware(soft_z, inpaint_options, known == 0, &known, &colour, &depth);
+      counts.inpainted = inpainted.pixels - inpainted.fallback_pixels;
+      counts.propagated = inpainted.fallback_pixels;
+    }
+    const render::HoleFillReport rest = render::FillHolesReverseSoftZ(soft_z, radius, 0, &known, &colour, &depth);
+    if (!inpaint) counts.small = rest.first_pass;
+    counts.propagated += inpaint ? rest.first_pass + rest.later_passes : rest.later_passes;
+  }
+  for (const PartialPixel& p : partial) {
+    cv::Vec3f& c = colour.at<cv::Vec3f>(p.at);
+    c = p.alpha * p.colour + (1.0f - p.alpha) * c;
+  }
+  return counts;
+}
+
 // Coverage() at or below this fraction of the sources' focal length draws the coarse scene, whose
-// segments are 32 source pixels wide (<= 8 output pixels there).
+// segments are 64 source pixels wide (8 output pixels at the direction stage's 1/8 size).
 constexpr double kCoarseScale = 0.25;
-// Made at a quarter of the views' resolution with 8 px blocks (cheap to make: 16x fewer pixels).
+// Made at a quarter of the views' resolution (cheap to make: 16x fewer pixels) with 16 px blocks:
+// a set-up per segment is most of a 1/8-size Coverage(), and 16 px blocks (4x fewer than 8 px)
+// agree with the full-size coverage on as many viewpoints (direction_benchmark's
+// BM_SearchProbeAgreement: 95, 97, 98 % on the 0, 1, 2-face shots either way; 32 px: 94, 97, 97).
 constexpr double kCoarseViewScale = 0.25;
-constexpr int kCoarseBlockPx = 8;
+constexpr int kCoarseBlockPx = 16;
 
 // The scene again with each view's front-layer depth, sampled at kCoarseViewScale, re-segmented
 // into kCoarseBlockPx blocks (colours are not needed for coverage). Null, with the reason logged,
@@ -132,14 +217,19 @@ CpuSceneRenderer::Core CpuSceneRenderer::RenderCore(const CameraModel& camera, c
   stats_.weights_ms += MsSince(start);
 
   start = Clock::now();
-  const std::vector<render::FrameView> frame_views = render::SetUpFrame(scene_, camera, cam_from_world, slots_);
+  render::SetUpFrame(scene_, camera, cam_from_world, slots_, &frame_views_);
+  const std::vector<render::FrameView>& frame_views = frame_views_;
   stats_.setup_ms += MsSince(start);
   stats_.views_drawn = static_cast<int>(frame_views.size());
   stats_.segments_drawn = 0;
   for (const render::FrameView& fv : frame_views) stats_.segments_drawn += static_cast<int>(fv.segments.size());
 
   start = Clock::now();
-  render::FrameComposite composite;
+  // The preview reuses its colour and alpha buffers from frame to frame (15 MB of fresh pages a
+  // 1200x800 frame otherwise); depth leaves with the frame, so it is always a new buffer.
+  render::FrameComposite offline_composite;
+  render::FrameComposite& composite = quality == RenderQuality::kPreview ? composite_ : offline_composite;
+  composite.depth.release();
   if (quality == RenderQuality::kOffline) {
     render::CompositeOffline(scene_, frame_views, slots_, width, height, &composite);
   } else {
@@ -151,47 +241,46 @@ CpuSceneRenderer::Core CpuSceneRenderer::RenderCore(const CameraModel& camera, c
   start = Clock::now();
   Core core;
   core.coverage = composite.alpha >= options_.covered_alpha;
-  cv::Mat known = core.coverage.clone();
-  // Partly covered holes keep their share of colour over the fill (section 6).
-  struct Partial {
-    cv::Point at;
-    float alpha;
-    cv::Vec3f colour;
-  };
-  std::vector<Partial> partial;
-  for (int y = 0; y < height; ++y) {
-    const float* a = composite.alpha.ptr<float>(y);
-    const uint8_t* k = known.ptr<uint8_t>(y);
-    for (int x = 0; x < width; ++x) {
-      if (k[x] == 0 && a[x] > 0) partial.push_back({{x, y}, a[x], composite.colour.at<cv::Vec3f>(y, x)});
-    }
-  }
-  stats_.hole_pixels = width * height - cv::countNonZero(known);
-  const render::SoftZ& soft_z = scene_.soft_z();
+  stats_.hole_pixels = width * height - cv::countNonZero(core.coverage);
   const int radius = options_.hole_window_radius_px;
-  if (stats_.hole_pixels > 0) {
-    if (inpaint) {
-      const cv::Mat small = render::SmallHoles(known, radius);
-      const render::HoleFillReport first =
-          render::FillHolesReverseSoftZ(soft_z, radius, 1, &known, &composite.colour, &composite.depth, &small);
-      stats_.small_hole_pixels = first.first_pass;
-      render::InpaintOptions inpaint_options;
-      inpaint_options.patch_radius_px = options_.inpaint_patch_radius_px;
-      inpaint_options.window_radius_px = options_.inpaint_window_radius_px;
-      inpaint_options.depth_radius_px = radius;
-      const render::InpaintReport inpainted = render::InpaintDepthAware(soft_z, inpaint_options, known == 0, &known,
-                                                                        &composite.colour, &composite.depth);
-      stats_.inpainted_pixels = inpainted.pixels - inpainted.fallback_pixels;
-      stats_.propagated_pixels = inpainted.fallback_pixels;
-    }
-    const render::HoleFillReport rest =
-        render::FillHolesReverseSoftZ(soft_z, radius, 0, &known, &composite.colour, &composite.depth);
-    if (!inpaint) stats_.small_hole_pixels = rest.first_pass;
-    stats_.propagated_pixels += inpaint ? rest.first_pass + rest.later_passes : rest.later_passes;
+  // Hole filling works box by box on the holes' regions grown by the fill window (the windows
+  // and the distances to covered pixels all lie inside them, so the result is the whole frame's;
+  // exemplar inpainting searches wider: the whole frame), the boxes in parallel, with H(V), which
+  // reads the coverage only, beside them.
+  const std::vector<cv::Rect> regions =
+      stats_.hole_pixels == 0 ? std::vector<cv::Rect>()
+      : inpaint               ? std::vector<cv::Rect>{cv::Rect(0, 0, width, height)}
+                              : render::HoleRegions(core.coverage, std::max(radius, kHoleScoreMarginPx));
+  const int num_regions = static_cast<int>(regions.size());
+  std::vector<std::vector<PartialPixel>> partial(regions.size());
+  for (int i = 0; i < num_regions; ++i) partial[i] = PartialPixelsIn(regions[i], core.coverage, composite);
+  // Holes drawn again from the views the mesh did not blend there (hole_views.h) become known.
+  cv::Mat known = core.coverage;
+  stats_.other_view_pixels = 0;
+  if (stats_.hole_pixels > 0 && options_.holes_from_other_views) {
+    known = core.coverage.clone();
+    // The preview leaves holes under 2 radius + 1 px across to its 7x7 fill (the paper's rule).
+    const int small_radius = quality == RenderQuality::kPreview ? radius : 0;
+    stats_.other_view_pixels = render::CoverHolesFromOtherViews(scene_, camera, cam_from_world, slots_, quality,
+                                                                options_.covered_alpha, small_radius, &known,
+                                                                &composite)
+                                   .covered;
   }
-  for (const Partial& p : partial) {
-    cv::Vec3f& c = composite.colour.at<cv::Vec3f>(p.at);
-    c = p.alpha * p.colour + (1.0f - p.alpha) * c;
+  std::vector<HoleCounts> counts(regions.size());
+  cv::parallel_for_(cv::Range(0, num_regions + 1), [&](const cv::Range& range) {
+    for (int i = range.start; i < range.end; ++i) {
+      if (i == num_regions) {
+        core.holes = MeasureCoverage(core.coverage, inpaint ? render::HoleRegions(core.coverage, kHoleScoreMarginPx)
+                                                            : regions);
+      } else {
+        counts[i] = FillHolesIn(regions[i], inpaint, options_, scene_.soft_z(), known, partial[i], &composite);
+      }
+    }
+  });
+  for (const HoleCounts& c : counts) {
+    stats_.small_hole_pixels += c.small;
+    stats_.propagated_pixels += c.propagated;
+    stats_.inpainted_pixels += c.inpainted;
   }
   stats_.holes_ms += MsSince(start);
 
@@ -237,7 +326,7 @@ StatusOr<FrameRender> CpuSceneRenderer::Render(const VirtualCamera& camera) {
   frame.bgr = ToBgr8(core.colour);
   frame.depth_m = core.depth;
   frame.coverage = core.coverage;
-  frame.holes = MeasureCoverage(core.coverage);
+  frame.holes = core.holes;
   frame.sources = std::move(core.sources);
   stats_.total_ms = MsSince(start);
   Logger("render")->debug(
@@ -253,10 +342,13 @@ StatusOr<CoverageReport> CpuSceneRenderer::Coverage(const CameraModel& camera, c
   PX_RETURN_IF_ERROR(CheckCamera(camera, cam_from_world));
   const bool coarse = coarse_scene_ != nullptr && std::max(camera.fx, camera.fy) <= kCoarseScale * min_source_focal_px_;
   const render::LayeredScene& scene = coarse ? *coarse_scene_ : scene_;
-  scene.mesh().ComputeWeights(camera, cam_from_world, &slots_);
-  const std::vector<render::FrameView> frame_views = render::SetUpFrame(scene, camera, cam_from_world, slots_);
+  // This call's own slots and frame views (not the Render() members): calls may run side by side.
+  std::vector<render::ViewSlots> slots;
+  scene.mesh().ComputeWeights(camera, cam_from_world, &slots);
+  std::vector<render::FrameView> frame_views;
+  render::SetUpFrame(scene, camera, cam_from_world, slots, &frame_views);
   render::FrameComposite composite;
-  render::CompositePreview(scene, frame_views, slots_, camera.width, camera.height, false, &composite);
+  render::CompositePreview(scene, frame_views, slots, camera.width, camera.height, false, &composite);
   return MeasureCoverage(composite.alpha >= options_.covered_alpha);
 }
 

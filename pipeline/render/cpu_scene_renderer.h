@@ -15,7 +15,9 @@
 #include "pipeline/core/view.h"
 #include "pipeline/render/layered_scene.h"
 #include "pipeline/render/render_options.h"
+#include "pipeline/render/compositor.h"
 #include "pipeline/render/scene_renderer.h"
+#include "pipeline/render/segment_raster.h"
 
 namespace px {
 
@@ -25,6 +27,7 @@ struct CpuFrameStats {
   int segments_drawn = 0;     // segments set up (after culling)
   long fragments = 0;         // fragments generated (each a segment's sample at a pixel that holds its view)
   int hole_pixels = 0;        // before filling
+  int other_view_pixels = 0;  // holes covered by views the mesh did not blend there (hole_views.h)
   int small_hole_pixels = 0;  // filled by the 7x7 reverse soft z pass
   int propagated_pixels = 0;  // filled by the later passes (preview) or the blend fallback
   int inpainted_pixels = 0;   // filled by exemplar inpainting (offline)
@@ -48,7 +51,8 @@ class CpuSceneRenderer final : public SceneRenderer {
   // The preview's coverage (sections 3 to 5 without colour) at `camera`'s size. At a quarter of
   // the sources' focal length or less (the direction stage's reduced-size search) it draws the
   // coarse scene instead: the same depth as 32 px planar blocks (16x fewer segments to set up,
-  // each still several output pixels wide), so its cost follows the output size.
+  // each still several output pixels wide), so its cost follows the output size. It keeps no
+  // state between calls: calls may run on several threads at once, and beside Render().
   StatusOr<CoverageReport> Coverage(const CameraModel& camera, const Rigid3& cam_from_world) override;
 
   const render::LayeredScene& scene() const { return scene_; }
@@ -67,6 +71,7 @@ class CpuSceneRenderer final : public SceneRenderer {
     cv::Mat colour;    // CV_32FC3
     cv::Mat depth;     // CV_32F
     cv::Mat coverage;  // CV_8U
+    CoverageReport holes;  // of `coverage`
     std::vector<ViewId> sources;
   };
   Status CheckCamera(const CameraModel& camera, const Rigid3& cam_from_world) const;
@@ -78,7 +83,11 @@ class CpuSceneRenderer final : public SceneRenderer {
   double min_source_focal_px_ = 0;
   RenderOptions options_;
   CpuFrameStats stats_;
-  std::vector<render::ViewSlots> slots_;  // reused between frames
+  // Render()'s buffers, reused between frames (Coverage() keeps its own per call: it may run on
+  // several threads at once).
+  std::vector<render::ViewSlots> slots_;
+  std::vector<render::FrameView> frame_views_;
+  render::FrameComposite composite_;  // the preview's colour and alpha
 };
 
 }  // namespace px

@@ -2,7 +2,8 @@
 // analytic two-plane scene with exact layered depth: 480x320 and 1200x800 output from views of the
 // same size, 9 views (3x3, 25 mm) and 20 views (5x4, 12.5 mm), preview and offline quality; and
 // Coverage() at 1/8 of 1200x800 (the direction stage's viewpoint search). Prints, asserts nothing.
-// PX_LOG=render=debug prints each frame's pass timings.
+// The CPU column of BM_RenderFrame is the process's (every thread's) CPU time per frame: on a
+// shared machine the figure to compare. PX_LOG=render=debug prints each frame's pass timings.
 #include <benchmark/benchmark.h>
 
 #include <cstdlib>
@@ -66,6 +67,7 @@ BENCHMARK(BM_RenderFrame)
     ->Args({1200, 9, 1})
     ->Args({1200, 20, 1})
     ->Unit(benchmark::kMillisecond)
+    ->MeasureProcessCPUTime()
     ->UseRealTime();
 
 // Coverage() at 1/8 of the 1200x800 output (150x100), as the direction stage calls it.

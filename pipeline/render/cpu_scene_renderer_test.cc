@@ -3,8 +3,12 @@
 #include <cmath>
 #include <cstdio>
 #include <limits>
+#include <thread>
+#include <utility>
+#include <vector>
 
 #include <gtest/gtest.h>
+#include <opencv2/core/utility.hpp>
 
 #include "pipeline/render/render_test_util.h"
 
@@ -114,6 +118,43 @@ TEST_F(CpuSceneRendererTest, CoverageAgreesWithRenderAndIsCheapAtReducedSize) {
   std::printf("coverage: full %.4f H %.3f; 1/8 %.4f H %.5f (x512 = %.3f); segments %zu, coarse %zu\n",
               full->hole_ratio, full->hole_score, small->hole_ratio, small->hole_score, 512 * small->hole_score,
               fine_segments, coarse_segments);
+}
+
+// Coverage() keeps no state between calls: the direction stage's search calls it from two
+// threads at once (and a Render may run beside it; Render itself is not re-entrant). Viewpoints spread behind and across the
+// lattice, at full and 1/8 size, give the same reports concurrently as one after another.
+TEST_F(CpuSceneRendererTest, CoverageGivesTheSameReportsFromSeveralThreadsAtOnce) {
+  auto renderer = Make();
+  ASSERT_NE(renderer, nullptr);
+  std::vector<std::pair<CameraModel, Rigid3>> probes;
+  for (int i = 0; i < 24; ++i) {
+    const Eigen::Vector3d centre(0.01 * (i % 5 - 2), 0.008 * (i % 3 - 1), -0.02 * (i % 7));
+    probes.emplace_back(i % 2 == 0 ? kCamera : kCamera.Scaled(0.125),
+                        Rigid3(Eigen::Quaterniond::Identity(), -centre));
+  }
+  std::vector<CoverageReport> serial;
+  for (const auto& [camera, pose] : probes) {
+    StatusOr<CoverageReport> report = renderer->Coverage(camera, pose);
+    ASSERT_TRUE(report.ok()) << report.status().ToString();
+    serial.push_back(*report);
+  }
+  std::vector<StatusOr<CoverageReport>> concurrent(probes.size(), InternalError("not measured"));
+  const auto measure = [&](size_t first) {
+    for (size_t i = first; i < probes.size(); i += 2) concurrent[i] = renderer->Coverage(probes[i].first, probes[i].second);
+  };
+  // As the search runs its two chains: side by side in a cv::parallel_for_, whose nested loops
+  // inside Coverage() then run on the calling thread; a Render on a thread of its own beside them.
+  std::thread render([&] { ASSERT_TRUE(renderer->Render(At(kCamera, probes[3].second)).ok()); });
+  cv::parallel_for_(cv::Range(0, 2), [&](const cv::Range& range) {
+    for (int chain = range.start; chain < range.end; ++chain) measure(chain);
+  }, 2);
+  render.join();
+  for (size_t i = 0; i < probes.size(); ++i) {
+    ASSERT_TRUE(concurrent[i].ok()) << concurrent[i].status().ToString();
+    EXPECT_EQ(concurrent[i]->width, serial[i].width) << "probe " << i;
+    EXPECT_EQ(concurrent[i]->hole_ratio, serial[i].hole_ratio) << "probe " << i;
+    EXPECT_EQ(concurrent[i]->hole_score, serial[i].hole_score) << "probe " << i;
+  }
 }
 
 TEST_F(CpuSceneRendererTest, ColourEffectsAndDepthOfFieldReachTheFrame) {

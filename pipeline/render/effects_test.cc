@@ -166,5 +166,24 @@ TEST(ExemplarInpaintTest, FillsADisocclusionFromTheBackgroundSide) {
   EXPECT_EQ(background, 24 * height);
 }
 
+// A hole along the image's left border (a camera turned past every source's field of view) is
+// left for the reverse soft z smear when fill_border_holes is false; a hole inside is still filled.
+TEST(ExemplarInpaintTest, LeavesHolesAtTheImageBorderWhenAsked) {
+  const int width = 80, height = 40;
+  cv::Mat colour(height, width, CV_32FC3, cv::Scalar(40, 120, 200)), depth(height, width, CV_32F, cv::Scalar(2.0f));
+  cv::Mat known(height, width, CV_8U, cv::Scalar(255));
+  known(cv::Rect(0, 0, 10, height)).setTo(0);    // border strip
+  known(cv::Rect(40, 15, 12, 12)).setTo(0);      // interior hole
+  const cv::Mat target = known == 0;
+  InpaintOptions options;
+  options.fill_border_holes = false;
+  const InpaintReport report = InpaintDepthAware(SoftZ(2.0, 0.1), options, target, &known, &colour, &depth);
+  EXPECT_EQ(report.border_components, 1);
+  EXPECT_EQ(report.components, 1);
+  EXPECT_EQ(report.pixels, 12 * 12);
+  EXPECT_EQ(cv::countNonZero(known(cv::Rect(0, 0, 10, height))), 0);
+  EXPECT_EQ(cv::countNonZero(known(cv::Rect(40, 15, 12, 12))), 12 * 12);
+}
+
 }  // namespace
 }  // namespace px::render

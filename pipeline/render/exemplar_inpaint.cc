@@ -334,6 +334,11 @@ InpaintReport InpaintDepthAware(const SoftZ& soft_z, const InpaintOptions& optio
   for (int label = 1; label < count; ++label) {
     const cv::Rect box(stats.at<int>(label, cv::CC_STAT_LEFT), stats.at<int>(label, cv::CC_STAT_TOP),
                        stats.at<int>(label, cv::CC_STAT_WIDTH), stats.at<int>(label, cv::CC_STAT_HEIGHT));
+    if (!options.fill_border_holes && (box.x == 0 || box.y == 0 || box.x + box.width == target.cols ||
+                                       box.y + box.height == target.rows)) {
+      ++report.border_components;
+      continue;
+    }
     const cv::Rect roi = cv::Rect(box.x - margin, box.y - margin, box.width + 2 * margin, box.height + 2 * margin) &
                          cv::Rect(0, 0, target.cols, target.rows);
     // Boundary depths: known pixels 8-adjacent to this component.

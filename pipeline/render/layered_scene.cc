@@ -96,8 +96,8 @@ SceneView PrepareView(const View& pose, const LayeredDepthView& layered, std::ve
         }
         SegmentTexel& t = row[x];
         t.segment[layer] = s;
-        t.weight[layer] = static_cast<uint16_t>(std::lround(w * SegmentTexel::kWeightScale));
-        t.colour[layer] = {colour[x][0], colour[x][1], colour[x][2]};
+        t.weight[layer] = static_cast<float>(std::lround(w * SegmentTexel::kWeightScale));
+        t.colour[layer] = {colour[x][0], colour[x][1], colour[x][2], 1};
         used[s] = 1;
       }
     }
@@ -126,8 +126,15 @@ SceneView PrepareView(const View& pose, const LayeredDepthView& layered, std::ve
   return view;
 }
 
-// rho from the 1st and 99th percentiles of the layer-0 depths of every view (every 4th pixel).
-double SceneDepthRange(const std::vector<SceneView>& views) {
+struct DepthPercentiles {
+  double near_m = 0;   // 1st percentile
+  double median_m = 0;
+  double far_m = 0;    // 99th percentile
+};
+
+// The 1st, 50th and 99th percentiles of the layer-0 depths of every view (every 4th pixel); all 1 m
+// when no view has depth.
+DepthPercentiles SceneDepthPercentiles(const std::vector<SceneView>& views) {
   std::vector<float> depths;
   for (const SceneView& view : views) {
     for (int y = 0; y < view.camera.height; y += 4) {
@@ -140,14 +147,13 @@ double SceneDepthRange(const std::vector<SceneView>& views) {
       }
     }
   }
-  if (depths.empty()) return 1.0;
+  if (depths.empty()) return {1.0, 1.0, 1.0};
   const auto at = [&](double q) {
     auto it = depths.begin() + static_cast<std::ptrdiff_t>(q * static_cast<double>(depths.size() - 1));
     std::nth_element(depths.begin(), it, depths.end());
     return static_cast<double>(*it);
   };
-  const double z1 = at(0.01), z99 = at(0.99), z50 = at(0.5);
-  return std::max(z99 - z1, 0.01 * z50);
+  return {at(0.01), at(0.5), at(0.99)};
 }
 
 }  // namespace
@@ -203,7 +209,12 @@ StatusOr<LayeredScene> LayeredScene::Create(const std::vector<View>& views, cons
     rotations.push_back(view.cam_from_world.RotationMatrix().transpose());
   }
   PX_ASSIGN_OR_RETURN(scene.mesh_, ViewMesh::Build(centres, rotations));
-  const double rho = options.depth_range_m > 0 ? options.depth_range_m : SceneDepthRange(scene.views_);
+  // rho from the percentiles (so one stray plane does not decide), with a floor for flat scenes.
+  const DepthPercentiles depths = SceneDepthPercentiles(scene.views_);
+  scene.near_m_ = depths.near_m;
+  scene.far_m_ = depths.far_m;
+  const double rho = options.depth_range_m > 0 ? options.depth_range_m
+                                               : std::max(depths.far_m - depths.near_m, 0.01 * depths.median_m);
   scene.soft_z_ = SoftZ(rho, options.soft_z_gamma_fraction);
   return scene;
 }

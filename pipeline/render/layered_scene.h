@@ -27,14 +27,18 @@
 
 namespace px::render {
 
-// Both segment layers of one source pixel (ALGORITHM.md section 1: the CPU texel).
+// Both segment layers of one source pixel (ALGORITHM.md section 1: the CPU texel), 24 bytes.
 struct SegmentTexel {
   static constexpr float kWeightScale = 65535.0f;
   std::array<int32_t, 2> segment = {SegmentLayer::kNoSegment, SegmentLayer::kNoSegment};
-  std::array<uint16_t, 2> weight = {0, 0};       // layer weight * kWeightScale
-  std::array<std::array<uint8_t, 3>, 2> colour{};  // BGR per layer
-  std::array<uint8_t, 2> pad{};
+  // Layer weight quantised to 1/kWeightScale, stored as that integer in a float: the fetch
+  // needs no conversion and gives the same products as the 16-bit integer did.
+  std::array<float, 2> weight = {0, 0};
+  // B, G, R and a constant 1 per layer: one 4-lane load per layer, the 1 carries the layer's
+  // weight into the sample's alpha lane (segment_raster.h).
+  std::array<std::array<uint8_t, 4>, 2> colour{};
 };
+static_assert(sizeof(SegmentTexel) == 24, "three texels per 72 bytes; the sampler reads 4 colour bytes per layer");
 
 // A segment drawn as the rectangle of its bbox grown by one pixel centre, on its plane.
 struct SceneSegment {
@@ -76,6 +80,9 @@ class LayeredScene {
   const ViewMesh& mesh() const { return mesh_; }
   const SoftZ& soft_z() const { return soft_z_; }
   double depth_range_m() const { return soft_z_.rho(); }
+  // The 1st and 99th percentiles of the views' front-layer depths (metres, in each view's camera).
+  double near_m() const { return near_m_; }
+  double far_m() const { return far_m_; }
   // Repairs and exclusions, one line each ("view 3: 12 segments dropped: plane not finite").
   const std::vector<std::string>& warnings() const { return warnings_; }
 
@@ -83,6 +90,8 @@ class LayeredScene {
   std::vector<SceneView> views_;
   ViewMesh mesh_;
   SoftZ soft_z_;
+  double near_m_ = 1.0;
+  double far_m_ = 1.0;
   std::vector<std::string> warnings_;
 };
 

@@ -30,6 +30,9 @@ struct RenderOptions {
   // Reverse soft z hole filling window radius: 3 = the paper's 7x7, which fills holes under 6 px
   // completely in one pass. [1, 8].
   int hole_window_radius_px = 3;
+  // Holes are first drawn again from the views not blended there whose image holds the pixel's
+  // ray (hole_views.h), nearest first; false: straight to filling. Our addition, not the paper's.
+  bool holes_from_other_views = true;
   // Offline exemplar inpainting: patch radius (2 = the paper's 5x5) and search window radius
   // (50 = the paper's 100x100). [1, 6] and [4, 1000].
   int inpaint_patch_radius_px = 2;

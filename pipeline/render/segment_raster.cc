@@ -77,8 +77,8 @@ bool SetUpSegment(const SceneSegment& segment, const ViewTransfer& transfer, con
 
 }  // namespace
 
-std::vector<FrameView> SetUpFrame(const LayeredScene& scene, const CameraModel& camera, const Rigid3& cam_from_world,
-                                  const std::vector<ViewSlots>& slots) {
+void SetUpFrame(const LayeredScene& scene, const CameraModel& camera, const Rigid3& cam_from_world,
+                const std::vector<ViewSlots>& slots, std::vector<FrameView>* out) {
   const int num_views = static_cast<int>(scene.views().size());
   const int width = camera.width, height = camera.height;
   // Per view: the span of each row holding it in a slot, and its weight sum per chunk of rows.
@@ -90,23 +90,39 @@ std::vector<FrameView> SetUpFrame(const LayeredScene& scene, const CameraModel& 
       std::vector<double>& weights = chunk_weights[chunk];
       for (int y = chunk * height / num_chunks; y < (chunk + 1) * height / num_chunks; ++y) {
         const ViewSlots* row = slots.data() + static_cast<size_t>(y) * width;
-        for (int x = 0; x < width; ++x) {
-          for (int k = 0; k < 3; ++k) {
-            const int v = row[x].view[k];
-            if (v == ViewSlots::kNone) continue;
-            weights[v] += row[x].weight[k];
-            std::array<int, 2>& span = rows[v][y];
-            span[0] = std::min(span[0], x);
-            span[1] = std::max(span[1], x);
+        // Runs of pixels holding the same three views (a triangle of the mesh): spans and weight
+        // sums are settled once per run.
+        for (int run_begin = 0; run_begin < width;) {
+          const std::array<uint8_t, 3> views = row[run_begin].view;
+          const auto same_views = [&](const ViewSlots& slot) {
+            return slot.view[0] == views[0] && slot.view[1] == views[1] && slot.view[2] == views[2];
+          };
+          double sum[3] = {0, 0, 0};
+          int x = run_begin;
+          for (; x < width && same_views(row[x]); ++x) {
+            for (int k = 0; k < 3; ++k) sum[k] += row[x].weight[k];
           }
+          for (int k = 0; k < 3; ++k) {
+            const int v = views[k];
+            if (v == ViewSlots::kNone) continue;
+            weights[v] += sum[k];
+            std::array<int, 2>& span = rows[v][y];
+            span[0] = std::min(span[0], run_begin);
+            span[1] = std::max(span[1], x - 1);
+          }
+          run_begin = x;
         }
       }
     }
   });
-  std::vector<FrameView> frame_views;
+  std::vector<FrameView>& frame_views = *out;
+  size_t drawn = 0;
   for (int v = 0; v < num_views; ++v) {
-    FrameView fv;
+    if (drawn == frame_views.size()) frame_views.emplace_back();
+    FrameView& fv = frame_views[drawn];
     fv.view = v;
+    fv.weight_sum = 0;
+    fv.segments.clear();
     int x_lo = width, x_hi = -1, y_lo = height, y_hi = -1;
     for (int y = 0; y < height; ++y) {
       if (rows[v][y][0] > rows[v][y][1]) continue;
@@ -118,9 +134,10 @@ std::vector<FrameView> SetUpFrame(const LayeredScene& scene, const CameraModel& 
     if (x_hi < 0) continue;
     fv.region = cv::Rect(x_lo, y_lo, x_hi - x_lo + 1, y_hi - y_lo + 1);
     for (int chunk = 0; chunk < num_chunks; ++chunk) fv.weight_sum += chunk_weights[chunk][v];
-    fv.rows = std::move(rows[v]);
-    frame_views.push_back(std::move(fv));
+    fv.rows.swap(rows[v]);
+    ++drawn;
   }
+  frame_views.resize(drawn);
   // Segments: set up in parallel over views (each writes only its own list), then sorted per view.
   std::vector<ViewTransfer> transfers;
   for (const FrameView& fv : frame_views) {
@@ -131,19 +148,18 @@ std::vector<FrameView> SetUpFrame(const LayeredScene& scene, const CameraModel& 
       const SceneView& view = scene.views()[frame_views[i].view];
       std::vector<SegmentSetup>& list = frame_views[i].segments;
       list.reserve(view.segments.size());
-      SegmentSetup out;
+      SegmentSetup setup;
       for (size_t s = 0; s < view.segments.size(); ++s) {
         const SceneSegment& segment = view.segments[s];
         if (!segment.drawn) continue;
-        out.segment = static_cast<int32_t>(s);
-        if (SetUpSegment(segment, transfers[i], frame_views[i].region, &out)) list.push_back(out);
+        setup.segment = static_cast<int32_t>(s);
+        if (SetUpSegment(segment, transfers[i], frame_views[i].region, &setup)) list.push_back(setup);
       }
       std::sort(list.begin(), list.end(), [](const SegmentSetup& a, const SegmentSetup& b) {
         return a.key < b.key || (a.key == b.key && a.segment < b.segment);
       });
     }
   });
-  return frame_views;
 }
 
 std::vector<std::vector<BandEntry>> BinSegmentsIntoBands(const std::vector<FrameView>& frame_views, int height) {

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include <opencv2/core.hpp>
+#include <opencv2/core/hal/intrin.hpp>
 
 #include "pipeline/core/camera_model.h"
 #include "pipeline/core/rigid3.h"
@@ -38,9 +39,10 @@ struct FrameView {
 };
 
 // The views the slots refer to and their segments, set up for one frame (parallel over views'
-// segments). Views never referenced are absent.
-std::vector<FrameView> SetUpFrame(const LayeredScene& scene, const CameraModel& camera, const Rigid3& cam_from_world,
-                                  const std::vector<ViewSlots>& slots);
+// segments) into `frame_views`, whose storage is reused from the previous frame (a frame sets up
+// tens of thousands of segments). Views never referenced are absent.
+void SetUpFrame(const LayeredScene& scene, const CameraModel& camera, const Rigid3& cam_from_world,
+                const std::vector<ViewSlots>& slots, std::vector<FrameView>* frame_views);
 
 // Pixels [*x_begin, *x_end) of row y whose centres lie in the segment's projected rectangle,
 // clipped to [0, width). False when none.
@@ -69,9 +71,11 @@ inline bool RowSpan(const SegmentSetup& s, int y, int width, int* x_begin, int* 
 }
 
 // The masked bilinear sample of segment `segment` at source pixel (u, v), which must lie within
-// one pixel of the image (the segment's rectangle does): its alpha, and its premultiplied colour
-// added to `bgr` (ALGORITHM.md section 4). Texels beyond the image are empty (the padding).
-inline float SampleSegment(const SceneView& view, int32_t segment, float u, float v, float* bgr) {
+// one pixel of the image (the segment's rectangle does): (B, G, R, alpha) with the colour
+// premultiplied by alpha (ALGORITHM.md section 4). Texels beyond the image are empty (the
+// padding). One 4-lane multiply-add per texel layer holding the segment: the texel's constant 4th
+// colour byte (1) sums the weights into the alpha lane.
+inline cv::v_float32x4 SampleSegmentPremultiplied(const SceneView& view, int32_t segment, float u, float v) {
   // u, v >= -1 here, so truncating u + 1 floors it.
   const int iu = static_cast<int>(u + 1.0f) - 1, iv = static_cast<int>(v + 1.0f) - 1;
   const float fu = u - static_cast<float>(iu), fv = v - static_cast<float>(iv);
@@ -79,31 +83,29 @@ inline float SampleSegment(const SceneView& view, int32_t segment, float u, floa
   const SegmentTexel* t01 = t00 + view.TexelStride();
   constexpr float kScale = 1.0f / SegmentTexel::kWeightScale;
   const float gu = (1.0f - fu) * kScale, hu = fu * kScale;
-  float alpha = 0, b = 0, g = 0, r = 0;
-  const auto add = [&](const SegmentTexel& t, float beta) {
-    if (t.segment[0] == segment) {
-      const float a = beta * t.weight[0];
-      alpha += a;
-      b += a * t.colour[0][0];
-      g += a * t.colour[0][1];
-      r += a * t.colour[0][2];
-    }
-    if (t.segment[1] == segment) {
-      const float a = beta * t.weight[1];
-      alpha += a;
-      b += a * t.colour[1][0];
-      g += a * t.colour[1][1];
-      r += a * t.colour[1][2];
-    }
+  const float beta[4] = {gu * (1.0f - fv), hu * (1.0f - fv), gu * fv, hu * fv};
+  const SegmentTexel* const texels[4] = {t00, t00 + 1, t01, t01 + 1};
+  cv::v_float32x4 sum = cv::v_setzero_f32();
+  const auto add = [&](const SegmentTexel& t, int layer, float bilinear) {
+    const cv::v_float32x4 bgr1 = cv::v_cvt_f32(cv::v_reinterpret_as_s32(cv::v_load_expand_q(t.colour[layer].data())));
+    sum = sum + bgr1 * cv::v_setall_f32(bilinear * t.weight[layer]);
   };
-  add(t00[0], gu * (1.0f - fv));
-  add(t00[1], hu * (1.0f - fv));
-  add(t01[0], gu * fv);
-  add(t01[1], hu * fv);
-  bgr[0] += b;
-  bgr[1] += g;
-  bgr[2] += r;
-  return alpha;
+  for (int i = 0; i < 4; ++i) {
+    const SegmentTexel& t = *texels[i];
+    if (t.segment[0] == segment) add(t, 0, beta[i]);
+    if (t.segment[1] == segment) add(t, 1, beta[i]);
+  }
+  return sum;
+}
+
+// The same sample as alpha, its premultiplied colour added to `bgr`.
+inline float SampleSegment(const SceneView& view, int32_t segment, float u, float v, float* bgr) {
+  float lanes[4];
+  cv::v_store(lanes, SampleSegmentPremultiplied(view, segment, u, v));
+  bgr[0] += lanes[0];
+  bgr[1] += lanes[1];
+  bgr[2] += lanes[2];
+  return lanes[3];
 }
 
 // The slot of pixel `slots` that holds `view`, or -1.

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <functional>
 #include <limits>
 #include <map>
 #include <string>
@@ -372,72 +373,87 @@ void ViewMesh::ComputeWeights(const CameraModel& camera, const Rigid3& cam_from_
   }
   const PixelToPlane map = MakePixelToPlane(*this, camera, cam_from_world);
   constexpr int kTile = 16;
+  // Tiles straddling a triangle edge are split down to this size before going pixel by pixel.
+  constexpr int kMinTile = 2;
   const int tiles_x = (width + kTile - 1) / kTile;
   const int tiles_y = (height + kTile - 1) / kTile;
   cv::parallel_for_(cv::Range(0, tiles_y), [&](const cv::Range& tile_rows) {
     int hint = -1;
-    for (int ty = tile_rows.start; ty < tile_rows.end; ++ty) {
-      const int y0 = ty * kTile, y1 = std::min(height, y0 + kTile) - 1;
-      for (int tx = 0; tx < tiles_x; ++tx) {
-        const int x0 = tx * kTile, x1 = std::min(width, x0 + kTile) - 1;
-        // Fast path: the tile's four corners lie in one triangle and no pixel's line is near
-        // parallel to the plane, so (the map being projective and the triangle convex) every
-        // pixel does, and its coordinates are ratios of linear functions of (x, y).
-        int triangle = -2;
-        bool regular = kind_ == Kind::kTriangles;
-        double s_sign = 0;
-        for (int corner = 0; corner < 4 && regular; ++corner) {
-          const double x = (corner & 1) ? x1 : x0, y = (corner & 2) ? y1 : y0;
-          const Eigen::Vector3d pixel(x, y, 1.0);
-          const double s = map.denominator.dot(pixel);
-          if (std::abs(s) <= 1e-6 * (map.k_inverse * pixel).norm() || s * s_sign < 0) {
-            regular = false;
-            break;
-          }
-          s_sign = s;
-          const int t = Locate(map.At(x, y), hint);
-          hint = t >= 0 ? t : hint;
-          if (t < 0 || (triangle != -2 && t != triangle)) regular = false;
-          triangle = t;
+    // Pixels [x0, x1] x [y0, y1].
+    const std::function<void(int, int, int, int)> fill = [&](int x0, int y0, int x1, int y1) {
+      // Fast path: the tile's four corners lie in one triangle and no pixel's line is near
+      // parallel to the plane, so (the map being projective and the triangle convex) every
+      // pixel does, and its coordinates are ratios of linear functions of (x, y).
+      int triangle = -2;
+      bool regular = kind_ == Kind::kTriangles;
+      double s_sign = 0;
+      for (int corner = 0; corner < 4 && regular; ++corner) {
+        const double x = (corner & 1) ? x1 : x0, y = (corner & 2) ? y1 : y0;
+        const Eigen::Vector3d pixel(x, y, 1.0);
+        const double s = map.denominator.dot(pixel);
+        if (std::abs(s) <= 1e-6 * (map.k_inverse * pixel).norm() || s * s_sign < 0) {
+          regular = false;
+          break;
         }
-        if (!regular) {
-          for (int y = y0; y <= y1; ++y) {
-            ViewSlots* row = slots->data() + static_cast<size_t>(y) * width;
-            for (int x = x0; x <= x1; ++x) row[x] = WeightsAt(map.At(x, y), &hint);
-          }
-          continue;
-        }
-        // lambda_{1,2} = alpha + (r . pixel) / (s . pixel), lambda_0 = 1 - lambda_1 - lambda_2.
-        const Barycentric& b = barycentric_[triangle];
-        const Eigen::Vector2d alpha = b.inverse * (map.q_centre - b.p0);
-        const Eigen::Matrix<double, 2, 3> r = -map.height * (b.inverse * map.numerator);
-        const auto& tri = triangles_[triangle];
-        const ViewSlots pattern = Merge({vertices_[tri[0]].view, vertices_[tri[1]].view, vertices_[tri[2]].view},
-                                        {1.0 / 3, 1.0 / 3, 1.0 / 3});
-        std::array<int, 3> slot_of_vertex{};
-        for (int k = 0; k < 3; ++k) {
-          for (int j = 0; j < 3; ++j) {
-            if (pattern.view[j] == vertices_[tri[k]].view) slot_of_vertex[k] = j;
-          }
-        }
+        s_sign = s;
+        const int t = Locate(map.At(x, y), hint);
+        hint = t >= 0 ? t : hint;
+        if (t < 0 || (triangle != -2 && t != triangle)) regular = false;
+        triangle = t;
+      }
+      if (!regular && kind_ == Kind::kTriangles && std::min(x1 - x0, y1 - y0) + 1 > kMinTile) {
+        // A triangle edge crosses it: the quarters that lie in one triangle take the fast path.
+        const int xm = (x0 + x1) / 2, ym = (y0 + y1) / 2;
+        fill(x0, y0, xm, ym);
+        fill(xm + 1, y0, x1, ym);
+        fill(x0, ym + 1, xm, y1);
+        fill(xm + 1, ym + 1, x1, y1);
+        return;
+      }
+      if (!regular) {
         for (int y = y0; y <= y1; ++y) {
           ViewSlots* row = slots->data() + static_cast<size_t>(y) * width;
-          for (int x = x0; x <= x1; ++x) {
-            const Eigen::Vector3d pixel(x, y, 1.0);
-            const double inv_s = 1.0 / map.denominator.dot(pixel);
-            const double l1 = std::max(0.0, alpha.x() + r.row(0).dot(pixel) * inv_s);
-            const double l2 = std::max(0.0, alpha.y() + r.row(1).dot(pixel) * inv_s);
-            const double l0 = std::max(0.0, 1.0 - l1 - l2);
-            const double sum = l0 + l1 + l2;
-            ViewSlots out;
-            out.view = pattern.view;
-            out.weight[slot_of_vertex[0]] += static_cast<float>(l0 / sum);
-            out.weight[slot_of_vertex[1]] += static_cast<float>(l1 / sum);
-            out.weight[slot_of_vertex[2]] += static_cast<float>(l2 / sum);
-            row[x] = out;
-          }
+          for (int x = x0; x <= x1; ++x) row[x] = WeightsAt(map.At(x, y), &hint);
+        }
+        return;
+      }
+      // lambda_{1,2} = alpha + (r . pixel) / (s . pixel), lambda_0 = 1 - lambda_1 - lambda_2.
+      const Barycentric& b = barycentric_[triangle];
+      const Eigen::Vector2d alpha = b.inverse * (map.q_centre - b.p0);
+      const Eigen::Matrix<double, 2, 3> r = -map.height * (b.inverse * map.numerator);
+      const auto& tri = triangles_[triangle];
+      const ViewSlots pattern = Merge({vertices_[tri[0]].view, vertices_[tri[1]].view, vertices_[tri[2]].view},
+                                      {1.0 / 3, 1.0 / 3, 1.0 / 3});
+      std::array<int, 3> slot_of_vertex{};
+      for (int k = 0; k < 3; ++k) {
+        for (int j = 0; j < 3; ++j) {
+          if (pattern.view[j] == vertices_[tri[k]].view) slot_of_vertex[k] = j;
         }
       }
+      // The three linear forms of (x, y, 1), their y and constant terms hoisted per row.
+      const double sx = map.denominator(0), s_y = map.denominator(1), s1 = map.denominator(2);
+      const double ax = r(0, 0), a_y = r(0, 1), a1 = r(0, 2), bx = r(1, 0), b_y = r(1, 1), b1 = r(1, 2);
+      for (int y = y0; y <= y1; ++y) {
+        ViewSlots* row = slots->data() + static_cast<size_t>(y) * width;
+        const double s_row = s_y * y + s1, a_row = a_y * y + a1, b_row = b_y * y + b1;
+        for (int x = x0; x <= x1; ++x) {
+          const double inv_s = 1.0 / (sx * x + s_row);
+          const double l1 = std::max(0.0, alpha.x() + (ax * x + a_row) * inv_s);
+          const double l2 = std::max(0.0, alpha.y() + (bx * x + b_row) * inv_s);
+          const double l0 = std::max(0.0, 1.0 - l1 - l2);
+          const double inv_sum = 1.0 / (l0 + l1 + l2);
+          ViewSlots out;
+          out.view = pattern.view;
+          out.weight[slot_of_vertex[0]] += static_cast<float>(l0 * inv_sum);
+          out.weight[slot_of_vertex[1]] += static_cast<float>(l1 * inv_sum);
+          out.weight[slot_of_vertex[2]] += static_cast<float>(l2 * inv_sum);
+          row[x] = out;
+        }
+      }
+    };
+    for (int ty = tile_rows.start; ty < tile_rows.end; ++ty) {
+      const int y0 = ty * kTile, y1 = std::min(height, y0 + kTile) - 1;
+      for (int tx = 0; tx < tiles_x; ++tx) fill(tx * kTile, y0, std::min(width, tx * kTile + kTile) - 1, y1);
     }
   });
 }

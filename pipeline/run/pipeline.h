@@ -71,6 +71,8 @@ struct PipelineReport {
   std::string calibration;
   std::string calibration_summary;
   std::vector<std::string> warnings;  // degraded results, for the log and the clip's JSON
+  // Per stage, wall time. "encode" is the frame sink's own time on its thread (it overlaps
+  // "render", which leaves out the waits for the sink).
   std::vector<StageTiming> timings;
   CameraPath path;              // the path rendered
   DirectionReport direction;    // subjects, the move's choice, fallbacks, search figures

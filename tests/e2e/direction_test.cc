@@ -47,6 +47,7 @@ Planned Plan(Shot* shot, const direct::FaceDetector* detector, const std::string
   DirectionContext context;
   context.face_detector = detector;
   context.coverage = shot->Coverage();
+  context.coverage_concurrent = true;  // CpuSceneRenderer::Coverage
   Planned planned;
   StatusOr<CameraPath> path = PlanCameraPath(shot->views, shot->depths, options, context, &planned.report);
   EXPECT_TRUE(path.ok()) << path.status().ToString();
@@ -341,6 +342,7 @@ TEST_F(DirectionTest, AShotChainsAMoveOnAUserRegionWithAuthoredKeyframesAndRepla
   options.fps = 10;
   DirectionContext context;
   context.coverage = shot->Coverage();
+  context.coverage_concurrent = true;  // CpuSceneRenderer::Coverage
   context.shot = &*authored;
   DirectionReport report;
   StatusOr<CameraPath> path = PlanCameraPath(shot->views, shot->depths, options, context, &report);
