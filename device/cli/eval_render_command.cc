@@ -231,6 +231,10 @@ void AddEvalRenderCommand(CLI::App& eval) {
                      "Seam skirts: touching segments whose planes differ by less than this fraction of inverse depth "
                      "are one surface whose seam is closed, [0, 1); 0 = off")
       ->capture_default_str();
+  render->add_option("--seam-skirt-min-step", args->seam_skirts.min_step,
+                     "Seam skirts: touching segments whose planes differ by less than this fraction of inverse depth "
+                     "cannot part visibly and get no skirt, [0, max step)")
+      ->capture_default_str();
   render->add_option("--seam-skirt-weight", args->seam_skirts.weight,
                      "Seam skirts: the weight of a neighbour's skirt texel, (0, 1]")
       ->capture_default_str();

@@ -70,7 +70,7 @@ LayeredDepthView WithSeamSkirts(const LayeredDepthView& view, const SeamSkirtOpt
         const int32_t other = front.segment.at<int32_t>(y + dy, x + dx);  // pure, inside: x, y are skirtable
         if (other == own) continue;
         const double step = std::abs(InverseDepthAt(view.segments[other], x, y) - own_inverse) / own_inverse;
-        if (step < best_step) {
+        if (step < best_step && step >= options.min_step) {
           best_step = step;
           best = other;
         }

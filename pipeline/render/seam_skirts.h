@@ -6,7 +6,8 @@
 // thin light crack, in every view alike, so the soft z-buffer cannot hide it.
 //
 // The fix: every texel on a seam between two segments of one surface (no depth edge: their planes
-// agree within `max_step` at the texel) also carries the neighbouring segment, in its free layer 1
+// agree within `max_step` at the texel, but by no less than `min_step`: planes that agree closer
+// cannot part visibly in the views the product plans) also carries the neighbouring segment, in its free layer 1
 // with weight `weight` and the texel's own colour: a *skirt* one texel wide, so that each segment
 // reaches one texel under its neighbour. Compositing saturates (f = min(alpha, 1 - A)), so where
 // the projections agree little changes (the first segment drawn fills more of the pixel, see

@@ -94,10 +94,39 @@ TEST(SeamSkirtsTest, SkirtsLieOnSameSurfaceSeamsOnlyAwayFromEdgesAndBorders) {
   // Planes further apart than max_step are a depth edge: no skirt.
   WithSeamSkirts(CardOverWall(1.2), options, &report);
   EXPECT_EQ(report.skirt_texels, 0);
+  // Planes that agree to within min_step cannot part visibly: no skirt (the card's two halves on
+  // one plane), unless the floor is 0.
+  WithSeamSkirts(CardOverWall(1.0), options, &report);
+  EXPECT_EQ(report.skirt_texels, 0);
+  WithSeamSkirts(CardOverWall(1.0 + 0.5 * options.min_step), options, &report);
+  EXPECT_EQ(report.skirt_texels, 0);
+  WithSeamSkirts(CardOverWall(1.0 - 2 * options.min_step), options, &report);
+  EXPECT_EQ(report.skirt_texels, 64);
+  SeamSkirtOptions no_floor = options;
+  no_floor.min_step = 0;
+  WithSeamSkirts(CardOverWall(1.0), no_floor, &report);
+  EXPECT_EQ(report.skirt_texels, 64);
   // Off.
   options.max_step = 0;
   WithSeamSkirts(view, options, &report);
   EXPECT_EQ(report.skirt_texels, 0);
+}
+
+TEST(SeamSkirtsTest, OptionsOutsideTheirRangesAreRefused) {
+  RenderOptions options;
+  EXPECT_TRUE(options.Validate().ok());
+  options.seam_skirts.min_step = options.seam_skirts.max_step;
+  EXPECT_FALSE(options.Validate().ok());
+  options.seam_skirts.min_step = -1e-4;
+  EXPECT_FALSE(options.Validate().ok());
+  options.seam_skirts.min_step = 0;
+  options.seam_skirts.max_step = 1;
+  EXPECT_FALSE(options.Validate().ok());
+  options.seam_skirts.max_step = 0;  // off: the floor does not matter
+  options.seam_skirts.min_step = 0.5;
+  EXPECT_TRUE(options.Validate().ok());
+  options.seam_skirts.weight = 0;
+  EXPECT_FALSE(options.Validate().ok());
 }
 
 }  // namespace
