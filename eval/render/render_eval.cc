@@ -12,7 +12,9 @@
 
 #include "eval/datasets/hci_light_field.h"
 #include "eval/datasets/llff.h"
+#include "eval/render/crack_measure.h"
 #include "eval/render/image_metrics.h"
+#include "eval/render/render_eval_steps.h"
 #include "pipeline/calib/undistort_cache.h"
 #include "pipeline/depth/depth_stage.h"
 #include "pipeline/depth/plane_sweep.h"
@@ -23,13 +25,14 @@
 #include "sim/synthetic/sim_sensor.h"
 
 namespace px::eval {
-namespace {
-
-using Clock = std::chrono::steady_clock;
 
 void Progress(const RenderEvalOptions& options, const std::string& line) {
   if (options.progress) options.progress(line);
 }
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
 
 StatusOr<std::vector<LayeredDepthView>> LayersFromDepthMaps(const std::vector<View>& views,
                                                              const std::vector<DepthMap>& depths,
@@ -44,8 +47,8 @@ StatusOr<std::vector<LayeredDepthView>> LayersFromDepthMaps(const std::vector<Vi
   return layers;
 }
 
-// The renderer over `views` with layered depth from `source`: the depth stage or the plane sweep
-// over [min_depth_m, max_depth_m], or `exact_depths` (kTruth; must then hold one map per view).
+}  // namespace
+
 StatusOr<std::unique_ptr<CpuSceneRenderer>> MakeRenderer(const std::vector<View>& views, EvalDepth source,
                                                          double min_depth_m, double max_depth_m,
                                                          const std::vector<DepthMap>* exact_depths,
@@ -76,7 +79,6 @@ StatusOr<std::unique_ptr<CpuSceneRenderer>> MakeRenderer(const std::vector<View>
   return CpuSceneRenderer::Create(views, layers, options.render);
 }
 
-// The depth sources of `options` that apply to a dataset (kTruth only where exact depth exists).
 std::vector<EvalDepth> DepthSources(const RenderEvalOptions& options, bool has_exact_depth) {
   std::vector<EvalDepth> sources;
   for (EvalDepth depth : options.depths) {
@@ -84,6 +86,8 @@ std::vector<EvalDepth> DepthSources(const RenderEvalOptions& options, bool has_e
   }
   return sources;
 }
+
+namespace {
 
 // Pixels within 3 px of a depth jump of more than 5% between neighbours (CV_8U).
 cv::Mat DepthEdges(const cv::Mat& depth_m) {
@@ -98,6 +102,8 @@ cv::Mat DepthEdges(const cv::Mat& depth_m) {
   return jump;
 }
 
+}  // namespace
+
 std::string DumpName(const std::string& dataset, const std::string& viewpoint, EvalDepth depth) {
   std::string name = dataset + " " + viewpoint + " " + std::string(EvalDepthName(depth));
   for (char& ch : name) {
@@ -106,8 +112,6 @@ std::string DumpName(const std::string& dataset, const std::string& viewpoint, E
   return name;
 }
 
-// Renders `camera` at `pose` (once to warm up, once timed) and scores it against `truth`;
-// `truth_depth_m` (may be empty) tells where the depth edges are.
 StatusOr<RenderEvalCase> RenderAndScore(CpuSceneRenderer& renderer, const CameraModel& camera, const Rigid3& pose,
                                         const cv::Mat& truth, const cv::Mat& truth_depth_m, int num_sources,
                                         const RenderEvalOptions& options, const std::string& dump_name) {
@@ -131,6 +135,8 @@ StatusOr<RenderEvalCase> RenderAndScore(CpuSceneRenderer& renderer, const Camera
   result.psnr_holes_db = Psnr(frame.bgr, truth, ~covered);
   result.hole_ratio = frame.holes.hole_ratio;
   result.hole_score = frame.holes.hole_score;
+  cv::Mat cracks;
+  if (!truth_depth_m.empty()) result.crack_fraction = MeasureCracks(frame.depth_m, truth_depth_m, {}, &cracks).crack_fraction;
   if (!options.dump_dir.empty()) {
     std::error_code error;
     std::filesystem::create_directories(options.dump_dir, error);
@@ -139,7 +145,8 @@ StatusOr<RenderEvalCase> RenderAndScore(CpuSceneRenderer& renderer, const Camera
     cv::absdiff(frame.bgr, truth, diff);
     diff.convertTo(diff, CV_8UC3, 4.0);
     if (!cv::imwrite(stem + "_render.png", frame.bgr) || !cv::imwrite(stem + "_truth.png", truth) ||
-        !cv::imwrite(stem + "_error_x4.png", diff) || !cv::imwrite(stem + "_coverage.png", frame.coverage)) {
+        !cv::imwrite(stem + "_error_x4.png", diff) || !cv::imwrite(stem + "_coverage.png", frame.coverage) ||
+        (!cracks.empty() && !cv::imwrite(stem + "_cracks.png", cracks))) {
       return InternalError("eval render: cannot write " + stem + "_*.png");
     }
   }
@@ -150,11 +157,34 @@ Rigid3 PoseAt(const Eigen::Vector3d& centre_in_world, const Eigen::Quaterniond& 
   return Rigid3(cam_from_world_rotation, -(cam_from_world_rotation * centre_in_world));
 }
 
-std::string LatticeName(const SimCameraSpec& spec) {
-  return std::to_string(spec.cols) + "x" + std::to_string(spec.rows);
+StatusOr<SimLattice> RenderSimLattice(const std::filesystem::path& scene_file, const SimCameraSpec& lattice,
+                                      const RenderEvalOptions& options) {
+  SimLattice out;
+  PX_ASSIGN_OR_RETURN(out.scene, sim::LoadScene(scene_file));
+  SimCameraSpec& spec = out.spec;
+  spec = lattice;
+  spec.tile_width = std::max(16, static_cast<int>(std::lround(spec.tile_width * options.sim_scale)));
+  spec.tile_height = std::max(16, static_cast<int>(std::lround(spec.tile_height * options.sim_scale)));
+  spec.focal_px *= options.sim_scale;
+  spec.distortion = {0, 0, 0, 0, 0};
+  out.dataset = "sim " + scene_file.stem().string() + " " + std::to_string(spec.cols) + "x" + std::to_string(spec.rows);
+  Progress(options, out.dataset + ": ray casting " + std::to_string(spec.rows * spec.cols) + " views");
+  PX_ASSIGN_OR_RETURN(std::vector<sim::ViewTruth> truths, sim::RenderLatticeViews(out.scene, spec));
+  for (const sim::ViewTruth& truth : truths) {
+    View view;
+    view.id = truth.id;
+    view.camera = truth.camera;
+    view.cam_from_world = truth.cam_from_rig;
+    view.image = truth.bgr;
+    out.views.push_back(view);
+    DepthMap depth;
+    depth.id = truth.id;
+    depth.depth_m = truth.depth_m;
+    depth.confidence = cv::Mat(truth.depth_m.size(), CV_32F, cv::Scalar(1));
+    out.depths.push_back(depth);
+  }
+  return out;
 }
-
-}  // namespace
 
 std::string_view EvalDepthName(EvalDepth depth) {
   switch (depth) {
@@ -195,30 +225,12 @@ StatusOr<std::vector<RenderEvalCase>> EvaluateSimulatedScene(const std::filesyst
                                                              const SimCameraSpec& lattice,
                                                              const RenderEvalOptions& options) {
   PX_RETURN_IF_ERROR(options.Validate());
-  PX_ASSIGN_OR_RETURN(sim::Scene scene, sim::LoadScene(scene_file));
-  SimCameraSpec spec = lattice;
-  spec.tile_width = std::max(16, static_cast<int>(std::lround(spec.tile_width * options.sim_scale)));
-  spec.tile_height = std::max(16, static_cast<int>(std::lround(spec.tile_height * options.sim_scale)));
-  spec.focal_px *= options.sim_scale;
-  spec.distortion = {0, 0, 0, 0, 0};
-  const std::string dataset = "sim " + scene_file.stem().string() + " " + LatticeName(spec);
-  Progress(options, dataset + ": ray casting " + std::to_string(spec.rows * spec.cols) + " views");
-  PX_ASSIGN_OR_RETURN(std::vector<sim::ViewTruth> truths, sim::RenderLatticeViews(scene, spec));
-  std::vector<View> views;
-  std::vector<DepthMap> depths;
-  for (const sim::ViewTruth& truth : truths) {
-    View view;
-    view.id = truth.id;
-    view.camera = truth.camera;
-    view.cam_from_world = truth.cam_from_rig;
-    view.image = truth.bgr;
-    views.push_back(view);
-    DepthMap depth;
-    depth.id = truth.id;
-    depth.depth_m = truth.depth_m;
-    depth.confidence = cv::Mat(truth.depth_m.size(), CV_32F, cv::Scalar(1));
-    depths.push_back(depth);
-  }
+  PX_ASSIGN_OR_RETURN(SimLattice sim_lattice, RenderSimLattice(scene_file, lattice, options));
+  const sim::Scene& scene = sim_lattice.scene;
+  const SimCameraSpec& spec = sim_lattice.spec;
+  const std::string& dataset = sim_lattice.dataset;
+  const std::vector<View>& views = sim_lattice.views;
+  const std::vector<DepthMap>& depths = sim_lattice.depths;
 
   // Viewpoints no lens had: between lenses on the lattice plane, off the plane in front of and
   // behind it, and turned. The rig frame is centred on the lattice, lenses looking down +z.

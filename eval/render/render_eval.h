@@ -52,6 +52,9 @@ struct RenderEvalCase {
   double psnr_holes_db = 0;
   double hole_ratio = 0;  // before hole filling
   double hole_score = 0;  // H(V), k = 3, at the output size
+  // Cracks (crack_measure.h): the fraction of pixels where a farther surface shows through a thin
+  // gap (<= 3 px) in a near one that has none; -1 where the dataset has no true depth.
+  double crack_fraction = -1;
   double render_ms = 0;   // one frame, after a warm-up frame
 };
 

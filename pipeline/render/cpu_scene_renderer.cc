@@ -160,7 +160,13 @@ std::unique_ptr<render::LayeredScene> MakeCoarseScene(const std::vector<View>& v
     }
     coarse_layers.push_back(std::move(made).value());
   }
-  StatusOr<render::LayeredScene> scene = render::LayeredScene::Create(coarse_views, coarse_layers, options);
+  // Without seam skirts (they close cracks in magnified renders; this scene only measures holes,
+  // minified): its probes stay as they were before the skirts, at 5-10 % less CPU per call
+  // (render_benchmark BM_Coverage), agreeing with the full-size verdict as often (direction_benchmark
+  // BM_SearchProbeAgreement: 95, 97, 98 % without, 96, 97, 98 % with).
+  RenderOptions coarse_options = options;
+  coarse_options.seam_skirts.max_step = 0;
+  StatusOr<render::LayeredScene> scene = render::LayeredScene::Create(coarse_views, coarse_layers, coarse_options);
   if (!scene.ok()) {
     Logger("render")->debug("no coarse scene for Coverage(): {}", scene.status().ToString());
     return nullptr;

@@ -38,6 +38,16 @@ Status RenderOptions::Validate() const {
     error << "render.inpaint_window_radius_px: " << inpaint_window_radius_px << " is outside [4, 1000]";
   } else if (aperture_samples < 1 || aperture_samples > 256) {
     error << "render.aperture_samples: " << aperture_samples << " is outside [1, 256]";
+  } else if (!(seam_skirts.max_step >= 0 && seam_skirts.max_step < 1)) {
+    error << "render.seam_skirts.max_step: " << seam_skirts.max_step << " is outside [0, 1)";
+  } else if (!(seam_skirts.min_step >= 0 && (seam_skirts.max_step == 0 || seam_skirts.min_step < seam_skirts.max_step))) {
+    error << "render.seam_skirts.min_step: " << seam_skirts.min_step << " is outside [0, max_step)";
+  } else if (!(seam_skirts.weight > 0 && seam_skirts.weight <= 1)) {
+    error << "render.seam_skirts.weight: " << seam_skirts.weight << " is outside (0, 1]";
+  } else if (!(seam_planes.seam_weight >= 0 && seam_planes.seam_weight <= 1e4)) {
+    error << "render.seam_planes.seam_weight: " << seam_planes.seam_weight << " is outside [0, 1e4]";
+  } else if (!(seam_planes.max_step > 0 && seam_planes.max_step < 1)) {
+    error << "render.seam_planes.max_step: " << seam_planes.max_step << " is outside (0, 1)";
   } else if (!(max_output_pixels >= 1 && max_output_pixels <= 1e9)) {
     error << "render.max_output_pixels: " << max_output_pixels << " is outside [1, 1e9]";
   }

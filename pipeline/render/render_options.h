@@ -5,6 +5,8 @@
 #include <string_view>
 
 #include "pipeline/core/status.h"
+#include "pipeline/render/seam_planes.h"
+#include "pipeline/render/seam_skirt_options.h"
 
 namespace px {
 
@@ -37,6 +39,14 @@ struct RenderOptions {
   int inpaint_window_radius_px = 50;
   // Offline depth of field: viewpoints averaged over the aperture. [1, 256].
   int aperture_samples = 24;
+  // Seam skirts (seam_skirts.h): texels on a seam between two segments of one surface also carry
+  // the neighbour, so that the seam cannot crack open in a magnified view. max_step = 0: off.
+  // The GL back end uses the defaults.
+  SeamSkirtOptions seam_skirts;
+  // Seam planes (seam_planes.h): the planes of touching segments of one surface refitted jointly
+  // so that they agree along their seams. seam_weight = 0 (the default): off. The GL back end uses
+  // the defaults.
+  SeamPlaneOptions seam_planes;
   // Output images larger than this many pixels are refused (memory: about 100 bytes per pixel
   // while rendering). [1, 1e9].
   double max_output_pixels = 64e6;

@@ -15,6 +15,8 @@
 #include "pipeline/render/color_effects.h"
 #include "pipeline/render/depth_of_field.h"
 #include "pipeline/render/hole_fill.h"
+#include "pipeline/render/seam_planes.h"
+#include "pipeline/render/seam_skirts.h"
 
 namespace px::render::gl {
 namespace {
@@ -183,6 +185,8 @@ Status GlSceneRenderer::Upload() {
   std::vector<Eigen::Vector3d> centres, axes, x_axes;
   for (int v = 0; v < static_cast<int>(views_.size()); ++v) {
     LayeredDepthView& view = views_[v].depth;
+    // As the CPU reference's texels (its default options).
+    view = WithSeamSkirts(WithSeamPlanes(view, SeamPlaneOptions()), SeamSkirtOptions());
     const std::string name = ViewName(view, v);
     const int w = view.camera.width, h = view.camera.height;
     if (w > max_size || h > max_size) {
@@ -430,7 +434,11 @@ StatusOr<GlSceneRenderer::RawFrame> GlSceneRenderer::RenderRaw(const CameraModel
       item.data[21] = 0;
       const double cx = seg.bbox.x + (seg.bbox.width - 1) / 2.0, cy = seg.bbox.y + (seg.bbox.height - 1) / 2.0;
       const double z_centre = 1.0 / (seg.inv_depth_a * cx + seg.inv_depth_b * cy + seg.inv_depth_c);
-      item.depth = (novel_from_source * (z_centre * k_source.inverse() * Eigen::Vector3d(cx, cy, 1.0))).z();
+      // Rounded to float as the CPU reference's key is, so that both break the same near-ties by
+      // segment index (seam planes put the segments of one flat surface on one plane, and with
+      // seam skirts the order of two of them shows a little).
+      item.depth = static_cast<float>(
+          (novel_from_source * (z_centre * k_source.inverse() * Eigen::Vector3d(cx, cy, 1.0))).z());
       sorted.push_back(item);
     }
     std::sort(sorted.begin(), sorted.end(), [](const Sorted& a, const Sorted& b) {
