@@ -28,6 +28,7 @@ struct EvalRenderArgs {
   std::string quality = "preview";
   double sim_scale = 1.0;
   double soft_z_gamma = RenderOptions().soft_z_gamma_fraction;
+  double viewing_weight_exponent = RenderOptions().viewing_weight_exponent;
   int block_px = LayeredFromDepthOptions().block_px;
   double edge_front_weight = LayeredFromDepthOptions().edge_front_weight;
   bool skip_hci_full_grid = false;
@@ -51,6 +52,7 @@ Status RunEvalRender(const EvalRenderArgs& args) {
   PX_ASSIGN_OR_RETURN(options.render.quality, ParseRenderQuality(args.quality));
   options.sim_scale = args.sim_scale;
   options.render.soft_z_gamma_fraction = args.soft_z_gamma;
+  options.render.viewing_weight_exponent = args.viewing_weight_exponent;
   options.layered.block_px = args.block_px;
   options.layered.edge_front_weight = args.edge_front_weight;
   options.hci_full_grid = !args.skip_hci_full_grid;
@@ -182,6 +184,10 @@ void AddEvalRenderCommand(CLI::App& eval) {
   render->add_option("--quality", args->quality, "preview or offline")->capture_default_str();
   render->add_option("--soft-z-gamma", args->soft_z_gamma,
                      "Soft z-buffer gamma as a fraction of the scene's depth range rho, (0, 0.5) (the paper: 0.1)")
+      ->capture_default_str();
+  render->add_option("--viewing-weight-exponent", args->viewing_weight_exponent,
+                     "Viewing weights raised to this power and renormalised, (0, 1] (1: the paper's barycentric "
+                     "weights)")
       ->capture_default_str();
   render->add_option("--sim-scale", args->sim_scale, "Scale of the simulated lattices' tiles, (0, 1]")
       ->capture_default_str();
