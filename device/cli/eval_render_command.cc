@@ -34,6 +34,7 @@ struct EvalRenderArgs {
   double soft_z_gamma = RenderOptions().soft_z_gamma_fraction;
   SeamSkirtOptions seam_skirts;
   SeamPlaneOptions seam_planes;
+  double viewing_weight_exponent = RenderOptions().viewing_weight_exponent;
   int block_px = LayeredFromDepthOptions().block_px;
   double edge_front_weight = LayeredFromDepthOptions().edge_front_weight;
   bool skip_hci_full_grid = false;
@@ -59,6 +60,7 @@ Status RunEvalRender(const EvalRenderArgs& args) {
   options.render.soft_z_gamma_fraction = args.soft_z_gamma;
   options.render.seam_skirts = args.seam_skirts;
   options.render.seam_planes = args.seam_planes;
+  options.render.viewing_weight_exponent = args.viewing_weight_exponent;
   options.layered.block_px = args.block_px;
   options.layered.edge_front_weight = args.edge_front_weight;
   options.hci_full_grid = !args.skip_hci_full_grid;
@@ -240,6 +242,10 @@ void AddEvalRenderCommand(CLI::App& eval) {
       ->capture_default_str();
   render->add_option("--seam-plane-weight", args->seam_planes.seam_weight,
                      "Seam planes: weight of agreement at a seam pixel against a pixel's own plane fit, [0, 1e4]; 0 = off")
+      ->capture_default_str();
+  render->add_option("--viewing-weight-exponent", args->viewing_weight_exponent,
+                     "Viewing weights raised to this power and renormalised, (0, 1] (1: the paper's barycentric "
+                     "weights)")
       ->capture_default_str();
   render->add_option("--sim-scale", args->sim_scale, "Scale of the simulated lattices' tiles, (0, 1]")
       ->capture_default_str();

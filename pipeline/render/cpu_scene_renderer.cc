@@ -220,6 +220,7 @@ CpuSceneRenderer::Core CpuSceneRenderer::RenderCore(const CameraModel& camera, c
   const int width = camera.width, height = camera.height;
   Clock::time_point start = Clock::now();
   scene_.mesh().ComputeWeights(camera, cam_from_world, &slots_);
+  render::FlattenViewingWeights(options_.viewing_weight_exponent, &slots_);
   stats_.weights_ms += MsSince(start);
 
   start = Clock::now();
@@ -350,6 +351,8 @@ StatusOr<CoverageReport> CpuSceneRenderer::Coverage(const CameraModel& camera, c
   const render::LayeredScene& scene = coarse ? *coarse_scene_ : scene_;
   // This call's own slots and frame views (not the Render() members): calls may run side by side.
   std::vector<render::ViewSlots> slots;
+  // The paper's barycentric weights, whatever viewing_weight_exponent says: the direction stage's
+  // hole measure does not depend on how the blend shares a pixel among its views.
   scene.mesh().ComputeWeights(camera, cam_from_world, &slots);
   std::vector<render::FrameView> frame_views;
   render::SetUpFrame(scene, camera, cam_from_world, slots, &frame_views);

@@ -30,6 +30,8 @@ Status RenderOptions::Validate() const {
     error << "render.depth_range_m: " << depth_range_m << " is outside [0, 1e4]";
   } else if (!(covered_alpha > 0 && covered_alpha <= 1)) {
     error << "render.covered_alpha: " << covered_alpha << " is outside (0, 1]";
+  } else if (!(viewing_weight_exponent > 0 && viewing_weight_exponent <= 1)) {
+    error << "render.viewing_weight_exponent: " << viewing_weight_exponent << " is outside (0, 1]";
   } else if (hole_window_radius_px < 1 || hole_window_radius_px > 8) {
     error << "render.hole_window_radius_px: " << hole_window_radius_px << " is outside [1, 8]";
   } else if (inpaint_patch_radius_px < 1 || inpaint_patch_radius_px > 6) {

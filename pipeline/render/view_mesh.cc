@@ -458,4 +458,30 @@ void ViewMesh::ComputeWeights(const CameraModel& camera, const Rigid3& cam_from_
   });
 }
 
+void FlattenViewingWeights(double exponent, std::vector<ViewSlots>* slots) {
+  if (exponent == 1.0 || slots->empty()) return;
+  const float power = static_cast<float>(exponent);
+  // Weights are never negative (ComputeWeights clamps them), so sqrt and pow need no test and a
+  // weight of 0 stays 0. Branch-free: about 20 instructions a pixel for the square root.
+  const auto flatten = [](ViewSlots* begin, ViewSlots* end, auto&& raise) {
+    for (ViewSlots* s = begin; s != end; ++s) {
+      const float a = raise(s->weight[0]), b = raise(s->weight[1]), c = raise(s->weight[2]);
+      const float sum = a + b + c;
+      const float inv_sum = sum > 0 ? 1.0f / sum : 0.0f;
+      s->weight = {a * inv_sum, b * inv_sum, c * inv_sum};
+    }
+  };
+  constexpr int kStripe = 8192;
+  const int num_stripes = static_cast<int>((slots->size() + kStripe - 1) / kStripe);
+  cv::parallel_for_(cv::Range(0, num_stripes), [&](const cv::Range& stripes) {
+    ViewSlots* begin = slots->data() + static_cast<size_t>(stripes.start) * kStripe;
+    ViewSlots* end = slots->data() + std::min(slots->size(), static_cast<size_t>(stripes.end) * kStripe);
+    if (exponent == 0.5) {  // the default: sqrt is exact and far cheaper than pow
+      flatten(begin, end, [](float w) { return std::sqrt(w); });
+    } else {
+      flatten(begin, end, [power](float w) { return std::pow(w, power); });
+    }
+  });
+}
+
 }  // namespace px::render

@@ -98,4 +98,10 @@ class ViewMesh {
   std::vector<int> line_order_;                      // kLine: views sorted along axis_u
 };
 
+// Raises every slot's weight to `exponent` in (0, 1] and renormalises the three to sum 1
+// (ALGORITHM.md section 3): 1 leaves the barycentric weights; 0.5 (sqrt) makes the views share a
+// pixel more evenly. Weights of 0 stay 0 and a lone view keeps 1, so the weights stay continuous
+// over the image and along a camera path. Rows in parallel.
+void FlattenViewingWeights(double exponent, std::vector<ViewSlots>* slots);
+
 }  // namespace px::render

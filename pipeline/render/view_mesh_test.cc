@@ -1,5 +1,6 @@
 #include "pipeline/render/view_mesh.h"
 
+#include <algorithm>
 #include <cmath>
 #include <set>
 
@@ -121,6 +122,67 @@ TEST(ViewMeshTest, DegenerateSetsStillGiveWeightsThatSumToOne) {
   EXPECT_NEAR(WeightOf(s, 2), 0.25, 1e-9);
   // No views is an error, not a crash.
   EXPECT_FALSE(ViewMesh::Build({}, {}).ok());
+}
+
+}  // namespace
+}  // namespace px::render
+
+namespace px::render {
+namespace {
+
+// The flattened weights (exponent 0.5) along a straight walk of the mesh point across the lattice:
+// they sum to 1, keep the barycentric order of the views, leave a lens alone at weight 1 and a
+// view outside the pixel's triangle at 0, and change by no more per step than they can on a
+// continuous function (no jump where the walk crosses a triangle edge: no popping on a camera path).
+TEST(ViewMeshTest, FlattenedWeightsSumToOneAndStayContinuous) {
+  const ViewMesh mesh = Lattice3x3();
+  constexpr int kSteps = 2000;
+  std::vector<ViewSlots> walk(kSteps + 1);
+  for (int i = 0; i <= kSteps; ++i) {
+    const double t = static_cast<double>(i) / kSteps;
+    walk[i] = mesh.WeightsAt(Eigen::Vector2d(-0.03 + 0.06 * t, -0.02 + 0.037 * t));
+  }
+  std::vector<ViewSlots> flat = walk;
+  FlattenViewingWeights(0.5, &flat);
+  double largest_step = 0, largest_linear_step = 0;
+  for (int i = 0; i <= kSteps; ++i) {
+    EXPECT_NEAR(Sum(flat[i]), 1.0, 1e-5) << "step " << i;
+    for (int view = 0; view < 9; ++view) {
+      const double before = WeightOf(walk[i], view), after = WeightOf(flat[i], view);
+      if (before == 0) {
+        EXPECT_EQ(after, 0) << "step " << i << " view " << view;
+      }
+      if (i > 0) largest_step = std::max(largest_step, std::abs(after - WeightOf(flat[i - 1], view)));
+      if (i > 0) largest_linear_step = std::max(largest_linear_step, std::abs(before - WeightOf(walk[i - 1], view)));
+    }
+  }
+  // sqrt is steep near 0 but continuous (Hoelder-1/2): a step of the barycentric weights of d
+  // moves a flattened weight by at most about sqrt(d) (here d ~ 1.4e-3, sqrt 0.037); a jump where
+  // the walk crosses a triangle edge would be tenths.
+  EXPECT_LT(largest_step, 1.5 * std::sqrt(largest_linear_step));
+  EXPECT_LT(largest_step, 0.1);
+  // At a lens the flattened weight is still 1; halfway between two lenses still 0.5 / 0.5.
+  std::vector<ViewSlots> points = {mesh.WeightsAt(mesh.vertices()[4].position),
+                                   mesh.WeightsAt(Eigen::Vector2d(0.0125, 0.0)),
+                                   mesh.WeightsAt(Eigen::Vector2d(0.02, 0.004))};
+  const std::vector<ViewSlots> linear = points;
+  FlattenViewingWeights(0.5, &points);
+  EXPECT_NEAR(WeightOf(points[0], 4), 1.0, 1e-6);
+  EXPECT_NEAR(WeightOf(points[1], 4), 0.5, 1e-6);
+  EXPECT_NEAR(WeightOf(points[1], 5), 0.5, 1e-6);
+  // Inside a triangle the lighter views gain: closer to an even share than the barycentric weights.
+  double spread_linear = 0, spread_flat = 0;
+  for (int k = 0; k < 3; ++k) {
+    spread_linear = std::max(spread_linear, std::abs(linear[2].weight[k] - 1.0 / 3));
+    spread_flat = std::max(spread_flat, std::abs(points[2].weight[k] - 1.0 / 3));
+  }
+  EXPECT_LT(spread_flat, spread_linear);
+  // Exponent 1 changes nothing.
+  std::vector<ViewSlots> same = linear;
+  FlattenViewingWeights(1.0, &same);
+  for (size_t i = 0; i < same.size(); ++i) {
+    for (int k = 0; k < 3; ++k) EXPECT_EQ(same[i].weight[k], linear[i].weight[k]);
+  }
 }
 
 }  // namespace

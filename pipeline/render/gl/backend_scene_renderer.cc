@@ -40,7 +40,10 @@ StatusOr<std::unique_ptr<BackendSceneRenderer>> BackendSceneRenderer::Create(
       std::vector<PosedLayeredView> posed;
       posed.reserve(views.size());
       for (size_t v = 0; v < views.size(); ++v) posed.push_back({layers[v], views[v].cam_from_world});
-      StatusOr<std::unique_ptr<GlSceneRenderer>> gl = GlSceneRenderer::Create(std::move(posed), std::move(choice.context));
+      GlSceneRendererOptions gl_options;
+      gl_options.viewing_weight_exponent = render.viewing_weight_exponent;
+      StatusOr<std::unique_ptr<GlSceneRenderer>> gl =
+          GlSceneRenderer::Create(std::move(posed), std::move(choice.context), gl_options);
       if (gl.ok()) {
         out->reason_ = choice.reason;
         out->warnings_ = (*gl)->warnings();

@@ -30,6 +30,7 @@ uniform int num_triangles;
 uniform int num_edges;
 uniform int single_view;    // the one view with weight 1 everywhere, -1: the mesh decides
 uniform int hint_triangle;  // the triangle holding the frame centre's q (-1 none): tried first
+uniform float weight_exponent;  // RenderOptions::viewing_weight_exponent: w^e, renormalised
 layout(location = 0) out vec4 slot_views;
 layout(location = 1) out vec4 slot_weights;
 
@@ -40,6 +41,16 @@ void Add(float view, float weight) {
     if (views_out[k] == view) { weights_out[k] += weight; return; }
     if (views_out[k] < 0.0) { views_out[k] = view; weights_out[k] = weight; return; }
   }
+}
+
+// FlattenViewingWeights (view_mesh.h): w^e over the three slots, summing to 1 again.
+vec4 Flatten(vec4 w) {
+  if (weight_exponent == 1.0) return w;
+  // sqrt for the default 0.5: exact where a driver's pow is an approximation (llvmpipe's is).
+  vec3 p = weight_exponent == 0.5 ? sqrt(max(w.xyz, vec3(0.0))) : pow(max(w.xyz, vec3(1e-30)), vec3(weight_exponent));
+  p *= step(vec3(1e-30), w.xyz);  // weight 0 stays 0
+  float sum = p.x + p.y + p.z;
+  return sum > 0.0 ? vec4(p / sum, 0.0) : w;
 }
 
 // q's barycentric weights in triangle t, or a negative x where the triangle is degenerate.
@@ -57,7 +68,7 @@ void Emit(int t, vec3 w) {
   Add(mesh[3 * t + 1].z, max(w.y, 0.0));
   Add(mesh[3 * t + 2].z, max(w.z, 0.0));
   slot_views = views_out;
-  slot_weights = weights_out;
+  slot_weights = Flatten(weights_out);
 }
 
 void main() {
@@ -103,7 +114,7 @@ void main() {
   Add(best_a.z, 1.0 - best_t);
   Add(best_b.z, best_t);
   slot_views = views_out;
-  slot_weights = weights_out;
+  slot_weights = Flatten(weights_out);
 }
 )";
 

@@ -139,19 +139,32 @@ void SceneDepthRange(const std::vector<PosedLayeredView>& views, double* rho, do
 
 }  // namespace
 
+Status GlSceneRendererOptions::Validate() const {
+  if (!(viewing_weight_exponent > 0 && viewing_weight_exponent <= 1)) {
+    return InvalidArgumentError("gl renderer: viewing_weight_exponent " + std::to_string(viewing_weight_exponent) +
+                                " is outside (0, 1]");
+  }
+  return context.Validate();
+}
+
 StatusOr<std::unique_ptr<GlSceneRenderer>> GlSceneRenderer::Create(std::vector<PosedLayeredView> views,
                                                                    const GlSceneRendererOptions& options) {
   PX_RETURN_IF_ERROR(options.Validate());
   if (views.empty()) return InvalidArgumentError("gl renderer: no views");
   PX_ASSIGN_OR_RETURN(std::unique_ptr<GlContext> context, CreateGlContext(options.context));
-  return Create(std::move(views), std::move(context));
+  return Create(std::move(views), std::move(context), options);
 }
 
 StatusOr<std::unique_ptr<GlSceneRenderer>> GlSceneRenderer::Create(std::vector<PosedLayeredView> views,
-                                                                   std::unique_ptr<GlContext> context) {
+                                                                   std::unique_ptr<GlContext> context,
+                                                                   const GlSceneRendererOptions& options) {
   if (views.empty()) return InvalidArgumentError("gl renderer: no views");
   if (!context) return InvalidArgumentError("gl renderer: no GL context");
+  GlSceneRendererOptions checked = options;
+  checked.context = GlContextOptions{};  // the context is made already
+  PX_RETURN_IF_ERROR(checked.Validate());
   std::unique_ptr<GlSceneRenderer> renderer(new GlSceneRenderer());
+  renderer->viewing_weight_exponent_ = options.viewing_weight_exponent;
   renderer->context_ = std::move(context);
   renderer->views_ = std::move(views);
   ScopedCurrent current(renderer->context_.get());
@@ -339,7 +352,8 @@ StatusOr<GlSceneRenderer::Targets*> GlSceneRenderer::TargetsFor(int width, int h
 }
 
 StatusOr<GlSceneRenderer::RawFrame> GlSceneRenderer::RenderRaw(const CameraModel& camera,
-                                                               const Rigid3& cam_from_world, bool with_slots) {
+                                                               const Rigid3& cam_from_world, bool with_slots,
+                                                               double weight_exponent) {
   const GlFunctions& gl = context_->gl();
   const int width = camera.width, height = camera.height;
   PX_ASSIGN_OR_RETURN(Targets * t, TargetsFor(width, height));
@@ -366,6 +380,7 @@ StatusOr<GlSceneRenderer::RawFrame> GlSceneRenderer::RenderRaw(const CameraModel
   gl.Uniform1i(gl.GetUniformLocation(p, "num_triangles"), static_cast<int>(mesh_.triangles.size()));
   gl.Uniform1i(gl.GetUniformLocation(p, "num_edges"), static_cast<int>(mesh_.outer_edges.size()));
   gl.Uniform1i(gl.GetUniformLocation(p, "single_view"), mesh_.single_view ? mesh_.vertex_view[0] : -1);
+  gl.Uniform1f(gl.GetUniformLocation(p, "weight_exponent"), static_cast<float>(weight_exponent));
   const Eigen::Vector3d frame_centre(camera.width / 2.0, camera.height / 2.0, 1.0);
   gl.Uniform1i(gl.GetUniformLocation(p, "hint_triangle"),
                mesh_.single_view ? -1
@@ -562,7 +577,8 @@ StatusOr<FrameRender> GlSceneRenderer::Render(const VirtualCamera& camera) {
   PX_RETURN_IF_ERROR(camera.Validate());
   ScopedCurrent current(context_.get());
   PX_RETURN_IF_ERROR(current.status());
-  PX_ASSIGN_OR_RETURN(RawFrame raw, RenderRaw(camera.camera, camera.cam_from_world, /*with_slots=*/true));
+  PX_ASSIGN_OR_RETURN(RawFrame raw, RenderRaw(camera.camera, camera.cam_from_world, /*with_slots=*/true,
+                                                 viewing_weight_exponent_));
   PassClock clock(context_->gl(), time_passes_);
   const int width = camera.camera.width, height = camera.camera.height;
   FrameRender frame;
@@ -636,7 +652,8 @@ StatusOr<CoverageReport> GlSceneRenderer::Coverage(const CameraModel& camera, co
   PX_RETURN_IF_ERROR(check.Validate());
   ScopedCurrent current(context_.get());
   PX_RETURN_IF_ERROR(current.status());
-  PX_ASSIGN_OR_RETURN(RawFrame raw, RenderRaw(camera, cam_from_world, /*with_slots=*/false));
+  PX_ASSIGN_OR_RETURN(RawFrame raw, RenderRaw(camera, cam_from_world, /*with_slots=*/false,
+                                                 /*weight_exponent=*/1.0));  // Coverage's weights: the paper's
   cv::Mat coverage(camera.height, camera.width, CV_8U);
   for (int y = 0; y < camera.height; ++y) {
     const cv::Vec4f* ca = raw.colour_alpha.ptr<cv::Vec4f>(y);

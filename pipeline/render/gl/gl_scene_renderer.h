@@ -21,6 +21,7 @@
 #include "pipeline/render/gl/gl_context.h"
 #include "pipeline/render/gl/gl_objects.h"
 #include "pipeline/render/gl/gl_view_mesh.h"
+#include "pipeline/render/render_options.h"
 #include "pipeline/render/scene_renderer.h"
 
 namespace px::render::gl {
@@ -33,7 +34,9 @@ struct PosedLayeredView {
 
 struct GlSceneRendererOptions {
   GlContextOptions context;
-  Status Validate() const { return context.Validate(); }
+  // RenderOptions::viewing_weight_exponent (the same default; (0, 1]).
+  double viewing_weight_exponent = RenderOptions{}.viewing_weight_exponent;
+  Status Validate() const;
 };
 
 // The last frame (Render or Coverage): what was drawn and, with set_time_passes(true), the
@@ -55,8 +58,10 @@ class GlSceneRenderer final : public SceneRenderer {
   static StatusOr<std::unique_ptr<GlSceneRenderer>> Create(std::vector<PosedLayeredView> views,
                                                            const GlSceneRendererOptions& options = {});
   // The same on a context made already (ChooseRenderBackend's); it must not be current elsewhere.
+  // options.context is not used.
   static StatusOr<std::unique_ptr<GlSceneRenderer>> Create(std::vector<PosedLayeredView> views,
-                                                           std::unique_ptr<GlContext> context);
+                                                           std::unique_ptr<GlContext> context,
+                                                           const GlSceneRendererOptions& options = {});
   ~GlSceneRenderer() override;
 
   std::string_view BackendName() const override { return context_->BackendName(); }
@@ -95,7 +100,9 @@ class GlSceneRenderer final : public SceneRenderer {
   // Per view and slot, the box of output pixels where it may hold that slot (empty: nowhere).
   using SlotBoxes = std::array<cv::Rect, 3>;
   std::vector<SlotBoxes> ViewBoxes(const CameraModel& camera, const Rigid3& cam_from_world) const;
-  StatusOr<RawFrame> RenderRaw(const CameraModel& camera, const Rigid3& cam_from_world, bool with_slots);
+  // weight_exponent: the viewing weights' (FlattenViewingWeights); Coverage() passes 1.
+  StatusOr<RawFrame> RenderRaw(const CameraModel& camera, const Rigid3& cam_from_world, bool with_slots,
+                               double weight_exponent);
 
   std::unique_ptr<GlContext> context_;
   std::vector<PosedLayeredView> views_;
@@ -110,6 +117,7 @@ class GlSceneRenderer final : public SceneRenderer {
   std::vector<std::string> warnings_;
   GlFrameStats stats_;
   bool time_passes_ = false;
+  double viewing_weight_exponent_ = 1;
 };
 
 }  // namespace px::render::gl

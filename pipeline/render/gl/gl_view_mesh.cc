@@ -1,10 +1,11 @@
 #include "pipeline/render/gl/gl_view_mesh.h"
 
 #include <algorithm>
-#include <map>
+#include <string>
 
 #include <Eigen/Eigenvalues>
-#include <opencv2/imgproc.hpp>
+
+#include "pipeline/render/view_mesh.h"
 
 namespace px::render::gl {
 
@@ -94,67 +95,38 @@ StatusOr<GlViewMesh> BuildGlViewMesh(const std::vector<Eigen::Vector3d>& centres
   }
   Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eigen(scatter);  // ascending eigenvalues
   if (eigen.eigenvalues()(1) < 1e-6 * eigen.eigenvalues()(2)) return BuildLineMesh(centres_in_world, mean_axis, mean_x, eigen.eigenvectors().col(2), &mesh);
-  mesh.normal = eigen.eigenvectors().col(0);
-  if (mesh.normal.dot(mean_axis) < 0) mesh.normal = -mesh.normal;
-  mesh.axis1 = (mean_x - mesh.normal.dot(mean_x) * mesh.normal).normalized();
-  mesh.axis2 = mesh.normal.cross(mesh.axis1);
-
+  // The plane, the Delaunay triangles and the extension ring are the CPU reference's (ALGORITHM.md
+  // 2: Subdiv2D breaks the ties of a regular lattice by its input, so the GL back end must not
+  // triangulate again; the ring's quads are split on the same diagonal).
+  std::vector<Eigen::Matrix3d> world_from_cam(n);
+  for (int i = 0; i < n; ++i) {
+    world_from_cam[i].col(0) = x_axes_in_world[i];
+    world_from_cam[i].col(1) = optical_axes_in_world[i].cross(x_axes_in_world[i]);
+    world_from_cam[i].col(2) = optical_axes_in_world[i];
+  }
+  PX_ASSIGN_OR_RETURN(ViewMesh reference, ViewMesh::Build(centres_in_world, world_from_cam));
+  if (reference.kind() != ViewMesh::Kind::kTriangles) {
+    return InternalError("view mesh: the CPU reference did not triangulate " + std::to_string(n) + " centres");
+  }
+  mesh.origin = reference.origin();
+  mesh.normal = reference.normal();
+  mesh.axis1 = reference.axis_u();
+  mesh.axis2 = reference.axis_v();
   mesh.vertices.clear();
   mesh.vertex_view.clear();
-  cv::Rect2f bounds;
-  std::vector<cv::Point2f> points;
-  for (int i = 0; i < n; ++i) {
-    const Eigen::Vector3d d = centres_in_world[i] - mesh.origin;
-    mesh.vertices.emplace_back(d.dot(mesh.axis1), d.dot(mesh.axis2));
-    mesh.vertex_view.push_back(i);
-    points.emplace_back(static_cast<float>(mesh.vertices.back().x()), static_cast<float>(mesh.vertices.back().y()));
+  for (const ViewMesh::Vertex& vertex : reference.vertices()) {
+    mesh.vertices.push_back(vertex.position);
+    mesh.vertex_view.push_back(vertex.view);
   }
-  float x0 = points[0].x, x1 = x0, y0 = points[0].y, y1 = y0;
-  for (const cv::Point2f& p : points) {
-    x0 = std::min(x0, p.x), x1 = std::max(x1, p.x), y0 = std::min(y0, p.y), y1 = std::max(y1, p.y);
-  }
-  const float margin = 1.0f + (x1 - x0) + (y1 - y0);
-  cv::Subdiv2D subdiv(cv::Rect(static_cast<int>(std::floor(x0 - margin)), static_cast<int>(std::floor(y0 - margin)),
-                               static_cast<int>(std::ceil(x1 - x0 + 2 * margin)),
-                               static_cast<int>(std::ceil(y1 - y0 + 2 * margin))));
-  for (int i = 0; i < n; ++i) subdiv.insert(points[i]);
-  std::vector<cv::Vec6f> triangles;
-  subdiv.getTriangleList(triangles);
-  auto index_of = [&](float x, float y) {
-    for (int i = 0; i < n; ++i) {
-      if (std::abs(points[i].x - x) < 1e-6f && std::abs(points[i].y - y) < 1e-6f) return i;
+  mesh.triangles = reference.triangles();
+  // Each ring quad is two triangles; the one with two duplicated vertices holds the outer edge.
+  for (size_t t = reference.NumDelaunayTriangles(); t < mesh.triangles.size(); ++t) {
+    std::array<int, 2> edge{};
+    int duplicates = 0;
+    for (int vertex : mesh.triangles[t]) {
+      if (vertex >= n && duplicates < 2) edge[duplicates++] = vertex;
     }
-    return -1;  // one of Subdiv2D's outer virtual vertices
-  };
-  std::map<std::pair<int, int>, int> edge_uses;
-  for (const cv::Vec6f& t : triangles) {
-    const int a = index_of(t[0], t[1]), b = index_of(t[2], t[3]), c = index_of(t[4], t[5]);
-    if (a < 0 || b < 0 || c < 0) continue;
-    mesh.triangles.push_back({a, b, c});
-    for (auto [i, j] : {std::pair{a, b}, std::pair{b, c}, std::pair{c, a}}) ++edge_uses[{std::min(i, j), std::max(i, j)}];
-  }
-  if (mesh.triangles.empty()) {
-    return FailedPreconditionError("view mesh: Delaunay gave no triangle from " + std::to_string(n) + " centres");
-  }
-  // Boundary edges (used once) get their vertices duplicated at g + 4 (p - g).
-  Eigen::Vector2d g = Eigen::Vector2d::Zero();
-  for (const Eigen::Vector2d& p : mesh.vertices) g += p / n;
-  std::map<int, int> duplicate_of;
-  auto duplicate = [&](int i) {
-    auto [it, inserted] = duplicate_of.emplace(i, static_cast<int>(mesh.vertices.size()));
-    if (inserted) {
-      mesh.vertices.push_back(g + 4.0 * (mesh.vertices[i] - g));
-      mesh.vertex_view.push_back(i);
-    }
-    return it->second;
-  };
-  for (const auto& [edge, uses] : edge_uses) {
-    if (uses != 1) continue;
-    const auto [i, j] = edge;
-    const int di = duplicate(i), dj = duplicate(j);
-    mesh.triangles.push_back({i, j, dj});
-    mesh.triangles.push_back({i, dj, di});
-    mesh.outer_edges.push_back({di, dj});
+    if (duplicates == 2) mesh.outer_edges.push_back(edge);
   }
   return mesh;
 }

@@ -4,10 +4,11 @@
 // boundary vertices duplicated radially outward at four times their distance from the centroid.
 // The per-pixel viewing weights (ALGORITHM.md section 3) are computed from it in a shader.
 //
-// A twin of the CPU reference's ViewMesh (pipeline/render/view_mesh.h): both follow ALGORITHM.md 2
-// and agree (render/gl/gl_agreement_test). It stays separate because the weight shader needs the
-// outer edges and the 1D strip, which ViewMesh does not expose; taking the triangles from ViewMesh
-// is the next step.
+// The plane, vertices and triangles are the CPU reference's ViewMesh (pipeline/render/view_mesh.h),
+// as ALGORITHM.md 2 asks (a second triangulation broke the ties of a lattice and split the ring's
+// quads on other diagonals: up to 45 % of a border view's summed weight moved to its neighbour);
+// this adds what the weight shader needs and ViewMesh does not expose: the outer edges, and the
+// 1D rig as a strip.
 #pragma once
 
 #include <array>
