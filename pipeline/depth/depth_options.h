@@ -146,8 +146,8 @@ struct DepthOptions {
   // (any cost_filter_radius_px). Measured: honest views 0.001-0.012 (synthetic rigs, exposure
   // differences included) and 0.02-0.095 (real: HCI, Middlebury, ETH3D, LLFF fern); views of
   // another scene 0.32 (depth_bad_input_test's random texture, 2 of 4 neighbours), 0.32-0.45
-  // (real pairs of two scenes) and 0.59-0.68 (a real image in the HCI 3x3). 0.18 leaves about
-  // twice the honest worst below it and 1.8 times less than the bad best above.
+  // (real pairs of two scenes) and 0.59-0.68 (a real image in the HCI 3x3). 0.18 is about twice
+  // the worst honest view and 1.8 times under the lowest view of another scene.
   double max_view_match_cost = 0.18;
   // Worker threads: 0 = OpenCV's default (all cores). [0, 256].
   int num_threads = 0;
