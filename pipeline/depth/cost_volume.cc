@@ -32,10 +32,12 @@ CostVolume BuildCostVolume(const WorkingView& ref, const std::vector<const Worki
   CostVolume volume;
   volume.slices.resize(planes.count);
   volume.sampled = cv::Mat::zeros(size, CV_8U);
-  std::mutex sampled_mutex;
+  volume.best_unfiltered_cost = cv::Mat(size, CV_32F, cv::Scalar(kNoDataCost));
+  std::mutex merge_mutex;
   // Planes are independent: each worker takes a range of them with its own buffers.
   cv::parallel_for_(cv::Range(0, planes.count), [&](const cv::Range& range) {
     cv::Mat sampled_here = cv::Mat::zeros(size, CV_8U);
+    cv::Mat best_here(size, CV_32F, cv::Scalar(kNoDataCost));
     cv::Mat warped, valid;
     ZnccWorkspace zncc;
     std::vector<cv::Mat> costs(neighbours.size());
@@ -54,10 +56,12 @@ CostVolume BuildCostVolume(const WorkingView& ref, const std::vector<const Worki
       cv::Mat& slice = volume.slices[p];
       AggregateBestHalf(costs, &aggregation, &slice);
       cv::bitwise_or(sampled_here, slice < kNoDataCost, sampled_here);
+      cv::min(best_here, slice, best_here);
       if (filter_costs) FilterCostSlice(guide, &filter, &slice);
     }
-    const std::lock_guard<std::mutex> lock(sampled_mutex);
+    const std::lock_guard<std::mutex> lock(merge_mutex);
     cv::bitwise_or(volume.sampled, sampled_here, volume.sampled);
+    cv::min(volume.best_unfiltered_cost, best_here, volume.best_unfiltered_cost);
   });
   return volume;
 }

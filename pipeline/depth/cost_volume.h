@@ -35,6 +35,10 @@ struct CostVolumeOptions {
 struct CostVolume {
   std::vector<cv::Mat> slices;  // one CV_32F cost per plane, in [0, kNoDataCost]
   cv::Mat sampled;              // CV_8U, 255 where some plane had a valid neighbour sample
+  // CV_32F, per pixel the lowest best-half cost over the planes before the guided filter: how
+  // well the pixel's own window matches the neighbours at its best depth, whatever the
+  // aggregation (the depth stage's check for views of another scene reads it).
+  cv::Mat best_unfiltered_cost;
 };
 
 // Planes are processed in parallel (cv::parallel_for_), each worker with its own buffers.

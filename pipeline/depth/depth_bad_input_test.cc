@@ -2,6 +2,7 @@
 // differences between lenses, no texture at all. No crash, low confidence where deserved, and a
 // report that says which view and why; the good views keep their accuracy.
 #include <algorithm>
+#include <cstdio>
 #include <string>
 #include <utility>
 #include <vector>
@@ -62,6 +63,14 @@ DepthOptions BadInputOptions() {
   return options;
 }
 
+// The figure the check for views of another scene reads, per view, beside its threshold.
+void PrintMatchCosts(const DepthStageResult& result, const DepthOptions& options, const std::string& name) {
+  std::printf("%s, filter radius %d: median best matching cost per view (threshold %.2f):", name.c_str(),
+              options.matching.cost_filter_radius_px, options.max_view_match_cost);
+  for (const ViewDepthReport& report : result.report.views) std::printf(" %.3f", report.median_match_cost);
+  std::printf("\n");
+}
+
 bool HasReason(const ViewDepthReport& report, const std::string& words) {
   for (const std::string& reason : report.reasons) {
     if (reason.find(words) != std::string::npos) return true;
@@ -69,11 +78,16 @@ bool HasReason(const ViewDepthReport& report, const std::string& words) {
   return false;
 }
 
-TEST(DepthBadInputTest, AViewOfAnotherSceneIsReportedAndLeftOut) {
+BadInputCase WithAViewOfAnotherScene() {
   const std::vector<View> other = RenderGridRig(3, 3, kStageBaselineM, SmallCamera(), {Wall(1.5, 99)});
-  const BadInputCase input = WithReplacedViews({{8, other[8].image}});
+  return WithReplacedViews({{8, other[8].image}});
+}
+
+TEST(DepthBadInputTest, AViewOfAnotherSceneIsReportedAndLeftOut) {
+  const BadInputCase input = WithAViewOfAnotherScene();
   StatusOr<DepthStageResult> result = ComputeLayeredDepth(input.views, BadInputOptions());
   ASSERT_TRUE(result.ok()) << result.status().ToString();
+  PrintMatchCosts(*result, BadInputOptions(), "another scene in view 8");
   ASSERT_EQ(result->report.disagreeing_views.size(), 1u);
   EXPECT_EQ(result->report.disagreeing_views[0].value, 8);
   const ViewDepthReport& report = result->report.views[8];
@@ -83,6 +97,33 @@ TEST(DepthBadInputTest, AViewOfAnotherSceneIsReportedAndLeftOut) {
   EXPECT_TRUE(HasReason(report, "matches none of its neighbours"));
   EXPECT_FALSE(result->report.warnings.empty());
   ExpectOthersStillGood(*result, input, {8});
+}
+
+// The check reads the matching cost before aggregation: the same figures, and the same view told
+// apart, whatever the guided filter's radius (the threshold was once set for one radius).
+TEST(DepthBadInputTest, AViewOfAnotherSceneIsToldApartWhateverTheFilterRadius) {
+  const BadInputCase input = WithAViewOfAnotherScene();
+  std::vector<double> first_costs;
+  for (const int radius : {4, 8}) {
+    DepthOptions options = BadInputOptions();
+    options.matching.cost_filter_radius_px = radius;
+    StatusOr<DepthStageResult> result = ComputeLayeredDepth(input.views, options);
+    ASSERT_TRUE(result.ok()) << result.status().ToString();
+    PrintMatchCosts(*result, options, "another scene in view 8");
+    ASSERT_EQ(result->report.disagreeing_views.size(), 1u) << "radius " << radius;
+    EXPECT_EQ(result->report.disagreeing_views[0].value, 8) << "radius " << radius;
+    for (int i = 0; i < 9; ++i) {
+      // View 8's cost is its first match (against good views); the others', their second
+      // (without view 8) where it was a neighbour: both independent of the filter.
+      const double cost = result->report.views[i].median_match_cost;
+      if (first_costs.size() < 9) {
+        first_costs.push_back(cost);
+      } else {
+        EXPECT_DOUBLE_EQ(cost, first_costs[i]) << "view " << i;
+      }
+    }
+    ExpectOthersStillGood(*result, input, {8});
+  }
 }
 
 // One run with a black view and a saturated one in opposite corners (neither is a neighbour of
@@ -120,6 +161,7 @@ TEST(DepthBadInputTest, ExposureDifferencesBetweenLensesDoNotMatter) {
   exposed(3, 1.3, -5);
   StatusOr<DepthStageResult> result = ComputeLayeredDepth(input.views, BadInputOptions());
   ASSERT_TRUE(result.ok()) << result.status().ToString();
+  PrintMatchCosts(*result, BadInputOptions(), "exposure differences");
   EXPECT_TRUE(result->report.disagreeing_views.empty());
   ExpectOthersStillGood(*result, input, {});
 }

@@ -22,8 +22,9 @@ struct ViewDepthReport {
   double textureless_fraction = 0; // pixels whose matching window has no texture
   double saturated_fraction = 0;   // pixels at 0 or 255 in some channel... at >= 250 in all channels
   double dark_fraction = 0;        // pixels darker than 8 grey levels
-  // Median over textured pixels of the best matching cost against the neighbours, in [0, 2]
-  // (1 - ZNCC): near 0 for views of the same scene, near 1 for unrelated images.
+  // Median over textured pixels of the best matching cost against the neighbours before
+  // aggregation, in [0, 2] (1 - ZNCC, best half of the neighbours): under 0.1 for views of the
+  // same scene, 0.3 and more for unrelated images (the best of many depths matches by chance).
   double median_match_cost = 0;
   bool disagrees = false;          // matches none of its neighbours: left out as a neighbour
   cv::Mat low_confidence;          // CV_8U at view resolution: 255 where depth is unreliable

@@ -187,16 +187,15 @@ ReferenceDepth MatchReference(const std::vector<View>& views, const std::vector<
   volume_options.filter_radius_px = m.cost_filter_radius_px;
   volume_options.filter_eps = m.cost_filter_eps;
   depth::CostVolume volume = depth::BuildCostVolume(ref, neighbours, planes, volume_options);
-  // How well the view matches its neighbours at all: the median best cost over textured pixels.
+  // How well the view matches its neighbours at all: the median over textured pixels of the best
+  // cost before aggregation, so that the check's threshold holds whatever the filter radius.
   const cv::Size size = ref.gray.size();
   const cv::Mat textured = TexturedPixels(ref.gray, m.window_radius_px, m.min_texture_stddev);
   {
-    cv::Mat best_cost = volume.slices[0].clone();
-    for (const cv::Mat& slice : volume.slices) cv::min(best_cost, slice, best_cost);
     std::vector<float> costs;
     costs.reserve(size.area());
     for (int y = 0; y < size.height; ++y) {
-      const float* c = best_cost.ptr<float>(y);
+      const float* c = volume.best_unfiltered_cost.ptr<float>(y);
       const uint8_t* t = textured.ptr<uint8_t>(y);
       for (int x = 0; x < size.width; ++x) {
         if (t[x]) costs.push_back(c[x]);

@@ -44,9 +44,9 @@ TEST(DepthStageTest, SquareBeforeWallLayeredAndAccurate) {
     const double bad_edges = BadFraction(result->maps[i].depth_m, truth[i], edges, 0.05);
     const ViewDepthReport& report = result->report.views[i];
     std::printf("view %d: %.1f%% off by > 5%% away from edges, %.1f%% within 6 px of them; %d segments, %d "
-                "boundary px, %.0f%% confident, %.0f%% confirmed by another view\n",
+                "boundary px, %.0f%% confident, %.0f%% confirmed by another view, median best cost %.3f\n",
                 i, 100 * bad_away, 100 * bad_edges, report.num_segments, report.num_boundary_pixels,
-                100 * report.confident_fraction, 100 * report.consistent_fraction);
+                100 * report.confident_fraction, 100 * report.consistent_fraction, report.median_match_cost);
     // Exact renders of textured planes: away from edges nearly every pixel is right (measured
     // about 0-1 %); the margin allows for segments straddling the border region.
     EXPECT_LT(bad_away, 0.05) << "view " << i;
