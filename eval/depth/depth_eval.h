@@ -54,7 +54,7 @@ struct DepthEvalOptions {
   bool run_sgbm = true;
   DepthOptions ours;               // depth range is set per set; the rest is used as is, except:
   // Light fields (disparities of a few pixels between neighbours) get matching at full
-  // resolution, plane steps of 0.2 px and 16 spread neighbours (see LightFieldDepthOptions), unless
+  // resolution, plane steps of 0.2 px and 16 spread neighbours (see LightFieldDepthOptions, pipeline/depth/depth_options.h), unless
   // this is false (the caller set its own options).
   bool light_field_defaults = true;
   int num_threads = 0;             // 0 = OpenCV's default
@@ -64,15 +64,6 @@ struct DepthEvalOptions {
   // Progress: the set being worked on and the fraction of all sets done.
   std::function<void(const std::string& set, double fraction)> progress;
 };
-
-// Our options for a light field: its disparities between neighbours are a few pixels, so match
-// at full resolution with plane steps of 0.2 px (at most 64 planes), and use 16 of its many
-// neighbours: the 4
-// nearest and 12 spread over the widest baselines (on the 9x9, the cross and the diagonals out
-// to the grid's edge); segments of 24 px refined by segment-level PatchMatch, the steep ones
-// against the exact slanted cost; a guided filter of radius 3; depth_m keeps the per-pixel depth
-// within 1 px of the segment planes where its confidence is at least 0.2.
-DepthOptions LightFieldDepthOptions(const DepthOptions& ours);
 
 // Runs every set found. Fails only when the data folder holds a set that cannot be read (the
 // error names it) or when nothing matches the filter; a method that fails on a set is reported

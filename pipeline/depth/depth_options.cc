@@ -121,4 +121,27 @@ DepthOptions DepthOptions::WithDefaultDepthRange(double nominal_min_m, double no
   return resolved;
 }
 
+DepthOptions LightFieldDepthOptions(const DepthOptions& ours) {
+  DepthOptions options = ours;
+  options.working_scale = 1.0;
+  // 0.2 px steps, at most 64 planes: on the 3x3 BadPix.07 20.9 % against 22.4 % with 0.1 px,
+  // on the 9x9 12.9 % against 12.6 % with 128 planes for half the CPU time (the 5 s goal).
+  options.matching.plane_step_px = 0.2;
+  options.matching.max_planes = 64;
+  options.matching.num_neighbors = 16;
+  options.matching.spread_neighbors = 12;
+  options.segments.pixel_depth_tolerance_px = 1.0;
+  // Segment-level PatchMatch on larger segments, the steep ones (the floor) against the exact
+  // slanted cost, and per-pixel depth only where confident: BadPix.07 3x3 20.8 -> 14.7 %, 9x9
+  // 12.9 -> 7.0 % (pipeline/depth/README.md has each step alone).
+  options.segments.region_size_px = 24;
+  options.segments.refine_iterations = 3;
+  options.segments.slanted_min_slope_px = 0.01;
+  options.segments.pixel_depth_min_confidence = 0.2;
+  // Guided-filter radius 3 (against 4: 9x9 7.03 -> 6.45 %, 3x3 14.68 -> 14.81 %); the default
+  // 2 gives 6.15 and 15.09 %, over the 3x3's 15 % goal.
+  options.matching.cost_filter_radius_px = 3;
+  return options;
+}
+
 }  // namespace px
