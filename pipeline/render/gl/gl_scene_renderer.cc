@@ -202,7 +202,6 @@ Status GlSceneRenderer::Upload() {
   std::vector<Eigen::Vector3d> centres, axes, x_axes;
   for (int v = 0; v < static_cast<int>(views_.size()); ++v) {
     LayeredDepthView& view = views_[v].depth;
-    if (holes_from_other_views_) scene_layers_.push_back(view);  // the CPU scene applies its own skirts
     // As the CPU reference's texels (its default options).
     view = WithSeamSkirts(WithSeamPlanes(view, SeamPlaneOptions()), SeamSkirtOptions());
     const std::string name = ViewName(view, v);
@@ -657,10 +656,16 @@ StatusOr<FrameRender> GlSceneRenderer::Render(const VirtualCamera& camera) {
 const LayeredScene* GlSceneRenderer::OtherViewsScene() {
   if (other_views_scene_ != nullptr || other_views_scene_failed_) return other_views_scene_.get();
   std::vector<View> poses;  // LayeredScene reads the ids and poses only
+  std::vector<LayeredDepthView> layers;  // shallow copies
   for (size_t v = 0; v < views_.size(); ++v) {
     poses.push_back({views_[v].depth.id, cv::Mat(), views_[v].depth.camera, views_[v].cam_from_world});
+    layers.push_back(views_[v].depth);
   }
-  StatusOr<LayeredScene> scene = LayeredScene::Create(poses, scene_layers_, RenderOptions());
+  // views_ carry the seam planes and skirts already (Upload, the CPU reference's defaults).
+  RenderOptions scene_options;
+  scene_options.seam_planes.seam_weight = 0;
+  scene_options.seam_skirts.max_step = 0;
+  StatusOr<LayeredScene> scene = LayeredScene::Create(poses, layers, scene_options);
   if (!scene.ok()) {
     other_views_scene_failed_ = true;
     const std::string warning = "holes are filled from their borders only: no CPU scene for drawing them from other "

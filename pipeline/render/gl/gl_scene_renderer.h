@@ -138,10 +138,8 @@ class GlSceneRenderer final : public SceneRenderer {
   bool time_passes_ = false;
   double viewing_weight_exponent_ = 1;
   bool holes_from_other_views_ = true;
-  // Holes from other views: the layered depth as given (before seam skirts; shallow copies of the
-  // caller's images), the CPU scene made from it on first use, each GL view's index in that
-  // scene (-1: the scene left it out), and the read-back slots turned into the scene's.
-  std::vector<LayeredDepthView> scene_layers_;
+  // Holes from other views: the CPU scene made from views_ on first use, each GL view's index in
+  // that scene (-1: the scene left it out), and the read-back slots turned into the scene's.
   std::unique_ptr<LayeredScene> other_views_scene_;
   bool other_views_scene_failed_ = false;
   std::vector<int> scene_view_of_;
