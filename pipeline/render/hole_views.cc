@@ -104,33 +104,40 @@ std::vector<ViewSlots> OtherViewSlots(const LayeredScene& scene, const CameraMod
   return out;
 }
 
+cv::Rect LargeHoles(const cv::Mat& known, int small_hole_radius_px, cv::Mat* holes) {
+  PX_CHECK(known.type() == CV_8U && holes != nullptr) << "LargeHoles: known must be CV_8U";
+  *holes = known == 0;
+  const cv::Rect crop = cv::boundingRect(*holes);
+  if (crop.empty() || small_hole_radius_px <= 0) return crop;
+  // A hole is not closed whole by the first pass when some pixel lies farther than the radius
+  // from every known pixel (outside the image is not known): tested by erosion first, which is
+  // cheap, then SmallHoles on the holes' box.
+  const int margin = small_hole_radius_px + 1;
+  const cv::Rect region = cv::Rect(crop.x - margin, crop.y - margin, crop.width + 2 * margin,
+                                   crop.height + 2 * margin) &
+                          cv::Rect(0, 0, known.cols, known.rows);
+  cv::Mat deep;
+  const int side = 2 * small_hole_radius_px + 1;
+  cv::erode((*holes)(region), deep, cv::getStructuringElement(cv::MORPH_RECT, cv::Size(side, side)),
+            cv::Point(-1, -1), 1, cv::BORDER_CONSTANT, cv::Scalar(255));
+  if (cv::countNonZero(deep) == 0) return cv::Rect();
+  (*holes)(region).setTo(0, SmallHoles(known(region), small_hole_radius_px));
+  return cv::boundingRect(*holes);
+}
+
 OtherViewsReport CoverHolesFromOtherViews(const LayeredScene& scene, const CameraModel& camera,
                                           const Rigid3& cam_from_world, const std::vector<ViewSlots>& slots,
                                           RenderQuality quality, double covered_alpha,
                                           int small_hole_radius_px, cv::Mat* known, FrameComposite* composite) {
   PX_CHECK(known != nullptr && composite != nullptr) << "CoverHolesFromOtherViews needs outputs";
   OtherViewsReport report;
-  cv::Mat holes = *known == 0;
-  cv::Rect crop = cv::boundingRect(holes);
-  if (crop.empty() || scene.views().size() <= 1) return report;
-  report.hole_pixels = cv::countNonZero(holes(crop));
-  if (small_hole_radius_px > 0) {
-    // Holes the first fill pass closes whole are left to it. A hole is not one of them when some
-    // pixel lies farther than the radius from every known pixel (outside the image is not known):
-    // tested by erosion first, which is cheap, then SmallHoles on the holes' box.
-    const int margin = small_hole_radius_px + 1;
-    const cv::Rect region = cv::Rect(crop.x - margin, crop.y - margin, crop.width + 2 * margin,
-                                     crop.height + 2 * margin) &
-                            cv::Rect(0, 0, known->cols, known->rows);
-    cv::Mat deep;
-    const int side = 2 * small_hole_radius_px + 1;
-    cv::erode(holes(region), deep, cv::getStructuringElement(cv::MORPH_RECT, cv::Size(side, side)), cv::Point(-1, -1),
-              1, cv::BORDER_CONSTANT, cv::Scalar(255));
-    if (cv::countNonZero(deep) == 0) return report;
-    holes(region).setTo(0, SmallHoles((*known)(region), small_hole_radius_px));
-    crop = cv::boundingRect(holes);
-    if (crop.empty()) return report;
-  }
+  if (scene.views().size() <= 1) return report;
+  report.hole_pixels = static_cast<int>(known->total()) - cv::countNonZero(*known);
+  if (report.hole_pixels == 0) return report;
+  // Holes the first fill pass closes whole are left to it.
+  cv::Mat holes;
+  const cv::Rect crop = LargeHoles(*known, small_hole_radius_px, &holes);
+  if (crop.empty()) return report;
   const std::vector<ViewSlots> crop_slots = OtherViewSlots(scene, camera, cam_from_world, slots, holes, crop);
   if (std::none_of(crop_slots.begin(), crop_slots.end(),
                    [](const ViewSlots& s) { return s.view[0] != ViewSlots::kNone; })) {

@@ -30,6 +30,12 @@ std::vector<ViewSlots> OtherViewSlots(const LayeredScene& scene, const CameraMod
                                       const Rigid3& cam_from_world, const std::vector<ViewSlots>& slots,
                                       const cv::Mat& holes, const cv::Rect& crop);
 
+// The holes of `known` (CV_8U, 0 = hole) that the reverse soft z's first pass with radius
+// small_hole_radius_px does not fill whole (SmallHoles, hole_fill.h; every hole when the radius
+// is 0) into `holes` (CV_8U, 255 = such a hole), and their bounding box (empty: none). Cheap when
+// there are none (an erosion of the holes' box), so a renderer can ask before it prepares anything.
+cv::Rect LargeHoles(const cv::Mat& known, int small_hole_radius_px, cv::Mat* holes);
+
 struct OtherViewsReport {
   int hole_pixels = 0;  // holes before (small ones included)
   int covered = 0;      // covered by other views (alpha >= covered_alpha)

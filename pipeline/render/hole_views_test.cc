@@ -115,5 +115,19 @@ TEST_F(HoleViewsTest, OtherViewsCoverTheStripCloseToTheTruth) {
   }
 }
 
+// LargeHoles keeps the holes the 7x7 first pass cannot close whole, with their box: a 5x5 hole
+// goes to the fill, a 12x12 one stays (whole, as SmallHoles keeps whole holes), and radius 0
+// keeps every hole.
+TEST(LargeHolesTest, KeepsOnlyHolesTheFirstFillPassCannotClose) {
+  cv::Mat known(60, 80, CV_8U, cv::Scalar(255));
+  known(cv::Rect(5, 5, 5, 5)).setTo(0);
+  cv::Mat holes;
+  EXPECT_TRUE(LargeHoles(known, 3, &holes).empty());
+  EXPECT_EQ(LargeHoles(known, 0, &holes), cv::Rect(5, 5, 5, 5));
+  known(cv::Rect(40, 30, 12, 12)).setTo(0);
+  EXPECT_EQ(LargeHoles(known, 3, &holes), cv::Rect(40, 30, 12, 12));
+  EXPECT_EQ(cv::countNonZero(holes), 144);
+}
+
 }  // namespace
 }  // namespace px::render

@@ -42,6 +42,7 @@ StatusOr<std::unique_ptr<BackendSceneRenderer>> BackendSceneRenderer::Create(
       for (size_t v = 0; v < views.size(); ++v) posed.push_back({layers[v], views[v].cam_from_world});
       GlSceneRendererOptions gl_options;
       gl_options.viewing_weight_exponent = render.viewing_weight_exponent;
+      gl_options.holes_from_other_views = render.holes_from_other_views;
       StatusOr<std::unique_ptr<GlSceneRenderer>> gl =
           GlSceneRenderer::Create(std::move(posed), std::move(choice.context), gl_options);
       if (gl.ok()) {

@@ -15,6 +15,8 @@
 #include "pipeline/render/color_effects.h"
 #include "pipeline/render/depth_of_field.h"
 #include "pipeline/render/hole_fill.h"
+#include "pipeline/render/hole_views.h"
+#include "pipeline/render/layered_scene.h"
 #include "pipeline/render/seam_planes.h"
 #include "pipeline/render/seam_skirts.h"
 
@@ -23,6 +25,7 @@ namespace {
 
 constexpr int kFloatsPerInstance = 22;  // corners 8, homography 9, plane 3, segment 1, pad 1
 constexpr double kNearDepthM = 1e-3;
+constexpr int kHoleWindowRadiusPx = RenderOptions{}.hole_window_radius_px;  // the paper's 7x7
 
 std::string ViewName(const LayeredDepthView& view, int index) {
   return "view " + std::to_string(index) + " (id " + std::to_string(view.id.value) + ")";
@@ -165,6 +168,7 @@ StatusOr<std::unique_ptr<GlSceneRenderer>> GlSceneRenderer::Create(std::vector<P
   PX_RETURN_IF_ERROR(checked.Validate());
   std::unique_ptr<GlSceneRenderer> renderer(new GlSceneRenderer());
   renderer->viewing_weight_exponent_ = options.viewing_weight_exponent;
+  renderer->holes_from_other_views_ = options.holes_from_other_views;
   renderer->context_ = std::move(context);
   renderer->views_ = std::move(views);
   ScopedCurrent current(renderer->context_.get());
@@ -619,9 +623,13 @@ StatusOr<FrameRender> GlSceneRenderer::Render(const VirtualCamera& camera) {
   frame.holes.height = height;
   frame.holes.hole_ratio = holes / (static_cast<double>(width) * height);
   frame.holes.hole_score = HoleScore(frame.coverage);
-  if (holes > 0) {  // the CPU reference's preview rule (ALGORITHM.md 6): reverse soft z, 7x7, until filled
+  stats_.other_view_pixels = 0;
+  if (holes > 0) {  // the CPU reference's preview rule (ALGORITHM.md 6): other views, then reverse soft z
     cv::Mat known = frame.coverage.clone();
-    FillHolesReverseSoftZ(SoftZ(rho_m_, 0.1), 3, 0, &known, &colour, &frame.depth_m);
+    if (holes_from_other_views_) {
+      stats_.other_view_pixels = CoverHolesFromOtherViews(camera, raw, &known, &colour, &frame.depth_m);
+    }
+    FillHolesReverseSoftZ(SoftZ(rho_m_, 0.1), kHoleWindowRadiusPx, 0, &known, &colour, &frame.depth_m);
   }
   // A soft edge with nothing behind it keeps its share over the fill (ALGORITHM.md 6).
   for (const Partial& p : partial) {
@@ -643,6 +651,74 @@ StatusOr<FrameRender> GlSceneRenderer::Render(const VirtualCamera& camera) {
   std::sort(order.begin(), order.end(), [&](int a, int b) { return view_weight[a] > view_weight[b]; });
   for (int v : order) frame.sources.push_back(views_[v].depth.id);
   return frame;
+}
+
+const LayeredScene* GlSceneRenderer::OtherViewsScene() {
+  if (other_views_scene_ != nullptr || other_views_scene_failed_) return other_views_scene_.get();
+  std::vector<View> poses;  // LayeredScene reads the ids and poses only
+  std::vector<LayeredDepthView> layers;  // shallow copies
+  for (size_t v = 0; v < views_.size(); ++v) {
+    poses.push_back({views_[v].depth.id, cv::Mat(), views_[v].depth.camera, views_[v].cam_from_world});
+    layers.push_back(views_[v].depth);
+  }
+  // views_ carry the seam planes and skirts already (Upload, the CPU reference's defaults).
+  RenderOptions scene_options;
+  scene_options.seam_planes.seam_weight = 0;
+  scene_options.seam_skirts.max_step = 0;
+  StatusOr<LayeredScene> scene = LayeredScene::Create(poses, layers, scene_options);
+  if (!scene.ok()) {
+    other_views_scene_failed_ = true;
+    const std::string warning = "holes are filled from their borders only: no CPU scene for drawing them from other "
+                                "views (" + scene.status().message() + ")";
+    Logger("render")->warn("gl renderer: {}", warning);
+    warnings_.push_back(warning);
+    return nullptr;
+  }
+  other_views_scene_ = std::make_unique<LayeredScene>(std::move(scene).value());
+  // The scene leaves out views without a drawable segment: GL indices map to it by id.
+  scene_view_of_.assign(views_.size(), -1);
+  for (size_t v = 0; v < views_.size(); ++v) {
+    for (size_t s = 0; s < other_views_scene_->views().size(); ++s) {
+      if (other_views_scene_->views()[s].id == views_[v].depth.id) scene_view_of_[v] = static_cast<int>(s);
+    }
+  }
+  return other_views_scene_.get();
+}
+
+int GlSceneRenderer::CoverHolesFromOtherViews(const VirtualCamera& camera, const RawFrame& raw, cv::Mat* known,
+                                              cv::Mat* colour, cv::Mat* depth) {
+  // Frames whose holes the 7x7 pass closes whole need nothing, not even the scene.
+  cv::Mat large;
+  const cv::Rect crop = LargeHoles(*known, kHoleWindowRadiusPx, &large);
+  if (crop.empty()) return 0;
+  const LayeredScene* scene = OtherViewsScene();
+  if (scene == nullptr) return 0;
+  // The read-back slots as the scene's ViewSlots, where the step reads them (holes in the box).
+  const int width = camera.camera.width;
+  hole_slots_.resize(static_cast<size_t>(width) * camera.camera.height);
+  for (int y = crop.y; y < crop.y + crop.height; ++y) {
+    const cv::Vec4f* sv = raw.slot_views.ptr<cv::Vec4f>(y);
+    const cv::Vec4f* sw = raw.slot_weights.ptr<cv::Vec4f>(y);
+    const uint8_t* k = known->ptr<uint8_t>(y);
+    ViewSlots* slots = hole_slots_.data() + static_cast<size_t>(y) * width;
+    for (int x = crop.x; x < crop.x + crop.width; ++x) {
+      if (k[x] != 0) continue;
+      slots[x] = ViewSlots();
+      for (int i = 0; i < 3; ++i) {
+        const int view = static_cast<int>(std::lround(sv[x][i]));
+        if (view < 0 || view >= static_cast<int>(views_.size()) || scene_view_of_[view] < 0) continue;
+        slots[x].view[i] = static_cast<uint8_t>(scene_view_of_[view]);
+        slots[x].weight[i] = sw[x][i];
+      }
+    }
+  }
+  FrameComposite composite;  // the read-back frame's colour and depth, drawn into in place
+  composite.colour = *colour;
+  composite.depth = *depth;
+  return render::CoverHolesFromOtherViews(*scene, camera.camera, camera.cam_from_world, hole_slots_,
+                                          RenderQuality::kPreview, RenderOptions{}.covered_alpha, kHoleWindowRadiusPx,
+                                          known, &composite)
+      .covered;
 }
 
 StatusOr<CoverageReport> GlSceneRenderer::Coverage(const CameraModel& camera, const Rigid3& cam_from_world) {

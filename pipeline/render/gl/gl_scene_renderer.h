@@ -3,7 +3,9 @@
 // weights in a shader; each view's segment images as textures and its segments drawn as
 // instanced textured rectangles front to back into the three rendering buffers multiplexed by
 // view (16-bit targets, saturating blend); the soft z-buffer of eq. (1) in a resolve shader;
-// coverage, H(V), hole filling (the CPU reference's FillHolesReverseSoftZ), colour effects and the
+// coverage, H(V), holes drawn again from other views (the CPU reference's CoverHolesFromOtherViews,
+// on a CPU scene made on the first frame that needs it), hole filling (FillHolesReverseSoftZ),
+// colour effects and the
 // preview's depth of field (the CPU reference's passes, pipeline/render/color_effects.h and
 // depth_of_field.h) on the CPU after the float read-back. 1D (collinear) rigs mesh as a strip
 // (gl_view_mesh.h). Preview quality only: offline (paper 6.2) is the CPU back end's.
@@ -23,6 +25,11 @@
 #include "pipeline/render/gl/gl_view_mesh.h"
 #include "pipeline/render/render_options.h"
 #include "pipeline/render/scene_renderer.h"
+#include "pipeline/render/view_mesh.h"
+
+namespace px::render {
+class LayeredScene;
+}  // namespace px::render
 
 namespace px::render::gl {
 
@@ -36,6 +43,10 @@ struct GlSceneRendererOptions {
   GlContextOptions context;
   // RenderOptions::viewing_weight_exponent (the same default; (0, 1]).
   double viewing_weight_exponent = RenderOptions{}.viewing_weight_exponent;
+  // RenderOptions::holes_from_other_views (the same default): holes larger than the fill window
+  // are drawn again on the CPU from the views the mesh did not blend there (hole_views.h), from a
+  // CPU LayeredScene made on the first frame that needs it.
+  bool holes_from_other_views = RenderOptions{}.holes_from_other_views;
   Status Validate() const;
 };
 
@@ -46,6 +57,7 @@ struct GlFrameStats {
   int draws = 0;      // instanced draws: a view's segments into one rendering buffer
   int instances = 0;  // segment rectangles set up (all views)
   double weights_ms = 0, setup_ms = 0, segments_ms = 0, resolve_ms = 0, readback_ms = 0, post_ms = 0;
+  int other_view_pixels = 0;  // Render: hole pixels drawn again from other views (in post_ms)
 };
 
 class GlSceneRenderer final : public SceneRenderer {
@@ -103,6 +115,13 @@ class GlSceneRenderer final : public SceneRenderer {
   // weight_exponent: the viewing weights' (FlattenViewingWeights); Coverage() passes 1.
   StatusOr<RawFrame> RenderRaw(const CameraModel& camera, const Rigid3& cam_from_world, bool with_slots,
                                double weight_exponent);
+  // The CPU reference's step before hole filling (ALGORITHM.md 6, hole_views.h) on the read-back
+  // frame: holes larger than the fill window drawn again from other views into `colour` and
+  // `depth`, marked in `known`. Returns the pixels covered.
+  int CoverHolesFromOtherViews(const VirtualCamera& camera, const RawFrame& raw, cv::Mat* known, cv::Mat* colour,
+                               cv::Mat* depth);
+  // The CPU scene for that step, made on first use (nullptr, once warned, when it cannot be).
+  const LayeredScene* OtherViewsScene();
 
   std::unique_ptr<GlContext> context_;
   std::vector<PosedLayeredView> views_;
@@ -118,6 +137,13 @@ class GlSceneRenderer final : public SceneRenderer {
   GlFrameStats stats_;
   bool time_passes_ = false;
   double viewing_weight_exponent_ = 1;
+  bool holes_from_other_views_ = true;
+  // Holes from other views: the CPU scene made from views_ on first use, each GL view's index in
+  // that scene (-1: the scene left it out), and the read-back slots turned into the scene's.
+  std::unique_ptr<LayeredScene> other_views_scene_;
+  bool other_views_scene_failed_ = false;
+  std::vector<int> scene_view_of_;
+  std::vector<ViewSlots> hole_slots_;
 };
 
 }  // namespace px::render::gl

@@ -10,6 +10,7 @@
 #include <benchmark/benchmark.h>
 
 #include <chrono>
+#include <ctime>
 #include <cstdlib>
 #include <filesystem>
 
@@ -55,10 +56,12 @@ bool WarmUp(GlSceneRenderer& renderer, const CameraModel& camera) {
 
 // The renderer over a rows x cols rig at `camera`, warmed up; null (and the benchmark skipped)
 // when it cannot start.
-std::unique_ptr<GlSceneRenderer> MakeRenderer(const CameraModel& camera, int rows, int cols, benchmark::State& state) {
+std::unique_ptr<GlSceneRenderer> MakeRenderer(const CameraModel& camera, int rows, int cols, benchmark::State& state,
+                                              bool holes_from_other_views = true) {
+  GlSceneRendererOptions options = OptionsFromEnvironment();
+  options.holes_from_other_views = holes_from_other_views;
   auto renderer = GlSceneRenderer::Create(
-      testing::LayeredPlaneScene(render::testing::PlaneScene{}, rows, cols, kBaselineM, camera, kTilePx),
-      OptionsFromEnvironment());
+      testing::LayeredPlaneScene(render::testing::PlaneScene{}, rows, cols, kBaselineM, camera, kTilePx), options);
   if (!renderer.ok()) {
     state.SkipWithError(renderer.status().ToString().c_str());
     return nullptr;
@@ -106,6 +109,50 @@ void BM_GlRenderFrame(benchmark::State& state) {
   state.counters["hole_ratio"] = holes / std::max(frame, 1);
 }
 BENCHMARK(BM_GlRenderFrame)->ArgsProduct({{480, 1200}, {9, 20}})->Unit(benchmark::kMillisecond)->MeasureProcessCPUTime()->UseRealTime();
+
+// What drawing holes again from other views (hole_views.h) adds to a GL frame with large holes:
+// the camera near the centre lens turned 4 degrees to the left, so a strip at the left edge
+// (~30 px at 480x320, ~70 px at 1200x800) lies outside the three views blended there.
+// range(0): output width; range(1): GlSceneRendererOptions::holes_from_other_views (1 on, 0 off).
+// The CPU scene the step needs is made on the warm-up frame, so the figure is a clip's per-frame
+// cost; `other_view_pixels` is what the step covered.
+void BM_GlHolesFromOtherViews(benchmark::State& state) {
+  const CameraModel camera = CameraOfWidth(static_cast<int>(state.range(0)));
+  const Eigen::Quaterniond turned(Eigen::AngleAxisd(4.0 * M_PI / 180, Eigen::Vector3d::UnitY()));
+  VirtualCamera request;
+  request.camera = camera;
+  request.cam_from_world = Rigid3(turned, -(turned * Eigen::Vector3d(0.002, 0.004, 0)));
+  auto renderer = GlSceneRenderer::Create(
+      testing::LayeredPlaneScene(render::testing::PlaneScene{}, 3, 3, kBaselineM, camera, kTilePx), [&] {
+        GlSceneRendererOptions options = OptionsFromEnvironment();
+        options.holes_from_other_views = state.range(1) != 0;
+        return options;
+      }());
+  // The first frame also makes the step's CPU scene (and compiles llvmpipe's shader variants).
+  const std::clock_t first_start = std::clock();
+  if (!renderer.ok() || !(*renderer)->Render(request).ok()) {
+    state.SkipWithError(renderer.ok() ? "warm-up frame failed" : renderer.status().ToString().c_str());
+    return;
+  }
+  state.counters["first_frame_cpu_ms"] = 1e3 * static_cast<double>(std::clock() - first_start) / CLOCKS_PER_SEC;
+  double holes = 0, covered = 0;
+  int frames = 0;
+  for (auto _ : state) {
+    auto frame = (*renderer)->Render(request);
+    if (!frame.ok()) {
+      state.SkipWithError(frame.status().ToString().c_str());
+      return;
+    }
+    benchmark::DoNotOptimize(frame->bgr.data);
+    holes += frame->holes.hole_ratio;
+    covered += (*renderer)->last_frame().other_view_pixels;
+    ++frames;
+  }
+  state.counters["hole_ratio"] = holes / std::max(frames, 1);
+  state.counters["other_view_pixels"] = covered / std::max(frames, 1);
+}
+BENCHMARK(BM_GlHolesFromOtherViews)->ArgsProduct({{480, 1200}, {1, 0}})->ArgNames({"width", "other_views"})
+    ->Unit(benchmark::kMillisecond)->MeasureProcessCPUTime()->UseRealTime();
 
 // Where a GL frame's time goes: the process CPU ms of each pass (GlFrameStats; a glFinish after
 // each GL pass), the draws and the segment rectangles, averaged over the frames.

@@ -133,6 +133,30 @@ TEST_P(GlSceneRendererTest, CameraFarOutsideTheRigLeavesHolesNotGarbage) {
   EXPECT_TRUE(frame->sources.empty() || frame->sources.size() <= 3u);
 }
 
+// Large holes are drawn again from other views on a CPU scene made on the first frame that needs
+// one (gl_agreement_test checks the result against the CPU reference). When that scene cannot be
+// made (here: two views with one id, which LayeredScene refuses), the frame is still drawn, its
+// holes filled from their borders, and a warning says so, once.
+TEST_P(GlSceneRendererTest, HolesFromOtherViewsDegradeToTheFillWhenNoCpuSceneCanBeMade) {
+  std::vector<PosedLayeredView> views = Scene();
+  views[1].depth.id = views[0].depth.id;
+  auto renderer = Make(std::move(views));
+  ASSERT_TRUE(renderer.ok()) << renderer.status().ToString();
+  EXPECT_TRUE((*renderer)->warnings().empty());
+  VirtualCamera camera;
+  camera.camera = kCamera;
+  camera.cam_from_world = PoseAt(Eigen::Vector3d(-0.3, 0.0, 0.5));  // a strip at the left edge never seen
+  for (int frame_index = 0; frame_index < 2; ++frame_index) {
+    auto frame = (*renderer)->Render(camera);
+    ASSERT_TRUE(frame.ok()) << frame.status().ToString();
+    EXPECT_GT(frame->holes.hole_ratio, 0.01);
+    EXPECT_EQ((*renderer)->last_frame().other_view_pixels, 0);
+  }
+  ASSERT_EQ((*renderer)->warnings().size(), 1u) << ::testing::PrintToString((*renderer)->warnings());
+  EXPECT_THAT((*renderer)->warnings()[0], HasSubstr("holes are filled from their borders only"));
+  EXPECT_THAT((*renderer)->warnings()[0], HasSubstr("appears twice"));
+}
+
 TEST_P(GlSceneRendererTest, BadTexelsAndPlanesAreDroppedAndCounted) {
   std::vector<PosedLayeredView> views = Scene();
   views[1].depth.layers[0].weight.at<float>(10, 10) = std::numeric_limits<float>::quiet_NaN();
