@@ -85,6 +85,16 @@ StatusOr<Subject> SubjectFromBox(const View& view, const DepthMap* depth, const 
   return subject;
 }
 
+DetectedFaces DetectFaces(cv::Mat image, ViewId view, const FaceDetector& detector, const FaceDetectionOptions& options) {
+  const Clock::time_point start = Clock::now();
+  DetectedFaces found;
+  found.view = view;
+  found.faces = detector.Detect(image, options);
+  found.detector = detector.Describe();
+  found.ms = MsSince(start);
+  return found;
+}
+
 StatusOr<SubjectSearch> FindSubjects(const std::vector<View>& views, const std::vector<DepthMap>& depths,
                                      int centre_index, const FaceDetector* detector, const DirectOptions& options,
                                      const DetectedFaces* detected) {

@@ -36,6 +36,10 @@ struct DetectedFaces {
   double ms = 0;         // wall time of the detection
 };
 
+// Runs `detector` on one view's image and times it. The image is taken by value (shared, not
+// copied) so that the pipeline can detect on another thread while the views change.
+DetectedFaces DetectFaces(cv::Mat image, ViewId view, const FaceDetector& detector, const FaceDetectionOptions& options);
+
 struct SubjectSearch {
   std::vector<Subject> subjects;   // largest first, at most options.faces.max_subjects
   std::vector<std::string> notes;  // rejected detections and why, low-confidence depth

@@ -260,13 +260,7 @@ StatusOr<PipelineReport> RunPipeline(const FrameSet& capture, const RigCalibrati
     const View& centre = views[direct::CentreViewIndex(views)];
     // The image is shared (reference-counted), not borrowed: `views` may change meanwhile.
     centre_faces = std::async(std::launch::async, [image = centre.image, id = centre.id, &options] {
-      const auto detect_start = Clock::now();
-      direct::DetectedFaces found;
-      found.view = id;
-      found.faces = options.face_detector->Detect(image, options.direct.faces);
-      found.detector = options.face_detector->Describe();
-      found.ms = MsSince(detect_start);
-      return found;
+      return direct::DetectFaces(image, id, *options.face_detector, options.direct.faces);
     });
   }
 

@@ -11,7 +11,6 @@
 // fallback textures, which the cascades do not take for faces).
 #include <benchmark/benchmark.h>
 
-#include <chrono>
 #include <cstdio>
 #include <ctime>
 #include <map>
@@ -20,6 +19,7 @@
 #include "device/face_cascades.h"
 #include "pipeline/direct/scene_geometry.h"
 #include "pipeline/direct/splat_coverage.h"
+#include "pipeline/direct/subjects.h"
 #include "pipeline/direct/taxonomy.h"
 #include "pipeline/direct/valid_viewpoints.h"
 #include "tests/e2e/direction_shot.h"
@@ -56,12 +56,7 @@ void BM_PlanCameraPath(benchmark::State& state) {
   // As in the pipeline (pipeline/run), the centre view's faces are found beside the depth stage,
   // before planning: detected once here, outside the timed loop.
   const View& centre = shot->views[direct::CentreViewIndex(shot->views)];
-  direct::DetectedFaces faces;
-  faces.view = centre.id;
-  faces.detector = (*detector)->Describe();
-  const auto detect_start = std::chrono::steady_clock::now();
-  faces.faces = (*detector)->Detect(centre.image, options.faces);
-  faces.ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - detect_start).count();
+  const direct::DetectedFaces faces = direct::DetectFaces(centre.image, centre.id, **detector, options.faces);
   DirectionContext context;
   context.face_detector = detector->get();
   context.centre_faces = &faces;
