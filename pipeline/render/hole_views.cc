@@ -138,10 +138,21 @@ OtherViewsReport CoverHolesFromOtherViews(const LayeredScene& scene, const Camer
   cv::Mat holes;
   const cv::Rect crop = LargeHoles(*known, small_hole_radius_px, &holes);
   if (crop.empty()) return report;
+  report.covered = CoverLargeHolesFromOtherViews(scene, camera, cam_from_world, slots, quality, covered_alpha, holes,
+                                                 crop, known, composite);
+  return report;
+}
+
+int CoverLargeHolesFromOtherViews(const LayeredScene& scene, const CameraModel& camera, const Rigid3& cam_from_world,
+                                  const std::vector<ViewSlots>& slots, RenderQuality quality, double covered_alpha,
+                                  const cv::Mat& holes, const cv::Rect& crop, cv::Mat* known,
+                                  FrameComposite* composite) {
+  PX_CHECK(known != nullptr && composite != nullptr) << "CoverLargeHolesFromOtherViews needs outputs";
+  if (crop.empty() || scene.views().size() <= 1) return 0;
   const std::vector<ViewSlots> crop_slots = OtherViewSlots(scene, camera, cam_from_world, slots, holes, crop);
   if (std::none_of(crop_slots.begin(), crop_slots.end(),
                    [](const ViewSlots& s) { return s.view[0] != ViewSlots::kNone; })) {
-    return report;
+    return 0;
   }
   // The crop as a camera of its own: the same rays, the principal point moved.
   CameraModel crop_camera = camera;
@@ -157,6 +168,7 @@ OtherViewsReport CoverHolesFromOtherViews(const LayeredScene& scene, const Camer
   } else {
     CompositePreview(scene, frame_views, crop_slots, crop.width, crop.height, true, &drawn);
   }
+  int covered = 0;
   for (int y = 0; y < crop.height; ++y) {
     const uint8_t* hole = holes.ptr<uint8_t>(crop.y + y) + crop.x;
     const float* alpha = drawn.alpha.ptr<float>(y);
@@ -166,10 +178,10 @@ OtherViewsReport CoverHolesFromOtherViews(const LayeredScene& scene, const Camer
       composite->colour.at<cv::Vec3f>(p) = drawn.colour.at<cv::Vec3f>(y, x);
       composite->depth.at<float>(p) = drawn.depth.at<float>(y, x);
       known->at<uint8_t>(p) = 255;
-      ++report.covered;
+      ++covered;
     }
   }
-  return report;
+  return covered;
 }
 
 }  // namespace px::render

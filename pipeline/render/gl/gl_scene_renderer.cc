@@ -715,10 +715,9 @@ int GlSceneRenderer::CoverHolesFromOtherViews(const VirtualCamera& camera, const
   FrameComposite composite;  // the read-back frame's colour and depth, drawn into in place
   composite.colour = *colour;
   composite.depth = *depth;
-  return render::CoverHolesFromOtherViews(*scene, camera.camera, camera.cam_from_world, hole_slots_,
-                                          RenderQuality::kPreview, RenderOptions{}.covered_alpha, kHoleWindowRadiusPx,
-                                          known, &composite)
-      .covered;
+  return CoverLargeHolesFromOtherViews(*scene, camera.camera, camera.cam_from_world, hole_slots_,
+                                       RenderQuality::kPreview, RenderOptions{}.covered_alpha, large, crop, known,
+                                       &composite);
 }
 
 StatusOr<CoverageReport> GlSceneRenderer::Coverage(const CameraModel& camera, const Rigid3& cam_from_world) {
