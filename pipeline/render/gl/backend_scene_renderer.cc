@@ -43,6 +43,8 @@ StatusOr<std::unique_ptr<BackendSceneRenderer>> BackendSceneRenderer::Create(
       GlSceneRendererOptions gl_options;
       gl_options.viewing_weight_exponent = render.viewing_weight_exponent;
       gl_options.holes_from_other_views = render.holes_from_other_views;
+      gl_options.seam_skirts = render.seam_skirts;
+      gl_options.seam_planes = render.seam_planes;
       StatusOr<std::unique_ptr<GlSceneRenderer>> gl =
           GlSceneRenderer::Create(std::move(posed), std::move(choice.context), gl_options);
       if (gl.ok()) {

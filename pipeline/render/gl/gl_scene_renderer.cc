@@ -169,6 +169,8 @@ StatusOr<std::unique_ptr<GlSceneRenderer>> GlSceneRenderer::Create(std::vector<P
   std::unique_ptr<GlSceneRenderer> renderer(new GlSceneRenderer());
   renderer->viewing_weight_exponent_ = options.viewing_weight_exponent;
   renderer->holes_from_other_views_ = options.holes_from_other_views;
+  renderer->seam_skirts_ = options.seam_skirts;
+  renderer->seam_planes_ = options.seam_planes;
   renderer->context_ = std::move(context);
   renderer->views_ = std::move(views);
   ScopedCurrent current(renderer->context_.get());
@@ -202,8 +204,8 @@ Status GlSceneRenderer::Upload() {
   std::vector<Eigen::Vector3d> centres, axes, x_axes;
   for (int v = 0; v < static_cast<int>(views_.size()); ++v) {
     LayeredDepthView& view = views_[v].depth;
-    // As the CPU reference's texels (its default options).
-    view = WithSeamSkirts(WithSeamPlanes(view, SeamPlaneOptions()), SeamSkirtOptions());
+    // As the CPU reference's texels (LayeredScene::Create).
+    view = WithSeamSkirts(WithSeamPlanes(view, seam_planes_), seam_skirts_);
     const std::string name = ViewName(view, v);
     const int w = view.camera.width, h = view.camera.height;
     if (w > max_size || h > max_size) {
@@ -661,7 +663,7 @@ const LayeredScene* GlSceneRenderer::OtherViewsScene() {
     poses.push_back({views_[v].depth.id, cv::Mat(), views_[v].depth.camera, views_[v].cam_from_world});
     layers.push_back(views_[v].depth);
   }
-  // views_ carry the seam planes and skirts already (Upload, the CPU reference's defaults).
+  // views_ carry the seam planes and skirts already (Upload).
   RenderOptions scene_options;
   scene_options.seam_planes.seam_weight = 0;
   scene_options.seam_skirts.max_step = 0;

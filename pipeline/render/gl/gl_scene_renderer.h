@@ -47,6 +47,10 @@ struct GlSceneRendererOptions {
   // are drawn again on the CPU from the views the mesh did not blend there (hole_views.h), from a
   // CPU LayeredScene made on the first frame that needs it.
   bool holes_from_other_views = RenderOptions{}.holes_from_other_views;
+  // RenderOptions::seam_skirts and seam_planes (the same defaults): applied to the views' texels
+  // once, on upload, as the CPU reference's LayeredScene applies them.
+  SeamSkirtOptions seam_skirts = RenderOptions{}.seam_skirts;
+  SeamPlaneOptions seam_planes = RenderOptions{}.seam_planes;
   Status Validate() const;
 };
 
@@ -138,6 +142,8 @@ class GlSceneRenderer final : public SceneRenderer {
   bool time_passes_ = false;
   double viewing_weight_exponent_ = 1;
   bool holes_from_other_views_ = true;
+  SeamSkirtOptions seam_skirts_;
+  SeamPlaneOptions seam_planes_;
   // Holes from other views: the CPU scene made from views_ on first use, each GL view's index in
   // that scene (-1: the scene left it out), and the read-back slots turned into the scene's.
   std::unique_ptr<LayeredScene> other_views_scene_;
