@@ -19,6 +19,8 @@ Status ApplyDepthOptionOverride(const std::string& text, DepthOptions* options) 
       {"matching.sgm_step_penalty", &m.sgm_step_penalty}, {"matching.sgm_jump_penalty", &m.sgm_jump_penalty},
       {"segments.compactness", &options->segments.compactness},
       {"segments.inlier_px", &options->segments.inlier_px},
+      {"segments.coplanar_keep_fraction", &options->segments.coplanar_keep_fraction},
+      {"segments.coplanar_tolerance_px", &options->segments.coplanar_tolerance_px},
       {"segments.pixel_depth_tolerance_px", &options->segments.pixel_depth_tolerance_px},
       {"segments.pixel_depth_min_confidence", &options->segments.pixel_depth_min_confidence},
       {"segments.refine_offset_px", &options->segments.refine_offset_px},
@@ -35,9 +37,11 @@ Status ApplyDepthOptionOverride(const std::string& text, DepthOptions* options) 
       {"segments.refine_random_trials", &options->segments.refine_random_trials},
       {"segments.slanted_ring_px", &options->segments.slanted_ring_px},
       {"min_working_width_px", &options->min_working_width_px}};
-  if (name == "fill_unconfirmed") {
-    if (number != 0 && number != 1) return InvalidArgumentError("--option fill_unconfirmed: '" + value + "' is not 0 or 1");
-    options->fill_unconfirmed = number != 0;
+  const std::pair<const char*, bool*> bools[] = {{"fill_unconfirmed", &options->fill_unconfirmed}};
+  for (const auto& [field, target] : bools) {
+    if (name != field) continue;
+    if (number != 0 && number != 1) return InvalidArgumentError("--option " + name + ": '" + value + "' is not 0 or 1");
+    *target = number != 0;
     return OkStatus();
   }
   for (const auto& [field, target] : doubles) {

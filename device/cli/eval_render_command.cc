@@ -10,6 +10,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "device/cli/depth_option_override.h"
 #include "device/cli/machine_info.h"
 #include "device/cli/run_or_fail.h"
 #include "device/cli/scene_path.h"
@@ -39,6 +40,7 @@ struct EvalRenderArgs {
   double edge_front_weight = LayeredFromDepthOptions().edge_front_weight;
   bool skip_hci_full_grid = false;
   bool holes_from_other_views = RenderOptions().holes_from_other_views;
+  std::vector<std::string> depth_overrides;  // name=value, as `eval depth --option`
   std::string dump_dir;
   bool json = false;
 };
@@ -66,6 +68,9 @@ Status RunEvalRender(const EvalRenderArgs& args) {
   options.hci_full_grid = !args.skip_hci_full_grid;
   options.render.holes_from_other_views = args.holes_from_other_views;
   options.dump_dir = args.dump_dir;
+  for (const std::string& text : args.depth_overrides) {
+    PX_RETURN_IF_ERROR(ApplyDepthOptionOverride(text, &options.depth_stage));
+  }
   options.depths.clear();
   for (const std::string& depth : args.depths) {
     PX_ASSIGN_OR_RETURN(eval::EvalDepth source, eval::ParseEvalDepth(depth));
@@ -248,6 +253,10 @@ void AddEvalRenderCommand(CLI::App& eval) {
                      "weights)")
       ->capture_default_str();
   render->add_option("--sim-scale", args->sim_scale, "Scale of the simulated lattices' tiles, (0, 1]")
+      ->capture_default_str();
+  render->add_option("--option", args->depth_overrides,
+                     "Override one of the depth stage's options for --depth stage, name=value as in "
+                     "pipeline/depth/depth_options.h (repeatable), e.g. --option segments.refine_iterations=2")
       ->capture_default_str();
   render->add_option("--block-px", args->block_px,
                      "Side of the square segments made from per-pixel depth, [2, 64] (smaller follows curved "

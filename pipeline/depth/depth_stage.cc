@@ -12,6 +12,7 @@
 #include "pipeline/core/stage_clock.h"
 #include "pipeline/depth/pixel_depth_near_planes.h"
 #include "pipeline/depth/consistency.h"
+#include "pipeline/depth/coplanar_groups.h"
 #include "pipeline/depth/cost_volume.h"
 #include "pipeline/depth/fill_unconfirmed.h"
 #include "pipeline/depth/neighbour_views.h"
@@ -244,6 +245,17 @@ ReferenceDepth MatchReference(const std::vector<View>& views, const std::vector<
   std::vector<depth::SegmentPlane> segment_planes =
       depth::FitSegmentPlanes(segments, pixel_inverse_depth, selection.confidence, fit);
   const std::vector<std::vector<int>> segment_pixels = depth::SegmentPixels(segments);
+  if (so.coplanar_keep_fraction > 0) {
+    depth::CoplanarGroupOptions coplanar;
+    coplanar.min_weight = fit.min_weight;
+    coplanar.tolerance = so.coplanar_tolerance_px / (ref.camera.fx * nearest_m);
+    coplanar.min_support = so.min_support;
+    coplanar.keep_fraction = so.coplanar_keep_fraction;
+    const depth::CoplanarGroups groups = depth::MergeCoplanarSegments(
+        segments, segment_pixels, pixel_inverse_depth, selection.confidence, coplanar, &segment_planes);
+    Logger("depth")->debug("view {}: {} of {} segments in {} coplanar groups", view.id.value, groups.grouped_segments,
+                           segments.count, groups.groups);
+  }
   const depth::VolumePlaneCost volume_cost(volume.slices, planes, segment_pixels);
   depth::AssignUnfittedSegments(segments, std::cref(volume_cost), {}, UnseenFractions(segment_pixels, volume.sampled),
                                 so.propagation_cost_margin, &segment_planes);

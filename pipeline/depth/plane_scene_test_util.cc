@@ -7,6 +7,18 @@
 
 namespace px::depth::testing {
 
+Superpixels BlockSegments(int cols, int rows, int block_px) {
+  Superpixels blocks;
+  blocks.labels.create(rows, cols, CV_32S);
+  const int per_row = (cols + block_px - 1) / block_px;
+  for (int y = 0; y < rows; ++y) {
+    for (int x = 0; x < cols; ++x) blocks.labels.at<int>(y, x) = (y / block_px) * per_row + x / block_px;
+  }
+  blocks.count = per_row * ((rows + block_px - 1) / block_px);
+  ComputeSuperpixelStats(cv::Mat::zeros(rows, cols, CV_8UC3), &blocks);
+  return blocks;
+}
+
 cv::Mat RandomTexture(cv::Size size, uint64_t seed) {
   cv::RNG rng(seed);
   cv::Mat sum(size, CV_32FC3, cv::Scalar::all(0));

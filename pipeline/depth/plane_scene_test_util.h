@@ -12,8 +12,12 @@
 #include "pipeline/core/camera_model.h"
 #include "pipeline/core/rigid3.h"
 #include "pipeline/core/view.h"
+#include "pipeline/depth/superpixels.h"
 
 namespace px::depth::testing {
+
+// Square blocks of block_px as the segments of a cols x rows image (a grey image's statistics).
+Superpixels BlockSegments(int cols, int rows, int block_px);
 
 // The plane z = depth_m in the world frame, covering world x in [x0, x1], y in [y0, y1]
 // (an infinite plane when the extent is empty). The texture is centred on the extent (or on the

@@ -18,19 +18,6 @@
 namespace px::depth {
 namespace {
 
-// Square blocks of block_px as segments of a cols x rows image.
-Superpixels BlockSegments(int cols, int rows, int block_px) {
-  Superpixels blocks;
-  blocks.labels.create(rows, cols, CV_32S);
-  const int per_row = (cols + block_px - 1) / block_px;
-  for (int y = 0; y < rows; ++y) {
-    for (int x = 0; x < cols; ++x) blocks.labels.at<int>(y, x) = (y / block_px) * per_row + x / block_px;
-  }
-  blocks.count = per_row * ((rows + block_px - 1) / block_px);
-  ComputeSuperpixelStats(cv::Mat::zeros(rows, cols, CV_8UC3), &blocks);
-  return blocks;
-}
-
 // Mean distance of a plane from the true one over a segment: a cost whose minimum is the truth.
 PlaneCost DistanceFrom(const InversePlane& truth, const Superpixels& segments) {
   const std::vector<std::vector<int>> pixels = SegmentPixels(segments);
@@ -67,7 +54,7 @@ std::vector<SegmentPlane> LevelPlanes(int count, double u) {
 }
 
 TEST(RefineSegmentPlanesTest, OneRightPlaneSpreadsOverTheSurface) {
-  const Superpixels segments = BlockSegments(96, 64, 8);
+  const Superpixels segments = testing::BlockSegments(96, 64, 8);
   std::vector<SegmentPlane> planes = LevelPlanes(segments.count, 0.5);
   planes[0].plane = kTruth;
   PlaneRefinementOptions options;
@@ -78,7 +65,7 @@ TEST(RefineSegmentPlanesTest, OneRightPlaneSpreadsOverTheSurface) {
 }
 
 TEST(RefineSegmentPlanesTest, RandomRefinementFindsTheSlant) {
-  const Superpixels segments = BlockSegments(96, 64, 8);
+  const Superpixels segments = testing::BlockSegments(96, 64, 8);
   std::vector<SegmentPlane> planes(segments.count);
   for (int s = 0; s < segments.count; ++s) {
     const cv::Point2f c = segments.centroids[s];
@@ -98,7 +85,7 @@ TEST(RefineSegmentPlanesTest, RandomRefinementFindsTheSlant) {
 }
 
 TEST(RefineSegmentPlanesTest, ChangesStayWithinTheLimitAndInactiveSegmentsStay) {
-  const Superpixels segments = BlockSegments(96, 64, 8);
+  const Superpixels segments = testing::BlockSegments(96, 64, 8);
   std::vector<SegmentPlane> planes = LevelPlanes(segments.count, 0.5);
   PlaneRefinementOptions options;
   options.offset_inverse_m = 0.1;
@@ -137,7 +124,7 @@ TEST(SegmentMatchCostTest, TruePlaneOfASteepFloorScoresBest) {
   for (int i = 0; i < 9; ++i) {
     if (i != 4) neighbours.push_back(&working[i]);
   }
-  const Superpixels segments = BlockSegments(camera.width, camera.height, 16);
+  const Superpixels segments = testing::BlockSegments(camera.width, camera.height, 16);
   cv::Mat inverse_depth(truth[4].size(), CV_32F);
   for (int y = 0; y < inverse_depth.rows; ++y) {
     for (int x = 0; x < inverse_depth.cols; ++x) {
