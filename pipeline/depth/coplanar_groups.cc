@@ -1,11 +1,10 @@
 #include "pipeline/depth/coplanar_groups.h"
 
+#include <Eigen/Dense>
 #include <algorithm>
 #include <cmath>
 #include <deque>
 #include <numeric>
-
-#include <Eigen/Dense>
 
 #include "pipeline/core/check.h"
 
@@ -49,7 +48,9 @@ double KeptWeight(const std::vector<Sample>& samples, const InversePlane& plane,
   return kept;
 }
 
-void AddInliers(const std::vector<Sample>& samples, const InversePlane& plane, double tolerance,
+void AddInliers(const std::vector<Sample>& samples,
+                const InversePlane& plane,
+                double tolerance,
                 PlaneAccumulator* accumulator) {
   for (const Sample& s : samples) {
     if (std::abs(s.u - plane.At(s.x, s.y)) <= tolerance) accumulator->Add(s);
@@ -58,11 +59,14 @@ void AddInliers(const std::vector<Sample>& samples, const InversePlane& plane, d
 
 }  // namespace
 
-CoplanarGroups MergeCoplanarSegments(const Superpixels& segments, const std::vector<std::vector<int>>& pixels,
-                                     const cv::Mat& inverse_depth, const cv::Mat& weight,
-                                     const CoplanarGroupOptions& options, std::vector<SegmentPlane>* planes) {
-  PX_CHECK(inverse_depth.type() == CV_32F && weight.type() == CV_32F && inverse_depth.size() == segments.labels.size() &&
-           weight.size() == segments.labels.size());
+CoplanarGroups MergeCoplanarSegments(const Superpixels& segments,
+                                     const std::vector<std::vector<int>>& pixels,
+                                     const cv::Mat& inverse_depth,
+                                     const cv::Mat& weight,
+                                     const CoplanarGroupOptions& options,
+                                     std::vector<SegmentPlane>* planes) {
+  PX_CHECK(inverse_depth.type() == CV_32F && weight.type() == CV_32F &&
+           inverse_depth.size() == segments.labels.size() && weight.size() == segments.labels.size());
   PX_CHECK(options.tolerance > 0 && options.keep_fraction > 0 && options.keep_fraction <= 1);
   PX_CHECK(planes->size() == static_cast<size_t>(segments.count) && pixels.size() == planes->size());
   const int n = segments.count;
@@ -80,8 +84,8 @@ CoplanarGroups MergeCoplanarSegments(const Superpixels& segments, const std::vec
     for (int index : pixels[s]) {
       const int x = index % cols, y = index / cols;
       const float w = weight.at<float>(y, x);
-      if (w >= options.min_weight) samples[s].push_back({static_cast<float>(x), static_cast<float>(y),
-                                                         inverse_depth.at<float>(y, x), w});
+      if (w >= options.min_weight)
+        samples[s].push_back({static_cast<float>(x), static_cast<float>(y), inverse_depth.at<float>(y, x), w});
     }
     own_kept[s] = KeptWeight(samples[s], plane.plane, tolerance);
     eligible[s] = own_kept[s] > 0;
@@ -97,7 +101,7 @@ CoplanarGroups MergeCoplanarSegments(const Superpixels& segments, const std::vec
   CoplanarGroups result;
   result.group_of.assign(n, -1);
   std::vector<int> claimed_by(n, -1);  // the group a segment joined while groups grew
-  std::vector<int> tested_by(n, -1);  // the last group that tested the segment (each tests it once)
+  std::vector<int> tested_by(n, -1);   // the last group that tested the segment (each tests it once)
   int next_group = 0;
   for (int seed : order) {
     if (claimed_by[seed] != -1) continue;

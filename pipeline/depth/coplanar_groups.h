@@ -10,9 +10,8 @@
 // its own plane does, so curved surfaces and depth edges stop the growth.
 #pragma once
 
-#include <vector>
-
 #include <opencv2/core.hpp>
+#include <vector>
 
 #include "pipeline/depth/segment_planes.h"
 #include "pipeline/depth/superpixels.h"
@@ -20,17 +19,17 @@
 namespace px::depth {
 
 struct CoplanarGroupOptions {
-  float min_weight = 0.2f;      // pixels with weight below this are not used (as PlaneFitOptions)
-  double tolerance = 0;         // |u - plane| for an inlier, inverse-depth units (> 0)
-  double min_support = 0.15;    // segments with less support neither seed nor join a group
+  float min_weight = 0.2f;    // pixels with weight below this are not used (as PlaneFitOptions)
+  double tolerance = 0;       // |u - plane| for an inlier, inverse-depth units (> 0)
+  double min_support = 0.15;  // segments with less support neither seed nor join a group
   // A segment joins a group when the group's plane keeps at least this fraction of the weight
   // of its pixels that its own plane keeps within `tolerance`. (0, 1].
   double keep_fraction = 0.9;
 };
 
 struct CoplanarGroups {
-  int groups = 0;            // groups of two segments or more, numbered 0 .. groups - 1
-  int grouped_segments = 0;  // segments in them
+  int groups = 0;             // groups of two segments or more, numbered 0 .. groups - 1
+  int grouped_segments = 0;   // segments in them
   std::vector<int> group_of;  // per segment: its group, or -1
 };
 
@@ -39,8 +38,11 @@ struct CoplanarGroups {
 // (PlaneSource other than kFitted and kFronto, or support under min_support) are left alone.
 // `pixels` is SegmentPixels(segments); inverse_depth and weight as for FitSegmentPlanes.
 // Deterministic.
-CoplanarGroups MergeCoplanarSegments(const Superpixels& segments, const std::vector<std::vector<int>>& pixels,
-                                     const cv::Mat& inverse_depth, const cv::Mat& weight,
-                                     const CoplanarGroupOptions& options, std::vector<SegmentPlane>* planes);
+CoplanarGroups MergeCoplanarSegments(const Superpixels& segments,
+                                     const std::vector<std::vector<int>>& pixels,
+                                     const cv::Mat& inverse_depth,
+                                     const cv::Mat& weight,
+                                     const CoplanarGroupOptions& options,
+                                     std::vector<SegmentPlane>* planes);
 
 }  // namespace px::depth

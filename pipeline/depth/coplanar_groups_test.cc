@@ -47,7 +47,8 @@ CoplanarGroupOptions GroupOptions() {
 struct CentreErrors {
   double worst = 0, mean = 0;
 };
-CentreErrors CentreError(const std::vector<SegmentPlane>& planes, const Superpixels& segments,
+CentreErrors CentreError(const std::vector<SegmentPlane>& planes,
+                         const Superpixels& segments,
                          const std::function<double(double, double)>& truth) {
   CentreErrors errors;
   for (int s = 0; s < segments.count; ++s) {
@@ -80,8 +81,11 @@ TEST(CoplanarGroupsTest, SegmentsOnOnePlaneShareABetterPlaneAndADepthStepSplitsT
   EXPECT_EQ(right_groups.size(), 1u);
   EXPECT_NE(*left_groups.begin(), *right_groups.begin());
   const CentreErrors grouped = CentreError(planes, segments, truth);
-  std::printf("centre error, mean / worst: own planes %.5f / %.5f, group planes %.5f / %.5f\n", own.mean, own.worst,
-              grouped.mean, grouped.worst);
+  std::printf("centre error, mean / worst: own planes %.5f / %.5f, group planes %.5f / %.5f\n",
+              own.mean,
+              own.worst,
+              grouped.mean,
+              grouped.worst);
   EXPECT_LT(grouped.mean, 0.25 * own.mean);
   EXPECT_LT(grouped.worst, 0.5 * own.worst);
 }

@@ -13,6 +13,11 @@ namespace {
 constexpr double kInf = std::numeric_limits<double>::infinity();
 constexpr double kMinT = 1e-4;  // metres of depth: nothing is rendered closer than 0.1 mm
 constexpr int kBlockSize = 16;  // pixels per side of the blocks that share one object cull
+// Rays per side with which a pixel whose ss x ss rays disagree (an edge) is rendered again: a
+// sensor pixel integrates the coverage of an edge, which 2 x 2 rays estimate in steps of a
+// quarter at a phase that differs from view to view (noise no renderer of the views can
+// predict; pipeline/render/README.md).
+constexpr int kEdgeSupersampling = 8;
 
 using Vec3 = Eigen::Vector3d;
 
@@ -405,7 +410,7 @@ RenderedView RenderView(const Scene& scene, const CameraRays& rays, const Rigid3
   const ViewTracer tracer(scene, origin, cam_from_world.rotation.toRotationMatrix());
   // Neighbouring pixels are 1/f apart at unit depth, supersamples 1/(f ss).
   const double pixel_spacing = 1.0 / (0.5 * (camera.fx + camera.fy));
-  const double sample_spacing = pixel_spacing / ss;
+  const double edge_sample_spacing = pixel_spacing / kEdgeSupersampling;
   const int rays_per_pixel = rays.rays_per_pixel();
 
   RenderedView out;
@@ -414,8 +419,7 @@ RenderedView RenderView(const Scene& scene, const CameraRays& rays, const Rigid3
   const int num_bands = (camera.height + kBlockSize - 1) / kBlockSize;
   cv::parallel_for_(cv::Range(0, num_bands), [&](const cv::Range& range) {
     Candidates candidates;
-    Hit sample_hits[RenderOptions::kMaxSupersampling * RenderOptions::kMaxSupersampling];
-    Vec3 sample_dirs[RenderOptions::kMaxSupersampling * RenderOptions::kMaxSupersampling];
+    std::vector<Hit> centre_hits((kBlockSize + 2) * (kBlockSize + 2));
     for (int band = range.start; band < range.end; ++band) {
       const int y0 = band * kBlockSize, y1 = std::min(camera.height, y0 + kBlockSize);
       for (int x0 = 0; x0 < camera.width; x0 += kBlockSize) {
@@ -434,25 +438,46 @@ RenderedView RenderView(const Scene& scene, const CameraRays& rays, const Rigid3
             }
           }
         }
-        tracer.Cull(axis, std::acos(std::clamp(min_cos, -1.0, 1.0)), &candidates);
+        // Widened by a pixel: the neighbours' centre rays and the edge rays reach further out.
+        tracer.Cull(axis, std::acos(std::clamp(min_cos, -1.0, 1.0)) + pixel_spacing, &candidates);
+
+        // The centre hits of the block and of a one-pixel border around it: an edge that crosses
+        // a pixel between its strata still parts it from a neighbour's centre.
+        const int cx0 = std::max(0, x0 - 1), cx1 = std::min(camera.width, x1 + 1);
+        const int cy0 = std::max(0, y0 - 1), cy1 = std::min(camera.height, y1 + 1);
+        const int centres_stride = cx1 - cx0;
+        for (int y = cy0; y < cy1; ++y) {
+          for (int x = cx0; x < cx1; ++x) {
+            rays.Ray(x, y, 0, &rx, &ry);
+            centre_hits[(y - cy0) * centres_stride + (x - cx0)] =
+                tracer.Trace(world_from_cam * Vec3(rx, ry, 1.0), candidates);
+          }
+        }
+        const auto centre_hit = [&](int x, int y) -> const Hit& {
+          return centre_hits[(y - cy0) * centres_stride + (x - cx0)];
+        };
 
         for (int y = y0; y < y1; ++y) {
           cv::Vec3b* bgr_row = out.bgr.ptr<cv::Vec3b>(y);
           float* depth_row = out.depth_m.ptr<float>(y);
           for (int x = x0; x < x1; ++x) {
             rays.Ray(x, y, 0, &rx, &ry);
+            const double rx0 = rx, ry0 = ry;
             const Vec3 centre_dir = world_from_cam * Vec3(rx, ry, 1.0);
-            const Hit centre = tracer.Trace(centre_dir, candidates);
-            // Geometry is supersampled; where every sample sees the same surface as the centre,
-            // the pixel is shaded once with a pixel-wide texture filter (as multisampling does),
-            // else each sample is shaded with its own footprint and the samples are averaged.
+            const Hit& centre = centre_hit(x, y);
+            // Geometry is supersampled; where every sample and every neighbour's centre sees the
+            // same surface as the centre, the pixel is shaded once with a pixel-wide texture
+            // filter (as multisampling does), else it is an edge (below).
             bool coherent = true;
             if (ss > 1) {
-              for (int k = 0; k < num_samples; ++k) {
+              for (int ny = std::max(cy0, y - 1); ny <= std::min(cy1 - 1, y + 1) && coherent; ++ny) {
+                for (int nx = std::max(cx0, x - 1); nx <= std::min(cx1 - 1, x + 1); ++nx) {
+                  coherent = coherent && centre_hit(nx, ny).SameSurface(centre);
+                }
+              }
+              for (int k = 0; k < num_samples && coherent; ++k) {
                 rays.Ray(x, y, k + 1, &rx, &ry);
-                sample_dirs[k] = world_from_cam * Vec3(rx, ry, 1.0);
-                sample_hits[k] = tracer.Trace(sample_dirs[k], candidates);
-                coherent = coherent && sample_hits[k].SameSurface(centre);
+                coherent = tracer.Trace(world_from_cam * Vec3(rx, ry, 1.0), candidates).SameSurface(centre);
               }
             }
             cv::Vec3f colour;
@@ -460,13 +485,33 @@ RenderedView RenderView(const Scene& scene, const CameraRays& rays, const Rigid3
               colour = centre.kind == HitKind::kNone ? scene.background_bgr
                                                      : tracer.Shade(centre, centre_dir, pixel_spacing, mip_bias);
             } else {
-              cv::Vec3f sum(0, 0, 0);
+              // An edge: the pixel's coverage integrated on a kEdgeSupersampling grid, its rays
+              // from the strata's affine fit (exact for a pinhole, to second order with
+              // distortion), each shaded with its own footprint.
+              const Vec3 centre_cam(rx0, ry0, 1.0);
+              double jx[2] = {0, 0}, jy[2] = {0, 0}, norm = 0;  // d ray / d offset, per axis
               for (int k = 0; k < num_samples; ++k) {
-                sum += sample_hits[k].kind == HitKind::kNone
-                           ? scene.background_bgr
-                           : tracer.Shade(sample_hits[k], sample_dirs[k], sample_spacing, mip_bias);
+                double sx, sy;
+                rays.Ray(x, y, k + 1, &sx, &sy);
+                const double ox = CameraRays::StratumOffset(k % ss, ss), oy = CameraRays::StratumOffset(k / ss, ss);
+                jx[0] += (sx - rx0) * ox;
+                jx[1] += (sy - ry0) * ox;
+                jy[0] += (sx - rx0) * oy;
+                jy[1] += (sy - ry0) * oy;
+                norm += ox * ox;
               }
-              colour = sum * (1.0f / static_cast<float>(num_samples));
+              for (double& v : jx) v /= norm;
+              for (double& v : jy) v /= norm;
+              cv::Vec3f sum(0, 0, 0);
+              for (int k = 0; k < kEdgeSupersampling * kEdgeSupersampling; ++k) {
+                const double ox = CameraRays::StratumOffset(k % kEdgeSupersampling, kEdgeSupersampling);
+                const double oy = CameraRays::StratumOffset(k / kEdgeSupersampling, kEdgeSupersampling);
+                const Vec3 dir = world_from_cam * (centre_cam + Vec3(jx[0] * ox + jy[0] * oy, jx[1] * ox + jy[1] * oy, 0));
+                const Hit hit = tracer.Trace(dir, candidates);
+                sum += hit.kind == HitKind::kNone ? scene.background_bgr
+                                                  : tracer.Shade(hit, dir, edge_sample_spacing, mip_bias);
+              }
+              colour = sum * (1.0f / static_cast<float>(kEdgeSupersampling * kEdgeSupersampling));
             }
             bgr_row[x] = cv::Vec3b(cv::saturate_cast<uchar>(colour[0]),
                                    cv::saturate_cast<uchar>(colour[1]),

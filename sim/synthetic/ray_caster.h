@@ -2,10 +2,11 @@
 // distorted, at any pose) sees, with its exact per-pixel depth. It makes the simulated lattice
 // views and also ground-truth images of novel cameras for evaluating the renderer.
 //
-// Colour: ss x ss stratified rays per pixel (at the centres of the strata), box-filtered;
+// Colour: ss x ss stratified rays per pixel (at the centres of the strata) find the edges;
 // textures are filtered to the ray footprint (mip levels, band-limited procedurals). Where all
-// of a pixel's rays hit the same surface it is shaded once, at its centre, with a pixel-wide
-// texture filter (multisample anti-aliasing): edges get ss x ss samples, textures their filter.
+// of a pixel's rays and its 8 neighbours' centre rays hit the same surface it is shaded once, at
+// its centre, with a pixel-wide texture filter (multisample anti-aliasing); an edge pixel is the
+// box-filtered mean of 8 x 8 rays over it, as a sensor pixel integrates its coverage.
 // Depth: z (camera frame, metres) of the surface hit by the ray through the pixel centre,
 // 0 where it hits nothing. Rows are rendered in parallel (cv::parallel_for_); every pixel is
 // computed independently, so the output is bit-identical for any thread count.

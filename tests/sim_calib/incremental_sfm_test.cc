@@ -176,7 +176,10 @@ TEST(IncrementalSfmSimTest, ShearedFrustaGridWithExactIntrinsics) {
   const Figures figures = Compare(*result, set);
   Print("sheared grid, exact intrinsics", *result, figures);
   EXPECT_EQ(result->report.num_registered, 9);
-  EXPECT_LT(figures.rotation_deg, 0.05);
+  // Central principal points would need turns of 0.61 deg (the 15.7 px shift). Measured 0.036 deg
+  // (initial pair 5-6) before the simulator integrated edge pixels over 8x8 rays, 0.160 deg
+  // (initial pair 3-5, centres 0.028 baselines) since: the initial pair moves it.
+  EXPECT_LT(figures.rotation_deg, 0.2);
   EXPECT_LT(figures.centre, 0.05);
 }
 
