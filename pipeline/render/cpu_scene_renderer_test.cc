@@ -1,5 +1,6 @@
 #include "pipeline/render/cpu_scene_renderer.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <limits>
@@ -89,6 +90,48 @@ TEST_F(CpuSceneRendererTest, AtASourceViewTheRenderIsThatView) {
   EXPECT_EQ(frame->holes.hole_ratio, 0.0);
   ASSERT_FALSE(frame->sources.empty());
   EXPECT_EQ(frame->sources.front(), centre.id);
+}
+
+// At a depth edge's matte a view sees its front layer's colour over its back layer's, each with
+// its own share (the depth stage's two layers). The offline soft z must keep that view's own
+// matting, as the preview's rendering buffers do, and not drop the back layer as a surface
+// hidden behind the front one. Here each band pixel's layers are pushed 40 levels apart around
+// its colour, so that only both layers together give the view's image back.
+TEST_F(CpuSceneRendererTest, OfflineKeepsEachViewsBoundaryMatteAsThePreviewDoes) {
+  LayeredFromDepthOptions matte;
+  matte.edge_front_weight = 0.5;
+  render::testing::MakeLayeredLattice(scene_, 3, 3, kBaselineM, kCamera, &views_, &layers_, matte);
+  cv::Mat band(kCamera.height, kCamera.width, CV_8U, cv::Scalar(0));
+  for (LayeredDepthView& view : layers_) {
+    for (int y = 0; y < kCamera.height; ++y) {
+      for (int x = 0; x < kCamera.width; ++x) {
+        if (view.layers[1].weight.at<float>(y, x) != 0.5f || view.layers[0].weight.at<float>(y, x) != 0.5f) continue;
+        cv::Vec3b& front = view.layers[0].colour.at<cv::Vec3b>(y, x);
+        cv::Vec3b& back = view.layers[1].colour.at<cv::Vec3b>(y, x);
+        for (int c = 0; c < 3; ++c) {
+          const int mixed = (front[c] + back[c]) / 2;
+          const int spread = std::min({40, mixed, 255 - mixed});
+          front[c] = static_cast<uint8_t>(mixed + spread);
+          back[c] = static_cast<uint8_t>(mixed - spread);
+        }
+        if (view.id == views_[4].id) band.at<uint8_t>(y, x) = 255;
+      }
+    }
+  }
+  ASSERT_GT(cv::countNonZero(band), 100);
+  const View& centre = views_[4];
+  for (RenderQuality quality : {RenderQuality::kPreview, RenderQuality::kOffline}) {
+    RenderOptions options;
+    options.quality = quality;
+    auto renderer = Make(options);
+    ASSERT_NE(renderer, nullptr);
+    StatusOr<FrameRender> frame = renderer->Render(At(centre.camera, centre.cam_from_world));
+    ASSERT_TRUE(frame.ok()) << frame.status().ToString();
+    const double psnr = MaskedPsnr(frame->bgr, centre.image, band);
+    std::printf("%s at the centre lens: PSNR %.2f dB on its %d matte pixels\n",
+                std::string(RenderQualityName(quality)).c_str(), psnr, cv::countNonZero(band));
+    EXPECT_GT(psnr, 40.0) << RenderQualityName(quality);
+  }
 }
 
 TEST_F(CpuSceneRendererTest, CoverageAgreesWithRenderAndIsCheapAtReducedSize) {

@@ -92,12 +92,20 @@ void CompositeOffline(const LayeredScene& scene, const std::vector<FrameView>& f
           }
           if (!(z_ref < std::numeric_limits<float>::infinity())) z_ref = z_any;
           if (!(z_ref < std::numeric_limits<float>::infinity())) continue;
+          // A fragment seen through a nearer one of its own view (a boundary matte's other layer)
+          // is part of what that view sees there: it weighs at least as much as that view's
+          // front fragment, so each view keeps its own matting, as in the preview's buffers.
+          float front_weight[3] = {-1, -1, -1};
+          for (size_t i = begin; i < next; ++i) {
+            const int slot = fragments[i].key - first_key;
+            if (front_weight[slot] < 0 && share[i] > 0) front_weight[slot] = soft_z.Weight(fragments[i].z - z_ref);
+          }
           float sum_omega = 0, sum_gw = 0, sum_gwz = 0;
           float bgr[3] = {0, 0, 0};
           for (size_t i = begin; i < next; ++i) {
             const int slot = fragments[i].key - first_key;
             if (!(view_weight[slot] > 0) || share[i] <= 0) continue;
-            const float w = soft_z.Weight(fragments[i].z - z_ref);
+            const float w = std::max(soft_z.Weight(fragments[i].z - z_ref), front_weight[slot]);
             const float gw = share[i] * w;
             const float omega = view_weight[slot] * gw;
             sum_omega += omega;
