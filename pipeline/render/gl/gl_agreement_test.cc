@@ -64,17 +64,23 @@ class GlAgreementTest : public ::testing::TestWithParam<GlPlatform> {
  protected:
   void SetUp() override { Prepare(3, 3); }
   // Both renderers on a rows x cols lattice of the scene, lenses baseline_m apart.
-  void Prepare(int rows, int cols, double baseline_m = kBaselineM) {
+  // Both with the same `render` options (the reference's defaults unless given: both draw large
+  // holes again from the views the mesh did not blend there, hole_views.h, before filling).
+  void Prepare(int rows, int cols, double baseline_m = kBaselineM, const RenderOptions& render = {}) {
     testing::MakeLayeredLattice(scene_, rows, cols, baseline_m, kCamera, &views_, &layers_);
-    // The reference with its default options: both draw large holes again from the views the
-    // mesh did not blend there (hole_views.h) before filling.
-    auto cpu = CpuSceneRenderer::Create(views_, layers_, RenderOptions());
+    auto cpu = CpuSceneRenderer::Create(views_, layers_, render);
     ASSERT_TRUE(cpu.ok()) << cpu.status().ToString();
     cpu_ = std::move(cpu).value();
     std::vector<PosedLayeredView> posed;
     for (size_t v = 0; v < views_.size(); ++v) posed.push_back({layers_[v], views_[v].cam_from_world});
     GlSceneRendererOptions options;
     options.context.platform = GetParam();
+    options.viewing_weight_exponent = render.viewing_weight_exponent;
+    options.holes_from_other_views = render.holes_from_other_views;
+    options.seam_skirts = render.seam_skirts;
+    options.seam_planes = render.seam_planes;
+    options.soft_z_gamma_fraction = render.soft_z_gamma_fraction;
+    options.hole_window_radius_px = render.hole_window_radius_px;
     auto gl = GlSceneRenderer::Create(std::move(posed), options);
     ASSERT_TRUE(gl.ok()) << gl.status().ToString();
     gl_ = std::move(gl).value();
@@ -241,6 +247,24 @@ TEST_P(GlAgreementTest, HolesFromOtherViewsAgreeWithTheCpuReference) {
   EXPECT_LT(a.coverage_disagree, 0.001);
   EXPECT_NEAR(a.hole_ratio_gl, a.hole_ratio_cpu, 0.001);
   EXPECT_NEAR(a.hole_score_gl, a.hole_score_cpu, 0.02 * std::max(a.hole_score_cpu, 0.1));
+}
+
+// The caller's soft z gamma and hole window reach GL as they reach the CPU reference: outside the
+// rig (holes at the frame's edge, filled by the reverse soft z) with a gamma 2.5 times the
+// paper's and a 5x5 window, both back ends agree as with the defaults (71.4 dB, at most 1 level
+// apart). With GL on its old fixed gamma and 7x7 window: 47.1 dB, pixels 107 levels apart.
+TEST_P(GlAgreementTest, TheCallersSoftZAndHoleWindowAgree) {
+  RenderOptions render;
+  render.soft_z_gamma_fraction = 0.25;
+  render.hole_window_radius_px = 2;
+  Prepare(3, 3, kBaselineM, render);
+  if (HasFatalFailure()) return;
+  const Agreement a = Check("gamma 0.25, 5x5 fill", Camera(PoseAt(Eigen::Vector3d(-0.12, 0.0, 0.1))));
+  EXPECT_GT(a.hole_ratio_cpu, 0.01) << "the view must have holes to test this";
+  EXPECT_GT(a.psnr_db, 50.0);
+  EXPECT_LT(a.mean_diff, 0.25);
+  EXPECT_LE(a.max_diff, 16.0);
+  EXPECT_LT(a.coverage_disagree, 0.001);
 }
 
 // A 1D (collinear) rig, four lenses in a row: the view mesh degenerates to a line and the

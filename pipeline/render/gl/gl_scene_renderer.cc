@@ -25,7 +25,6 @@ namespace {
 
 constexpr int kFloatsPerInstance = 22;  // corners 8, homography 9, plane 3, segment 1, pad 1
 constexpr double kNearDepthM = 1e-3;
-constexpr int kHoleWindowRadiusPx = RenderOptions{}.hole_window_radius_px;  // the paper's 7x7
 
 std::string ViewName(const LayeredDepthView& view, int index) {
   return "view " + std::to_string(index) + " (id " + std::to_string(view.id.value) + ")";
@@ -147,6 +146,12 @@ Status GlSceneRendererOptions::Validate() const {
     return InvalidArgumentError("gl renderer: viewing_weight_exponent " + std::to_string(viewing_weight_exponent) +
                                 " is outside (0, 1]");
   }
+  // The CPU reference's checks of the same fields, so both back ends refuse the same values.
+  RenderOptions render;
+  render.soft_z_gamma_fraction = soft_z_gamma_fraction;
+  render.hole_window_radius_px = hole_window_radius_px;
+  const Status render_status = render.Validate();
+  if (!render_status.ok()) return InvalidArgumentError("gl renderer: " + render_status.message());
   return context.Validate();
 }
 
@@ -168,6 +173,8 @@ StatusOr<std::unique_ptr<GlSceneRenderer>> GlSceneRenderer::Create(std::vector<P
   PX_RETURN_IF_ERROR(checked.Validate());
   std::unique_ptr<GlSceneRenderer> renderer(new GlSceneRenderer());
   renderer->viewing_weight_exponent_ = options.viewing_weight_exponent;
+  renderer->soft_z_gamma_fraction_ = options.soft_z_gamma_fraction;
+  renderer->hole_window_radius_px_ = options.hole_window_radius_px;
   renderer->holes_from_other_views_ = options.holes_from_other_views;
   renderer->seam_skirts_ = options.seam_skirts;
   renderer->seam_planes_ = options.seam_planes;
@@ -528,7 +535,7 @@ StatusOr<GlSceneRenderer::RawFrame> GlSceneRenderer::RenderRaw(const CameraModel
   BindTextureUnit(gl, p, "slot_weights", 6, t->slot_weights.id());
   gl.Uniform1f(gl.GetUniformLocation(p, "z_scale"), z_scale);
   gl.Uniform1f(gl.GetUniformLocation(p, "rho"), static_cast<float>(rho_m_));
-  gl.Uniform1f(gl.GetUniformLocation(p, "gamma"), static_cast<float>(rho_m_ / 10));
+  gl.Uniform1f(gl.GetUniformLocation(p, "gamma"), static_cast<float>(rho_m_ * soft_z_gamma_fraction_));
   gl.BindVertexArray(empty_vertex_array_.id());
   gl.DrawArrays(GL_TRIANGLES, 0, 3);
 
@@ -631,7 +638,8 @@ StatusOr<FrameRender> GlSceneRenderer::Render(const VirtualCamera& camera) {
     if (holes_from_other_views_) {
       stats_.other_view_pixels = CoverHolesFromOtherViews(camera, raw, &known, &colour, &frame.depth_m);
     }
-    FillHolesReverseSoftZ(SoftZ(rho_m_, 0.1), kHoleWindowRadiusPx, 0, &known, &colour, &frame.depth_m);
+    FillHolesReverseSoftZ(SoftZ(rho_m_, soft_z_gamma_fraction_), hole_window_radius_px_, 0, &known, &colour,
+                          &frame.depth_m);
   }
   // A soft edge with nothing behind it keeps its share over the fill (ALGORITHM.md 6).
   for (const Partial& p : partial) {
@@ -665,6 +673,8 @@ const LayeredScene* GlSceneRenderer::OtherViewsScene() {
   }
   // views_ carry the seam planes and skirts already (Upload).
   RenderOptions scene_options;
+  scene_options.soft_z_gamma_fraction = soft_z_gamma_fraction_;
+  scene_options.hole_window_radius_px = hole_window_radius_px_;
   scene_options.seam_planes.seam_weight = 0;
   scene_options.seam_skirts.max_step = 0;
   StatusOr<LayeredScene> scene = LayeredScene::Create(poses, layers, scene_options);
@@ -689,9 +699,9 @@ const LayeredScene* GlSceneRenderer::OtherViewsScene() {
 
 int GlSceneRenderer::CoverHolesFromOtherViews(const VirtualCamera& camera, const RawFrame& raw, cv::Mat* known,
                                               cv::Mat* colour, cv::Mat* depth) {
-  // Frames whose holes the 7x7 pass closes whole need nothing, not even the scene.
+  // Frames whose holes the reverse soft z's window closes whole need nothing, not even the scene.
   cv::Mat large;
-  const cv::Rect crop = LargeHoles(*known, kHoleWindowRadiusPx, &large);
+  const cv::Rect crop = LargeHoles(*known, hole_window_radius_px_, &large);
   if (crop.empty()) return 0;
   const LayeredScene* scene = OtherViewsScene();
   if (scene == nullptr) return 0;

@@ -43,6 +43,10 @@ struct GlSceneRendererOptions {
   GlContextOptions context;
   // RenderOptions::viewing_weight_exponent (the same default; (0, 1]).
   double viewing_weight_exponent = RenderOptions{}.viewing_weight_exponent;
+  // RenderOptions::soft_z_gamma_fraction and hole_window_radius_px (the same defaults and ranges):
+  // the soft z's gamma as a fraction of the scene's depth range, and the reverse soft z's window.
+  double soft_z_gamma_fraction = RenderOptions{}.soft_z_gamma_fraction;
+  int hole_window_radius_px = RenderOptions{}.hole_window_radius_px;
   // RenderOptions::holes_from_other_views (the same default): holes larger than the fill window
   // are drawn again on the CPU from the views the mesh did not blend there (hole_views.h), from a
   // CPU LayeredScene made on the first frame that needs it.
@@ -141,6 +145,8 @@ class GlSceneRenderer final : public SceneRenderer {
   GlFrameStats stats_;
   bool time_passes_ = false;
   double viewing_weight_exponent_ = 1;
+  double soft_z_gamma_fraction_ = RenderOptions{}.soft_z_gamma_fraction;
+  int hole_window_radius_px_ = RenderOptions{}.hole_window_radius_px;
   bool holes_from_other_views_ = true;
   SeamSkirtOptions seam_skirts_;
   SeamPlaneOptions seam_planes_;
