@@ -40,13 +40,7 @@ StatusOr<std::unique_ptr<BackendSceneRenderer>> BackendSceneRenderer::Create(
       std::vector<PosedLayeredView> posed;
       posed.reserve(views.size());
       for (size_t v = 0; v < views.size(); ++v) posed.push_back({layers[v], views[v].cam_from_world});
-      GlSceneRendererOptions gl_options;
-      gl_options.viewing_weight_exponent = render.viewing_weight_exponent;
-      gl_options.soft_z_gamma_fraction = render.soft_z_gamma_fraction;
-      gl_options.hole_window_radius_px = render.hole_window_radius_px;
-      gl_options.holes_from_other_views = render.holes_from_other_views;
-      gl_options.seam_skirts = render.seam_skirts;
-      gl_options.seam_planes = render.seam_planes;
+      const GlSceneRendererOptions gl_options = GlOptionsFrom(render);
       StatusOr<std::unique_ptr<GlSceneRenderer>> gl =
           GlSceneRenderer::Create(std::move(posed), std::move(choice.context), gl_options);
       if (gl.ok()) {

@@ -73,14 +73,8 @@ class GlAgreementTest : public ::testing::TestWithParam<GlPlatform> {
     cpu_ = std::move(cpu).value();
     std::vector<PosedLayeredView> posed;
     for (size_t v = 0; v < views_.size(); ++v) posed.push_back({layers_[v], views_[v].cam_from_world});
-    GlSceneRendererOptions options;
+    GlSceneRendererOptions options = GlOptionsFrom(render);
     options.context.platform = GetParam();
-    options.viewing_weight_exponent = render.viewing_weight_exponent;
-    options.holes_from_other_views = render.holes_from_other_views;
-    options.seam_skirts = render.seam_skirts;
-    options.seam_planes = render.seam_planes;
-    options.soft_z_gamma_fraction = render.soft_z_gamma_fraction;
-    options.hole_window_radius_px = render.hole_window_radius_px;
     auto gl = GlSceneRenderer::Create(std::move(posed), options);
     ASSERT_TRUE(gl.ok()) << gl.status().ToString();
     gl_ = std::move(gl).value();

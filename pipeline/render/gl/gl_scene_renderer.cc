@@ -155,6 +155,17 @@ Status GlSceneRendererOptions::Validate() const {
   return context.Validate();
 }
 
+GlSceneRendererOptions GlOptionsFrom(const RenderOptions& render) {
+  GlSceneRendererOptions options;
+  options.viewing_weight_exponent = render.viewing_weight_exponent;
+  options.holes_from_other_views = render.holes_from_other_views;
+  options.seam_skirts = render.seam_skirts;
+  options.seam_planes = render.seam_planes;
+  options.soft_z_gamma_fraction = render.soft_z_gamma_fraction;
+  options.hole_window_radius_px = render.hole_window_radius_px;
+  return options;
+}
+
 StatusOr<std::unique_ptr<GlSceneRenderer>> GlSceneRenderer::Create(std::vector<PosedLayeredView> views,
                                                                    const GlSceneRendererOptions& options) {
   PX_RETURN_IF_ERROR(options.Validate());

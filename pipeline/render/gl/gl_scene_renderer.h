@@ -58,6 +58,9 @@ struct GlSceneRendererOptions {
   Status Validate() const;
 };
 
+// The GL options for `render` (every field that changes a preview frame), context left default.
+GlSceneRendererOptions GlOptionsFrom(const RenderOptions& render);
+
 // The last frame (Render or Coverage): what was drawn and, with set_time_passes(true), the
 // process CPU time of each pass in ms (a glFinish after each GL pass, so llvmpipe's rasteriser
 // threads count where they work; the finishes cost a little of the overlap).
