@@ -11,9 +11,7 @@
 namespace px::depth {
 namespace {
 
-struct Sample {
-  float x, y, u, w;
-};
+using Sample = PlaneSample;
 
 // Normal equations of the weighted least-squares plane u = a x + b y + c, grown sample by sample.
 class PlaneAccumulator {
@@ -70,7 +68,6 @@ CoplanarGroups MergeCoplanarSegments(const Superpixels& segments,
   PX_CHECK(options.tolerance > 0 && options.keep_fraction > 0 && options.keep_fraction <= 1);
   PX_CHECK(planes->size() == static_cast<size_t>(segments.count) && pixels.size() == planes->size());
   const int n = segments.count;
-  const int cols = segments.labels.cols;
   const double tolerance = options.tolerance;
 
   // Each fitted segment's confident pixels, and the weight its own plane keeps of them.
@@ -81,12 +78,7 @@ CoplanarGroups MergeCoplanarSegments(const Superpixels& segments,
     const SegmentPlane& plane = (*planes)[s];
     const bool fitted = plane.source == PlaneSource::kFitted || plane.source == PlaneSource::kFronto;
     if (!fitted || plane.support < options.min_support) continue;
-    for (int index : pixels[s]) {
-      const int x = index % cols, y = index / cols;
-      const float w = weight.at<float>(y, x);
-      if (w >= options.min_weight)
-        samples[s].push_back({static_cast<float>(x), static_cast<float>(y), inverse_depth.at<float>(y, x), w});
-    }
+    ConfidentSamples(pixels[s], inverse_depth, weight, options.min_weight, &samples[s]);
     own_kept[s] = KeptWeight(samples[s], plane.plane, tolerance);
     eligible[s] = own_kept[s] > 0;
   }

@@ -11,9 +11,7 @@
 namespace px::depth {
 namespace {
 
-struct Sample {
-  float x, y, u, w;
-};
+using Sample = PlaneSample;
 
 // Weighted least squares u = a (x - mx) + b (y - my) + c' over the samples flagged in `use`,
 // with a small ridge on the slopes so that a segment thin in one direction gets a level plane
@@ -151,24 +149,29 @@ SegmentPlane FitOne(const std::vector<Sample>& samples, int segment_size, const 
 
 }  // namespace
 
+void ConfidentSamples(const std::vector<int>& pixels, const cv::Mat& inverse_depth, const cv::Mat& weight,
+                      float min_weight, std::vector<PlaneSample>* samples) {
+  samples->clear();
+  const int cols = weight.cols;
+  for (int index : pixels) {
+    const int x = index % cols, y = index / cols;
+    const float w = weight.at<float>(y, x);
+    if (w < min_weight) continue;
+    samples->push_back({static_cast<float>(x), static_cast<float>(y), inverse_depth.at<float>(y, x), w});
+  }
+}
+
 std::vector<SegmentPlane> FitSegmentPlanes(const Superpixels& segments, const cv::Mat& inverse_depth,
                                            const cv::Mat& weight, const PlaneFitOptions& options) {
   PX_CHECK(inverse_depth.type() == CV_32F && weight.type() == CV_32F && inverse_depth.size() == segments.labels.size() &&
            weight.size() == segments.labels.size());
   PX_CHECK(options.inlier_tolerance > 0);
   const std::vector<std::vector<int>> pixels = SegmentPixels(segments);
-  const int cols = segments.labels.cols;
   std::vector<SegmentPlane> planes(segments.count);
   cv::parallel_for_(cv::Range(0, segments.count), [&](const cv::Range& range) {
     std::vector<Sample> samples;
     for (int s = range.start; s < range.end; ++s) {
-      samples.clear();
-      for (int index : pixels[s]) {
-        const int x = index % cols, y = index / cols;
-        const float w = weight.at<float>(y, x);
-        if (w >= options.min_weight) samples.push_back({static_cast<float>(x), static_cast<float>(y),
-                                                         inverse_depth.at<float>(y, x), w});
-      }
+      ConfidentSamples(pixels[s], inverse_depth, weight, options.min_weight, &samples);
       planes[s] = FitOne(samples, segments.sizes[s], options, options.seed + static_cast<uint64_t>(s));
     }
   });

@@ -34,6 +34,16 @@ struct SegmentPlane {
   float confidence = 0;  // [0, 1]: support times the inliers' mean confidence
 };
 
+// A pixel a plane is fitted to: its position, inverse depth and weight.
+struct PlaneSample {
+  float x, y, u, w;
+};
+
+// The pixels of one segment (`pixels`: indices y * cols + x) whose `weight` (CV_32F) reaches
+// `min_weight`, with their `inverse_depth` (CV_32F), in the pixels' order.
+void ConfidentSamples(const std::vector<int>& pixels, const cv::Mat& inverse_depth, const cv::Mat& weight,
+                      float min_weight, std::vector<PlaneSample>* samples);
+
 struct PlaneFitOptions {
   float min_weight = 0.2f;          // pixels with weight below this are not used
   double inlier_tolerance = 0;      // |u - plane| for an inlier, inverse-depth units (> 0)
