@@ -22,6 +22,7 @@ Status ApplyDepthOptionOverride(const std::string& text, DepthOptions* options) 
       {"segments.coplanar_keep_fraction", &options->segments.coplanar_keep_fraction},
       {"segments.coplanar_tolerance_px", &options->segments.coplanar_tolerance_px},
       {"segments.edge_disparity_px", &options->segments.edge_disparity_px},
+      {"segments.edge_label_smoothness", &options->segments.edge_label_smoothness},
       {"segments.pixel_depth_tolerance_px", &options->segments.pixel_depth_tolerance_px},
       {"segments.pixel_depth_min_confidence", &options->segments.pixel_depth_min_confidence},
       {"segments.refine_offset_px", &options->segments.refine_offset_px},
@@ -38,6 +39,7 @@ Status ApplyDepthOptionOverride(const std::string& text, DepthOptions* options) 
       {"segments.refine_random_trials", &options->segments.refine_random_trials},
       {"segments.slanted_ring_px", &options->segments.slanted_ring_px},
       {"segments.band_radius_px", &options->segments.band_radius_px},
+      {"segments.edge_label_radius_px", &options->segments.edge_label_radius_px},
       {"min_working_width_px", &options->min_working_width_px}};
   const std::pair<const char*, bool*> bools[] = {{"fill_unconfirmed", &options->fill_unconfirmed}};
   for (const auto& [field, target] : bools) {

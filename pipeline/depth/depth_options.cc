@@ -85,6 +85,12 @@ Status ValidateSegments(const SegmentOptions& s) {
     return OutOfRange("segments.edge_disparity_px", s.edge_disparity_px, "(0, 64]");
   }
   if (s.band_radius_px < 1 || s.band_radius_px > 16) return OutOfRange("segments.band_radius_px", s.band_radius_px, "[1, 16]");
+  if (s.edge_label_radius_px < 0 || s.edge_label_radius_px > 8) {
+    return OutOfRange("segments.edge_label_radius_px", s.edge_label_radius_px, "[0, 8]");
+  }
+  if (!(s.edge_label_smoothness >= 0 && s.edge_label_smoothness <= 255)) {
+    return OutOfRange("segments.edge_label_smoothness", s.edge_label_smoothness, "[0, 255]");
+  }
   if (!(s.pixel_depth_tolerance_px >= 0 && s.pixel_depth_tolerance_px <= 64)) {
     return OutOfRange("segments.pixel_depth_tolerance_px", s.pixel_depth_tolerance_px, "[0, 64]");
   }

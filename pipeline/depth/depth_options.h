@@ -112,6 +112,12 @@ struct SegmentOptions {
   // 2, eval render sim 36.01 -> 36.26 dB, HCI 48.55 -> 49.15, fern 24.15 -> 24.17, and eval
   // depth better on every set but HCI 3x3's BadPix.07 (20.78 -> 20.87).
   int band_radius_px = 1;
+  // Depth-edge labels (edge_labels.h): pixels within edge_label_radius_px (view resolution) of a
+  // depth edge take whichever adjacent segment's plane carries their colour most consistently
+  // into the neighbour views (full resolution), with a Potts term of edge_label_smoothness per
+  // differing 8-neighbour (colour levels). [0, 8]; 0 = the colour segmentation's boundaries.
+  int edge_label_radius_px = 2;
+  double edge_label_smoothness = 3;
   // Pixels whose own matched depth lies within this many pixels of disparity (against the
   // nearest neighbour, view resolution) of their segment's plane keep it in depth_m instead of
   // the plane (outside the two-layer bands; pixel_depth_near_planes.h): the plane fit flattens

@@ -13,6 +13,7 @@
 #include "pipeline/depth/pixel_depth_near_planes.h"
 #include "pipeline/depth/consistency.h"
 #include "pipeline/depth/coplanar_groups.h"
+#include "pipeline/depth/edge_labels.h"
 #include "pipeline/depth/cost_volume.h"
 #include "pipeline/depth/fill_unconfirmed.h"
 #include "pipeline/depth/neighbour_views.h"
@@ -292,6 +293,17 @@ ReferenceDepth MatchReference(const std::vector<View>& views, const std::vector<
   } else {
     confidence = selection.confidence;
   }
+  if (so.edge_label_radius_px > 0) {
+    std::vector<const View*> full_neighbours;
+    for (int k : result.neighbours) full_neighbours.push_back(&views[k]);
+    depth::EdgeLabelOptions edge;
+    edge.edge_inverse_depth_m = so.edge_disparity_px / (view.camera.fx * nearest_m);
+    edge.radius_px = so.edge_label_radius_px;
+    edge.smoothness = so.edge_label_smoothness;
+    const depth::EdgeLabelStats stats = depth::RefineDepthEdgeLabels(view, full_neighbours, edge, &image);
+    Logger("depth")->debug("view {}: {} of {} pixels near depth edges took another segment ({} segments emptied)",
+                           view.id.value, stats.changed, stats.reconsidered, stats.dropped_segments);
+  }
   depth::TwoLayerOptions layer_options;
   layer_options.edge_inverse_depth_m = so.edge_disparity_px / (view.camera.fx * nearest_m);
   layer_options.band_radius_px = so.band_radius_px;
@@ -310,7 +322,7 @@ ReferenceDepth MatchReference(const std::vector<View>& views, const std::vector<
   cv::min(result.layered.depth_m, options.max_depth_m, result.layered.depth_m);
   result.report.id = view.id;
   result.report.computed = true;
-  result.report.num_segments = segments.count;
+  result.report.num_segments = static_cast<int>(image.planes.size());
   result.report.num_boundary_pixels = depth::CountBoundaryPixels(result.layered);
   ExposureFractions(view.image, &result.report.saturated_fraction, &result.report.dark_fraction);
   times->layers_ms += MsSince(start);

@@ -15,6 +15,15 @@ Eigen::Matrix3d PlaneHomography(const CameraModel& ref, const Rigid3& ref_from_w
   return src.K() * plane * ref.K().inverse();
 }
 
+InverseDepthMapping MappingInto(const CameraModel& ref, const Rigid3& ref_from_world, const CameraModel& src,
+                                const Rigid3& src_from_world) {
+  const Rigid3 src_from_ref = src_from_world * ref_from_world.Inverse();
+  InverseDepthMapping mapping;
+  mapping.a = src.K() * src_from_ref.RotationMatrix() * ref.K().inverse();
+  mapping.b = src.K() * src_from_ref.translation;
+  return mapping;
+}
+
 std::vector<int> NearestNeighbourViews(const std::vector<View>& views, int reference, int count) {
   constexpr double kSameCentreM = 1e-9;
   const Eigen::Vector3d centre = CameraCentre(views[reference].cam_from_world);

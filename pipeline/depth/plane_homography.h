@@ -21,6 +21,23 @@ namespace px::depth {
 Eigen::Matrix3d PlaneHomography(const CameraModel& ref, const Rigid3& ref_from_world, const CameraModel& src,
                                 const Rigid3& src_from_world, double depth_m);
 
+// Maps a reference pixel (x, y) at inverse depth u (1/m, any surface) into a source view:
+// x_src ~ a (x, y, 1) + b u, from X_src = R K_ref^-1 (x, y, 1) / u + t scaled by u.
+struct InverseDepthMapping {
+  Eigen::Matrix3d a;
+  Eigen::Vector3d b;
+  // False where the point lies behind the source camera.
+  bool Map(double x, double y, double u, double* sx, double* sy) const {
+    const Eigen::Vector3d q = a * Eigen::Vector3d(x, y, 1.0) + b * u;
+    if (!(q.z() > 1e-12)) return false;
+    *sx = q.x() / q.z();
+    *sy = q.y() / q.z();
+    return true;
+  }
+};
+InverseDepthMapping MappingInto(const CameraModel& ref, const Rigid3& ref_from_world, const CameraModel& src,
+                                const Rigid3& src_from_world);
+
 // Indices of up to `count` other views nearest to views[reference] by camera-centre distance,
 // nearest first (ties by index). Views at the same centre are skipped: they see no parallax.
 std::vector<int> NearestNeighbourViews(const std::vector<View>& views, int reference, int count);

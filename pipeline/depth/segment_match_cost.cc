@@ -1,6 +1,5 @@
 #include "pipeline/depth/segment_match_cost.h"
 
-#include <Eigen/LU>
 #include <algorithm>
 #include <cmath>
 
@@ -60,15 +59,8 @@ SegmentMatchCost::SegmentMatchCost(const WorkingView& ref,
   PX_CHECK(ref.gray.type() == CV_32FC1 && segments.labels.size() == ref.gray.size() &&
            pixel_inverse_depth.type() == CV_32FC1 && pixel_inverse_depth.size() == ref.gray.size());
   PX_CHECK(neighbours.size() <= 16) << "at most 16 neighbours";
-  const Eigen::Matrix3d ref_k_inverse = ref.camera.K().inverse();
-  const Rigid3 world_from_ref = ref.cam_from_world.Inverse();
   for (const WorkingView* view : neighbours) {
-    const Rigid3 src_from_ref = view->cam_from_world * world_from_ref;
-    Neighbour n;
-    n.gray = &view->gray;
-    n.a = view->camera.K() * src_from_ref.RotationMatrix() * ref_k_inverse;
-    n.b = view->camera.K() * src_from_ref.translation;
-    neighbours_.push_back(n);
+    neighbours_.push_back({&view->gray, MappingInto(ref.camera, ref.cam_from_world, view->camera, view->cam_from_world)});
   }
   const double min_variance = min_texture_stddev * min_texture_stddev;
   textured_.resize(pixels_.size());
@@ -97,10 +89,8 @@ double SegmentMatchCost::operator()(int segment, const InversePlane& plane) cons
     double sw = 0, sww = 0, sg = 0, sgg = 0, sgw = 0;
     int valid = 0;
     for (const cv::Point& p : pixels) {
-      const double u = plane.At(p.x, p.y);
-      const Eigen::Vector3d q = n.a * Eigen::Vector3d(p.x, p.y, 1.0) + n.b * u;
-      if (!(q.z() > 1e-12)) continue;
-      const double sx = q.x() / q.z(), sy = q.y() / q.z();
+      double sx, sy;
+      if (!n.mapping.Map(p.x, p.y, plane.At(p.x, p.y), &sx, &sy)) continue;
       if (!(sx >= 0 && sy >= 0 && sx <= max_x && sy <= max_y)) continue;
       const int x0 = static_cast<int>(sx), y0 = static_cast<int>(sy);
       const float fx = static_cast<float>(sx - x0), fy = static_cast<float>(sy - y0);

@@ -11,6 +11,7 @@
 #include <opencv2/core.hpp>
 #include <vector>
 
+#include "pipeline/depth/plane_homography.h"
 #include "pipeline/depth/segment_planes.h"
 #include "pipeline/depth/superpixels.h"
 #include "pipeline/depth/working_view.h"
@@ -41,8 +42,7 @@ class SegmentMatchCost {
  private:
   struct Neighbour {
     const cv::Mat* gray;
-    Eigen::Matrix3d a;  // source ~ a (x, y, 1) + b u for a reference pixel at inverse depth u
-    Eigen::Vector3d b;
+    InverseDepthMapping mapping;
   };
   std::vector<Neighbour> neighbours_;
   std::vector<std::vector<cv::Point>> pixels_;  // per segment, with its ring

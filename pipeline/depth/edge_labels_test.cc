@@ -1,0 +1,125 @@
+// Depth-edge labels: a square before a wall, seen by a 3x3 rig, labelled with its outline a few
+// pixels too wide or too narrow; the other views' colours put the outline back on the true
+// silhouette, and a right outline stays where it is.
+#include "pipeline/depth/edge_labels.h"
+
+#include <gtest/gtest.h>
+
+#include <cstdio>
+#include <opencv2/imgproc.hpp>
+#include <vector>
+
+#include "pipeline/depth/depth_stage_test_util.h"
+
+namespace px::depth {
+namespace {
+
+constexpr int kCentre = 4;  // the 3x3 rig's centre view
+constexpr double kSquareDepthM = 1.0, kWallDepthM = 3.0;
+
+struct Scene {
+  std::vector<View> views;
+  cv::Mat square;  // 255 where the centre view sees the square
+};
+
+Scene SquareScene() {
+  Scene scene;
+  std::vector<cv::Mat> truth;
+  scene.views = testing::SquareBeforeWall(&truth);
+  scene.square = truth[kCentre] < 0.5 * (kSquareDepthM + kWallDepthM);
+  return scene;
+}
+
+// Label 0 the wall, label 1 the square where `square` is set; both planes exact.
+SegmentImage Labelled(const cv::Mat& square) {
+  SegmentImage image;
+  image.labels = cv::Mat::zeros(square.size(), CV_32S);
+  image.labels.setTo(1, square);
+  image.planes = {InversePlane{0, 0, 1 / kWallDepthM}, InversePlane{0, 0, 1 / kSquareDepthM}};
+  image.confidence = {1.0f, 1.0f};
+  return image;
+}
+
+int Mislabelled(const SegmentImage& image, const cv::Mat& square) {
+  return cv::countNonZero((image.labels == 1) != square);
+}
+
+EdgeLabelStats Refine(const Scene& scene, SegmentImage* image) {
+  std::vector<const View*> neighbours;
+  for (size_t i = 0; i < scene.views.size(); ++i) {
+    if (static_cast<int>(i) != kCentre) neighbours.push_back(&scene.views[i]);
+  }
+  EdgeLabelOptions options;
+  // One pixel of disparity against the nearest neighbour.
+  options.edge_inverse_depth_m = 1.0 / (testing::kStageFocalPx * testing::kStageBaselineM);
+  options.radius_px = 3;
+  return RefineDepthEdgeLabels(scene.views[kCentre], neighbours, options, image);
+}
+
+cv::Mat Morphed(const cv::Mat& mask, int op, int radius) {
+  cv::Mat out;
+  cv::morphologyEx(mask, out, op, cv::getStructuringElement(cv::MORPH_RECT, cv::Size(2 * radius + 1, 2 * radius + 1)));
+  return out;
+}
+
+TEST(EdgeLabelsTest, AnOutlineTooWideShrinksToTheSilhouette) {
+  const Scene scene = SquareScene();
+  ASSERT_GT(cv::countNonZero(scene.square), 5000);
+  SegmentImage image = Labelled(Morphed(scene.square, cv::MORPH_DILATE, 2));
+  const int before = Mislabelled(image, scene.square);
+  const EdgeLabelStats stats = Refine(scene, &image);
+  const int after = Mislabelled(image, scene.square);
+  std::printf("outline 2 px too wide: %d mislabelled pixels -> %d (%d reconsidered, %d changed)\n", before, after,
+              stats.reconsidered, stats.changed);
+  ASSERT_GT(before, 500);
+  EXPECT_LT(after, before / 20);  // measured 0
+}
+
+TEST(EdgeLabelsTest, AnOutlineTooNarrowGrowsToTheSilhouette) {
+  const Scene scene = SquareScene();
+  SegmentImage image = Labelled(Morphed(scene.square, cv::MORPH_ERODE, 2));
+  const int before = Mislabelled(image, scene.square);
+  Refine(scene, &image);
+  const int after = Mislabelled(image, scene.square);
+  std::printf("outline 2 px too narrow: %d mislabelled pixels -> %d\n", before, after);
+  ASSERT_GT(before, 500);
+  EXPECT_LT(after, before / 20);  // measured 0
+}
+
+// The halo as a segment of its own (label 2, on the square's plane, between the wall and the
+// square in numbering): it goes wholly to the wall and is removed, the square renumbered to 1.
+TEST(EdgeLabelsTest, ASegmentLeftWithoutPixelsIsRemoved) {
+  const Scene scene = SquareScene();
+  SegmentImage image = Labelled(scene.square);
+  image.labels.setTo(2, scene.square);
+  image.labels.setTo(1, Morphed(scene.square, cv::MORPH_DILATE, 2) & ~scene.square);
+  image.planes = {image.planes[0], image.planes[1], image.planes[1]};
+  image.confidence = {1.0f, 0.5f, 1.0f};
+  const EdgeLabelStats stats = Refine(scene, &image);
+  EXPECT_EQ(stats.dropped_segments, 1);
+  ASSERT_EQ(image.planes.size(), 2u);
+  ASSERT_EQ(image.confidence.size(), 2u);
+  EXPECT_EQ(image.confidence[1], 1.0f) << "the square keeps its own confidence";
+  EXPECT_EQ(Mislabelled(image, scene.square), 0);
+}
+
+TEST(EdgeLabelsTest, TheTrueOutlineStays) {
+  const Scene scene = SquareScene();
+  SegmentImage image = Labelled(scene.square);
+  const EdgeLabelStats stats = Refine(scene, &image);
+  std::printf("true outline: %d of %d reconsidered pixels changed\n", stats.changed, stats.reconsidered);
+  EXPECT_GT(stats.reconsidered, 1000);
+  EXPECT_LT(Mislabelled(image, scene.square), stats.reconsidered / 50);
+}
+
+TEST(EdgeLabelsTest, WithoutADepthEdgeNothingIsReconsidered) {
+  const Scene scene = SquareScene();
+  SegmentImage image = Labelled(scene.square);
+  image.planes[1] = image.planes[0];  // both labels on the wall's plane: a colour edge only
+  const EdgeLabelStats stats = Refine(scene, &image);
+  EXPECT_EQ(stats.reconsidered, 0);
+  EXPECT_EQ(stats.changed, 0);
+}
+
+}  // namespace
+}  // namespace px::depth
