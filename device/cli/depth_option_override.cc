@@ -23,6 +23,7 @@ Status ApplyDepthOptionOverride(const std::string& text, DepthOptions* options) 
       {"segments.coplanar_tolerance_px", &options->segments.coplanar_tolerance_px},
       {"segments.edge_disparity_px", &options->segments.edge_disparity_px},
       {"segments.edge_label_smoothness", &options->segments.edge_label_smoothness},
+      {"segments.group_depth_search_px", &options->segments.group_depth_search_px},
       {"segments.pixel_depth_tolerance_px", &options->segments.pixel_depth_tolerance_px},
       {"segments.pixel_depth_min_confidence", &options->segments.pixel_depth_min_confidence},
       {"segments.refine_offset_px", &options->segments.refine_offset_px},

@@ -85,6 +85,9 @@ Status ValidateSegments(const SegmentOptions& s) {
     return OutOfRange("segments.edge_disparity_px", s.edge_disparity_px, "(0, 64]");
   }
   if (s.band_radius_px < 1 || s.band_radius_px > 16) return OutOfRange("segments.band_radius_px", s.band_radius_px, "[1, 16]");
+  if (!(s.group_depth_search_px >= 0 && s.group_depth_search_px <= 4)) {
+    return OutOfRange("segments.group_depth_search_px", s.group_depth_search_px, "[0, 4]");
+  }
   if (s.edge_label_radius_px < 0 || s.edge_label_radius_px > 8) {
     return OutOfRange("segments.edge_label_radius_px", s.edge_label_radius_px, "[0, 8]");
   }

@@ -112,6 +112,10 @@ struct SegmentOptions {
   // 2, eval render sim 36.01 -> 36.26 dB, HCI 48.55 -> 49.15, fern 24.15 -> 24.17, and eval
   // depth better on every set but HCI 3x3's BadPix.07 (20.78 -> 20.87).
   int band_radius_px = 1;
+  // Coplanar groups' planes moved along the rays by up to this much disparity (view resolution,
+  // against the nearest neighbour) to where the exact multi-view ZNCC over the group's interior
+  // at view resolution is best (group_depth.h). [0, 4]; 0 = off.
+  double group_depth_search_px = 0.1;
   // Depth-edge labels (edge_labels.h): pixels within edge_label_radius_px (view resolution) of a
   // depth edge take whichever adjacent segment's plane carries their colour most consistently
   // into the neighbour views (full resolution), with a Potts term of edge_label_smoothness per

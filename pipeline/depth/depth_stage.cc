@@ -14,6 +14,7 @@
 #include "pipeline/depth/consistency.h"
 #include "pipeline/depth/coplanar_groups.h"
 #include "pipeline/depth/edge_labels.h"
+#include "pipeline/depth/group_depth.h"
 #include "pipeline/depth/cost_volume.h"
 #include "pipeline/depth/fill_unconfirmed.h"
 #include "pipeline/depth/neighbour_views.h"
@@ -163,7 +164,8 @@ void RefineSegmentPlanes(const WorkingView& ref, const std::vector<const Working
   depth::RefineSegmentPlanes(segments, std::cref(slanted), refine, planes);
 }
 
-ReferenceDepth MatchReference(const std::vector<View>& views, const std::vector<WorkingView>& working, int reference,
+ReferenceDepth MatchReference(const std::vector<View>& views, const std::vector<WorkingView>& working,
+                              const std::vector<WorkingView>& full_resolution, int reference,
                               const std::vector<char>& excluded, const DepthOptions& options, StageTimes* times) {
   Clock::time_point start = Clock::now();
   const MatchingOptions& m = options.matching;
@@ -246,13 +248,14 @@ ReferenceDepth MatchReference(const std::vector<View>& views, const std::vector<
   std::vector<depth::SegmentPlane> segment_planes =
       depth::FitSegmentPlanes(segments, pixel_inverse_depth, selection.confidence, fit);
   const std::vector<std::vector<int>> segment_pixels = depth::SegmentPixels(segments);
+  depth::CoplanarGroups groups;
   if (so.coplanar_keep_fraction > 0) {
     depth::CoplanarGroupOptions coplanar;
     coplanar.min_weight = fit.min_weight;
     coplanar.tolerance = so.coplanar_tolerance_px / (ref.camera.fx * nearest_m);
     coplanar.min_support = so.min_support;
     coplanar.keep_fraction = so.coplanar_keep_fraction;
-    const depth::CoplanarGroups groups = depth::MergeCoplanarSegments(
+    groups = depth::MergeCoplanarSegments(
         segments, segment_pixels, pixel_inverse_depth, selection.confidence, coplanar, &segment_planes);
     Logger("depth")->debug("view {}: {} of {} segments in {} coplanar groups", view.id.value, groups.grouped_segments,
                            segments.count, groups.groups);
@@ -292,6 +295,20 @@ ReferenceDepth MatchReference(const std::vector<View>& views, const std::vector<
     cv::resize(selection.confidence, confidence, view.image.size(), 0, 0, cv::INTER_LINEAR);
   } else {
     confidence = selection.confidence;
+  }
+  if (so.group_depth_search_px > 0 && groups.groups > 0) {
+    std::vector<const WorkingView*> full_resolution_neighbours;
+    for (int k : result.neighbours) full_resolution_neighbours.push_back(&full_resolution[k]);
+    depth::GroupDepthOptions group_depth;
+    group_depth.pixel_inverse_depth = 1.0 / (view.camera.fx * nearest_m);
+    group_depth.search_px = so.group_depth_search_px;
+    group_depth.step_px = group_depth.search_px / 5;
+    group_depth.min_texture_stddev = options.matching.min_texture_stddev;
+    const depth::GroupDepthStats stats =
+        depth::RefineGroupDepths(full_resolution[reference], full_resolution_neighbours, groups.group_of, group_depth,
+                                 &image);
+    Logger("depth")->debug("view {}: {} of {} coplanar groups moved, mean {:.3f} px", view.id.value, stats.moved,
+                           stats.groups, stats.mean_abs_shift_px);
   }
   if (so.edge_label_radius_px > 0) {
     std::vector<const View*> full_neighbours;
@@ -420,6 +437,14 @@ StatusOr<DepthStageResult> ComputeLayeredDepthForViews(const std::vector<View>& 
   working.reserve(views.size());
   const double scale = depth::MatchingScale(views, options.working_scale, options.min_working_width_px);
   for (const View& view : views) working.push_back(depth::MakeWorkingView(view, scale));
+  // Full-resolution grey views for the coplanar groups' depth, made once for every reference.
+  std::vector<WorkingView> full_resolution;
+  if (options.segments.group_depth_search_px > 0) {
+    full_resolution.reserve(views.size());
+    for (size_t i = 0; i < views.size(); ++i) {
+      full_resolution.push_back(scale < 1 ? depth::MakeWorkingView(views[i], 1.0) : working[i]);
+    }
+  }
   StageTimes times;
   std::vector<char> excluded(views.size(), 0);
   std::vector<ReferenceDepth> references(reference_indices.size());
@@ -430,7 +455,7 @@ StatusOr<DepthStageResult> ComputeLayeredDepthForViews(const std::vector<View>& 
         return CancelledError("depth cancelled after " + std::to_string(i) + " of " +
                               std::to_string(reference_indices.size()) + " views");
       }
-      references[i] = MatchReference(views, working, reference_indices[i], excluded, options, &times);
+      references[i] = MatchReference(views, working, full_resolution, reference_indices[i], excluded, options, &times);
     }
     return OkStatus();
   };

@@ -33,6 +33,23 @@ std::vector<View> SquareBeforeWall(std::vector<cv::Mat>* truth, uint64_t wall_se
   return RenderGridRig(3, 3, kStageBaselineM, SmallCamera(), {square, Wall(3.0, wall_seed)}, truth);
 }
 
+std::vector<const View*> SquareFromCentre::Neighbours() const {
+  std::vector<const View*> neighbours;
+  for (size_t i = 0; i < views.size(); ++i) {
+    if (static_cast<int>(i) != kCentre) neighbours.push_back(&views[i]);
+  }
+  return neighbours;
+}
+
+SquareFromCentre MakeSquareFromCentre() {
+  SquareFromCentre scene;
+  std::vector<cv::Mat> truth;
+  scene.views = SquareBeforeWall(&truth);
+  const double between_m = 0.5 * (SquareFromCentre::kSquareDepthM + SquareFromCentre::kWallDepthM);
+  scene.square = truth[SquareFromCentre::kCentre] < between_m;
+  return scene;
+}
+
 double BadFraction(const cv::Mat& depth_m, const cv::Mat& truth, const cv::Mat& mask, double relative) {
   int bad = 0, total = 0;
   for (int y = 0; y < truth.rows; ++y) {

@@ -14,21 +14,11 @@
 namespace px::depth {
 namespace {
 
-constexpr int kCentre = 4;  // the 3x3 rig's centre view
-constexpr double kSquareDepthM = 1.0, kWallDepthM = 3.0;
+using Scene = testing::SquareFromCentre;
+constexpr int kCentre = Scene::kCentre;
+constexpr double kSquareDepthM = Scene::kSquareDepthM, kWallDepthM = Scene::kWallDepthM;
 
-struct Scene {
-  std::vector<View> views;
-  cv::Mat square;  // 255 where the centre view sees the square
-};
-
-Scene SquareScene() {
-  Scene scene;
-  std::vector<cv::Mat> truth;
-  scene.views = testing::SquareBeforeWall(&truth);
-  scene.square = truth[kCentre] < 0.5 * (kSquareDepthM + kWallDepthM);
-  return scene;
-}
+Scene SquareScene() { return testing::MakeSquareFromCentre(); }
 
 // Label 0 the wall, label 1 the square where `square` is set; both planes exact.
 SegmentImage Labelled(const cv::Mat& square) {
@@ -45,15 +35,10 @@ int Mislabelled(const SegmentImage& image, const cv::Mat& square) {
 }
 
 EdgeLabelStats Refine(const Scene& scene, SegmentImage* image) {
-  std::vector<const View*> neighbours;
-  for (size_t i = 0; i < scene.views.size(); ++i) {
-    if (static_cast<int>(i) != kCentre) neighbours.push_back(&scene.views[i]);
-  }
   EdgeLabelOptions options;
-  // One pixel of disparity against the nearest neighbour.
-  options.edge_inverse_depth_m = 1.0 / (testing::kStageFocalPx * testing::kStageBaselineM);
+  options.edge_inverse_depth_m = Scene::PixelInverseDepth();  // one pixel of disparity
   options.radius_px = 3;
-  return RefineDepthEdgeLabels(scene.views[kCentre], neighbours, options, image);
+  return RefineDepthEdgeLabels(scene.views[kCentre], scene.Neighbours(), options, image);
 }
 
 cv::Mat Morphed(const cv::Mat& mask, int op, int radius) {

@@ -77,13 +77,13 @@ SegmentMatchCost::SegmentMatchCost(const WorkingView& ref,
   }
 }
 
-double SegmentMatchCost::operator()(int segment, const InversePlane& plane) const {
-  if (!textured_[segment]) return kNeutralCost;
-  const std::vector<cv::Point>& pixels = pixels_[segment];
+double BestHalfZnccCost(const cv::Mat& ref_gray, const std::vector<GrayNeighbour>& neighbours,
+                        const std::vector<cv::Point>& pixels, const InversePlane& plane) {
+  PX_CHECK(neighbours.size() <= 16) << "at most 16 neighbours";
   const int count = static_cast<int>(pixels.size());
   float costs[16];
   int num_costs = 0;
-  for (const Neighbour& n : neighbours_) {
+  for (const GrayNeighbour& n : neighbours) {
     const cv::Mat& src = *n.gray;
     const int max_x = src.cols - 2, max_y = src.rows - 2;
     double sw = 0, sww = 0, sg = 0, sgg = 0, sgw = 0;
@@ -97,7 +97,7 @@ double SegmentMatchCost::operator()(int segment, const InversePlane& plane) cons
       const float* r0 = src.ptr<float>(y0) + x0;
       const float* r1 = src.ptr<float>(y0 + 1) + x0;
       const double w = (1 - fy) * ((1 - fx) * r0[0] + fx * r0[1]) + fy * ((1 - fx) * r1[0] + fx * r1[1]);
-      const double g = ref_gray_.at<float>(p);
+      const double g = ref_gray.at<float>(p);
       sw += w;
       sww += w * w;
       sg += g;
@@ -116,6 +116,11 @@ double SegmentMatchCost::operator()(int segment, const InversePlane& plane) cons
   double sum = 0;
   for (int k = 0; k < keep; ++k) sum += costs[k];
   return sum / keep;
+}
+
+double SegmentMatchCost::operator()(int segment, const InversePlane& plane) const {
+  if (!textured_[segment]) return kNeutralCost;
+  return BestHalfZnccCost(ref_gray_, neighbours_, pixels_[segment], plane);
 }
 
 }  // namespace px::depth

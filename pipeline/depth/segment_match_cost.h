@@ -18,6 +18,19 @@
 
 namespace px::depth {
 
+// A neighbour's grey image (CV_32F) and how reference pixels map into it.
+struct GrayNeighbour {
+  const cv::Mat* gray = nullptr;
+  InverseDepthMapping mapping;
+};
+
+// Mean of the best half of the neighbours' 1 - ZNCC (in [0, 2]) between the reference's grey
+// values at `pixels` and each neighbour's where `plane` carries them; a neighbour that sees
+// fewer than half of them (or fewer than 4) does not count; kNoDataCost when none does.
+// At most 16 neighbours.
+double BestHalfZnccCost(const cv::Mat& ref_gray, const std::vector<GrayNeighbour>& neighbours,
+                        const std::vector<cv::Point>& pixels, const InversePlane& plane);
+
 class SegmentMatchCost {
  public:
   // `ref` and `neighbours` at the working scale (the segments' pixel grid; at most 16
@@ -40,11 +53,7 @@ class SegmentMatchCost {
   double operator()(int segment, const InversePlane& plane) const;
 
  private:
-  struct Neighbour {
-    const cv::Mat* gray;
-    InverseDepthMapping mapping;
-  };
-  std::vector<Neighbour> neighbours_;
+  std::vector<GrayNeighbour> neighbours_;
   std::vector<std::vector<cv::Point>> pixels_;  // per segment, with its ring
   std::vector<char> textured_;                  // per segment
   cv::Mat ref_gray_;
