@@ -120,7 +120,7 @@ struct SegmentOptions {
   // depth edge take whichever adjacent segment's plane carries their colour most consistently
   // into the neighbour views (full resolution), with a Potts term of edge_label_smoothness per
   // differing 8-neighbour (colour levels). [0, 8]; 0 = the colour segmentation's boundaries.
-  int edge_label_radius_px = 2;
+  int edge_label_radius_px = 4;
   double edge_label_smoothness = 3;
   // Pixels whose own matched depth lies within this many pixels of disparity (against the
   // nearest neighbour, view resolution) of their segment's plane keep it in depth_m instead of

@@ -73,16 +73,17 @@ std::vector<EdgePixel> FindEdgePixels(const SegmentImage& image, const EdgeLabel
       p.x = x;
       p.y = y;
       p.labels[p.count++] = labels.at<int>(y, x);
-      for (int dy = -r; dy <= r; ++dy) {
+      for (int dy = -r; dy <= r && p.count < kMaxCandidates; ++dy) {
         const int yy = y + dy;
         if (yy < 0 || yy >= labels.rows) continue;
         const int* row = labels.ptr<int>(yy);
-        for (int dx = -r; dx <= r; ++dx) {
+        int previous = -1;  // runs of one label along the row are looked up once
+        for (int dx = -r; dx <= r && p.count < kMaxCandidates; ++dx) {
           const int xx = x + dx;
-          if (xx < 0 || xx >= labels.cols || p.count == kMaxCandidates) continue;
-          const int s = row[xx];
-          if (std::find(p.labels.begin(), p.labels.begin() + p.count, s) == p.labels.begin() + p.count) {
-            p.labels[p.count++] = s;
+          if (xx < 0 || xx >= labels.cols || row[xx] == previous) continue;
+          previous = row[xx];
+          if (std::find(p.labels.begin(), p.labels.begin() + p.count, previous) == p.labels.begin() + p.count) {
+            p.labels[p.count++] = previous;
           }
         }
       }
