@@ -121,7 +121,7 @@ struct SegmentOptions {
   // into the neighbour views (full resolution), with a Potts term of edge_label_smoothness per
   // differing 8-neighbour (colour levels). [0, 8]; 0 = the colour segmentation's boundaries.
   int edge_label_radius_px = 4;
-  double edge_label_smoothness = 3;
+  double edge_label_smoothness = 2;
   // Pixels whose own matched depth lies within this many pixels of disparity (against the
   // nearest neighbour, view resolution) of their segment's plane keep it in depth_m instead of
   // the plane (outside the two-layer bands; pixel_depth_near_planes.h): the plane fit flattens
