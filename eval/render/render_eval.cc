@@ -1,8 +1,5 @@
 #include "eval/render/render_eval.h"
 
-#include <Eigen/Dense>
-#include <cstdlib>
-
 #include <algorithm>
 #include <chrono>
 #include <cctype>
@@ -50,50 +47,6 @@ StatusOr<std::vector<LayeredDepthView>> LayersFromDepthMaps(const std::vector<Vi
   return layers;
 }
 
-// EXPERIMENT: each segment's plane refitted to the exact depth over its layer-0 pixels.
-void OraclePlanes(const std::vector<DepthMap>& exact, std::vector<LayeredDepthView>* layers) {
-  for (size_t v = 0; v < layers->size(); ++v) {
-    LayeredDepthView& view = (*layers)[v];
-    const cv::Mat& truth = exact[v].depth_m;
-    std::vector<std::vector<cv::Point>> pixels(view.segments.size());
-    for (int y = 0; y < truth.rows; ++y)
-      for (int x = 0; x < truth.cols; ++x) {
-        const int s = view.layers[0].segment.at<int32_t>(y, x);
-        if (s >= 0 && view.layers[0].weight.at<float>(y, x) >= 0.99f && truth.at<float>(y, x) > 0) pixels[s].emplace_back(x, y);
-      }
-    for (size_t s = 0; s < pixels.size(); ++s) {
-      if (pixels[s].size() < 6) continue;
-      DepthSegment& seg = view.segments[s];
-      std::vector<double> residual;
-      double limit = 1e30;
-      for (int pass = 0; pass < 2; ++pass) {
-        Eigen::Matrix3d A = Eigen::Matrix3d::Zero();
-        Eigen::Vector3d b = Eigen::Vector3d::Zero();
-        int n = 0;
-        for (const cv::Point& p : pixels[s]) {
-          const double u = 1.0 / truth.at<float>(p);
-          const double r = std::abs(seg.inv_depth_a * p.x + seg.inv_depth_b * p.y + seg.inv_depth_c - u);
-          if (pass > 0 && r > limit) continue;
-          const Eigen::Vector3d q(p.x, p.y, 1);
-          A += q * q.transpose();
-          b += q * u;
-          ++n;
-        }
-        if (n < 6) break;
-        const Eigen::Vector3d sol = A.ldlt().solve(b);
-        if (!sol.allFinite()) break;
-        seg.inv_depth_a = sol[0];
-        seg.inv_depth_b = sol[1];
-        seg.inv_depth_c = sol[2];
-        residual.clear();
-        for (const cv::Point& p : pixels[s]) residual.push_back(std::abs(sol[0] * p.x + sol[1] * p.y + sol[2] - 1.0 / truth.at<float>(p)));
-        std::nth_element(residual.begin(), residual.begin() + residual.size() / 2, residual.end());
-        limit = 3 * residual[residual.size() / 2] + 1e-9;
-      }
-    }
-  }
-}
-
 }  // namespace
 
 StatusOr<std::unique_ptr<CpuSceneRenderer>> MakeRenderer(const std::vector<View>& views, EvalDepth source,
@@ -106,7 +59,6 @@ StatusOr<std::unique_ptr<CpuSceneRenderer>> MakeRenderer(const std::vector<View>
       const DepthOptions depth_options = options.depth_stage.WithDefaultDepthRange(min_depth_m, max_depth_m);
       PX_ASSIGN_OR_RETURN(DepthStageResult depth, ComputeLayeredDepth(views, depth_options));
       layers = std::move(depth.layered);
-      if (std::getenv("PX_ORACLE_PLANES") && exact_depths) OraclePlanes(*exact_depths, &layers);
       break;
     }
     case EvalDepth::kPlaneSweep: {
