@@ -13,7 +13,7 @@ namespace px::depth {
 namespace {
 
 constexpr int kMaxCandidates = 6;
-constexpr int kMaxNeighbours = 16;
+constexpr size_t kMaxNeighbours = 16;
 
 struct Projector {
   const cv::Mat* bgr = nullptr;
@@ -162,11 +162,10 @@ EdgeLabelStats RefineDepthEdgeLabels(const View& reference,
   PX_CHECK(reference.image.type() == CV_8UC3 && image->confidence.size() == image->planes.size());
   PX_CHECK(options.edge_inverse_depth_m > 0 && options.radius_px >= 1 && options.radius_px <= 8);
   PX_CHECK(options.truncation > 0 && options.smoothness >= 0 && options.iterations >= 1 && options.iterations <= 10);
+  PX_CHECK(neighbours.size() <= kMaxNeighbours) << "at most 16 neighbours";
   EdgeLabelStats stats;
   if (neighbours.empty()) return stats;
-  std::vector<const View*> used(neighbours.begin(),
-                                neighbours.begin() + std::min<size_t>(neighbours.size(), kMaxNeighbours));
-  const std::vector<Projector> projectors = MakeProjectors(reference, used);
+  const std::vector<Projector> projectors = MakeProjectors(reference, neighbours);
   std::vector<EdgePixel> edge = FindEdgePixels(*image, options);
   stats.reconsidered = static_cast<int>(edge.size());
   const float truncation = static_cast<float>(options.truncation);

@@ -38,7 +38,7 @@ struct EdgeLabelStats {
 
 // `image` holds labels and planes at the reference's resolution (planes in its pixel grid);
 // `neighbours` are other views of the scene, calibrated in the same world frame (full
-// resolution). Changes labels; segments left with no pixel are removed from planes and
+// resolution, at most 16). Changes labels; segments left with no pixel are removed from planes and
 // confidence and the others renumbered in order.
 EdgeLabelStats RefineDepthEdgeLabels(const View& reference,
                                      const std::vector<const View*>& neighbours,

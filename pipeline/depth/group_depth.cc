@@ -83,7 +83,7 @@ GroupDepthStats RefineGroupDepths(const WorkingView& reference,
       InteriorSamples(groups, num_groups, options.interior_px, options.sample_step_px);
   for (std::vector<cv::Point>& pixels : samples) {
     if (static_cast<int>(pixels.size()) <= options.max_samples) continue;
-    // Every k-th in scan order, k coprime-ish with the row's count most of the time: spread over the group.
+    // Evenly spaced in scan order, so the samples still cover the whole interior.
     const double stride = static_cast<double>(pixels.size()) / options.max_samples;
     std::vector<cv::Point> spread;
     spread.reserve(options.max_samples);
