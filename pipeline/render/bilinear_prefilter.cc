@@ -1,14 +1,39 @@
 #include "pipeline/render/bilinear_prefilter.h"
 
+#include <cmath>
+
 namespace px::render {
+namespace {
+
+// Inverse depth of `segment`'s plane at (x, y).
+double InverseDepthAt(const DepthSegment& segment, int x, int y) {
+  return segment.inv_depth_a * x + segment.inv_depth_b * y + segment.inv_depth_c;
+}
+
+}  // namespace
 
 std::array<cv::Mat, 2> PrefilterForBilinear(const LayeredDepthView& view, float sharpen) {
   const int width = view.camera.width, height = view.camera.height;
   std::array<cv::Mat, 2> out;
-  // The colour segment `s` has at (x, y) in either layer; false when neither layer holds it.
+  // The colour that continues segment `s`'s surface at (x, y): the layer that holds `s` itself,
+  // else one that holds a segment whose plane there is within kSameSurfaceTolerance of `s`'s (the
+  // same surface cut by the segmentation); false when neither layer does.
   const auto colour_of = [&](int x, int y, int32_t s, cv::Vec3f* colour) {
     for (const SegmentLayer& l : view.layers) {
       if (l.segment.at<int32_t>(y, x) == s && l.weight.at<float>(y, x) > 0) {
+        *colour = cv::Vec3f(l.colour.at<cv::Vec3b>(y, x));
+        return true;
+      }
+    }
+    // Indices are checked: the scene sanitises bad texels only after this.
+    const int32_t count = view.NumSegments();
+    if (s < 0 || s >= count) return false;
+    const double own = InverseDepthAt(view.segments[s], x, y);
+    if (!(own > 0)) return false;
+    for (const SegmentLayer& l : view.layers) {
+      const int32_t t = l.segment.at<int32_t>(y, x);
+      if (t < 0 || t >= count || !(l.weight.at<float>(y, x) > 0)) continue;
+      if (std::abs(InverseDepthAt(view.segments[t], x, y) - own) <= kSameSurfaceTolerance * own) {
         *colour = cv::Vec3f(l.colour.at<cv::Vec3b>(y, x));
         return true;
       }
