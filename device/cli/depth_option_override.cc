@@ -42,7 +42,9 @@ Status ApplyDepthOptionOverride(const std::string& text, DepthOptions* options) 
       {"segments.band_radius_px", &options->segments.band_radius_px},
       {"segments.edge_label_radius_px", &options->segments.edge_label_radius_px},
       {"min_working_width_px", &options->min_working_width_px}};
-  const std::pair<const char*, bool*> bools[] = {{"fill_unconfirmed", &options->fill_unconfirmed}};
+  const std::pair<const char*, bool*> bools[] = {
+      {"fill_unconfirmed", &options->fill_unconfirmed},
+      {"segments.edge_label_visibility", &options->segments.edge_label_visibility}};
   for (const auto& [field, target] : bools) {
     if (name != field) continue;
     if (number != 0 && number != 1) return InvalidArgumentError("--option " + name + ": '" + value + "' is not 0 or 1");

@@ -317,6 +317,7 @@ ReferenceDepth MatchReference(const std::vector<View>& views, const std::vector<
     edge.edge_inverse_depth_m = so.edge_disparity_px / (view.camera.fx * nearest_m);
     edge.radius_px = so.edge_label_radius_px;
     edge.smoothness = so.edge_label_smoothness;
+    edge.visibility = so.edge_label_visibility;
     const depth::EdgeLabelStats stats = depth::RefineDepthEdgeLabels(view, full_neighbours, edge, &image);
     Logger("depth")->debug("view {}: {} of {} pixels near depth edges took another segment ({} segments emptied)",
                            view.id.value, stats.changed, stats.reconsidered, stats.dropped_segments);

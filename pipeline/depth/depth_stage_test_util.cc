@@ -33,20 +33,21 @@ std::vector<View> SquareBeforeWall(std::vector<cv::Mat>* truth, uint64_t wall_se
   return RenderGridRig(3, 3, kStageBaselineM, SmallCamera(), {square, Wall(3.0, wall_seed)}, truth);
 }
 
-std::vector<const View*> SquareFromCentre::Neighbours() const {
+std::vector<const View*> SquareFromView::Neighbours() const {
   std::vector<const View*> neighbours;
   for (size_t i = 0; i < views.size(); ++i) {
-    if (static_cast<int>(i) != kCentre) neighbours.push_back(&views[i]);
+    if (static_cast<int>(i) != reference) neighbours.push_back(&views[i]);
   }
   return neighbours;
 }
 
-SquareFromCentre MakeSquareFromCentre() {
-  SquareFromCentre scene;
+SquareFromView MakeSquareFromView(int reference) {
+  SquareFromView scene;
+  scene.reference = reference;
   std::vector<cv::Mat> truth;
   scene.views = SquareBeforeWall(&truth);
-  const double between_m = 0.5 * (SquareFromCentre::kSquareDepthM + SquareFromCentre::kWallDepthM);
-  scene.square = truth[SquareFromCentre::kCentre] < between_m;
+  const double between_m = 0.5 * (SquareFromView::kSquareDepthM + SquareFromView::kWallDepthM);
+  scene.square = truth[reference] < between_m;
   return scene;
 }
 

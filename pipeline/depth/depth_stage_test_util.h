@@ -28,18 +28,19 @@ TexturedPlane Wall(double depth_m, uint64_t seed);
 // by a 3x3 rig with kStageBaselineM spacing; truth gets each view's true depth.
 std::vector<View> SquareBeforeWall(std::vector<cv::Mat>* truth, uint64_t wall_seed = 21);
 
-// SquareBeforeWall seen from its centre view (index 4) by the other eight, for steps that refine
-// one view against its neighbours.
-struct SquareFromCentre {
+// SquareBeforeWall seen from one view (the centre, index 4, unless told) by the other eight, for
+// steps that refine one view against its neighbours.
+struct SquareFromView {
   static constexpr int kCentre = 4;
   static constexpr double kSquareDepthM = 1.0, kWallDepthM = 3.0;
+  int reference = kCentre;
   std::vector<View> views;
-  cv::Mat square;  // 255 where the centre view sees the square
+  cv::Mat square;  // 255 where the reference view sees the square
   std::vector<const View*> Neighbours() const;
   // Inverse depth (1/m) of one pixel of disparity against the nearest neighbour.
   static double PixelInverseDepth() { return 1.0 / (kStageFocalPx * kStageBaselineM); }
 };
-SquareFromCentre MakeSquareFromCentre();
+SquareFromView MakeSquareFromView(int reference = SquareFromView::kCentre);
 
 // Fraction of pixels (where mask != 0 and truth > 0) off by more than `relative` of the truth.
 double BadFraction(const cv::Mat& depth_m, const cv::Mat& truth, const cv::Mat& mask, double relative);

@@ -18,6 +18,9 @@ constexpr size_t kMaxNeighbours = 16;
 struct Projector {
   const cv::Mat* bgr = nullptr;
   InverseDepthMapping mapping;
+  // Per pixel of the view, the largest inverse depth (in its camera) of the reference's surfaces
+  // that land there: what the view sees in front; empty without visibility.
+  cv::Mat nearest;
 };
 
 // A pixel near a depth edge: its candidates (labels, its own first) and their data costs.
@@ -35,6 +38,31 @@ std::vector<Projector> MakeProjectors(const View& reference, const std::vector<c
         {&view->image, MappingInto(reference.camera, reference.cam_from_world, view->camera, view->cam_from_world)});
   }
   return projectors;
+}
+
+// Each projector's `nearest`: every reference pixel, carried by its segment's plane, marks the
+// view pixel it lands nearest to.
+void SplatReferenceSurfaces(const SegmentImage& image, std::vector<Projector>* projectors) {
+  for (Projector& p : *projectors) {
+    p.nearest = cv::Mat::zeros(p.bgr->size(), CV_32F);
+    const Eigen::Matrix3d& a = p.mapping.a;
+    const Eigen::Vector3d& b = p.mapping.b;
+    for (int y = 0; y < image.labels.rows; ++y) {
+      const int* row = image.labels.ptr<int>(y);
+      const Eigen::Vector3d row_start = a.col(1) * y + a.col(2);
+      for (int x = 0; x < image.labels.cols; ++x) {
+        const double u = image.planes[row[x]].At(x, y);
+        if (!(u > 0)) continue;
+        const Eigen::Vector3d q = row_start + a.col(0) * x + b * u;
+        if (!(q.z() > 1e-12)) continue;
+        const double inv_z = 1.0 / q.z();
+        const double sx = q.x() * inv_z + 0.5, sy = q.y() * inv_z + 0.5;  // + 0.5: truncation rounds
+        if (!(sx >= 0 && sy >= 0 && sx < p.nearest.cols && sy < p.nearest.rows)) continue;
+        float& nearest = p.nearest.at<float>(static_cast<int>(sy), static_cast<int>(sx));
+        nearest = std::max(nearest, static_cast<float>(u * inv_z));  // q.z() = u z_view
+      }
+    }
+  }
 }
 
 // Pixels where the label changes to one whose plane lies more than the edge threshold away.
@@ -93,17 +121,26 @@ std::vector<EdgePixel> FindEdgePixels(const SegmentImage& image, const EdgeLabel
   return edge;
 }
 
-// Mean over the better half of the views of the truncated colour difference between the
-// reference pixel and where the plane carries it; -1 where no view sees it.
+// The truncated colour difference between the reference pixel and where the plane (inverse
+// depth u at the pixel) carries it: the mean over the views that see that point where at least
+// `min_visible` do (`occlusion_margin` > 0), else over the better half of all the views; -1 where
+// no view holds it.
 float PlaneColourCost(const cv::Vec3b& colour, int x, int y, double u, const std::vector<Projector>& projectors,
-                      float truncation) {
+                      float truncation, double occlusion_margin, int min_visible) {
   std::array<float, kMaxNeighbours> costs;
-  int n = 0;
+  std::array<char, kMaxNeighbours> hidden{};
+  int n = 0, num_hidden = 0;
   for (const Projector& p : projectors) {
-    double sx, sy;
-    if (!p.mapping.Map(x, y, u, &sx, &sy)) continue;
+    const Eigen::Vector3d q = p.mapping.a * Eigen::Vector3d(x, y, 1.0) + p.mapping.b * u;
+    if (!(q.z() > 1e-12)) continue;
+    const double sx = q.x() / q.z(), sy = q.y() / q.z();
     const cv::Mat& src = *p.bgr;
     if (!(sx >= 0 && sy >= 0 && sx <= src.cols - 2 && sy <= src.rows - 2)) continue;
+    if (occlusion_margin > 0) {
+      const float in_front = p.nearest.at<float>(static_cast<int>(std::lround(sy)), static_cast<int>(std::lround(sx)));
+      hidden[n] = in_front > u / q.z() + occlusion_margin;
+      num_hidden += hidden[n];
+    }
     const int x0 = static_cast<int>(sx), y0 = static_cast<int>(sy);
     const float fx = static_cast<float>(sx - x0), fy = static_cast<float>(sy - y0);
     const cv::Vec3b* r0 = src.ptr<cv::Vec3b>(y0) + x0;
@@ -116,6 +153,12 @@ float PlaneColourCost(const cv::Vec3b& colour, int x, int y, double u, const std
     costs[n++] = std::min(diff / 3.0f, truncation);
   }
   if (n == 0) return -1;
+  const int visible = n - num_hidden;
+  if (occlusion_margin > 0 && visible >= min_visible) {
+    float sum = 0;
+    for (int k = 0; k < n; ++k) sum += hidden[k] ? 0.0f : costs[k];
+    return sum / visible;
+  }
   std::sort(costs.begin(), costs.begin() + n);
   const int keep = (n + 1) / 2;
   float sum = 0;
@@ -163,9 +206,12 @@ EdgeLabelStats RefineDepthEdgeLabels(const View& reference,
   PX_CHECK(options.edge_inverse_depth_m > 0 && options.radius_px >= 1 && options.radius_px <= 8);
   PX_CHECK(options.truncation > 0 && options.smoothness >= 0 && options.iterations >= 1 && options.iterations <= 10);
   PX_CHECK(neighbours.size() <= kMaxNeighbours) << "at most 16 neighbours";
+  PX_CHECK(options.min_visible_views >= 1 && options.min_visible_views <= 16);
   EdgeLabelStats stats;
   if (neighbours.empty()) return stats;
-  const std::vector<Projector> projectors = MakeProjectors(reference, neighbours);
+  std::vector<Projector> projectors = MakeProjectors(reference, neighbours);
+  const double occlusion_margin = options.visibility ? options.edge_inverse_depth_m : 0.0;
+  if (options.visibility) SplatReferenceSurfaces(*image, &projectors);
   std::vector<EdgePixel> edge = FindEdgePixels(*image, options);
   stats.reconsidered = static_cast<int>(edge.size());
   const float truncation = static_cast<float>(options.truncation);
@@ -175,7 +221,8 @@ EdgeLabelStats RefineDepthEdgeLabels(const View& reference,
     EdgePixel& p = edge[i];
     const cv::Vec3b colour = reference.image.at<cv::Vec3b>(p.y, p.x);
     for (int k = 0; k < p.count; ++k) {
-      p.cost[k] = PlaneColourCost(colour, p.x, p.y, image->planes[p.labels[k]].At(p.x, p.y), projectors, truncation);
+      p.cost[k] = PlaneColourCost(colour, p.x, p.y, image->planes[p.labels[k]].At(p.x, p.y), projectors, truncation,
+                                  occlusion_margin, options.min_visible_views);
       if (p.cost[k] < 0) decidable[i] = 0;
     }
   }

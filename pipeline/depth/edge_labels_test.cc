@@ -14,11 +14,10 @@
 namespace px::depth {
 namespace {
 
-using Scene = testing::SquareFromCentre;
-constexpr int kCentre = Scene::kCentre;
+using Scene = testing::SquareFromView;
 constexpr double kSquareDepthM = Scene::kSquareDepthM, kWallDepthM = Scene::kWallDepthM;
 
-Scene SquareScene() { return testing::MakeSquareFromCentre(); }
+Scene SquareScene() { return testing::MakeSquareFromView(); }
 
 // Label 0 the wall, label 1 the square where `square` is set; both planes exact.
 SegmentImage Labelled(const cv::Mat& square) {
@@ -34,11 +33,12 @@ int Mislabelled(const SegmentImage& image, const cv::Mat& square) {
   return cv::countNonZero((image.labels == 1) != square);
 }
 
-EdgeLabelStats Refine(const Scene& scene, SegmentImage* image) {
+EdgeLabelStats Refine(const Scene& scene, SegmentImage* image, bool visibility = true) {
   EdgeLabelOptions options;
   options.edge_inverse_depth_m = Scene::PixelInverseDepth();  // one pixel of disparity
   options.radius_px = 3;
-  return RefineDepthEdgeLabels(scene.views[kCentre], scene.Neighbours(), options, image);
+  options.visibility = visibility;
+  return RefineDepthEdgeLabels(scene.views[scene.reference], scene.Neighbours(), options, image);
 }
 
 cv::Mat Morphed(const cv::Mat& mask, int op, int radius) {
@@ -69,6 +69,47 @@ TEST(EdgeLabelsTest, AnOutlineTooNarrowGrowsToTheSilhouette) {
   std::printf("outline 2 px too narrow: %d mislabelled pixels -> %d\n", before, after);
   ASSERT_GT(before, 500);
   EXPECT_LT(after, before / 20);  // measured 0
+}
+
+// The square before a wall of horizontal grain (each row one colour, like the simulated still
+// life's wooden table), seen from the rig's top-left view (index 0).
+Scene SquareBeforeGrainFromCorner() {
+  testing::TexturedPlane square;
+  square.depth_m = kSquareDepthM;
+  square.extent_m = cv::Rect2d(-0.15, -0.12, 0.3, 0.24);
+  square.metres_per_texel = 1.0 / testing::kStageFocalPx;
+  square.texture = testing::RandomTexture(cv::Size(100, 80), 22);
+  testing::TexturedPlane wall = testing::Wall(kWallDepthM, 21);
+  cv::Mat grain;
+  cv::reduce(wall.texture, grain, /*dim=*/1, cv::REDUCE_AVG);
+  wall.texture = cv::repeat(grain, 1, wall.texture.cols);
+  Scene scene;
+  scene.reference = 0;
+  std::vector<cv::Mat> truth;
+  scene.views = testing::RenderGridRig(3, 3, testing::kStageBaselineM, testing::SmallCamera(), {square, wall}, &truth);
+  scene.square = truth[scene.reference] < 0.5 * (kSquareDepthM + kWallDepthM);
+  return scene;
+}
+
+// From a corner view every neighbour lies to one side, so a wall pixel just beside the square is
+// hidden in most of them. Along a grain that hides parallax in the views of its own row, the best
+// half of the views then holds hidden views and cannot tell the wall's plane from the square's;
+// the views that see the point can, where the labels' own surfaces do not hide it.
+TEST(EdgeLabelsTest, FromACornerViewTheViewsThatSeeThePointDecide) {
+  const Scene scene = SquareBeforeGrainFromCorner();
+  const cv::Mat too_wide = Morphed(scene.square, cv::MORPH_DILATE, 3);
+  SegmentImage with_visibility = Labelled(too_wide), best_half = Labelled(too_wide);
+  const int before = Mislabelled(with_visibility, scene.square);
+  Refine(scene, &with_visibility);
+  Refine(scene, &best_half, /*visibility=*/false);
+  const int after = Mislabelled(with_visibility, scene.square), after_best_half = Mislabelled(best_half, scene.square);
+  std::printf("corner view, grain, outline 3 px too wide: %d mislabelled pixels -> %d (best half of the views: %d)\n",
+              before, after, after_best_half);
+  ASSERT_GT(before, 800);
+  // Measured 423 against 886: what is left lies along the top and the left, where the fattened
+  // rim itself, splatted into the views below and to the right, still hides the wall behind it.
+  EXPECT_LT(after, before / 2);
+  EXPECT_GT(after_best_half, 3 * before / 4);
 }
 
 // The halo as a segment of its own (label 2, on the square's plane, between the wall and the

@@ -14,17 +14,17 @@
 namespace px::depth {
 namespace {
 
-constexpr int kCentre = testing::SquareFromCentre::kCentre;
-constexpr double kSquareDepthM = testing::SquareFromCentre::kSquareDepthM;
-constexpr double kWallDepthM = testing::SquareFromCentre::kWallDepthM;
+constexpr int kCentre = testing::SquareFromView::kCentre;
+constexpr double kSquareDepthM = testing::SquareFromView::kSquareDepthM;
+constexpr double kWallDepthM = testing::SquareFromView::kWallDepthM;
 
-struct Scene : testing::SquareFromCentre {
+struct Scene : testing::SquareFromView {
   SegmentImage image;  // label 0 the wall, label 1 the square, exact planes
 };
 
 Scene SquareScene(bool textured_wall = true) {
   Scene scene;
-  static_cast<testing::SquareFromCentre&>(scene) = testing::MakeSquareFromCentre();
+  static_cast<testing::SquareFromView&>(scene) = testing::MakeSquareFromView();
   if (!textured_wall) {
     // A flat grey wall alone (the labels keep the square's outline).
     testing::TexturedPlane grey = testing::Wall(kWallDepthM, 1);
