@@ -219,8 +219,7 @@ CpuSceneRenderer::Core CpuSceneRenderer::RenderCore(const CameraModel& camera, c
                                                     bool inpaint) {
   const int width = camera.width, height = camera.height;
   Clock::time_point start = Clock::now();
-  scene_.mesh().ComputeWeights(camera, cam_from_world, &slots_);
-  render::FlattenViewingWeights(options_.viewing_weight_exponent, &slots_);
+  scene_.mesh().ComputeWeights(camera, cam_from_world, &slots_, options_.viewing_weight_exponent);
   stats_.weights_ms += MsSince(start);
 
   start = Clock::now();

@@ -1,7 +1,8 @@
 // Frames per second of the CPU back end (ALGORITHM.md) along a dolly across the rig, for the
 // analytic two-plane scene with exact layered depth: 480x320 and 1200x800 output from views of the
 // same size, 9 views (3x3, 25 mm) and 20 views (5x4, 12.5 mm), preview and offline quality; and
-// Coverage() at 1/8 of 1200x800 (the direction stage's viewpoint search). Prints, asserts nothing.
+// Coverage() at 1/8 of 1200x800 (the direction stage's viewpoint search); the viewing weights'
+// flattening over a 1200x800 frame. Prints, asserts nothing.
 // The CPU column of BM_RenderFrame is the process's (every thread's) CPU time per frame: on a
 // shared machine the figure to compare. PX_LOG=render=debug prints each frame's pass timings.
 #include <benchmark/benchmark.h>
@@ -9,10 +10,12 @@
 #include <cstdlib>
 #include <memory>
 #include <tuple>
+#include <vector>
 
 #include "pipeline/core/log.h"
 #include "pipeline/render/cpu_scene_renderer.h"
 #include "pipeline/render/render_test_util.h"
+#include "pipeline/render/view_mesh.h"
 
 namespace px {
 namespace {
@@ -95,6 +98,27 @@ void BM_Coverage(benchmark::State& state) {
   state.counters["hole_score"] = score / std::max(call, 1);
 }
 BENCHMARK(BM_Coverage)->ArgNames({"views"})->Arg(9)->Arg(20)->Unit(benchmark::kMicrosecond)->UseRealTime();
+
+// The viewing weights' flattening (FlattenViewingWeights) over a 1200x800 frame's slots, per
+// frame: range(0) is the exponent in hundredths (50: the default square root, 70: pow).
+void BM_FlattenViewingWeights(benchmark::State& state) {
+  std::vector<render::ViewSlots> slots(1200 * 800);
+  for (size_t i = 0; i < slots.size(); ++i) {
+    const float a = static_cast<float>(i % 97) / 97.0f, b = (1.0f - a) * static_cast<float>(i % 13) / 13.0f;
+    slots[i].view = {0, 1, 2};
+    slots[i].weight = {a, b, 1.0f - a - b};
+  }
+  const std::vector<render::ViewSlots> barycentric = slots;
+  const double exponent = static_cast<double>(state.range(0)) / 100.0;
+  for (auto _ : state) {
+    state.PauseTiming();
+    slots = barycentric;
+    state.ResumeTiming();
+    render::FlattenViewingWeights(exponent, &slots);
+    benchmark::DoNotOptimize(slots.data());
+  }
+}
+BENCHMARK(BM_FlattenViewingWeights)->ArgNames({"exponent_x100"})->Arg(50)->Arg(70)->Unit(benchmark::kMicrosecond);
 
 }  // namespace
 }  // namespace px

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstddef>
 #include <functional>
 #include <limits>
 #include <map>
@@ -10,6 +11,7 @@
 
 #include <Eigen/Eigenvalues>
 #include <Eigen/LU>
+#include <opencv2/core/hal/intrin.hpp>
 #include <opencv2/imgproc.hpp>
 
 namespace px::render {
@@ -363,12 +365,13 @@ Eigen::Vector2d ViewMesh::PlanePointOfPixel(const CameraModel& camera, const Rig
   return MakePixelToPlane(*this, camera, cam_from_world).At(x, y);
 }
 
-void ViewMesh::ComputeWeights(const CameraModel& camera, const Rigid3& cam_from_world,
-                              std::vector<ViewSlots>* slots) const {
+void ViewMesh::ComputeWeights(const CameraModel& camera, const Rigid3& cam_from_world, std::vector<ViewSlots>* slots,
+                              double exponent) const {
   const int width = camera.width, height = camera.height;
   slots->resize(static_cast<size_t>(width) * height);
   if (kind_ == Kind::kPoint) {
     std::fill(slots->begin(), slots->end(), WeightsAt(Eigen::Vector2d::Zero()));
+    FlattenViewingWeights(exponent, slots);
     return;
   }
   const PixelToPlane map = MakePixelToPlane(*this, camera, cam_from_world);
@@ -454,33 +457,60 @@ void ViewMesh::ComputeWeights(const CameraModel& camera, const Rigid3& cam_from_
     for (int ty = tile_rows.start; ty < tile_rows.end; ++ty) {
       const int y0 = ty * kTile, y1 = std::min(height, y0 + kTile) - 1;
       for (int tx = 0; tx < tiles_x; ++tx) fill(tx * kTile, y0, std::min(width, tx * kTile + kTile) - 1, y1);
+      // Flattened while the band's rows are still in cache (a separate pass over a 1200x800
+      // frame cost 1.6 ms more).
+      ViewSlots* band = slots->data() + static_cast<size_t>(y0) * width;
+      FlattenSlots(exponent, band, band + static_cast<size_t>(y1 + 1 - y0) * width);
     }
   });
 }
 
+namespace {
+
+// The square-root flattening, one 4-lane step a slot: a slot is 16 bytes, its three view bytes
+// (and a pad byte) in lane 0 and its weights in lanes 1 to 3, so lane 0 is masked out before the
+// root (its bits may read as a denormal, which the root would take a slow path on) and kept as
+// it was on the way back.
+void FlattenBySquareRoot(ViewSlots* begin, ViewSlots* end) {
+  static_assert(sizeof(ViewSlots) == 16 && offsetof(ViewSlots, weight) == 4, "one 4-lane register a slot");
+  const cv::v_float32x4 weights = cv::v_reinterpret_as_f32(cv::v_uint32x4(0, ~0u, ~0u, ~0u));
+  for (ViewSlots* s = begin; s != end; ++s) {
+    float* lanes = reinterpret_cast<float*>(s);
+    const cv::v_float32x4 slot = cv::v_load(lanes);
+    const cv::v_float32x4 root = cv::v_sqrt(slot & weights);
+    const float sum = cv::v_reduce_sum(root);
+    const float inv_sum = sum > 0 ? 1.0f / sum : 0.0f;
+    cv::v_store(lanes, cv::v_select(weights, root * cv::v_setall_f32(inv_sum), slot));
+  }
+}
+
+}  // namespace
+
+void FlattenSlots(double exponent, ViewSlots* begin, ViewSlots* end) {
+  if (exponent == 1.0) return;
+  if (exponent == 0.5) {  // the default: sqrt is exact and far cheaper than pow
+    FlattenBySquareRoot(begin, end);
+    return;
+  }
+  // Weights are never negative (ComputeWeights clamps them), so pow needs no test and a weight of
+  // 0 stays 0.
+  const float power = static_cast<float>(exponent);
+  for (ViewSlots* s = begin; s != end; ++s) {
+    const float a = std::pow(s->weight[0], power), b = std::pow(s->weight[1], power), c = std::pow(s->weight[2], power);
+    const float sum = a + b + c;
+    const float inv_sum = sum > 0 ? 1.0f / sum : 0.0f;
+    s->weight = {a * inv_sum, b * inv_sum, c * inv_sum};
+  }
+}
+
 void FlattenViewingWeights(double exponent, std::vector<ViewSlots>* slots) {
   if (exponent == 1.0 || slots->empty()) return;
-  const float power = static_cast<float>(exponent);
-  // Weights are never negative (ComputeWeights clamps them), so sqrt and pow need no test and a
-  // weight of 0 stays 0. Branch-free: about 20 instructions a pixel for the square root.
-  const auto flatten = [](ViewSlots* begin, ViewSlots* end, auto&& raise) {
-    for (ViewSlots* s = begin; s != end; ++s) {
-      const float a = raise(s->weight[0]), b = raise(s->weight[1]), c = raise(s->weight[2]);
-      const float sum = a + b + c;
-      const float inv_sum = sum > 0 ? 1.0f / sum : 0.0f;
-      s->weight = {a * inv_sum, b * inv_sum, c * inv_sum};
-    }
-  };
   constexpr int kStripe = 8192;
   const int num_stripes = static_cast<int>((slots->size() + kStripe - 1) / kStripe);
   cv::parallel_for_(cv::Range(0, num_stripes), [&](const cv::Range& stripes) {
     ViewSlots* begin = slots->data() + static_cast<size_t>(stripes.start) * kStripe;
     ViewSlots* end = slots->data() + std::min(slots->size(), static_cast<size_t>(stripes.end) * kStripe);
-    if (exponent == 0.5) {  // the default: sqrt is exact and far cheaper than pow
-      flatten(begin, end, [](float w) { return std::sqrt(w); });
-    } else {
-      flatten(begin, end, [power](float w) { return std::pow(w, power); });
-    }
+    FlattenSlots(exponent, begin, end);
   });
 }
 

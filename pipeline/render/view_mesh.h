@@ -66,8 +66,9 @@ class ViewMesh {
   Eigen::Vector2d PlanePointOfPixel(const CameraModel& camera, const Rigid3& cam_from_world, double x,
                                     double y) const;
   // Weights for every pixel of a pinhole camera, row-major (width * height entries), rows in
-  // parallel.
-  void ComputeWeights(const CameraModel& camera, const Rigid3& cam_from_world, std::vector<ViewSlots>* slots) const;
+  // parallel; raised to `exponent` (FlattenViewingWeights) as each band of rows is made.
+  void ComputeWeights(const CameraModel& camera, const Rigid3& cam_from_world, std::vector<ViewSlots>* slots,
+                      double exponent = 1.0) const;
 
  private:
   struct Barycentric {  // lambda_1,2 = inverse * (q - p0), lambda_0 = 1 - lambda_1 - lambda_2
@@ -103,5 +104,7 @@ class ViewMesh {
 // pixel more evenly. Weights of 0 stay 0 and a lone view keeps 1, so the weights stay continuous
 // over the image and along a camera path. Rows in parallel.
 void FlattenViewingWeights(double exponent, std::vector<ViewSlots>* slots);
+// The same over slots [begin, end), on the calling thread.
+void FlattenSlots(double exponent, ViewSlots* begin, ViewSlots* end);
 
 }  // namespace px::render
