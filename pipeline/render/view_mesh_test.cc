@@ -124,6 +124,29 @@ TEST(ViewMeshTest, DegenerateSetsStillGiveWeightsThatSumToOne) {
   EXPECT_FALSE(ViewMesh::Build({}, {}).ok());
 }
 
+// ComputeWeights flattens each band of rows as it makes it: the same weights as flattening the
+// whole frame afterwards, bit for bit, for the square root (one 4-lane step a slot) and for pow.
+TEST(ViewMeshTest, ComputeWeightsFlattensAsItGoes) {
+  const ViewMesh mesh = Lattice3x3();
+  const CameraModel camera = CameraModel::Pinhole(83, 61, 70.0);  // bands of 16 rows, the last one short
+  const Rigid3 pose(Eigen::Quaterniond(Eigen::AngleAxisd(0.05, Eigen::Vector3d::UnitY())),
+                    -Eigen::Vector3d(0.006, -0.004, -0.02));
+  for (const double exponent : {0.5, 0.7}) {
+    std::vector<ViewSlots> fused, afterwards;
+    mesh.ComputeWeights(camera, pose, &fused, exponent);
+    mesh.ComputeWeights(camera, pose, &afterwards);
+    FlattenViewingWeights(exponent, &afterwards);
+    ASSERT_EQ(fused.size(), afterwards.size());
+    int differing = 0, several_views = 0;
+    for (size_t i = 0; i < fused.size(); ++i) {
+      differing += fused[i].view != afterwards[i].view || fused[i].weight != afterwards[i].weight;
+      several_views += fused[i].view[1] != ViewSlots::kNone;
+    }
+    EXPECT_EQ(differing, 0) << "exponent " << exponent;
+    EXPECT_GT(several_views, static_cast<int>(fused.size()) / 2) << "the frame blends views";
+  }
+}
+
 }  // namespace
 }  // namespace px::render
 
