@@ -39,9 +39,11 @@ struct DepthSegment {
   float confidence = 0;     // [0, 1]: how much the stereo stage trusts this segment's plane
   int32_t num_pixels = 0;   // pixels it covers with weight > 0, in either layer
 
+  // Inverse depth (1/m) of the plane at pixel (x, y) of the view.
+  double InverseDepthAt(double x, double y) const { return inv_depth_a * x + inv_depth_b * y + inv_depth_c; }
   // Depth in metres at pixel (x, y) of the view; 0 when the plane is at or behind infinity there.
   double DepthAt(double x, double y) const {
-    const double inv = inv_depth_a * x + inv_depth_b * y + inv_depth_c;
+    const double inv = InverseDepthAt(x, y);
     return inv > 0 ? 1.0 / inv : 0.0;
   }
 };

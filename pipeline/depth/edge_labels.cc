@@ -45,21 +45,17 @@ std::vector<Projector> MakeProjectors(const View& reference, const std::vector<c
 void SplatReferenceSurfaces(const SegmentImage& image, std::vector<Projector>* projectors) {
   for (Projector& p : *projectors) {
     p.nearest = cv::Mat::zeros(p.bgr->size(), CV_32F);
-    const Eigen::Matrix3d& a = p.mapping.a;
-    const Eigen::Vector3d& b = p.mapping.b;
     for (int y = 0; y < image.labels.rows; ++y) {
       const int* row = image.labels.ptr<int>(y);
-      const Eigen::Vector3d row_start = a.col(1) * y + a.col(2);
       for (int x = 0; x < image.labels.cols; ++x) {
         const double u = image.planes[row[x]].At(x, y);
-        if (!(u > 0)) continue;
-        const Eigen::Vector3d q = row_start + a.col(0) * x + b * u;
-        if (!(q.z() > 1e-12)) continue;
-        const double inv_z = 1.0 / q.z();
-        const double sx = q.x() * inv_z + 0.5, sy = q.y() * inv_z + 0.5;  // + 0.5: truncation rounds
+        double sx, sy, u_view;
+        if (!(u > 0) || !p.mapping.Map(x, y, u, &sx, &sy, &u_view)) continue;
+        sx += 0.5;  // truncation then rounds
+        sy += 0.5;
         if (!(sx >= 0 && sy >= 0 && sx < p.nearest.cols && sy < p.nearest.rows)) continue;
         float& nearest = p.nearest.at<float>(static_cast<int>(sy), static_cast<int>(sx));
-        nearest = std::max(nearest, static_cast<float>(u * inv_z));  // q.z() = u z_view
+        nearest = std::max(nearest, static_cast<float>(u_view));
       }
     }
   }
@@ -131,14 +127,13 @@ float PlaneColourCost(const cv::Vec3b& colour, int x, int y, double u, const std
   std::array<char, kMaxNeighbours> hidden{};
   int n = 0, num_hidden = 0;
   for (const Projector& p : projectors) {
-    const Eigen::Vector3d q = p.mapping.a * Eigen::Vector3d(x, y, 1.0) + p.mapping.b * u;
-    if (!(q.z() > 1e-12)) continue;
-    const double sx = q.x() / q.z(), sy = q.y() / q.z();
+    double sx, sy, u_view;
+    if (!p.mapping.Map(x, y, u, &sx, &sy, &u_view)) continue;
     const cv::Mat& src = *p.bgr;
     if (!(sx >= 0 && sy >= 0 && sx <= src.cols - 2 && sy <= src.rows - 2)) continue;
     if (occlusion_margin > 0) {
       const float in_front = p.nearest.at<float>(static_cast<int>(std::lround(sy)), static_cast<int>(std::lround(sx)));
-      hidden[n] = in_front > u / q.z() + occlusion_margin;
+      hidden[n] = in_front > u_view + occlusion_margin;
       num_hidden += hidden[n];
     }
     const int x0 = static_cast<int>(sx), y0 = static_cast<int>(sy);

@@ -44,18 +44,6 @@ std::vector<std::vector<cv::Point>> InteriorSamples(const cv::Mat& groups, int n
   return samples;
 }
 
-double GreyStddev(const cv::Mat& gray, const std::vector<cv::Point>& pixels) {
-  double sum = 0, sum_sq = 0;
-  for (const cv::Point& p : pixels) {
-    const double g = gray.at<float>(p);
-    sum += g;
-    sum_sq += g * g;
-  }
-  const double n = std::max<double>(pixels.size(), 1);
-  const double mean = sum / n;
-  return std::sqrt(std::max(0.0, sum_sq / n - mean * mean));
-}
-
 InversePlane Scaled(const InversePlane& plane, double scale) {
   return InversePlane{plane.a * scale, plane.b * scale, plane.c * scale};
 }
@@ -91,18 +79,14 @@ GroupDepthStats RefineGroupDepths(const WorkingView& reference,
     pixels = std::move(spread);
   }
   const cv::Mat& ref_gray = reference.gray;
-  std::vector<GrayNeighbour> gray_neighbours;
-  for (const WorkingView* view : neighbours) {
-    gray_neighbours.push_back(
-        {&view->gray, MappingInto(reference.camera, reference.cam_from_world, view->camera, view->cam_from_world)});
-  }
+  const std::vector<GrayNeighbour> gray_neighbours = GrayNeighbours(reference, neighbours);
 
   const int steps = static_cast<int>(std::lround(options.search_px / options.step_px));
   double total_shift_px = 0;
   for (int g = 0; g < num_groups; ++g) {
     const std::vector<cv::Point>& pixels = samples[g];
     if (static_cast<int>(pixels.size()) < options.min_samples) continue;
-    if (GreyStddev(ref_gray, pixels) < options.min_texture_stddev) continue;
+    if (GreyVariance(ref_gray, pixels) < options.min_texture_stddev * options.min_texture_stddev) continue;
     // The group's plane (its members share it) and its inverse depth at the samples' centre.
     const int first_member = image->labels.at<int>(pixels[pixels.size() / 2]);
     const InversePlane plane = image->planes[first_member];

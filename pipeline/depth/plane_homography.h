@@ -28,10 +28,16 @@ struct InverseDepthMapping {
   Eigen::Vector3d b;
   // False where the point lies behind the source camera.
   bool Map(double x, double y, double u, double* sx, double* sy) const {
+    double u_src;
+    return Map(x, y, u, sx, sy, &u_src);
+  }
+  // The same, with the point's inverse depth in the source camera (q's z is u z_src).
+  bool Map(double x, double y, double u, double* sx, double* sy, double* u_src) const {
     const Eigen::Vector3d q = a * Eigen::Vector3d(x, y, 1.0) + b * u;
     if (!(q.z() > 1e-12)) return false;
     *sx = q.x() / q.z();
     *sy = q.y() / q.z();
+    *u_src = u / q.z();
     return true;
   }
 };

@@ -59,22 +59,30 @@ SegmentMatchCost::SegmentMatchCost(const WorkingView& ref,
   PX_CHECK(ref.gray.type() == CV_32FC1 && segments.labels.size() == ref.gray.size() &&
            pixel_inverse_depth.type() == CV_32FC1 && pixel_inverse_depth.size() == ref.gray.size());
   PX_CHECK(neighbours.size() <= 16) << "at most 16 neighbours";
-  for (const WorkingView* view : neighbours) {
-    neighbours_.push_back({&view->gray, MappingInto(ref.camera, ref.cam_from_world, view->camera, view->cam_from_world)});
-  }
+  neighbours_ = GrayNeighbours(ref, neighbours);
   const double min_variance = min_texture_stddev * min_texture_stddev;
   textured_.resize(pixels_.size());
-  for (size_t s = 0; s < pixels_.size(); ++s) {
-    double sum = 0, sum_sq = 0;
-    for (const cv::Point& p : pixels_[s]) {
-      const double g = ref_gray_.at<float>(p);
-      sum += g;
-      sum_sq += g * g;
-    }
-    const double count = std::max<double>(pixels_[s].size(), 1);
-    const double mean = sum / count;
-    textured_[s] = sum_sq / count - mean * mean > min_variance ? 1 : 0;
+  for (size_t s = 0; s < pixels_.size(); ++s) textured_[s] = GreyVariance(ref_gray_, pixels_[s]) > min_variance ? 1 : 0;
+}
+
+std::vector<GrayNeighbour> GrayNeighbours(const WorkingView& ref, const std::vector<const WorkingView*>& views) {
+  std::vector<GrayNeighbour> out;
+  for (const WorkingView* view : views) {
+    out.push_back({&view->gray, MappingInto(ref.camera, ref.cam_from_world, view->camera, view->cam_from_world)});
   }
+  return out;
+}
+
+double GreyVariance(const cv::Mat& gray, const std::vector<cv::Point>& pixels) {
+  double sum = 0, sum_sq = 0;
+  for (const cv::Point& p : pixels) {
+    const double g = gray.at<float>(p);
+    sum += g;
+    sum_sq += g * g;
+  }
+  const double count = std::max<double>(pixels.size(), 1);
+  const double mean = sum / count;
+  return sum_sq / count - mean * mean;
 }
 
 double BestHalfZnccCost(const cv::Mat& ref_gray, const std::vector<GrayNeighbour>& neighbours,

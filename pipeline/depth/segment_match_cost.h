@@ -24,6 +24,12 @@ struct GrayNeighbour {
   InverseDepthMapping mapping;
 };
 
+// `views`' grey images and how `ref`'s pixels map into them.
+std::vector<GrayNeighbour> GrayNeighbours(const WorkingView& ref, const std::vector<const WorkingView*>& views);
+
+// Variance of `gray` (CV_32F) over `pixels` (0 for none): whether they have texture to match.
+double GreyVariance(const cv::Mat& gray, const std::vector<cv::Point>& pixels);
+
 // Mean of the best half of the neighbours' 1 - ZNCC (in [0, 2]) between the reference's grey
 // values at `pixels` and each neighbour's where `plane` carries them; a neighbour that sees
 // fewer than half of them (or fewer than 4) does not count; kNoDataCost when none does.

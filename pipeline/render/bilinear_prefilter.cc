@@ -3,14 +3,6 @@
 #include <cmath>
 
 namespace px::render {
-namespace {
-
-// Inverse depth of `segment`'s plane at (x, y).
-double InverseDepthAt(const DepthSegment& segment, int x, int y) {
-  return segment.inv_depth_a * x + segment.inv_depth_b * y + segment.inv_depth_c;
-}
-
-}  // namespace
 
 std::array<cv::Mat, 2> PrefilterForBilinear(const LayeredDepthView& view, float sharpen) {
   const int width = view.camera.width, height = view.camera.height;
@@ -28,12 +20,12 @@ std::array<cv::Mat, 2> PrefilterForBilinear(const LayeredDepthView& view, float 
     // Indices are checked: the scene sanitises bad texels only after this.
     const int32_t count = view.NumSegments();
     if (s < 0 || s >= count) return false;
-    const double own = InverseDepthAt(view.segments[s], x, y);
+    const double own = view.segments[s].InverseDepthAt(x, y);
     if (!(own > 0)) return false;
     for (const SegmentLayer& l : view.layers) {
       const int32_t t = l.segment.at<int32_t>(y, x);
       if (t < 0 || t >= count || !(l.weight.at<float>(y, x) > 0)) continue;
-      if (std::abs(InverseDepthAt(view.segments[t], x, y) - own) <= kSameSurfaceTolerance * own) {
+      if (std::abs(view.segments[t].InverseDepthAt(x, y) - own) <= kSameSurfaceTolerance * own) {
         *colour = cv::Vec3f(l.colour.at<cv::Vec3b>(y, x));
         return true;
       }

@@ -47,8 +47,7 @@ DepthSegment FitPlane(const std::vector<BlockPixel>& pixels, const cv::Rect& box
       for (const cv::Point corner : {extent.tl(), cv::Point(extent.br().x - 1, extent.y),
                                      cv::Point(extent.x, extent.br().y - 1),
                                      cv::Point(extent.br().x - 1, extent.br().y - 1)}) {
-        positive = positive && fitted.inv_depth_a * corner.x + fitted.inv_depth_b * corner.y + fitted.inv_depth_c >
-                                 1e-3 * mean;
+        positive = positive && fitted.InverseDepthAt(corner.x, corner.y) > 1e-3 * mean;
       }
       if (positive) segment = fitted;
     }

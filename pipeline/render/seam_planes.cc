@@ -13,10 +13,6 @@
 namespace px::render {
 namespace {
 
-double InverseDepthAt(const DepthSegment& s, double x, double y) {
-  return s.inv_depth_a * x + s.inv_depth_b * y + s.inv_depth_c;
-}
-
 // A segment's plane about its pixels' centroid: 1/z = a (x - cx) + b (y - cy) + c (well
 // conditioned for the joint fit: a, b and c then hardly couple).
 struct Centred {
@@ -30,7 +26,7 @@ bool PositiveOverRectangle(const DepthSegment& s) {
   const cv::Rect& b = s.bbox;
   for (const double x : {b.x - 1.0, static_cast<double>(b.x + b.width)}) {
     for (const double y : {b.y - 1.0, static_cast<double>(b.y + b.height)}) {
-      if (!(InverseDepthAt(s, x, y) > 1e-6)) return false;
+      if (!(s.InverseDepthAt(x, y) > 1e-6)) return false;
     }
   }
   return true;
@@ -82,7 +78,7 @@ LayeredDepthView WithSeamPlanes(const LayeredDepthView& view, const SeamPlaneOpt
   for (int s = 0; s < n; ++s) {
     if (!valid(s)) continue;
     const DepthSegment& d = view.segments[s];
-    own[s] = Eigen::Vector3d(d.inv_depth_a, d.inv_depth_b, InverseDepthAt(d, centred[s].cx, centred[s].cy));
+    own[s] = Eigen::Vector3d(d.inv_depth_a, d.inv_depth_b, d.InverseDepthAt(centred[s].cx, centred[s].cy));
   }
   std::map<std::pair<int32_t, int32_t>, Eigen::Matrix3d> coupling;  // off-diagonal blocks of the seams
   std::vector<bool> joined(n, false);
@@ -100,7 +96,7 @@ LayeredDepthView WithSeamPlanes(const LayeredDepthView& view, const SeamPlaneOpt
         const int32_t b = front.segment.at<int32_t>(qy, qx);
         if (b == a) continue;
         const double mx = x + 0.5 * dx, my = y + 0.5 * dy;
-        const double ia = InverseDepthAt(view.segments[a], mx, my), ib = InverseDepthAt(view.segments[b], mx, my);
+        const double ia = view.segments[a].InverseDepthAt(mx, my), ib = view.segments[b].InverseDepthAt(mx, my);
         if (!(ia > 0 && ib > 0) || std::abs(ia - ib) >= options.max_step * ia) continue;  // a depth edge
         // Keyed by the lower index first: the block of rows `lo`, columns `hi`.
         const int32_t lo = std::min(a, b), hi = std::max(a, b);
@@ -165,7 +161,7 @@ LayeredDepthView WithSeamPlanes(const LayeredDepthView& view, const SeamPlaneOpt
         const int layer = front.weight.at<float>(y, x) >= 0.5f ? 0 : 1;
         const int32_t segment = view.layers[layer].segment.at<int32_t>(y, x);
         if (!(z[x] > 0) || segment < 0 || segment >= n || !joined[segment]) continue;
-        const double inverse = InverseDepthAt(out.segments[segment], x, y);
+        const double inverse = out.segments[segment].InverseDepthAt(x, y);
         if (inverse > 0) z[x] = static_cast<float>(1.0 / inverse);
       }
     }

@@ -6,13 +6,6 @@
 #include <opencv2/imgproc.hpp>
 
 namespace px::render {
-namespace {
-
-double InverseDepthAt(const DepthSegment& segment, int x, int y) {
-  return segment.inv_depth_a * x + segment.inv_depth_b * y + segment.inv_depth_c;
-}
-
-}  // namespace
 
 LayeredDepthView WithSeamSkirts(const LayeredDepthView& view, const SeamSkirtOptions& options,
                                 SeamSkirtReport* report) {
@@ -61,7 +54,7 @@ LayeredDepthView WithSeamSkirts(const LayeredDepthView& view, const SeamSkirtOpt
     for (int x = 0; x < width; ++x) {
       if (can_skirt[x] == 0) continue;
       const int32_t own = segment0[x];
-      const double own_inverse = InverseDepthAt(view.segments[own], x, y);
+      const double own_inverse = view.segments[own].InverseDepthAt(x, y);
       if (!(own_inverse > 0)) continue;
       // The neighbouring segment (original layer 0, fully there) whose plane is nearest this one's here.
       int32_t best = SegmentLayer::kNoSegment;
@@ -69,7 +62,7 @@ LayeredDepthView WithSeamSkirts(const LayeredDepthView& view, const SeamSkirtOpt
       for (const auto& [dx, dy] : kNeighbours) {
         const int32_t other = front.segment.at<int32_t>(y + dy, x + dx);  // pure, inside: x, y are skirtable
         if (other == own) continue;
-        const double step = std::abs(InverseDepthAt(view.segments[other], x, y) - own_inverse) / own_inverse;
+        const double step = std::abs(view.segments[other].InverseDepthAt(x, y) - own_inverse) / own_inverse;
         if (step < best_step && step >= options.min_step) {
           best_step = step;
           best = other;

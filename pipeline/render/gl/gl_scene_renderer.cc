@@ -37,7 +37,7 @@ bool SegmentUsable(const DepthSegment& s) {
   const double x0 = s.bbox.x - 1, x1 = s.bbox.x + s.bbox.width, y0 = s.bbox.y - 1, y1 = s.bbox.y + s.bbox.height;
   for (double x : {x0, x1}) {
     for (double y : {y0, y1}) {
-      if (s.inv_depth_a * x + s.inv_depth_b * y + s.inv_depth_c <= 0) return false;
+      if (s.InverseDepthAt(x, y) <= 0) return false;
     }
   }
   return true;
@@ -452,7 +452,7 @@ StatusOr<GlSceneRenderer::RawFrame> GlSceneRenderer::RenderRaw(const CameraModel
       item.segment = s;
       bool behind = false;
       for (int c = 0; c < 4 && !behind; ++c) {
-        const double z_source = 1.0 / (seg.inv_depth_a * corners[c].x() + seg.inv_depth_b * corners[c].y() + seg.inv_depth_c);
+        const double z_source = 1.0 / seg.InverseDepthAt(corners[c].x(), corners[c].y());
         const Eigen::Vector3d point = novel_from_source * (z_source * k_source.inverse() *
                                                            Eigen::Vector3d(corners[c].x(), corners[c].y(), 1.0));
         if (point.z() <= kNearDepthM) {
@@ -472,7 +472,7 @@ StatusOr<GlSceneRenderer::RawFrame> GlSceneRenderer::RenderRaw(const CameraModel
       item.data[20] = static_cast<float>(s);
       item.data[21] = 0;
       const double cx = seg.bbox.x + (seg.bbox.width - 1) / 2.0, cy = seg.bbox.y + (seg.bbox.height - 1) / 2.0;
-      const double z_centre = 1.0 / (seg.inv_depth_a * cx + seg.inv_depth_b * cy + seg.inv_depth_c);
+      const double z_centre = 1.0 / seg.InverseDepthAt(cx, cy);
       // Rounded to float as the CPU reference's key is, so that both break the same near-ties by
       // segment index (seam planes put the segments of one flat surface on one plane, and with
       // seam skirts the order of two of them shows a little).
