@@ -40,6 +40,7 @@ struct EvalRenderArgs {
   double edge_front_weight = LayeredFromDepthOptions().edge_front_weight;
   bool skip_hci_full_grid = false;
   bool holes_from_other_views = RenderOptions().holes_from_other_views;
+  render::BorderHoleFillOptions border_holes = RenderOptions().border_holes;
   std::vector<std::string> depth_overrides;  // name=value, as `eval depth --option`
   std::string dump_dir;
   bool json = false;
@@ -67,6 +68,7 @@ Status RunEvalRender(const EvalRenderArgs& args) {
   options.layered.edge_front_weight = args.edge_front_weight;
   options.hci_full_grid = !args.skip_hci_full_grid;
   options.render.holes_from_other_views = args.holes_from_other_views;
+  options.render.border_holes = args.border_holes;
   options.dump_dir = args.dump_dir;
   for (const std::string& text : args.depth_overrides) {
     PX_RETURN_IF_ERROR(ApplyDepthOptionOverride(text, &options.depth_stage));
@@ -271,6 +273,13 @@ void AddEvalRenderCommand(CLI::App& eval) {
   render->add_option("--holes-from-other-views", args->holes_from_other_views,
                      "Draw holes again from the views the view mesh did not blend there before filling them "
                      "(true, false)")
+      ->capture_default_str();
+  render->add_option("--border-holes", args->border_holes.enabled,
+                     "Fill holes at the frame's border by carrying their inner edge straight out, fading to the "
+                     "local mean, before the reverse soft z fills the rest (true, false)")
+      ->capture_default_str();
+  render->add_option("--border-hole-spread", args->border_holes.spread,
+                     "Width of that fade along the border per pixel carried out, [0, 4]")
       ->capture_default_str();
   render->add_option("--dump", args->dump_dir, "Folder to write each case's render, truth, error map (x4) and coverage to");
   render->add_flag("--json", args->json, "Print the figures as JSON (machine-readable)");

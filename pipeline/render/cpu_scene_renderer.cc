@@ -12,6 +12,7 @@
 #include "pipeline/render/compositor.h"
 #include "pipeline/render/depth_of_field.h"
 #include "pipeline/render/exemplar_inpaint.h"
+#include "pipeline/render/border_holes.h"
 #include "pipeline/render/hole_fill.h"
 #include "pipeline/render/hole_regions.h"
 #include "pipeline/render/hole_views.h"
@@ -80,9 +81,10 @@ std::vector<PartialPixel> PartialPixelsIn(const cv::Rect& region, const cv::Mat&
 }
 
 // Fills the pixels of `region` (a render::HoleRegions box, or the whole frame) that `known` does
-// not hold: reverse soft z (section 6), after exemplar inpainting of the large holes when
-// `inpaint` (offline, section 10; holes at the image border are left to the smear, better outside
-// the sources' view); then the soft edges' `partial` colours go back over the fill.
+// not hold: holes at the frame's border carried out from their inner edge (border_holes.h), the
+// rest by reverse soft z (section 6), after exemplar inpainting of the large holes when `inpaint`
+// (offline, section 10; not at the image border: patches guess worse outside the sources' view);
+// then the soft edges' `partial` colours go back over the fill.
 HoleCounts FillHolesIn(const cv::Rect& region, bool inpaint, const RenderOptions& options,
                        const render::SoftZ& soft_z, const cv::Mat& known_in_frame,
                        const std::vector<PartialPixel>& partial, render::FrameComposite* composite) {
@@ -100,11 +102,15 @@ HoleCounts FillHolesIn(const cv::Rect& region, bool inpaint, const RenderOptions
       inpaint_options.patch_radius_px = options.inpaint_patch_radius_px;
       inpaint_options.window_radius_px = options.inpaint_window_radius_px;
       inpaint_options.depth_radius_px = radius;
-      inpaint_options.fill_border_holes = false;  // smeared below: better outside the sources' view
+      inpaint_options.fill_border_holes = false;  // filled below: better outside the sources' view
       const render::InpaintReport inpainted =
           render::InpaintDepthAware(soft_z, inpaint_options, known == 0, &known, &colour, &depth);
       counts.inpainted = inpainted.pixels - inpainted.fallback_pixels;
       counts.propagated = inpainted.fallback_pixels;
+    }
+    if (options.border_holes.enabled) {
+      render::FillBorderHoles(render::SidesOnFrameBorder(region, known_in_frame.size()), options.border_holes, &known,
+                              &colour, &depth);
     }
     const render::HoleFillReport rest = render::FillHolesReverseSoftZ(soft_z, radius, 0, &known, &colour, &depth);
     if (!inpaint) counts.small = rest.first_pass;

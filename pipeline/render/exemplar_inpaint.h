@@ -16,9 +16,9 @@ struct InpaintOptions {
   int window_radius_px = 50;  // sources centred within 101x101 of the target
   int depth_radius_px = 3;    // 7x7 reverse soft z blend for a filled pixel's depth
   // false: holes touching the image's border (where the camera sees past every source's field
-  // of view) are left unfilled for the caller's reverse soft z smear. They have known pixels on
-  // one side only, and there the smear scored 3 to 6 dB better than patches (eval render, turned
-  // viewpoints); the offline renderer passes false. true: every hole, as in the paper.
+  // of view) are left unfilled for the caller (border_holes.h). They have known pixels on one
+  // side only, and there even the reverse soft z's smear scored 3 to 6 dB better than patches
+  // (eval render, turned viewpoints); the offline renderer passes false. true: every hole, as in the paper.
   bool fill_border_holes = true;
 };
 

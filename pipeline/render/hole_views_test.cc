@@ -115,6 +115,36 @@ TEST_F(HoleViewsTest, OtherViewsCoverTheStripCloseToTheTruth) {
   }
 }
 
+// Without the other views the strip is a hole at the frame's border. Carried straight out
+// (border_holes.h, spread 0) each of its rows holds the colour of the row's first covered pixel;
+// the pixels covered before filling are untouched.
+TEST_F(HoleViewsTest, BorderHolesCarryTheStripsInnerEdgeOut) {
+  for (RenderQuality quality : {RenderQuality::kPreview, RenderQuality::kOffline}) {
+    SCOPED_TRACE(std::string(RenderQualityName(quality)));
+    RenderOptions options;
+    options.quality = quality;
+    options.holes_from_other_views = false;
+    options.border_holes.spread = 0;
+    auto renderer = CpuSceneRenderer::Create(views_, layers_, options);
+    ASSERT_TRUE(renderer.ok()) << renderer.status().ToString();
+    const auto frame = (*renderer)->Render(camera_);
+    ASSERT_TRUE(frame.ok()) << frame.status().ToString();
+    ASSERT_GT(cv::countNonZero(frame->coverage == 0), kCamera.height * 5) << "the turned camera must leave a strip";
+    int rows_carried = 0;
+    for (int y = 0; y < kCamera.height; ++y) {
+      int edge = 0;
+      while (edge < kCamera.width && frame->coverage.at<uint8_t>(y, edge) == 0) ++edge;
+      ASSERT_GT(edge, 2) << "row " << y << " has no strip";
+      const cv::Vec3b inner = frame->bgr.at<cv::Vec3b>(y, edge);
+      bool same = true;
+      for (int x = 0; x < edge - 1; ++x) same = same && cv::norm(frame->bgr.at<cv::Vec3b>(y, x), inner, cv::NORM_INF) <= 1;
+      rows_carried += same ? 1 : 0;
+    }
+    // A row whose strip ends in a soft edge keeps that pixel's own share of colour.
+    EXPECT_GT(rows_carried, kCamera.height * 9 / 10);
+  }
+}
+
 // LargeHoles keeps the holes the 7x7 first pass cannot close whole, with their box: a 5x5 hole
 // goes to the fill, a 12x12 one stays (whole, as SmallHoles keeps whole holes), and radius 0
 // keeps every hole.

@@ -32,6 +32,8 @@ Status RenderOptions::Validate() const {
     error << "render.covered_alpha: " << covered_alpha << " is outside (0, 1]";
   } else if (!(viewing_weight_exponent > 0 && viewing_weight_exponent <= 1)) {
     error << "render.viewing_weight_exponent: " << viewing_weight_exponent << " is outside (0, 1]";
+  } else if (!(border_holes.spread >= 0 && border_holes.spread <= 4)) {
+    error << "render.border_holes.spread: " << border_holes.spread << " is outside [0, 4]";
   } else if (hole_window_radius_px < 1 || hole_window_radius_px > 8) {
     error << "render.hole_window_radius_px: " << hole_window_radius_px << " is outside [1, 8]";
   } else if (inpaint_patch_radius_px < 1 || inpaint_patch_radius_px > 6) {

@@ -14,6 +14,7 @@
 #include "pipeline/render/bilinear_prefilter.h"
 #include "pipeline/render/color_effects.h"
 #include "pipeline/render/depth_of_field.h"
+#include "pipeline/render/border_holes.h"
 #include "pipeline/render/hole_fill.h"
 #include "pipeline/render/hole_views.h"
 #include "pipeline/render/layered_scene.h"
@@ -150,6 +151,7 @@ Status GlSceneRendererOptions::Validate() const {
   RenderOptions render;
   render.soft_z_gamma_fraction = soft_z_gamma_fraction;
   render.hole_window_radius_px = hole_window_radius_px;
+  render.border_holes = border_holes;
   const Status render_status = render.Validate();
   if (!render_status.ok()) return InvalidArgumentError("gl renderer: " + render_status.message());
   return context.Validate();
@@ -159,6 +161,7 @@ GlSceneRendererOptions GlOptionsFrom(const RenderOptions& render) {
   GlSceneRendererOptions options;
   options.viewing_weight_exponent = render.viewing_weight_exponent;
   options.holes_from_other_views = render.holes_from_other_views;
+  options.border_holes = render.border_holes;
   options.seam_skirts = render.seam_skirts;
   options.seam_planes = render.seam_planes;
   options.soft_z_gamma_fraction = render.soft_z_gamma_fraction;
@@ -187,6 +190,7 @@ StatusOr<std::unique_ptr<GlSceneRenderer>> GlSceneRenderer::Create(std::vector<P
   renderer->soft_z_gamma_fraction_ = options.soft_z_gamma_fraction;
   renderer->hole_window_radius_px_ = options.hole_window_radius_px;
   renderer->holes_from_other_views_ = options.holes_from_other_views;
+  renderer->border_holes_ = options.border_holes;
   renderer->seam_skirts_ = options.seam_skirts;
   renderer->seam_planes_ = options.seam_planes;
   renderer->context_ = std::move(context);
@@ -649,6 +653,7 @@ StatusOr<FrameRender> GlSceneRenderer::Render(const VirtualCamera& camera) {
     if (holes_from_other_views_) {
       stats_.other_view_pixels = CoverHolesFromOtherViews(camera, raw, &known, &colour, &frame.depth_m);
     }
+    if (border_holes_.enabled) FillBorderHoles(FrameSides{}, border_holes_, &known, &colour, &frame.depth_m);
     FillHolesReverseSoftZ(SoftZ(rho_m_, soft_z_gamma_fraction_), hole_window_radius_px_, 0, &known, &colour,
                           &frame.depth_m);
   }

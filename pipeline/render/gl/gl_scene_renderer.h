@@ -51,6 +51,9 @@ struct GlSceneRendererOptions {
   // are drawn again on the CPU from the views the mesh did not blend there (hole_views.h), from a
   // CPU LayeredScene made on the first frame that needs it.
   bool holes_from_other_views = RenderOptions{}.holes_from_other_views;
+  // RenderOptions::border_holes (the same default): holes at the frame's border carried out from
+  // their inner edge before the reverse soft z, on the CPU after the read-back.
+  render::BorderHoleFillOptions border_holes = RenderOptions{}.border_holes;
   // RenderOptions::seam_skirts and seam_planes (the same defaults): applied to the views' texels
   // once, on upload, as the CPU reference's LayeredScene applies them.
   SeamSkirtOptions seam_skirts = RenderOptions{}.seam_skirts;
@@ -151,6 +154,7 @@ class GlSceneRenderer final : public SceneRenderer {
   double soft_z_gamma_fraction_ = RenderOptions{}.soft_z_gamma_fraction;
   int hole_window_radius_px_ = RenderOptions{}.hole_window_radius_px;
   bool holes_from_other_views_ = true;
+  render::BorderHoleFillOptions border_holes_;
   SeamSkirtOptions seam_skirts_;
   SeamPlaneOptions seam_planes_;
   // Holes from other views: the CPU scene made from views_ on first use, each GL view's index in
