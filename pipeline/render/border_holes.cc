@@ -1,6 +1,5 @@
 #include "pipeline/render/border_holes.h"
 
-#include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstdlib>

@@ -8,11 +8,11 @@
 
 #include "pipeline/core/log.h"
 #include "pipeline/core/stage_clock.h"
+#include "pipeline/render/border_holes.h"
 #include "pipeline/render/color_effects.h"
 #include "pipeline/render/compositor.h"
 #include "pipeline/render/depth_of_field.h"
 #include "pipeline/render/exemplar_inpaint.h"
-#include "pipeline/render/border_holes.h"
 #include "pipeline/render/hole_fill.h"
 #include "pipeline/render/hole_regions.h"
 #include "pipeline/render/hole_views.h"
