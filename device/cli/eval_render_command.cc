@@ -15,6 +15,7 @@
 #include "device/cli/run_or_fail.h"
 #include "device/cli/scene_path.h"
 #include "eval/render/closeup_eval.h"
+#include "eval/render/pan_eval.h"
 #include "eval/render/render_eval.h"
 #include "pipeline/core/log.h"
 #include "sim/synthetic/data_paths.h"
@@ -92,13 +93,13 @@ Status RunEvalRender(const EvalRenderArgs& args) {
     return std::find(args.groups.begin(), args.groups.end(), group) != args.groups.end();
   };
   for (const std::string& group : args.groups) {
-    if (group != "standard" && group != "closeup") {
-      return InvalidArgumentError("--group '" + group + "' is not one of standard, closeup");
+    if (group != "standard" && group != "closeup" && group != "pan") {
+      return InvalidArgumentError("--group '" + group + "' is not one of standard, closeup, pan");
     }
   }
   std::vector<fs::path> data;
   if (!has_group("standard")) {
-    // The close-up group alone.
+    // Other groups only.
   } else if (args.data.empty()) {
     for (const std::string& scene : args.scenes) {
       PX_ASSIGN_OR_RETURN(fs::path file, ResolveScenePath(scene));
@@ -147,6 +148,13 @@ Status RunEvalRender(const EvalRenderArgs& args) {
       PX_RETURN_IF_ERROR(add(eval::EvaluateSimulatedCloseUps(file, options)));
     }
   }
+  if (has_group("pan")) {
+    for (const std::string& scene : args.scenes) {
+      PX_ASSIGN_OR_RETURN(fs::path file, ResolveScenePath(scene));
+      PX_RETURN_IF_ERROR(add(eval::EvaluateSimulatedPan(file, SimCameraSpec::Pop9(), options)));
+      PX_RETURN_IF_ERROR(add(eval::EvaluateSimulatedPan(file, SimCameraSpec::Integral5x4(), options)));
+    }
+  }
 
   const MachineInfo machine = ReadMachineInfo();
   if (args.json) {
@@ -157,7 +165,7 @@ Status RunEvalRender(const EvalRenderArgs& args) {
                       {"psnr_covered_edges_db", c.psnr_covered_edges_db},
                       {"psnr_covered_flat_db", c.psnr_covered_flat_db}, {"psnr_holes_db", c.psnr_holes_db},
                       {"hole_ratio", c.hole_ratio}, {"hole_score", c.hole_score}, {"render_ms", c.render_ms},
-                      {"crack_fraction", c.crack_fraction}});
+                      {"crack_fraction", c.crack_fraction}, {"temporal_psnr_db", c.temporal_psnr_db}});
     }
     const nlohmann::json result{{"backend", "cpu"},
                                 {"quality", args.quality},
@@ -170,39 +178,46 @@ Status RunEvalRender(const EvalRenderArgs& args) {
   }
   std::printf("render evaluation: cpu back end, %s quality; machine %s, %d cores, commit %s\n", args.quality.c_str(),
               machine.cpu_model.c_str(), machine.cores, machine.commit.c_str());
-  std::printf("%-32s %-35s %-12s %9s %4s %7s %7s %7s %7s %7s %7s %8s %8s\n", "dataset", "viewpoint", "depth",
-              "size", "srcs", "PSNR dB", "SSIM", "edge dB", "flat dB", "hole dB", "holes %", "cracks %", "ms/frame");
+  std::printf("%-32s %-35s %-12s %9s %4s %7s %7s %7s %7s %7s %7s %8s %8s %7s\n", "dataset", "viewpoint", "depth",
+              "size", "srcs", "PSNR dB", "SSIM", "edge dB", "flat dB", "hole dB", "holes %", "cracks %", "ms/frame",
+              "temp dB");
   // Mean PSNR and cracks per kind of dataset (sim, sim close-up, hci, llff) and depth source.
   struct Mean {
-    double psnr_db = 0, crack_fraction = 0;
+    double psnr_db = 0, crack_fraction = 0, temporal_psnr_db = 0;
     int count = 0;
   };
   std::map<std::pair<std::string, std::string>, Mean> means;
-  const std::string closeup = " close-up";
+  const auto ends_with = [](const std::string& text, const std::string& end) {
+    return text.size() > end.size() && text.compare(text.size() - end.size(), end.size(), end) == 0;
+  };
   for (const eval::RenderEvalCase& c : cases) {
     const std::string size = std::to_string(c.width) + "x" + std::to_string(c.height);
     const std::string depth(eval::EvalDepthName(c.depth));
-    std::printf("%-32s %-35s %-12s %9s %4d %7.2f %7.4f %7.2f %7.2f %7.2f %7.3f %8.3f %8.1f\n", c.dataset.c_str(),
+    char temporal[16] = "      -";
+    if (c.temporal_psnr_db >= 0) std::snprintf(temporal, sizeof temporal, "%7.2f", c.temporal_psnr_db);
+    std::printf("%-32s %-35s %-12s %9s %4d %7.2f %7.4f %7.2f %7.2f %7.2f %7.3f %8.3f %8.1f %s\n", c.dataset.c_str(),
                 c.viewpoint.c_str(), depth.c_str(), size.c_str(), c.num_sources, c.psnr_db, c.ssim,
                 c.psnr_covered_edges_db, c.psnr_covered_flat_db, c.psnr_holes_db, 100 * c.hole_ratio,
-                100 * c.crack_fraction, c.render_ms);
-    const bool is_closeup = c.dataset.size() > closeup.size() &&
-                            c.dataset.compare(c.dataset.size() - closeup.size(), closeup.size(), closeup) == 0;
-    Mean& mean = means[{c.dataset.substr(0, c.dataset.find(' ')) + (is_closeup ? closeup : ""), depth}];
+                100 * c.crack_fraction, c.render_ms, temporal);
+    const std::string group = ends_with(c.dataset, " close-up") ? " close-up" : ends_with(c.dataset, " pan") ? " pan" : "";
+    Mean& mean = means[{c.dataset.substr(0, c.dataset.find(' ')) + group, depth}];
     mean.psnr_db += c.psnr_db;
     mean.crack_fraction += c.crack_fraction;
+    mean.temporal_psnr_db += c.temporal_psnr_db;
     ++mean.count;
   }
   for (const auto& [key, mean] : means) {
     std::printf("mean PSNR %-14s with %-12s depth: %6.2f dB over %d views", key.first.c_str(), key.second.c_str(),
                 mean.psnr_db / mean.count, mean.count);
     if (mean.crack_fraction >= 0) std::printf("; cracks %.3f %%", 100 * mean.crack_fraction / mean.count);
+    if (mean.temporal_psnr_db >= 0) std::printf("; temporal %.2f dB", mean.temporal_psnr_db / mean.count);
     std::printf("\n");
   }
   std::printf("edge / flat dB: PSNR over the pixels covered before hole filling within 3 px of a depth jump (the "
               "truth's where known) / elsewhere; hole dB: over the filled holes (0: none); cracks %%: pixels "
               "rendered over 10 %% behind the true depth between two sides on its true surface at most 3 px "
-              "apart (-100: no true depth)\n");
+              "apart (-100: no true depth); temp dB (pan): PSNR of each frame-to-frame change against the truth's, "
+              "so only errors that come and go between frames count\n");
   for (const std::string& note : notes) std::printf("note: %s\n", note.c_str());
   std::printf("goals: >= 38 dB on the simulated scenes; > 24.13 dB on llff fern (LLFF's figure)\n");
   return OkStatus();
@@ -227,9 +242,10 @@ void AddEvalRenderCommand(CLI::App& eval) {
                      "scenes only), sweep (the plain plane sweep the evaluation used before)")
       ->capture_default_str();
   render->add_option("--group", args->groups,
-                     "Case groups (repeatable): standard (the data sets above) and closeup (the dolly in that "
+                     "Case groups (repeatable): standard (the data sets above), closeup (the dolly in that "
                      "`parallax clip` plans on --closeup-scene, halfway and at its close-up end, at 640x480, with "
-                     "the crack measure)")
+                     "the crack measure) and pan (not by default: 16 frames along the lattice plane across a view "
+                     "mesh edge on each --scene and lattice, with the temporal PSNR)")
       ->capture_default_str();
   render->add_option("--closeup-scene", args->closeup_scenes, "Scenes of the closeup group")->capture_default_str();
   render->add_option("--quality", args->quality, "preview or offline")->capture_default_str();

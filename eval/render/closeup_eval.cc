@@ -107,11 +107,8 @@ StatusOr<std::vector<RenderEvalCase>> EvaluateSimulatedCloseUps(const std::files
   }
   std::vector<RenderEvalCase> cases;
   for (EvalDepth source : DepthSources(options, true)) {
-    Progress(options, dataset + ": " + std::string(EvalDepthName(source)) + " depth for " +
-                          std::to_string(lattice.views.size()) + " views");
     PX_ASSIGN_OR_RETURN(std::unique_ptr<CpuSceneRenderer> renderer,
-                        MakeRenderer(lattice.views, source, lattice.spec.depth_min_m, lattice.spec.depth_max_m,
-                                     &lattice.depths, options));
+                        MakeSimLatticeRenderer(lattice, source, dataset, options));
     for (const Viewpoint& viewpoint : viewpoints) {
       Progress(options, dataset + ": " + viewpoint.name);
       PX_ASSIGN_OR_RETURN(RenderEvalCase result,

@@ -3,6 +3,8 @@
 // whole image or the pixels of a mask.
 #pragma once
 
+#include <vector>
+
 #include <opencv2/core.hpp>
 
 namespace px::eval {
@@ -10,6 +12,13 @@ namespace px::eval {
 // PSNR in dB of CV_8UC3 `image` against `reference` (same size) where `mask` (CV_8U, may be empty)
 // is non-zero; 99 when they are identical there.
 double Psnr(const cv::Mat& image, const cv::Mat& reference, const cv::Mat& mask = cv::Mat());
+
+// Temporal steadiness of a rendered sequence against its truth (CV_8UC3 frames, one size, as many
+// truths as renders, at least two): PSNR of each frame-to-frame change against the truth's
+// change, (R[k+1] - R[k]) - (T[k+1] - T[k]), over all pixels and consecutive pairs. An error the
+// frames share (a static blur, a shifted colour) does not count; one that comes and goes (a view
+// handed over, a flickering edge) does. 99 when every change matches.
+double TemporalPsnr(const std::vector<cv::Mat>& renders, const std::vector<cv::Mat>& truths);
 
 // Mean SSIM in [-1, 1] of CV_8UC3 images of the same size, over the mask's pixels (all when empty).
 double Ssim(const cv::Mat& image, const cv::Mat& reference, const cv::Mat& mask = cv::Mat());

@@ -1,6 +1,7 @@
 #include "eval/render/image_metrics.h"
 
 #include <cmath>
+#include <vector>
 
 #include <gtest/gtest.h>
 #include <opencv2/imgproc.hpp>
@@ -27,6 +28,29 @@ TEST(ImageMetricsTest, PsnrOfAKnownError) {
   cv::Mat mask(20, 30, CV_8U, cv::Scalar(255));
   mask(cv::Rect(0, 0, 10, 20)).setTo(0);
   EXPECT_EQ(Psnr(a, c, mask), 99.0);
+}
+
+// A truth sequence panning a texture 1 px a frame: renders with an error they all share score 99,
+// one frame off scores what its two changes give.
+TEST(ImageMetricsTest, TemporalPsnrCountsOnlyErrorsThatComeAndGo) {
+  const cv::Mat texture = Texture(60, 40);
+  std::vector<cv::Mat> truths;
+  for (int k = 0; k < 5; ++k) truths.push_back(texture(cv::Rect(k, 0, 50, 40)).clone());
+  std::vector<cv::Mat> brighter;  // a static error: every frame 6 levels too bright
+  for (const cv::Mat& t : truths) {
+    cv::Mat b;
+    cv::add(t, cv::Scalar::all(6), b);
+    brighter.push_back(b);
+  }
+  EXPECT_EQ(TemporalPsnr(truths, truths), 99.0);
+  EXPECT_EQ(TemporalPsnr(brighter, truths), 99.0);  // the blurred texture stays far from 255
+  EXPECT_LT(Psnr(brighter[0], truths[0]), 35.0);     // while each frame is off
+  // Frame 2 of 5 brighter by 10: its two changes are off by 10 on every pixel; 2 of 4 pairs.
+  std::vector<cv::Mat> flicker = truths;  // headers: their pixels are the truths'
+  cv::Mat off;
+  cv::add(truths[2], cv::Scalar::all(10), off);
+  flicker[2] = off;
+  EXPECT_NEAR(TemporalPsnr(flicker, truths), 10 * std::log10(255.0 * 255.0 / (100.0 * 2 / 4)), 1e-6);
 }
 
 TEST(ImageMetricsTest, SsimIsOneForIdenticalAndDropsWithNoiseAndBlur) {

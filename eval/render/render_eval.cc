@@ -114,7 +114,8 @@ std::string DumpName(const std::string& dataset, const std::string& viewpoint, E
 
 StatusOr<RenderEvalCase> RenderAndScore(CpuSceneRenderer& renderer, const CameraModel& camera, const Rigid3& pose,
                                         const cv::Mat& truth, const cv::Mat& truth_depth_m, int num_sources,
-                                        const RenderEvalOptions& options, const std::string& dump_name) {
+                                        const RenderEvalOptions& options, const std::string& dump_name,
+                                        cv::Mat* render) {
   VirtualCamera virtual_camera;
   virtual_camera.camera = camera;
   virtual_camera.cam_from_world = pose;
@@ -150,7 +151,17 @@ StatusOr<RenderEvalCase> RenderAndScore(CpuSceneRenderer& renderer, const Camera
       return InternalError("eval render: cannot write " + stem + "_*.png");
     }
   }
+  if (render != nullptr) *render = frame.bgr;
   return result;
+}
+
+StatusOr<std::unique_ptr<CpuSceneRenderer>> MakeSimLatticeRenderer(const SimLattice& lattice, EvalDepth source,
+                                                                   const std::string& dataset,
+                                                                   const RenderEvalOptions& options) {
+  Progress(options, dataset + ": " + std::string(EvalDepthName(source)) + " depth for " +
+                        std::to_string(lattice.views.size()) + " views");
+  return MakeRenderer(lattice.views, source, lattice.spec.depth_min_m, lattice.spec.depth_max_m, &lattice.depths,
+                      options);
 }
 
 Rigid3 PoseAt(const Eigen::Vector3d& centre_in_world, const Eigen::Quaterniond& cam_from_world_rotation) {
@@ -230,7 +241,6 @@ StatusOr<std::vector<RenderEvalCase>> EvaluateSimulatedScene(const std::filesyst
   const SimCameraSpec& spec = sim_lattice.spec;
   const std::string& dataset = sim_lattice.dataset;
   const std::vector<View>& views = sim_lattice.views;
-  const std::vector<DepthMap>& depths = sim_lattice.depths;
 
   // Viewpoints no lens had: between lenses on the lattice plane, off the plane in front of and
   // behind it, and turned. The rig frame is centred on the lattice, lenses looking down +z.
@@ -261,11 +271,8 @@ StatusOr<std::vector<RenderEvalCase>> EvaluateSimulatedScene(const std::filesyst
   }
   std::vector<RenderEvalCase> cases;
   for (EvalDepth source : DepthSources(options, true)) {
-    Progress(options, dataset + ": " + std::string(EvalDepthName(source)) + " depth for " +
-                          std::to_string(views.size()) + " views");
-    // The depth stage sweeps the rig's nominal range, as in the product (pipeline/run).
     PX_ASSIGN_OR_RETURN(std::unique_ptr<CpuSceneRenderer> renderer,
-                        MakeRenderer(views, source, spec.depth_min_m, spec.depth_max_m, &depths, options));
+                        MakeSimLatticeRenderer(sim_lattice, source, dataset, options));
     for (size_t i = 0; i < viewpoints.size(); ++i) {
       Progress(options, dataset + ": " + viewpoints[i].name);
       const Rigid3 pose = PoseAt(viewpoints[i].centre, viewpoints[i].rotation);

@@ -56,6 +56,9 @@ struct RenderEvalCase {
   // gap (<= 3 px) in a near one that has none; -1 where the dataset has no true depth.
   double crack_fraction = -1;
   double render_ms = 0;   // one frame, after a warm-up frame
+  // Sequences only (pan_eval.h; the fields above are then means over the frames): TemporalPsnr of
+  // the frames against their truths (image_metrics.h). -1 for a single frame.
+  double temporal_psnr_db = -1;
 };
 
 struct RenderEvalOptions {

@@ -35,10 +35,12 @@ std::vector<EvalDepth> DepthSources(const RenderEvalOptions& options, bool has_e
 std::string DumpName(const std::string& dataset, const std::string& viewpoint, EvalDepth depth);
 
 // Renders `camera` at `pose` (once to warm up, once timed) and scores it against `truth`;
-// `truth_depth_m` (may be empty) tells where the depth edges and the cracks are.
+// `truth_depth_m` (may be empty) tells where the depth edges and the cracks are. `render` (may be
+// null) receives the rendered image.
 StatusOr<RenderEvalCase> RenderAndScore(CpuSceneRenderer& renderer, const CameraModel& camera, const Rigid3& pose,
                                         const cv::Mat& truth, const cv::Mat& truth_depth_m, int num_sources,
-                                        const RenderEvalOptions& options, const std::string& dump_name);
+                                        const RenderEvalOptions& options, const std::string& dump_name,
+                                        cv::Mat* render = nullptr);
 
 Rigid3 PoseAt(const Eigen::Vector3d& centre_in_world, const Eigen::Quaterniond& cam_from_world_rotation);
 
@@ -53,5 +55,11 @@ struct SimLattice {
 };
 StatusOr<SimLattice> RenderSimLattice(const std::filesystem::path& scene_file, const SimCameraSpec& lattice,
                                       const RenderEvalOptions& options);
+
+// MakeRenderer over `lattice`'s views (the depth stage over its nominal range, as in the product),
+// the step reported to options.progress under `dataset`.
+StatusOr<std::unique_ptr<CpuSceneRenderer>> MakeSimLatticeRenderer(const SimLattice& lattice, EvalDepth source,
+                                                                   const std::string& dataset,
+                                                                   const RenderEvalOptions& options);
 
 }  // namespace px::eval
