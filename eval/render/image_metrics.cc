@@ -26,21 +26,19 @@ double Psnr(const cv::Mat& image, const cv::Mat& reference, const cv::Mat& mask)
 
 double TemporalPsnr(const std::vector<cv::Mat>& renders, const std::vector<cv::Mat>& truths) {
   PX_CHECK(renders.size() == truths.size() && renders.size() >= 2) << "TemporalPsnr needs as many truths as renders, >= 2";
+  // (R[k+1] - R[k]) - (T[k+1] - T[k]) = E[k+1] - E[k], E = R - T each frame's signed error.
+  std::vector<cv::Mat> errors;
+  for (size_t k = 0; k < renders.size(); ++k) {
+    PX_CHECK(renders[k].type() == CV_8UC3 && truths[k].type() == CV_8UC3 && renders[k].size() == renders[0].size() &&
+             truths[k].size() == renders[0].size())
+        << "TemporalPsnr needs CV_8UC3 frames of one size";
+    cv::Mat error;
+    cv::subtract(renders[k], truths[k], error, cv::noArray(), CV_32FC3);
+    errors.push_back(error);
+  }
   double sum = 0, count = 0;
-  cv::Mat change;
-  for (size_t k = 0; k + 1 < renders.size(); ++k) {
-    for (const cv::Mat* frame : {&renders[k], &renders[k + 1], &truths[k], &truths[k + 1]}) {
-      PX_CHECK(frame->type() == CV_8UC3 && frame->size() == renders[0].size())
-          << "TemporalPsnr needs CV_8UC3 frames of one size";
-    }
-    // In int16: the four-term difference of 8-bit frames lies within +-510.
-    cv::Mat r0, r1, t0, t1;
-    renders[k].convertTo(r0, CV_16SC3);
-    renders[k + 1].convertTo(r1, CV_16SC3);
-    truths[k].convertTo(t0, CV_16SC3);
-    truths[k + 1].convertTo(t1, CV_16SC3);
-    change = (r1 - r0) - (t1 - t0);
-    change.convertTo(change, CV_32FC3);
+  for (size_t k = 0; k + 1 < errors.size(); ++k) {
+    const cv::Mat change = errors[k + 1] - errors[k];
     const cv::Scalar squares = cv::sum(change.mul(change));
     sum += squares[0] + squares[1] + squares[2];
     count += 3.0 * static_cast<double>(change.total());

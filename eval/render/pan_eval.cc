@@ -44,12 +44,12 @@ StatusOr<std::vector<RenderEvalCase>> EvaluateSimulatedPan(const std::filesystem
   sim::RenderOptions truth_options;
   truth_options.supersampling = lattice.spec.supersampling;
   std::vector<sim::RenderedView> truths;
+  std::vector<cv::Mat> truth_images;  // the same images, as TemporalPsnr takes them
   for (const Rigid3& pose : poses) {
     PX_ASSIGN_OR_RETURN(sim::RenderedView truth, sim::RenderView(lattice.scene, camera, pose, truth_options));
+    truth_images.push_back(truth.bgr);
     truths.push_back(std::move(truth));
   }
-  std::vector<cv::Mat> truth_images;
-  for (const sim::RenderedView& truth : truths) truth_images.push_back(truth.bgr);
   std::vector<RenderEvalCase> cases;
   for (EvalDepth source : DepthSources(options, true)) {
     PX_ASSIGN_OR_RETURN(std::unique_ptr<CpuSceneRenderer> renderer,
