@@ -260,10 +260,12 @@ void ControlServer::Loop() {
       stop_requested = shared_->stop_requested;
     }
     deliver_replies();
-    // Flush first: a reply that has gone out lets that connection's next request through.
+    // Flush first: a reply that has gone out lets that connection's next request through. Nothing
+    // may flush after dispatch(): a flush that empties a connection's output there would leave its
+    // buffered requests waiting in `in` while poll() below waits for more input that never comes
+    // (seen under load in peer_access_test). A reply made now comes back through the wake pipe.
     for (auto& [id, c] : connections) flush(c);
     dispatch();
-    for (auto& [id, c] : connections) flush(c);
     for (auto it = connections.begin(); it != connections.end();) {
       Connection& c = it->second;
       const bool finished = c.peer_closed && !c.awaiting_reply && c.out.empty();
