@@ -200,6 +200,14 @@ void main() {
 }
 )";
 
+// Benchmarks only (GlSceneRenderer::set_segment_floor): the segment pass's rectangles with no
+// fragment work, i.e. what llvmpipe's rasteriser costs before the shader does anything.
+inline constexpr std::string_view kSegmentFloorFragmentShader = R"(
+layout(location = 0) out vec4 colour_out;
+layout(location = 1) out vec4 depth_out;
+void main() { discard; }
+)";
+
 // Section 5: the soft z-buffer of eq. (1) over the three slots, with the two tiers.
 // Out: (B, G, R on 0..255, alpha) and (depth in metres, 0, 0, 0).
 inline constexpr std::string_view kSoftZResolveFragmentShader = R"(

@@ -214,6 +214,7 @@ GlSceneRenderer::~GlSceneRenderer() {
   targets_.clear();
   weights_program_.Reset();
   segment_program_.Reset();
+  segment_floor_program_.Reset();
   resolve_program_.Reset();
   empty_vertex_array_.Reset();
   instance_vertex_array_.Reset();
@@ -502,8 +503,12 @@ StatusOr<GlSceneRenderer::RawFrame> GlSceneRenderer::RenderRaw(const CameraModel
   gl.Enable(GL_BLEND);
   gl.BlendEquation(GL_FUNC_ADD);
   gl.BlendFuncSeparate(GL_SRC_ALPHA_SATURATE, GL_ONE, GL_ONE, GL_ONE);
-  gl.UseProgram(segment_program_.id());
-  p = segment_program_.id();
+  if (segment_floor_ && segment_floor_program_.id() == 0) {
+    PX_ASSIGN_OR_RETURN(segment_floor_program_, BuildProgram(gl, "segments_floor", kSegmentVertexShader,
+                                                             kSegmentFloorFragmentShader));
+  }
+  p = segment_floor_ ? segment_floor_program_.id() : segment_program_.id();
+  gl.UseProgram(p);
   gl.Uniform2f(gl.GetUniformLocation(p, "viewport_size"), static_cast<float>(width), static_cast<float>(height));
   gl.Uniform1f(gl.GetUniformLocation(p, "z_scale"), z_scale);
   BindTextureUnit(gl, p, "slot_views", 3, t->slot_views.id());

@@ -99,6 +99,9 @@ class GlSceneRenderer final : public SceneRenderer {
   double rho_m() const { return rho_m_; }
   const GlFrameStats& last_frame() const { return stats_; }
   void set_time_passes(bool on) { time_passes_ = on; }
+  // Benchmarks only: the segment pass draws its rectangles with a shader that discards at once,
+  // so its time is the rasteriser's floor (the frame is all holes).
+  void set_segment_floor(bool on) { segment_floor_ = on; }
 
  private:
   struct ViewTextures {
@@ -143,6 +146,7 @@ class GlSceneRenderer final : public SceneRenderer {
   GlViewMesh mesh_;
   std::vector<std::array<float, 4>> mesh_uniforms_;  // the weight shader's mesh (Upload)
   GlObject weights_program_, segment_program_, resolve_program_;
+  GlObject segment_floor_program_;  // made on the first frame with set_segment_floor(true)
   GlObject empty_vertex_array_, instance_vertex_array_, instance_buffer_;
   std::map<std::pair<int, int>, Targets> targets_;
   double rho_m_ = 0;
@@ -150,6 +154,7 @@ class GlSceneRenderer final : public SceneRenderer {
   std::vector<std::string> warnings_;
   GlFrameStats stats_;
   bool time_passes_ = false;
+  bool segment_floor_ = false;
   double viewing_weight_exponent_ = 1;
   double soft_z_gamma_fraction_ = RenderOptions{}.soft_z_gamma_fraction;
   int hole_window_radius_px_ = RenderOptions{}.hole_window_radius_px;
