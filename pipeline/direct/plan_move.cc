@@ -41,6 +41,19 @@ FramingRule Aim(const SceneGeometry& scene, const Eigen::Vector3d& target, doubl
   };
 }
 
+// Looks straight along the capture axis (the capture frame's orientation) from any centre: a
+// dolly zoom on a track. Moving along that axis with the focal keeping a subject's size keeps the
+// subject's place in the frame too, wherever it sits.
+FramingRule LookAlongAxis(const SceneGeometry& scene, double focal_px) {
+  return [&scene, focal_px](const Eigen::Vector3d& centre) {
+    Framing framing;
+    framing.centre_in_world = centre;
+    framing.cam_from_world = Rigid3(scene.rig_from_world.rotation, -(scene.rig_from_world.rotation * centre));
+    framing.focal_px = focal_px;
+    return framing;
+  };
+}
+
 // `rule` with its focal narrowed until every subject is wholly inside the view (with the framing
 // margin), so that the region search measures the views the path will use; a view that would
 // need less than kMinFocalShare of the rule's focal cannot frame them (focal 0).
@@ -377,8 +390,17 @@ StatusOr<CameraPath> PlanMove(const MoveChoice& choice, const PlanContext& conte
   };
   PX_ASSIGN_OR_RETURN(ValidRegion start_region, find_region(start_rule, start_key, start_front || both_ways,
                                                             !start_front || both_ways));
-  report->valid_cells_start = start_region.valid_cells;
   std::vector<Candidate> starts = Candidates(start_region, start_front, both_ways);
+  // A dolly zoom aimed at a subject off the axis turns every viewpoint past the rays the lenses
+  // saw (two_faces: none of 144 grid positions holds the face at f). Then it looks along the axis.
+  bool along_axis = false;
+  if (starts.empty() && dolly_zoom) {
+    along_axis = true;
+    start_rule = LookAlongAxis(scene, f);
+    PX_ASSIGN_OR_RETURN(start_region, find_region(start_rule, "", start_front, !start_front));
+    starts = Candidates(start_region, start_front, both_ways);
+  }
+  report->valid_cells_start = start_region.valid_cells;
   if (starts.empty()) {
     return FailedPreconditionError(name + ": no valid viewpoint frames the start (" + start_what + ") among " +
                                    std::to_string(start_region.cells) + " positions");
@@ -407,7 +429,7 @@ StatusOr<CameraPath> PlanMove(const MoveChoice& choice, const PlanContext& conte
     const double start_height = ProjectedHeightPx(subject, scene.OutputWithFocal(1.0), start.cam_from_world);
     const double target_height = start_height * start.focal_px;
     const double limit = options.max_dolly_zoom * start.focal_px;
-    const FramingRule aim = Aim(scene, first->LowerHalfCentreInWorld(), 1.0);
+    const FramingRule aim = along_axis ? LookAlongAxis(scene, 1.0) : Aim(scene, first->LowerHalfCentreInWorld(), 1.0);
     end_rule = [&scene, aim, subject, target_height, limit](const Eigen::Vector3d& centre) {
       Framing framing = aim(centre);
       const double unit = ProjectedHeightPx(subject, scene.OutputWithFocal(1.0), framing.cam_from_world);
@@ -614,13 +636,14 @@ StatusOr<CameraPath> PlanMove(const MoveChoice& choice, const PlanContext& conte
     for (const Subject* s : {first, second}) {
       if (s != nullptr) path.subjects.push_back(*s);
     }
-    char text[400];
+    const char* look = along_axis ? "looking along the axis at" : "aimed at";
+    char text[512];
     std::snprintf(text, sizeof(text),
-                  "%s from %s aimed at %s to %s aimed at %s (%.0f mm); %d/%d valid cells; parallax %.2f%% "
+                  "%s from %s %s %s to %s %s %s (%.0f mm); %d/%d valid cells; parallax %.2f%% "
                   "(best of %d longest of %d paths); H(V) <= %.2f over %d frames",
-                  name.c_str(), Mm(scene.RigFromWorld(path.keyframes.front().centre_in_world)).c_str(),
+                  name.c_str(), Mm(scene.RigFromWorld(path.keyframes.front().centre_in_world)).c_str(), look,
                   (reverse ? end_what : start_what).c_str(),
-                  Mm(scene.RigFromWorld(path.keyframes.back().centre_in_world)).c_str(),
+                  Mm(scene.RigFromWorld(path.keyframes.back().centre_in_world)).c_str(), look,
                   (reverse ? start_what : end_what).c_str(), 1000 * pair.length, report->valid_cells_start,
                   start_region.cells, 100 * pair.parallax, report->paths_measured, report->candidate_paths, worst,
                   options.search.verify_frames);

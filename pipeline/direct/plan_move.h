@@ -1,5 +1,6 @@
 // Plans one move of the taxonomy as a path through valid viewpoints (paper 4.2 and 4.3):
-//   1. each endpoint's framing rule (where it looks and its focal length, 4.2.3);
+//   1. each endpoint's framing rule (where it looks and its focal length, 4.2.3; a dolly zoom
+//      whose subject no viewpoint can turn to looks straight along the capture axis instead);
 //   2. the valid region for each rule (valid_viewpoints.h) and its candidate endpoints, extremal
 //      in z: forwards for an endpoint framing a subject or dollying across, backwards for the
 //      wide end of a dolly-in/out and the far end of the moves along the axis;

@@ -55,14 +55,16 @@ Planned Plan(Shot* shot, const direct::FaceDetector* detector, const std::string
   return planned;
 }
 
-// The checks every automatic path must pass; prints its figures.
-void CheckPath(Shot* shot, const Planned& planned, int subjects_expected) {
+// The checks every automatic path must pass; prints its figures. subjects_detected: the faces
+// found, when the move frames fewer of them than that (-1: as many as it frames).
+void CheckPath(Shot* shot, const Planned& planned, int subjects_expected, int subjects_detected = -1) {
   const CameraPath& path = planned.path;
   std::string notes;
   for (const std::string& note : path.notes) notes += "\n  " + note;
   EXPECT_FALSE(planned.report.fell_back) << path.reason << notes;
   ASSERT_EQ(path.kind, PathKind::kNovelView) << path.reason << notes;
-  EXPECT_EQ(planned.report.num_subjects, subjects_expected) << planned.report.detector;
+  EXPECT_EQ(planned.report.num_subjects, subjects_detected < 0 ? subjects_expected : subjects_detected)
+      << planned.report.detector;
   ASSERT_EQ(static_cast<int>(path.subjects.size()), subjects_expected);
 
   // H(V) at every frame, at the output size.
@@ -151,6 +153,21 @@ void ExpectFaceSlightlyAboveCentre(const CameraPath& path, const Subject& face, 
               path.move.c_str(), t, 100 * above, 100 * face_height);
 }
 
+// A dolly zoom keeps its subject's projected height: each frame's within 3 % of the first's.
+// Returns the largest change (a fraction).
+double WorstDollyZoomSizeChange(const CameraPath& path, const Subject& face) {
+  const double start_px = direct::ProjectedHeightPx(face, path.CameraAt(0), path.PoseAt(0));
+  EXPECT_GT(start_px, 0);
+  double worst = 0;
+  for (int i = 0; i < path.NumFrames(); ++i) {
+    const double t = path.FrameTime(i);
+    const double px = direct::ProjectedHeightPx(face, path.CameraAt(t), path.PoseAt(t));
+    worst = std::max(worst, std::abs(px / start_px - 1));
+    EXPECT_NEAR(px / start_px, 1.0, 0.03) << "frame " << i;
+  }
+  return worst;
+}
+
 TEST_F(DirectionTest, NoFacesTakesAnEstablishingMove) {
   std::unique_ptr<Shot> shot = MakeShot("still_life");
   ASSERT_NE(shot, nullptr);
@@ -177,15 +194,7 @@ TEST_F(DirectionTest, OneFaceTakesARowOneMoveAndTheDollyZoomHoldsItsSize) {
   const Subject& face = zoom.path.subjects.front();
   ExpectFaceSlightlyAboveCentre(zoom.path, face, 0.0);
   ExpectFaceSlightlyAboveCentre(zoom.path, face, 1.0);
-  const double start_px = direct::ProjectedHeightPx(face, zoom.path.CameraAt(0), zoom.path.PoseAt(0));
-  ASSERT_GT(start_px, 0);
-  double worst = 0;
-  for (int i = 0; i < zoom.path.NumFrames(); ++i) {
-    const double t = zoom.path.FrameTime(i);
-    const double px = direct::ProjectedHeightPx(face, zoom.path.CameraAt(t), zoom.path.PoseAt(t));
-    worst = std::max(worst, std::abs(px / start_px - 1));
-    EXPECT_NEAR(px / start_px, 1.0, 0.03) << "frame " << i;
-  }
+  const double worst = WorstDollyZoomSizeChange(zoom.path, face);
   const double travel_m = (CameraCentre(zoom.path.PoseAt(0)) - CameraCentre(zoom.path.PoseAt(1))).norm();
   EXPECT_GT(travel_m, 0.01) << "a dolly zoom that does not move";
   std::printf("[figures] dolly zoom: subject height within %.2f%% over %d frames, %.0f mm of travel\n", 100 * worst,
@@ -218,6 +227,42 @@ TEST_F(DirectionTest, TwoFacesDollyBetweenThem) {
   EXPECT_EQ(planned.path.move, "dolly") << planned.path.reason;
   EXPECT_EQ(direct::SubjectsNeeded(direct::ParseMove(planned.path.move).value()), 2) << planned.path.move;
   ASSERT_NO_FATAL_FAILURE(CheckPath(shot.get(), planned, 2));
+}
+
+// A dolly zoom on a face off the axis: aimed at it, every viewpoint turns past the rays the lenses
+// saw, so the camera looks along the capture axis instead, as a dolly zoom on a track does. The
+// face then keeps its size and its place in the frame while the background moves.
+TEST_F(DirectionTest, TwoFacesDollyZoomOnAnOffAxisFaceLooksAlongTheAxis) {
+  NeedFacePhotos();
+  if (IsSkipped()) return;
+  std::unique_ptr<Shot> shot = MakeShot("two_faces");
+  ASSERT_NE(shot, nullptr);
+  const Planned zoom = Plan(shot.get(), detector_.get(), "dolly_zoom");
+  ASSERT_NO_FATAL_FAILURE(CheckPath(shot.get(), zoom, 1, 2));
+  ASSERT_NE(zoom.path.move.find("dolly_zoom"), std::string::npos) << zoom.path.reason;
+  EXPECT_NE(zoom.path.reason.find("looking along the axis"), std::string::npos) << zoom.path.reason;
+  const Subject& face = zoom.path.subjects.front();
+  const CameraModel camera0 = zoom.path.CameraAt(0);
+  Eigen::Vector2d start_pixel;
+  ASSERT_TRUE(camera0.Project(zoom.path.PoseAt(0) * face.CentreInWorld(), &start_pixel));
+  EXPECT_GT((start_pixel - Eigen::Vector2d(camera0.cx, camera0.cy)).norm(), 0.05 * camera0.width)
+      << "the face is on the axis: nothing off-axis is tested";
+  const double worst_size = WorstDollyZoomSizeChange(zoom.path, face);
+  double worst_shift_px = 0;
+  for (int i = 0; i < zoom.path.NumFrames(); ++i) {
+    const double t = zoom.path.FrameTime(i);
+    const CameraModel camera = zoom.path.CameraAt(t);
+    Eigen::Vector2d pixel;
+    ASSERT_TRUE(camera.Project(zoom.path.PoseAt(t) * face.CentreInWorld(), &pixel));
+    worst_shift_px = std::max(worst_shift_px, (pixel - start_pixel).norm());
+    EXPECT_LT((pixel - start_pixel).norm(), 0.02 * camera.width) << "frame " << i;
+    EXPECT_LT(RotationErrorDeg(zoom.path.PoseAt(t), zoom.path.PoseAt(0)), 0.01) << "frame " << i;
+  }
+  const double travel_m = (CameraCentre(zoom.path.PoseAt(0)) - CameraCentre(zoom.path.PoseAt(1))).norm();
+  EXPECT_GT(travel_m, 0.05) << "a dolly zoom that hardly moves";
+  std::printf("[figures] dolly zoom on the off-axis face: height within %.2f%%, place within %.1f px over %d frames, "
+              "%.0f mm of travel\n",
+              100 * worst_size, worst_shift_px, zoom.path.NumFrames(), 1000 * travel_m);
 }
 
 // Effects (4.3) on the two-subject dolly: the focus pull's aperture keeps both ends valid at the
