@@ -1,6 +1,7 @@
 #include "pipeline/render/view_mesh.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstddef>
 #include <functional>
@@ -8,6 +9,7 @@
 #include <map>
 #include <string>
 #include <utility>
+#include <vector>
 
 #include <Eigen/Eigenvalues>
 #include <Eigen/LU>
@@ -53,6 +55,72 @@ ViewSlots Merge(std::array<int, 3> views, std::array<double, 3> weights) {
     slots.weight[0] = 1;
   }
   return slots;
+}
+
+// Subdiv2D's triangles on `scaled` points whose outer virtual vertices sit `outer` units from
+// the frame of the points: the real triangles (virtual vertices dropped), counter-clockwise.
+std::vector<std::array<int, 3>> SubdivTriangles(const std::vector<cv::Point2f>& scaled,
+                                                const std::vector<Eigen::Vector2d>& positions, int outer) {
+  cv::Subdiv2D subdiv(cv::Rect(-10, -10, outer, outer));
+  std::map<std::pair<float, float>, int> index_of;
+  for (size_t i = 0; i < scaled.size(); ++i) {
+    if (index_of.emplace(std::make_pair(scaled[i].x, scaled[i].y), static_cast<int>(i)).second) subdiv.insert(scaled[i]);
+  }
+  std::vector<cv::Vec6f> list;
+  subdiv.getTriangleList(list);
+  std::vector<std::array<int, 3>> triangles;
+  for (const cv::Vec6f& t : list) {
+    std::array<int, 3> tri{};
+    bool real = true;
+    for (int k = 0; k < 3; ++k) {
+      const auto it = index_of.find(std::make_pair(t[2 * k], t[2 * k + 1]));
+      if (it == index_of.end()) {
+        real = false;  // one of Subdiv2D's outer virtual vertices
+        break;
+      }
+      tri[k] = it->second;
+    }
+    if (!real) continue;
+    const Eigen::Vector2d& a = positions[tri[0]];
+    const double area = Cross2(positions[tri[1]] - a, positions[tri[2]] - a);
+    if (std::abs(area) < 1e-18) continue;
+    if (area < 0) std::swap(tri[1], tri[2]);
+    triangles.push_back(tri);
+  }
+  return triangles;
+}
+
+// The Delaunay triangles of non-collinear points, by cv::Subdiv2D on coordinates scaled to about
+// a thousand units (it stores float). Its outer virtual vertices are at a finite distance, so a
+// thin triangle along a hull (centres of a hand-held sweep, nearly on a line) has a circumcircle
+// holding one, and Subdiv2D leaves it out: then the outer vertices move out a hundredfold, until
+// the triangles cover the points' convex hull.
+StatusOr<std::vector<std::array<int, 3>>> DelaunayTriangles(const std::vector<Eigen::Vector2d>& positions) {
+  Eigen::Vector2d low = positions[0], high = low;
+  for (const Eigen::Vector2d& p : positions) {
+    low = low.cwiseMin(p);
+    high = high.cwiseMax(p);
+  }
+  const double scale = 1000.0 / std::max((high - low).maxCoeff(), 1e-12);
+  std::vector<cv::Point2f> scaled;
+  for (const Eigen::Vector2d& p : positions) {
+    scaled.emplace_back(static_cast<float>((p.x() - low.x()) * scale), static_cast<float>((p.y() - low.y()) * scale));
+  }
+  std::vector<cv::Point2f> hull;
+  cv::convexHull(scaled, hull);
+  const double hull_area = std::abs(cv::contourArea(hull)) / (scale * scale);
+  std::vector<std::array<int, 3>> triangles;
+  for (int outer = 1021; outer <= 102100000; outer *= 100) {
+    triangles = SubdivTriangles(scaled, positions, outer);
+    double area = 0;
+    for (const auto& tri : triangles) area += Cross2(positions[tri[1]] - positions[tri[0]], positions[tri[2]] - positions[tri[0]]) / 2;
+    if (area >= (1 - 1e-4) * hull_area && !triangles.empty()) return triangles;
+  }
+  if (triangles.empty()) {
+    return InternalError("view mesh: Delaunay triangulation of " + std::to_string(positions.size()) +
+                         " non-collinear centres gave no triangle");
+  }
+  return triangles;
 }
 
 }  // namespace
@@ -128,46 +196,9 @@ StatusOr<ViewMesh> ViewMesh::Build(const std::vector<Eigen::Vector3d>& centres_i
   set_axes(normal, mean_x);
   for (int i = 0; i < n; ++i) mesh.vertices_.push_back({mesh.ToPlane(centres_in_world[i]), i});
 
-  // Delaunay on coordinates scaled to about a thousand units (Subdiv2D works in float).
-  Eigen::Vector2d low = mesh.vertices_[0].position, high = low;
-  for (const Vertex& v : mesh.vertices_) {
-    low = low.cwiseMin(v.position);
-    high = high.cwiseMax(v.position);
-  }
-  const double scale = 1000.0 / std::max((high - low).maxCoeff(), 1e-12);
-  const auto scaled = [&](const Eigen::Vector2d& p) {
-    return cv::Point2f(static_cast<float>((p.x() - low.x()) * scale), static_cast<float>((p.y() - low.y()) * scale));
-  };
-  cv::Subdiv2D subdiv(cv::Rect(-10, -10, 1021, 1021));
-  std::map<std::pair<float, float>, int> index_of;
-  for (int i = 0; i < n; ++i) {
-    const cv::Point2f p = scaled(mesh.vertices_[i].position);
-    if (index_of.emplace(std::make_pair(p.x, p.y), i).second) subdiv.insert(p);
-  }
-  std::vector<cv::Vec6f> list;
-  subdiv.getTriangleList(list);
-  for (const cv::Vec6f& t : list) {
-    std::array<int, 3> tri{};
-    bool real = true;
-    for (int k = 0; k < 3; ++k) {
-      const auto it = index_of.find(std::make_pair(t[2 * k], t[2 * k + 1]));
-      if (it == index_of.end()) {
-        real = false;  // one of Subdiv2D's outer virtual vertices
-        break;
-      }
-      tri[k] = it->second;
-    }
-    if (!real) continue;
-    const Eigen::Vector2d& a = mesh.vertices_[tri[0]].position;
-    const double area = Cross2(mesh.vertices_[tri[1]].position - a, mesh.vertices_[tri[2]].position - a);
-    if (std::abs(area) < 1e-18) continue;
-    if (area < 0) std::swap(tri[1], tri[2]);
-    mesh.triangles_.push_back(tri);
-  }
-  if (mesh.triangles_.empty()) {
-    return InternalError("view mesh: Delaunay triangulation of " + std::to_string(n) +
-                         " non-collinear centres gave no triangle");
-  }
+  std::vector<Eigen::Vector2d> positions;
+  for (const Vertex& v : mesh.vertices_) positions.push_back(v.position);
+  PX_ASSIGN_OR_RETURN(mesh.triangles_, DelaunayTriangles(positions));
   mesh.num_delaunay_triangles_ = static_cast<int>(mesh.triangles_.size());
 
   // Boundary edges (one triangle each), oriented as in their counter-clockwise triangle: the

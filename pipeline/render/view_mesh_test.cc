@@ -124,6 +124,37 @@ TEST(ViewMeshTest, DegenerateSetsStillGiveWeightsThatSumToOne) {
   EXPECT_FALSE(ViewMesh::Build({}, {}).ok());
 }
 
+// Four hand-held centres nearly on a line (kpankov_office_4views' sideways sweep, as its plane
+// holds them): the thin triangles along the hull have circumcircles reaching Subdiv2D's outer
+// vertices at its first distance, which left no triangle at all. The mesh covers their hull.
+TEST(ViewMeshTest, CentresNearlyOnALineStillCoverTheirHull) {
+  const std::vector<Eigen::Vector2d> sweep = {{0, 20.938}, {337.512, 0}, {694.421, 16.739}, {1000, 51.702}};
+  std::vector<Eigen::Vector3d> centres;
+  for (const Eigen::Vector2d& p : sweep) centres.emplace_back(p.x() * 1e-4, p.y() * 1e-4, 0.0);
+  StatusOr<ViewMesh> mesh = ViewMesh::Build(centres, std::vector<Eigen::Matrix3d>(4, Eigen::Matrix3d::Identity()));
+  ASSERT_TRUE(mesh.ok()) << mesh.status().ToString();
+  EXPECT_EQ(mesh->kind(), ViewMesh::Kind::kTriangles);
+  // Four points in convex position (1 and 2 below the chord 0-3): two triangles, whose areas add
+  // up to the quadrilateral's.
+  ASSERT_EQ(mesh->NumDelaunayTriangles(), 2);
+  double area = 0;
+  for (int t = 0; t < mesh->NumDelaunayTriangles(); ++t) {
+    const auto& tri = mesh->triangles()[t];
+    const Eigen::Vector2d a = mesh->vertices()[tri[0]].position, b = mesh->vertices()[tri[1]].position,
+                          c = mesh->vertices()[tri[2]].position;
+    area += 0.5 * std::abs((b - a).x() * (c - a).y() - (b - a).y() * (c - a).x());
+  }
+  double hull = 0;  // shoelace over 0, 1, 2, 3
+  for (int k = 0; k < 4; ++k) {
+    const Eigen::Vector3d& p = centres[k];
+    const Eigen::Vector3d& q = centres[(k + 1) % 4];
+    hull += 0.5 * (p.x() * q.y() - q.x() * p.y());
+  }
+  EXPECT_NEAR(area, std::abs(hull), 1e-6 * std::abs(hull));
+  // Every point of the hull gets weights summing to one from its triangle.
+  EXPECT_NEAR(Sum(mesh->WeightsAt(mesh->vertices()[1].position + Eigen::Vector2d(0, 1e-4))), 1.0, 1e-9);
+}
+
 // ComputeWeights flattens each band of rows as it makes it: the same weights as flattening the
 // whole frame afterwards, bit for bit, for the square root (one 4-lane step a slot) and for pow.
 TEST(ViewMeshTest, ComputeWeightsFlattensAsItGoes) {
