@@ -5,6 +5,7 @@
 #include "device/cli/calibrate_command.h"
 #include "device/cli/clip_command.h"
 #include "device/cli/eval_command.h"
+#include "device/cli/import_command.h"
 #include "device/cli/sim_command.h"
 #include "pipeline/core/log.h"
 
@@ -18,6 +19,7 @@ int main(int argc, char** argv) {
     if (!status.ok()) throw CLI::ValidationError("--log", status.message());
   });
   px::cli::AddSimCommand(app);
+  px::cli::AddImportCommand(app);
   px::cli::AddClipCommand(app);
   px::cli::AddBenchCommand(app);
   px::cli::AddEvalCommand(app);

@@ -1,0 +1,56 @@
+#include "device/cli/import_command.h"
+
+#include <cstdio>
+#include <filesystem>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "device/cli/run_or_fail.h"
+#include "pipeline/core/log.h"
+#include "sim/replay/import_images.h"
+#include "sim/replay/recording.h"
+
+namespace px::cli {
+namespace {
+
+struct ImportArgs {
+  std::vector<std::string> inputs;
+  std::string output;
+};
+
+Status RunImport(const ImportArgs& args) {
+  const auto log = Logger("import");
+  std::vector<std::filesystem::path> inputs(args.inputs.begin(), args.inputs.end());
+  PX_ASSIGN_OR_RETURN(std::vector<std::filesystem::path> files, ListImages(inputs));
+  std::vector<std::string> warnings;
+  PX_ASSIGN_OR_RETURN(Recording recording, RecordingFromImages(files, &warnings));
+  for (const std::string& warning : warnings) log->warn("{}", warning);
+  for (size_t i = 0; i < files.size(); ++i) {
+    const Frame& frame = recording.frames.frames[i];
+    log->info("{}: {}x{}, focal {}", files[i].string(), frame.image.width, frame.image.height,
+              frame.focal_length_px > 0 ? std::to_string(static_cast<int>(frame.focal_length_px + 0.5)) + " px (" +
+                                              frame.focal_length_source + ")"
+                                        : std::string("unknown (self-calibrated)"));
+  }
+  PX_RETURN_IF_ERROR(WriteRecording(args.output, recording));
+  log->info("wrote recording {}: an image set of {} photos", args.output, files.size());
+  std::printf("%s\n", args.output.c_str());
+  return OkStatus();
+}
+
+}  // namespace
+
+void AddImportCommand(CLI::App& app) {
+  auto args = std::make_shared<ImportArgs>();
+  CLI::App* command = app.add_subcommand(
+      "import", "Make a recording of photos taken by hand from a few places (JPEG, PNG; the EXIF focal length is kept), "
+                "for `parallax clip`");
+  command->add_option("photos", args->inputs, "Photos, or folders of them (sorted by name); at least 2 in all")
+      ->required();
+  command->add_option("-o,--output", args->output, "Recording folder to create (must not exist or be empty)")
+      ->required();
+  command->callback(RunOrFail("import", [args]() { return RunImport(*args); }));
+}
+
+}  // namespace px::cli
