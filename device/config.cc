@@ -248,6 +248,9 @@ Status DaemonConfig::Validate() const {
   if (clip.num_threads < 0 || clip.num_threads > 256) {
     return RangeError("clip.num_threads", clip.num_threads, "[0, 256] (0 = all cores)");
   }
+  if (clip.max_photo_side_px != 0 && (clip.max_photo_side_px < 64 || clip.max_photo_side_px > 16384)) {
+    return RangeError("clip.max_photo_side_px", clip.max_photo_side_px, "0 (full size) or [64, 16384]");
+  }
   if (!render::gl::ParseRenderBackend(render.backend).ok()) {
     return InvalidArgumentError("render.backend: '" + render.backend + "' is not one of auto, cpu, egl, osmesa");
   }
@@ -328,6 +331,7 @@ StatusOr<DaemonConfig> DaemonConfigFromJson(const nlohmann::json& j) {
   PX_RETURN_IF_ERROR(clip.Int("loop_count", &config.clip.loop_count));
   PX_RETURN_IF_ERROR(clip.Int("webp_quality", &config.clip.webp_quality));
   PX_RETURN_IF_ERROR(clip.Int("num_threads", &config.clip.num_threads));
+  PX_RETURN_IF_ERROR(clip.Int("max_photo_side_px", &config.clip.max_photo_side_px));
   PX_RETURN_IF_ERROR(clip.Path("face_cascades", &config.clip.face_cascades));
   PX_RETURN_IF_ERROR(clip.CheckNoUnknownFields());
 
@@ -397,6 +401,7 @@ nlohmann::json DaemonConfigToJson(const DaemonConfig& config) {
                {"loop_count", config.clip.loop_count},
                {"webp_quality", config.clip.webp_quality},
                {"num_threads", config.clip.num_threads},
+               {"max_photo_side_px", config.clip.max_photo_side_px},
                {"face_cascades", config.clip.face_cascades.string()}};
   j["render"] = {{"backend", config.render.backend}};
   j["trigger"] = {{"input_device", config.trigger.input_device.string()},

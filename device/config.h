@@ -83,6 +83,9 @@ struct ClipSettings {
   int loop_count = 0;               // times a gif or webp plays, [0, 65535]; 0 = forever
   int webp_quality = 80;            // lossy WebP quality, [0, 100]
   int num_threads = 0;              // pipeline threads, 0 = all cores
+  // Hand-held photos (the USB camera's shots) are processed, and the clip made, at this longer
+  // side at most; 0 = full size, else [64, 16384] (pipeline/run/image_set_scale.h).
+  int max_photo_side_px = 1200;
   // Haar cascades for face detection (Debian's opencv-data); "" = no face detection, so the
   // taxonomy sees no subjects. A folder without them costs a warning, not the daemon.
   std::filesystem::path face_cascades = "/usr/share/opencv4/haarcascades";

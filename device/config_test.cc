@@ -39,7 +39,7 @@ TEST(DaemonConfigTest, ReadsEveryField) {
                "sim": {"scene": "s.json", "camera": "integral5x4", "tile_width": 160, "tile_height": 120, "seed": 7},
                "replay": {"path": "/rec", "loop": false}},
     "clip": {"move": "establishing_dolly", "duration_s": 0.5, "fps": 10, "crf": 28, "preset": "ultrafast",
-             "num_threads": 2, "format": "gif", "loop_count": 2, "webp_quality": 60},
+             "num_threads": 2, "max_photo_side_px": 1600, "format": "gif", "loop_count": 2, "webp_quality": 60},
     "render": {"backend": "osmesa"},
     "log": {"levels": "info,depth=debug"}})"));
   ASSERT_TRUE(config.ok()) << config.status().ToString();
@@ -61,6 +61,7 @@ TEST(DaemonConfigTest, ReadsEveryField) {
   EXPECT_EQ(config->clip.crf, 28);
   EXPECT_EQ(config->clip.preset, "ultrafast");
   EXPECT_EQ(config->clip.num_threads, 2);
+  EXPECT_EQ(config->clip.max_photo_side_px, 1600);
   EXPECT_EQ(config->clip.format, "gif");
   EXPECT_EQ(config->clip.loop_count, 2);
   EXPECT_EQ(config->clip.webp_quality, 60);
@@ -101,6 +102,8 @@ TEST(DaemonConfigTest, ErrorsNameTheField) {
   EXPECT_EQ(ErrorOf(R"({"clip": {"format": "avi"}})"), "clip.format: \"avi\" is not one of mp4, gif, webp, png");
   EXPECT_EQ(ErrorOf(R"({"clip": {"loop_count": -1}})"), "clip.loop_count: -1 is not in [0, 65535] (0 = forever)");
   EXPECT_EQ(ErrorOf(R"({"clip": {"webp_quality": 101}})"), "clip.webp_quality: 101 is not in [0, 100]");
+  EXPECT_EQ(ErrorOf(R"({"clip": {"max_photo_side_px": 32}})"),
+            "clip.max_photo_side_px: 32 is not in 0 (full size) or [64, 16384]");
   EXPECT_THAT(ErrorOf(R"({"source": {"kind": "webcam"}})"), HasSubstr("source.kind: 'webcam' is not one of sim, replay"));
   EXPECT_EQ(ErrorOf(R"({"source": {"sim": {"camera": "pop4"}}})"),
             "source.sim.camera: 'pop4' is not one of pop9, integral5x4");

@@ -24,6 +24,7 @@ StatusOr<ClipJobOptions> ClipJobOptionsFromConfig(const DaemonConfig& config) {
   options.pipeline.direct.duration_s = config.clip.duration_s;
   options.pipeline.direct.fps = config.clip.fps;
   options.pipeline.num_threads = config.clip.num_threads;
+  options.pipeline.image_set_max_side_px = config.clip.max_photo_side_px;
   // DaemonConfig::Validate checked the name.
   options.pipeline.render_backend.backend = render::gl::ParseRenderBackend(config.render.backend).value();
   options.clip.format = clip::ParseClipFormat(config.clip.format).value();  // DaemonConfig::Validate checked it

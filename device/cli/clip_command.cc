@@ -39,6 +39,7 @@ struct ClipArgs {
   std::string quality = "preview";
   std::string gl = "auto";
   int threads = 0;
+  int max_photo_side_px = PipelineOptions{}.image_set_max_side_px;
   bool quiet = false;
 };
 
@@ -90,6 +91,7 @@ Status RunClip(const ClipArgs& args) {
   options.pipeline.direct.duration_s = args.duration_s;
   options.pipeline.direct.fps = args.fps;
   options.pipeline.num_threads = args.threads;
+  options.pipeline.image_set_max_side_px = args.max_photo_side_px;
   options.clip.crf = args.crf;
   options.clip.preset = args.preset;
   options.clip.fps = args.fps;
@@ -166,6 +168,10 @@ void AddClipCommand(CLI::App& app) {
       ->check(CLI::IsMember({"auto", "cpu", "egl", "osmesa"}))
       ->capture_default_str();
   clip->add_option("--threads", args->threads, "Worker threads, 0 = all cores")->capture_default_str();
+  clip->add_option("--max-photo-side", args->max_photo_side_px,
+                   "Hand-held photos (an image set, e.g. from `parallax import`) are processed, and the clip made, at "
+                   "this longer side at most; 0 = full size")
+      ->capture_default_str();
   clip->add_flag("-q,--quiet", args->quiet, "No progress bar");
   clip->callback(RunOrFail("clip", [args] { return RunClip(*args); }));
 }

@@ -16,6 +16,7 @@
 #include "pipeline/direct/plan_camera_path.h"
 #include "pipeline/direct/scene_geometry.h"
 #include "pipeline/run/capture_calibration.h"
+#include "pipeline/run/image_set_scale.h"
 #include "pipeline/run/overlapped_frame_sink.h"
 
 namespace px {
@@ -204,6 +205,10 @@ Status PipelineOptions::Validate() const {
   if (num_threads < 0 || num_threads > 256) {
     return InvalidArgumentError("pipeline.num_threads: " + std::to_string(num_threads) + " is outside [0, 256]");
   }
+  if (image_set_max_side_px != 0 && (image_set_max_side_px < 64 || image_set_max_side_px > 16384)) {
+    return InvalidArgumentError("pipeline.image_set_max_side_px: " + std::to_string(image_set_max_side_px) +
+                                " is neither 0 (full size) nor in [64, 16384]");
+  }
   return OkStatus();
 }
 
@@ -221,12 +226,23 @@ StatusOr<std::vector<View>> MakeViewsFromCapture(const FrameSet& capture, const 
   return std::move(out.views);
 }
 
-StatusOr<PipelineReport> RunPipeline(const FrameSet& capture, const RigCalibration& rig,
+StatusOr<PipelineReport> RunPipeline(const FrameSet& shot, const RigCalibration& shot_rig,
                                      const PipelineOptions& options, FrameSink* sink,
                                      const ProgressCallback& progress) {
   PX_RETURN_IF_ERROR(options.Validate());
   if (sink == nullptr) return InvalidArgumentError("pipeline: no frame sink");
   const auto log = Logger("pipeline");
+  // Hand-held photos at a working size (image_set_scale.h); a lattice frame as it is.
+  std::optional<FrameSet> scaled_shot;
+  std::optional<RigCalibration> scaled_rig;
+  if (shot.kind == FrameSetKind::kImageSet && options.image_set_max_side_px > 0) {
+    scaled_shot = shot;
+    scaled_rig = shot_rig;
+    const std::string note = ScaleImageSetToWorkingSize(options.image_set_max_side_px, &*scaled_shot, &*scaled_rig);
+    if (!note.empty()) log->info("{}", note);
+  }
+  const FrameSet& capture = scaled_shot ? *scaled_shot : shot;
+  const RigCalibration& rig = scaled_rig ? *scaled_rig : shot_rig;
   const ThreadCountScope threads(options.num_threads);
   const auto report_progress = [&](const char* stage, double fraction) -> Status {
     if (progress && !progress(stage, fraction)) return CancelledError(std::string("pipeline cancelled during ") + stage);

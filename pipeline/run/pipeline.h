@@ -46,6 +46,10 @@ struct PipelineOptions {
   // egl or osmesa; a GL back end that cannot start or draw falls back to the CPU with the reason.
   render::gl::RenderBackendOptions render_backend;
   int num_threads = 0;    // 0 = all cores
+  // Hand-held photos (an image set) larger than this on their longer side are scaled down to it
+  // before calibration, depth and rendering, so the clip is this size too (image_set_scale.h).
+  // 1200: a 3:2 photo gives a 1200x800 clip. 0 = full size, else [64, 16384].
+  int image_set_max_side_px = 1200;
   // Loaded by device/ (the pipeline opens no files) and shared between runs.
   std::shared_ptr<const direct::FaceDetector> face_detector;  // null: no face detection
   std::shared_ptr<const direct::Shot> shot;                    // null: the taxonomy chooses

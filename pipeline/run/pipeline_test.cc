@@ -1,14 +1,14 @@
 #include "pipeline/run/pipeline.h"
 
+#include <algorithm>
 #include <cmath>
 #include <map>
-
-#include <algorithm>
 
 #include <gtest/gtest.h>
 #include <opencv2/imgproc.hpp>
 
 #include "pipeline/render/plane_scene_testing.h"
+#include "pipeline/run/image_set_scale.h"
 
 namespace px {
 namespace {
@@ -411,6 +411,41 @@ TEST_F(ImageSetTest, ASetWithoutParallaxFallsBackWithTheReason) {
   EXPECT_TRUE(std::any_of(report->warnings.begin(), report->warnings.end(), [](const std::string& w) {
     return w.find("capture 9: structure from motion failed") != std::string::npos;
   })) << ::testing::PrintToString(report->warnings);
+}
+
+// Hand-held photos larger than the working size are scaled to it, their focal length from EXIF
+// and a lens calibrated at full size with them; frames that are not OK, smaller photos and
+// lattice frames are left as they are.
+TEST(ImageSetScaleTest, ScalesLargePhotosWithTheirFocalLengthAndLens) {
+  FrameSet capture;
+  capture.kind = FrameSetKind::kImageSet;
+  RigCalibration rig;
+  for (const cv::Size size : {cv::Size(2400, 1600), cv::Size(800, 600), cv::Size(2400, 1600)}) {
+    Frame frame;
+    frame.image = FromBgr(cv::Mat(size, CV_8UC3, cv::Scalar(10, 120, 230)), PixelFormat::kRgb888).value();
+    frame.focal_length_px = 2000;
+    capture.frames.push_back(std::move(frame));
+    rig.lenses.push_back(LensCalibration{});
+    rig.lenses.back().camera = CameraModel::Pinhole(size.width, size.height, 2000);
+  }
+  capture.frames[2].status = FrameStatus::kCorrupt;
+  const std::string note = ScaleImageSetToWorkingSize(1200, &capture, &rig);
+  EXPECT_NE(note.find("1 of 3 photos scaled to a longer side of 1200 px"), std::string::npos) << note;
+  EXPECT_EQ(capture.frames[0].image.width, 1200);
+  EXPECT_EQ(capture.frames[0].image.height, 800);
+  EXPECT_DOUBLE_EQ(capture.frames[0].focal_length_px, 1000);
+  EXPECT_EQ(rig.lenses[0].camera.width, 1200);
+  EXPECT_DOUBLE_EQ(rig.lenses[0].camera.fx, 1000);
+  const cv::Mat scaled = ToBgr(capture.frames[0].image).value();
+  EXPECT_EQ(scaled.at<cv::Vec3b>(400, 600), cv::Vec3b(10, 120, 230));
+  EXPECT_EQ(capture.frames[1].image.width, 800);   // under the working size
+  EXPECT_EQ(capture.frames[2].image.width, 2400);  // corrupt: left for the stages to report
+  EXPECT_EQ(ScaleImageSetToWorkingSize(0, &capture, &rig), "");
+  FrameSet lattice = capture;
+  lattice.kind = FrameSetKind::kLatticeFrame;
+  lattice.frames[2].status = FrameStatus::kOk;
+  EXPECT_EQ(ScaleImageSetToWorkingSize(1200, &lattice, &rig), "");
+  EXPECT_EQ(lattice.frames[2].image.width, 2400);
 }
 
 TEST_F(PipelineTest, RejectsWhatItCannotDo) {

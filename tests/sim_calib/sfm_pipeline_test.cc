@@ -10,38 +10,42 @@
 #include "pipeline/core/pixel_format.h"
 #include "pipeline/run/pipeline.h"
 #include "tests/sim_calib/sim_image_set.h"
+#include "tests/testing/counting_frame_sink.h"
 
 namespace px::sim_calib {
 namespace {
 
-class CountingSink : public FrameSink {
- public:
-  Status Consume(int, const cv::Mat&) override {
-    ++frames;
-    return OkStatus();
-  }
-  int frames = 0;
-};
+using CountingSink = testing::CountingFrameSink;
 
 // The hand-held set as a tethered camera delivers it (an image set, intrinsics from a
-// calibration with one lens per image, no poses): structure from motion, depth and a clip.
-
-TEST(IncrementalSfmSimTest, ImageSetRunsThroughThePipeline) {
-  const ImageSet set = HandHeld(/*known_focal=*/true);
+// calibration with one lens per image, no poses).
+FrameSet CaptureOf(const ImageSet& set, RigCalibration* intrinsics) {
   FrameSet capture;
   capture.kind = FrameSetKind::kImageSet;
   capture.capture_id = 4;
-  RigCalibration intrinsics;
   for (const calib::SfmImage& image : set.images) {
     Frame frame;
     frame.image = FromBgr(image.image, PixelFormat::kRgb888).value();
     capture.frames.push_back(std::move(frame));
-    intrinsics.lenses.push_back(LensCalibration{});
-    intrinsics.lenses.back().camera = set.camera;
+    intrinsics->lenses.push_back(LensCalibration{});
+    intrinsics->lenses.back().camera = set.camera;
   }
+  return capture;
+}
+
+PipelineOptions FiveFrames() {
   PipelineOptions options;
   options.direct.fps = 5;
   options.direct.duration_s = 1;
+  return options;
+}
+
+// Structure from motion, depth and a clip.
+TEST(IncrementalSfmSimTest, ImageSetRunsThroughThePipeline) {
+  const ImageSet set = HandHeld(/*known_focal=*/true);
+  RigCalibration intrinsics;
+  const FrameSet capture = CaptureOf(set, &intrinsics);
+  PipelineOptions options = FiveFrames();
   CountingSink sink;
   StatusOr<PipelineReport> report = RunPipeline(capture, intrinsics, options, &sink);
   ASSERT_TRUE(report.ok()) << report.status().ToString();
@@ -51,6 +55,30 @@ TEST(IncrementalSfmSimTest, ImageSetRunsThroughThePipeline) {
   EXPECT_NE(report->calibration_summary.find("4 of 4 images registered"), std::string::npos);
   EXPECT_EQ(report->num_views, 4);
   EXPECT_EQ(sink.frames, 5);
+  EXPECT_EQ(sink.size, cv::Size(640, 480));  // under image_set_max_side_px: as taken
+  EXPECT_LT(report->mean_hole_ratio, 0.05);
+}
+
+// Photos larger than the working size are processed at it: the same set with a working size of
+// 400 px is posed with its intrinsics scaled along, gets depth and a 3D move, and makes a
+// 400x300 clip.
+TEST(IncrementalSfmSimTest, LargePhotosAreProcessedAtTheWorkingSize) {
+  const ImageSet set = HandHeld(/*known_focal=*/true);
+  RigCalibration intrinsics;
+  const FrameSet capture = CaptureOf(set, &intrinsics);
+  PipelineOptions options = FiveFrames();
+  options.image_set_max_side_px = 400;
+  CountingSink sink;
+  StatusOr<PipelineReport> report = RunPipeline(capture, intrinsics, options, &sink);
+  ASSERT_TRUE(report.ok()) << report.status().ToString();
+  std::printf("pipeline at 400 px: %s: %s; %s\n", report->calibration.c_str(), report->calibration_summary.c_str(),
+              report->path.move.c_str());
+  EXPECT_NE(report->calibration_summary.find("4 of 4 images registered"), std::string::npos);
+  // The lenses' intrinsics scaled with the photos: still used as metadata, not self-calibrated.
+  EXPECT_NE(report->calibration_summary.find("focal metadata"), std::string::npos) << report->calibration_summary;
+  EXPECT_EQ(sink.frames, 5);
+  EXPECT_EQ(sink.size, cv::Size(400, 300));
+  EXPECT_EQ(report->path.kind, PathKind::kNovelView) << report->path.reason;
   EXPECT_LT(report->mean_hole_ratio, 0.05);
 }
 
@@ -68,9 +96,7 @@ TEST(IncrementalSfmSimTest, LatticeFrameWithoutRigCalibrationMakesAClip) {
   Frame frame;
   frame.image = FromBgr(shot->sensor, PixelFormat::kRgb888).value();
   capture.frames.push_back(std::move(frame));
-  PipelineOptions options;
-  options.direct.fps = 5;
-  options.direct.duration_s = 1;
+  PipelineOptions options = FiveFrames();
   // Fewer features and sweep steps than the defaults keep this under half a minute on 2 cores;
   // 320x240 tiles need no more.
   options.sfm.features.max_features = 1500;
