@@ -15,6 +15,7 @@
 #include "device/cli/run_or_fail.h"
 #include "device/cli/scene_path.h"
 #include "eval/render/closeup_eval.h"
+#include "eval/render/handheld_eval.h"
 #include "eval/render/pan_eval.h"
 #include "eval/render/render_eval.h"
 #include "pipeline/core/log.h"
@@ -93,8 +94,8 @@ Status RunEvalRender(const EvalRenderArgs& args) {
     return std::find(args.groups.begin(), args.groups.end(), group) != args.groups.end();
   };
   for (const std::string& group : args.groups) {
-    if (group != "standard" && group != "closeup" && group != "pan") {
-      return InvalidArgumentError("--group '" + group + "' is not one of standard, closeup, pan");
+    if (group != "standard" && group != "closeup" && group != "pan" && group != "handheld") {
+      return InvalidArgumentError("--group '" + group + "' is not one of standard, closeup, pan, handheld");
     }
   }
   std::vector<fs::path> data;
@@ -155,6 +156,12 @@ Status RunEvalRender(const EvalRenderArgs& args) {
       PX_RETURN_IF_ERROR(add(eval::EvaluateSimulatedPan(file, SimCameraSpec::Integral5x4(), options)));
     }
   }
+  if (has_group("handheld")) {
+    for (const std::string& scene : args.scenes) {
+      PX_ASSIGN_OR_RETURN(fs::path file, ResolveScenePath(scene));
+      PX_RETURN_IF_ERROR(add(eval::EvaluateSimulatedHandheld(file, options)));
+    }
+  }
 
   const MachineInfo machine = ReadMachineInfo();
   if (args.json) {
@@ -199,7 +206,10 @@ Status RunEvalRender(const EvalRenderArgs& args) {
                 c.viewpoint.c_str(), depth.c_str(), size.c_str(), c.num_sources, c.psnr_db, c.ssim,
                 c.psnr_covered_edges_db, c.psnr_covered_flat_db, c.psnr_holes_db, 100 * c.hole_ratio,
                 100 * c.crack_fraction, c.render_ms, temporal);
-    const std::string group = ends_with(c.dataset, " close-up") ? " close-up" : ends_with(c.dataset, " pan") ? " pan" : "";
+    std::string group;
+    for (const char* suffix : {" close-up", " pan", " hand-held"}) {
+      if (ends_with(c.dataset, suffix)) group = suffix;
+    }
     Mean& mean = means[{c.dataset.substr(0, c.dataset.find(' ')) + group, depth}];
     mean.psnr_db += c.psnr_db;
     mean.crack_fraction += c.crack_fraction;
@@ -244,8 +254,10 @@ void AddEvalRenderCommand(CLI::App& eval) {
   render->add_option("--group", args->groups,
                      "Case groups (repeatable): standard (the data sets above), closeup (the dolly in that "
                      "`parallax clip` plans on --closeup-scene, halfway and at its close-up end, at 640x480, with "
-                     "the crack measure) and pan (not by default: 16 frames along the lattice plane across a view "
-                     "mesh edge on each --scene and lattice, with the temporal PSNR)")
+                     "the crack measure), pan (not by default: 16 frames along the lattice plane across a view "
+                     "mesh edge on each --scene and lattice, with the temporal PSNR) and handheld (not by default: "
+                     "each --scene shot by hand from four places, posed by the product's structure from motion, "
+                     "novel views aligned to the truth)")
       ->capture_default_str();
   render->add_option("--closeup-scene", args->closeup_scenes, "Scenes of the closeup group")->capture_default_str();
   render->add_option("--quality", args->quality, "preview or offline")->capture_default_str();

@@ -112,13 +112,9 @@ StatusOr<std::vector<RenderEvalCase>> EvaluateSimulatedCloseUps(const std::files
     for (const Viewpoint& viewpoint : viewpoints) {
       Progress(options, dataset + ": " + viewpoint.name);
       PX_ASSIGN_OR_RETURN(RenderEvalCase result,
-                          RenderAndScore(*renderer, viewpoint.camera.camera, viewpoint.camera.cam_from_world,
-                                         viewpoint.truth.bgr, viewpoint.truth.depth_m,
-                                         static_cast<int>(lattice.views.size()), options,
-                                         DumpName(dataset, viewpoint.name, source)));
-      result.dataset = dataset;
-      result.viewpoint = viewpoint.name;
-      result.depth = source;
+                          RenderCase(*renderer, viewpoint.camera.camera, viewpoint.camera.cam_from_world,
+                                     viewpoint.truth.bgr, viewpoint.truth.depth_m,
+                                     static_cast<int>(lattice.views.size()), options, {dataset, viewpoint.name, source}));
       cases.push_back(result);
     }
   }

@@ -112,6 +112,18 @@ std::string DumpName(const std::string& dataset, const std::string& viewpoint, E
   return name;
 }
 
+StatusOr<RenderEvalCase> RenderCase(CpuSceneRenderer& renderer, const CameraModel& camera, const Rigid3& pose,
+                                    const cv::Mat& truth, const cv::Mat& truth_depth_m, int num_sources,
+                                    const RenderEvalOptions& options, const CaseLabel& label) {
+  PX_ASSIGN_OR_RETURN(RenderEvalCase result,
+                      RenderAndScore(renderer, camera, pose, truth, truth_depth_m, num_sources, options,
+                                     DumpName(label.dataset, label.viewpoint, label.depth)));
+  result.dataset = label.dataset;
+  result.viewpoint = label.viewpoint;
+  result.depth = label.depth;
+  return result;
+}
+
 StatusOr<RenderEvalCase> RenderAndScore(CpuSceneRenderer& renderer, const CameraModel& camera, const Rigid3& pose,
                                         const cv::Mat& truth, const cv::Mat& truth_depth_m, int num_sources,
                                         const RenderEvalOptions& options, const std::string& dump_name,
@@ -277,12 +289,8 @@ StatusOr<std::vector<RenderEvalCase>> EvaluateSimulatedScene(const std::filesyst
       Progress(options, dataset + ": " + viewpoints[i].name);
       const Rigid3 pose = PoseAt(viewpoints[i].centre, viewpoints[i].rotation);
       PX_ASSIGN_OR_RETURN(RenderEvalCase result,
-                          RenderAndScore(*renderer, camera, pose, truth_images[i], truth_depths[i],
-                                         static_cast<int>(views.size()), options,
-                                         DumpName(dataset, viewpoints[i].name, source)));
-      result.dataset = dataset;
-      result.viewpoint = viewpoints[i].name;
-      result.depth = source;
+                          RenderCase(*renderer, camera, pose, truth_images[i], truth_depths[i],
+                                     static_cast<int>(views.size()), options, {dataset, viewpoints[i].name, source}));
       cases.push_back(result);
     }
   }
@@ -319,11 +327,8 @@ StatusOr<std::vector<RenderEvalCase>> EvaluateHciCentreView(const std::filesyste
                           MakeRenderer(sources, source, min_depth_m, max_depth_m, nullptr, options));
       Progress(options, dataset + ": " + name);
       PX_ASSIGN_OR_RETURN(RenderEvalCase result,
-                          RenderAndScore(*renderer, centre.camera, centre.cam_from_world, centre.image, truth_depth,
-                                         static_cast<int>(sources.size()), options, DumpName(dataset, name, source)));
-      result.dataset = dataset;
-      result.viewpoint = name;
-      result.depth = source;
+                          RenderCase(*renderer, centre.camera, centre.cam_from_world, centre.image, truth_depth,
+                                     static_cast<int>(sources.size()), options, {dataset, name, source}));
       cases.push_back(result);
     }
   }
@@ -368,11 +373,8 @@ StatusOr<std::vector<RenderEvalCase>> EvaluateLlffHeldOut(const std::filesystem:
       const std::string name = "view " + std::to_string(view.id.value) + " held out";
       Progress(options, dataset + ": " + name);
       PX_ASSIGN_OR_RETURN(RenderEvalCase result,
-                          RenderAndScore(*renderer, view.camera, view.cam_from_world, view.image, cv::Mat(),
-                                         static_cast<int>(sources.size()), options, DumpName(dataset, name, source)));
-      result.dataset = dataset;
-      result.viewpoint = name;
-      result.depth = source;
+                          RenderCase(*renderer, view.camera, view.cam_from_world, view.image, cv::Mat(),
+                                     static_cast<int>(sources.size()), options, {dataset, name, source}));
       cases.push_back(result);
     }
   }

@@ -42,6 +42,17 @@ StatusOr<RenderEvalCase> RenderAndScore(CpuSceneRenderer& renderer, const Camera
                                         const RenderEvalOptions& options, const std::string& dump_name,
                                         cv::Mat* render = nullptr);
 
+// RenderAndScore for one case, labelled: its dataset, viewpoint and depth source set, its dump
+// files named from them.
+struct CaseLabel {
+  std::string dataset;
+  std::string viewpoint;
+  EvalDepth depth = EvalDepth::kDepthStage;
+};
+StatusOr<RenderEvalCase> RenderCase(CpuSceneRenderer& renderer, const CameraModel& camera, const Rigid3& pose,
+                                    const cv::Mat& truth, const cv::Mat& truth_depth_m, int num_sources,
+                                    const RenderEvalOptions& options, const CaseLabel& label);
+
 Rigid3 PoseAt(const Eigen::Vector3d& centre_in_world, const Eigen::Quaterniond& cam_from_world_rotation);
 
 // A simulated scene on a lattice at options.sim_scale, without distortion: the clean views (rig

@@ -92,9 +92,11 @@ std::vector<std::array<int, 3>> SubdivTriangles(const std::vector<cv::Point2f>& 
 
 // The Delaunay triangles of non-collinear points, by cv::Subdiv2D on coordinates scaled to about
 // a thousand units (it stores float). Its outer virtual vertices are at a finite distance, so a
-// thin triangle along a hull (centres of a hand-held sweep, nearly on a line) has a circumcircle
-// holding one, and Subdiv2D leaves it out: then the outer vertices move out a hundredfold, until
-// the triangles cover the points' convex hull.
+// thin triangle along the hull has a circumcircle holding one and is left out. That is kept where
+// other triangles remain: the extension ring then covers the hull's edge, and renders better than
+// the slivers would (LLFF fern: 24.92 dB, 24.81 with the whole hull). Centres nearly on a line
+// (a hand-held sweep) can have nothing but slivers: then the outer vertices move out a
+// hundredfold at a time until the triangles cover the points' convex hull.
 StatusOr<std::vector<std::array<int, 3>>> DelaunayTriangles(const std::vector<Eigen::Vector2d>& positions) {
   Eigen::Vector2d low = positions[0], high = low;
   for (const Eigen::Vector2d& p : positions) {
@@ -114,7 +116,7 @@ StatusOr<std::vector<std::array<int, 3>>> DelaunayTriangles(const std::vector<Ei
     triangles = SubdivTriangles(scaled, positions, outer);
     double area = 0;
     for (const auto& tri : triangles) area += Cross2(positions[tri[1]] - positions[tri[0]], positions[tri[2]] - positions[tri[0]]) / 2;
-    if (area >= (1 - 1e-4) * hull_area && !triangles.empty()) return triangles;
+    if (!triangles.empty() && (outer == 1021 || area >= (1 - 1e-4) * hull_area)) return triangles;
   }
   if (triangles.empty()) {
     return InternalError("view mesh: Delaunay triangulation of " + std::to_string(positions.size()) +
