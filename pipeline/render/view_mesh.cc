@@ -275,6 +275,16 @@ void ViewMesh::BuildTriangleData() {
       if (neighbours_[t][k] < 0) outer_edges_.push_back({triangles_[t][(k + 1) % 3], triangles_[t][(k + 2) % 3]});
     }
   }
+  // Counter-clockwise triangles leave the outside to the right of their outer edges.
+  outline_convex_ = !outer_edges_.empty();
+  for (const auto& edge : outer_edges_) {
+    const Eigen::Vector2d& a = vertices_[edge[0]].position;
+    const Eigen::Vector2d ab = vertices_[edge[1]].position - a;
+    for (const auto& other : outer_edges_) {
+      const Eigen::Vector2d aq = vertices_[other[0]].position - a;
+      if (Cross2(ab, aq) < -1e-9 * ab.squaredNorm() - 1e-12 * aq.squaredNorm()) outline_convex_ = false;
+    }
+  }
 }
 
 Eigen::Vector2d ViewMesh::ToPlane(const Eigen::Vector3d& point_in_world) const {
@@ -298,21 +308,33 @@ ViewSlots ViewMesh::LineWeights(const Eigen::Vector2d& q) const {
   return Merge({last, -1, -1}, {1, 0, 0});
 }
 
-ViewSlots ViewMesh::OutsideWeights(const Eigen::Vector2d& q) const {
+std::pair<int, double> ViewMesh::NearestOuterEdge(const Eigen::Vector2d& q) const {
   double best = std::numeric_limits<double>::infinity();
-  ViewSlots slots;
-  for (const auto& edge : outer_edges_) {
-    const Eigen::Vector2d& a = vertices_[edge[0]].position;
-    const Eigen::Vector2d ab = vertices_[edge[1]].position - a;
+  std::pair<int, double> nearest{-1, 0.0};
+  for (size_t e = 0; e < outer_edges_.size(); ++e) {
+    const Eigen::Vector2d& a = vertices_[outer_edges_[e][0]].position;
+    const Eigen::Vector2d ab = vertices_[outer_edges_[e][1]].position - a;
     const double length2 = ab.squaredNorm();
     const double t = length2 > 0 ? std::clamp((q - a).dot(ab) / length2, 0.0, 1.0) : 0.0;
     const double d2 = (a + t * ab - q).squaredNorm();
     if (d2 < best) {
       best = d2;
-      slots = Merge({vertices_[edge[0]].view, vertices_[edge[1]].view, -1}, {1 - t, t, 0});
+      nearest = {static_cast<int>(e), t};
     }
   }
-  return slots;
+  return nearest;
+}
+
+ViewSlots ViewMesh::OutsideWeights(const Eigen::Vector2d& q) const {
+  const auto [e, t] = NearestOuterEdge(q);
+  if (e < 0) return ViewSlots{};
+  return Merge({vertices_[outer_edges_[e][0]].view, vertices_[outer_edges_[e][1]].view, -1}, {1 - t, t, 0});
+}
+
+int ViewMesh::OutsideRegion(const Eigen::Vector2d& q) const {
+  const auto [e, t] = NearestOuterEdge(q);
+  if (e < 0) return -1;
+  return t <= 0 ? -2 - outer_edges_[e][0] : t >= 1 ? -2 - outer_edges_[e][1] : e;
 }
 
 std::array<double, 3> ViewMesh::Coordinates(int triangle, const Eigen::Vector2d& q) const {
@@ -413,14 +435,47 @@ void ViewMesh::ComputeWeights(const CameraModel& camera, const Rigid3& cam_from_
   constexpr int kMinTile = 2;
   const int tiles_x = (width + kTile - 1) / kTile;
   const int tiles_y = (height + kTile - 1) / kTile;
+  // Pixels [x0, x1] x [y0, y1], all outside the mesh in `region` (OutsideRegion): a vertex's view
+  // alone, or an outer edge's two views at t = alpha + (r . pixel) / (s . pixel) along it, as
+  // OutsideWeights would give them pixel by pixel.
+  const auto fill_outside = [&](int region, int x0, int y0, int x1, int y1) {
+    if (region <= -2) {
+      const ViewSlots vertex = Merge({vertices_[-2 - region].view, -1, -1}, {1, 0, 0});
+      for (int y = y0; y <= y1; ++y) std::fill_n(slots->data() + static_cast<size_t>(y) * width + x0, x1 - x0 + 1, vertex);
+      return;
+    }
+    const auto& edge = outer_edges_[region];
+    const Eigen::Vector2d& a = vertices_[edge[0]].position;
+    const Eigen::Vector2d ab = vertices_[edge[1]].position - a;
+    const double length2 = ab.squaredNorm();
+    const double alpha = (map.q_centre - a).dot(ab) / length2;
+    const Eigen::RowVector3d r = -map.height / length2 * (ab.transpose() * map.numerator);
+    const ViewSlots pattern = Merge({vertices_[edge[0]].view, vertices_[edge[1]].view, -1}, {0.5, 0.5, 0});
+    const int slot_a = 0, slot_b = pattern.view[0] == vertices_[edge[1]].view ? 0 : 1;
+    const double sx = map.denominator(0), s_y = map.denominator(1), s1 = map.denominator(2);
+    for (int y = y0; y <= y1; ++y) {
+      ViewSlots* row = slots->data() + static_cast<size_t>(y) * width;
+      const double s_row = s_y * y + s1, r_row = r(1) * y + r(2);
+      for (int x = x0; x <= x1; ++x) {
+        const double t = std::clamp(alpha + (r(0) * x + r_row) / (sx * x + s_row), 0.0, 1.0);
+        ViewSlots out;
+        out.view = pattern.view;
+        out.weight[slot_a] += static_cast<float>(1 - t);
+        out.weight[slot_b] += static_cast<float>(t);
+        row[x] = out;
+      }
+    }
+  };
   cv::parallel_for_(cv::Range(0, tiles_y), [&](const cv::Range& tile_rows) {
     int hint = -1;
     // Pixels [x0, x1] x [y0, y1].
     const std::function<void(int, int, int, int)> fill = [&](int x0, int y0, int x1, int y1) {
-      // Fast path: the tile's four corners lie in one triangle and no pixel's line is near
-      // parallel to the plane, so (the map being projective and the triangle convex) every
-      // pixel does, and its coordinates are ratios of linear functions of (x, y).
-      int triangle = -2;
+      // Fast paths: the tile's four corners lie in one triangle, or outside the mesh in one
+      // region of its nearest outer edge or vertex (a convex outline), and no pixel's line is
+      // near parallel to the plane, so (the map being projective and the regions convex) every
+      // pixel does, and its weights are ratios of linear functions of (x, y).
+      int triangle = -2;  // the corners' triangle, -1 outside the mesh
+      int outside = 0;    // their OutsideRegion when outside
       bool regular = kind_ == Kind::kTriangles;
       double s_sign = 0;
       for (int corner = 0; corner < 4 && regular; ++corner) {
@@ -432,10 +487,16 @@ void ViewMesh::ComputeWeights(const CameraModel& camera, const Rigid3& cam_from_
           break;
         }
         s_sign = s;
-        const int t = Locate(map.At(x, y), hint);
+        const Eigen::Vector2d q = map.At(x, y);
+        const int t = Locate(q, hint);
         hint = t >= 0 ? t : hint;
-        if (t < 0 || (triangle != -2 && t != triangle)) regular = false;
+        if (triangle != -2 && t != triangle) regular = false;
         triangle = t;
+        if (regular && t < 0) {
+          const int region = outline_convex_ ? OutsideRegion(q) : -1;
+          if (region == -1 || (corner > 0 && region != outside)) regular = false;
+          outside = region;
+        }
       }
       if (!regular && kind_ == Kind::kTriangles && std::min(x1 - x0, y1 - y0) + 1 > kMinTile) {
         // A triangle edge crosses it: the quarters that lie in one triangle take the fast path.
@@ -451,6 +512,10 @@ void ViewMesh::ComputeWeights(const CameraModel& camera, const Rigid3& cam_from_
           ViewSlots* row = slots->data() + static_cast<size_t>(y) * width;
           for (int x = x0; x <= x1; ++x) row[x] = WeightsAt(map.At(x, y), &hint);
         }
+        return;
+      }
+      if (triangle < 0) {
+        fill_outside(outside, x0, y0, x1, y1);
         return;
       }
       // lambda_{1,2} = alpha + (r . pixel) / (s . pixel), lambda_0 = 1 - lambda_1 - lambda_2.

@@ -10,6 +10,7 @@
 
 #include <array>
 #include <cstdint>
+#include <utility>
 #include <vector>
 
 #include <Eigen/Core>
@@ -81,7 +82,13 @@ class ViewMesh {
   int Locate(const Eigen::Vector2d& q, int hint) const;
   std::array<double, 3> Coordinates(int triangle, const Eigen::Vector2d& q) const;
   ViewSlots TriangleWeights(int triangle, const Eigen::Vector2d& q) const;
+  // The outer edge nearest q (-1 without any) and the parameter in [0, 1] of its point nearest q.
+  std::pair<int, double> NearestOuterEdge(const Eigen::Vector2d& q) const;
   ViewSlots OutsideWeights(const Eigen::Vector2d& q) const;
+  // Where q (outside the mesh) finds its nearest point: the outer edge's index when inside that
+  // edge, else -2 - v for the outer vertex v. On a convex outline each such region is convex
+  // (an intersection of half-planes), so ComputeWeights may fill a tile whose corners share one.
+  int OutsideRegion(const Eigen::Vector2d& q) const;
   ViewSlots LineWeights(const Eigen::Vector2d& q) const;
 
   Kind kind_ = Kind::kPoint;
@@ -96,6 +103,7 @@ class ViewMesh {
   std::vector<Barycentric> barycentric_;             // per triangle
   std::vector<std::array<int, 3>> neighbours_;       // per triangle: across the edge opposite vertex k
   std::vector<std::array<int, 2>> outer_edges_;      // vertex pairs on the extended mesh's boundary
+  bool outline_convex_ = false;                      // every outer vertex on or inside every outer edge
   std::vector<int> line_order_;                      // kLine: views sorted along axis_u
 };
 

@@ -6,6 +6,9 @@
 
 #include <gtest/gtest.h>
 
+#include "pipeline/core/camera_model.h"
+#include "pipeline/core/rigid3.h"
+
 namespace px::render {
 namespace {
 
@@ -79,6 +82,39 @@ TEST(ViewMeshTest, WeightsAreBarycentricAndSumToOneEverywhere) {
   // right column's lenses contribute.
   const ViewSlots far_right = mesh.WeightsAt(Eigen::Vector2d(1.0, 0.0));
   EXPECT_NEAR(WeightOf(far_right, 2) + WeightOf(far_right, 5) + WeightOf(far_right, 8), 1.0, 1e-6);
+}
+
+// ComputeWeights' tiles (inside one triangle, or outside the mesh in one region of the nearest
+// outer edge or vertex) give what WeightsAt gives pixel by pixel, for cameras whose pixels see the
+// plane inside the mesh, on its ring, far outside it (in front of the lattice: a dolly in), and
+// past the horizon (turned).
+TEST(ViewMeshTest, ComputeWeightsMatchesThePixelByPixelWeights) {
+  const ViewMesh mesh = Lattice3x3();
+  const CameraModel camera = CameraModel::Pinhole(96, 64, 80);
+  const Eigen::Vector3d centres[] = {{0.004, -0.003, -0.05}, {0.01, 0.0, 0.3}, {-0.02, 0.015, 0.7}, {0.0, 0.0, 0.02}};
+  const double turns_deg[] = {0, 3, 10, 70};
+  int compared = 0;
+  for (const Eigen::Vector3d& centre : centres) {
+    for (double turn : turns_deg) {
+      const Eigen::Quaterniond rotation(Eigen::AngleAxisd(turn * M_PI / 180, Eigen::Vector3d(0.3, 1, 0).normalized()));
+      const Rigid3 pose(rotation, -(rotation * centre));
+      std::vector<ViewSlots> tiles;
+      mesh.ComputeWeights(camera, pose, &tiles, 1.0);
+      for (int y = 0; y < camera.height; ++y) {
+        for (int x = 0; x < camera.width; ++x) {
+          const ViewSlots pixel = mesh.WeightsAt(mesh.PlanePointOfPixel(camera, pose, x, y));
+          const ViewSlots& tile = tiles[static_cast<size_t>(y) * camera.width + x];
+          for (int view = 0; view < 9; ++view) {
+            ASSERT_NEAR(WeightOf(tile, view), WeightOf(pixel, view), 2e-5)
+                << "view " << view << " at pixel " << x << "," << y << ", centre " << centre.transpose()
+                << ", turned " << turn;
+          }
+          ++compared;
+        }
+      }
+    }
+  }
+  EXPECT_EQ(compared, 16 * 96 * 64);
 }
 
 TEST(ViewMeshTest, CameraInFrontOfTheMeshAndOnItUsesTheNearestPointOfTheMesh) {
