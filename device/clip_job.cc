@@ -161,19 +161,30 @@ StatusOr<ClipJobReport> RunClipJob(const fs::path& recording_dir,
                                    const fs::path& clip_path,
                                    const ClipJobOptions& options,
                                    const ProgressCallback& progress) {
+  const auto read_start = Clock::now();
+  std::error_code ec;
+  fs::path dir = fs::absolute(recording_dir, ec);
+  if (ec) dir = recording_dir;
+  PX_ASSIGN_OR_RETURN(Recording recording, ReadRecording(dir));
+  Logger("device")->info("clip job: read recording {} ({}, {} frame(s)) in {:.0f} ms", dir.string(),
+                         recording.source.model, recording.frames.frames.size(), MillisecondsSince(read_start));
+  return RunClipJob(recording, dir, clip_path, options, progress);
+}
+
+StatusOr<ClipJobReport> RunClipJob(const Recording& recording,
+                                   const fs::path& source,
+                                   const fs::path& clip_path,
+                                   const ClipJobOptions& options,
+                                   const ProgressCallback& progress) {
   const auto start = Clock::now();
   auto log = Logger("device");
   PX_RETURN_IF_ERROR(options.Validate());
   ClipJobReport report;
+  report.recording_dir = source;
   std::error_code ec;
-  report.recording_dir = fs::absolute(recording_dir, ec);
-  if (ec) report.recording_dir = recording_dir;
   report.clip_path = fs::absolute(clip_path, ec);
   if (ec) report.clip_path = clip_path;
   report.report_path = ClipReportPathFor(report.clip_path);
-
-  const auto read_start = Clock::now();
-  PX_ASSIGN_OR_RETURN(Recording recording, ReadRecording(report.recording_dir));
   report.source_model = recording.source.model;
   RigCalibration rig;
   if (recording.source.rig) {
@@ -183,11 +194,6 @@ StatusOr<ClipJobReport> RunClipJob(const fs::path& recording_dir,
                                    ": the recording has no rig calibration, and a lattice frame cannot be "
                                    "split into views without one");
   }
-  log->info("clip job: read recording {} ({}, {} frame(s)) in {:.0f} ms",
-            report.recording_dir.string(),
-            report.source_model,
-            recording.frames.frames.size(),
-            MillisecondsSince(read_start));
 
   clip::ClipOptions clip_options = options.clip;
   clip_options.fps = options.pipeline.direct.fps;

@@ -12,6 +12,7 @@
 
 #include "pipeline/clip/clip_writer.h"
 #include "pipeline/run/pipeline.h"
+#include "sim/replay/recording.h"
 
 namespace px::device {
 
@@ -32,7 +33,7 @@ struct ClipJobReport {
   int width = 0;  // stored size (MP4: even)
   int height = 0;
   uint64_t clip_bytes = 0;
-  double total_ms = 0;  // read to rename, wall clock
+  double total_ms = 0;  // the recording in memory to the clip in place, wall clock
 };
 
 // What goes into the report file: the camera path (pipeline/direct CameraPathToJson), figures,
@@ -44,6 +45,13 @@ nlohmann::json ClipJobReportToJson(const ClipJobReport& report);
 // pipeline's error, the encoder's, or RESOURCE_EXHAUSTED when the disk fills. CANCELLED when
 // `progress` returned false.
 StatusOr<ClipJobReport> RunClipJob(const std::filesystem::path& recording_dir,
+                                   const std::filesystem::path& clip_path,
+                                   const ClipJobOptions& options,
+                                   const ProgressCallback& progress = {});
+// The same for a recording already in memory (photos `parallax clip` imported itself); `source`
+// names where it came from in the report.
+StatusOr<ClipJobReport> RunClipJob(const Recording& recording,
+                                   const std::filesystem::path& source,
                                    const std::filesystem::path& clip_path,
                                    const ClipJobOptions& options,
                                    const ProgressCallback& progress = {});

@@ -2,18 +2,20 @@
 
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
-
 #include <nlohmann/json.hpp>
+#include <opencv2/core.hpp>
+#include <opencv2/imgcodecs.hpp>
 
-#include "tests/testing/animation_probe.h"
-#include "tests/testing/video_probe.h"
 #include "device/source_registry.h"
 #include "pipeline/core/durable_file.h"
-#include "tests/testing/temp_dir.h"
 #include "pipeline/direct/camera_path.h"
 #include "pipeline/render/gl/render_backend.h"
+#include "sim/replay/import_images.h"
 #include "sim/replay/recording.h"
 #include "sim/synthetic/synthetic_source.h"
+#include "tests/testing/animation_probe.h"
+#include "tests/testing/temp_dir.h"
+#include "tests/testing/video_probe.h"
 
 namespace px::device {
 namespace {
@@ -161,6 +163,33 @@ TEST_F(ClipJobTest, WritesEveryClipFormat) {
   }
   // Only the clips and their report: no temporaries, no older PNG folder left aside.
   EXPECT_EQ(ClipsFolder(), (std::vector<std::string>{"000002", "000002.gif", "000002.json", "000002.webp"}));
+}
+
+// Photos in memory (`parallax clip PHOTOS_FOLDER`): the job runs on the recording as given and the
+// report names the folder they came from. Random photos share nothing, so structure from motion
+// fails and the clip is the flat pan and zoom, never a failed button.
+TEST_F(ClipJobTest, PhotosInMemoryMakeAClipNamedAfterTheirFolder) {
+  fs::create_directories(dir() / "photos");
+  fs::create_directories(dir() / "clips");
+  for (int i = 0; i < 3; ++i) {
+    cv::Mat photo(120, 160, CV_8UC3);
+    cv::randu(photo, cv::Scalar::all(0), cv::Scalar::all(255));
+    ASSERT_TRUE(cv::imwrite((dir() / "photos" / ("p" + std::to_string(i) + ".png")).string(), photo));
+  }
+  auto photos = ListImages({dir() / "photos"});
+  ASSERT_TRUE(photos.ok()) << photos.status().ToString();
+  std::vector<std::string> warnings;
+  auto recording = RecordingFromImages(*photos, &warnings);
+  ASSERT_TRUE(recording.ok()) << recording.status().ToString();
+  const fs::path clip = dir() / "clips" / "photos.mp4";
+  auto report = RunClipJob(*recording, dir() / "photos", clip, SmallClipOptions());
+  ASSERT_TRUE(report.ok()) << report.status().ToString();
+  EXPECT_EQ(report->frames_written, NumFrames(10, 0.5));
+  EXPECT_EQ(report->pipeline.path.kind, PathKind::kPanZoom2d) << report->pipeline.path.reason;
+  auto text = ReadFileToString(dir() / "clips" / "photos.json");
+  ASSERT_TRUE(text.ok());
+  EXPECT_EQ(nlohmann::json::parse(*text)["recording"], (dir() / "photos").string());
+  EXPECT_EQ(nlohmann::json::parse(*text)["source"], "import");
 }
 
 TEST_F(ClipJobTest, LatticeRecordingWithoutRigFailsAndLeavesNoClip) {

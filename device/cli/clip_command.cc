@@ -3,12 +3,12 @@
 #include <cstdio>
 #include <filesystem>
 #include <memory>
-
-#include "device/cli/progress_bar.h"
-#include <filesystem>
+#include <string>
+#include <vector>
 
 #include <nlohmann/json.hpp>
 
+#include "device/cli/progress_bar.h"
 #include "device/cli/run_or_fail.h"
 #include "device/clip_job.h"
 #include "device/face_cascades.h"
@@ -16,6 +16,7 @@
 #include "pipeline/core/log.h"
 #include "pipeline/direct/shot_file.h"
 #include "pipeline/render/gl/render_backend.h"
+#include "sim/replay/import_images.h"
 
 namespace px::cli {
 namespace {
@@ -101,12 +102,30 @@ Status RunClip(const ClipArgs& args) {
   PX_ASSIGN_OR_RETURN(options.pipeline.render_backend.backend, render::gl::ParseRenderBackend(args.gl));
   PX_RETURN_IF_ERROR(options.Validate());
   ProgressBar progress(args.quiet);
-  PX_ASSIGN_OR_RETURN(device::ClipJobReport report,
-                      device::RunClipJob(args.recording, output, options,
-                                         [&](const std::string& stage, double fraction) {
-                                           progress.Update(stage, fraction);
-                                           return true;
-                                         }));
+  const auto show = [&](const std::string& stage, double fraction) {
+    progress.Update(stage, fraction);
+    return true;
+  };
+  // A folder of photos (no manifest) is imported as `parallax import` would, in memory: the
+  // photos themselves are the raw capture.
+  const std::filesystem::path source(args.recording);
+  StatusOr<device::ClipJobReport> made = InvalidArgumentError("no recording");
+  if (std::filesystem::exists(source / "manifest.json")) {
+    made = device::RunClipJob(source, output, options, show);
+  } else {
+    StatusOr<std::vector<std::filesystem::path>> listed = ListImages({source});
+    if (!listed.ok()) {
+      return NotFoundError(source.string() + ": neither a recording (no manifest.json) nor a folder of photos (" +
+                           listed.status().message() + ")");
+    }
+    const std::vector<std::filesystem::path>& photos = *listed;
+    std::vector<std::string> warnings;
+    PX_ASSIGN_OR_RETURN(Recording recording, RecordingFromImages(photos, &warnings));
+    for (const std::string& warning : warnings) log->warn("{}", warning);
+    log->info("{}: no recording manifest; {} photos taken as a hand-held image set", source.string(), photos.size());
+    made = device::RunClipJob(recording, std::filesystem::absolute(source), output, options, show);
+  }
+  PX_ASSIGN_OR_RETURN(device::ClipJobReport report, std::move(made));
   progress.Finish();
   // The shot that reproduces this clip, for replaying or editing it (--shot).
   std::filesystem::path shot_path = report.clip_path;
@@ -130,7 +149,9 @@ Status RunClip(const ClipArgs& args) {
 void AddClipCommand(CLI::App& app) {
   auto args = std::make_shared<ClipArgs>();
   CLI::App* clip = app.add_subcommand("clip", "Turn a recording into a clip (the offline pipeline)");
-  clip->add_option("recording", args->recording, "Recording folder (see sim/replay/FORMAT.md)")
+  clip->add_option("recording", args->recording,
+                   "Recording folder (see sim/replay/FORMAT.md), or a folder of hand-held photos (JPEG, PNG) taken as "
+                   "an image set")
       ->required()
       ->check(CLI::ExistingDirectory);
   clip->add_option("-o,--output", args->output,
