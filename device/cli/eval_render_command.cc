@@ -207,7 +207,7 @@ Status RunEvalRender(const EvalRenderArgs& args) {
                 c.psnr_covered_edges_db, c.psnr_covered_flat_db, c.psnr_holes_db, 100 * c.hole_ratio,
                 100 * c.crack_fraction, c.render_ms, temporal);
     std::string group;
-    for (const char* suffix : {" close-up", " pan", " hand-held"}) {
+    for (const char* suffix : {" close-up", " pan", " hand-held", " hand-held no EXIF"}) {
       if (ends_with(c.dataset, suffix)) group = suffix;
     }
     Mean& mean = means[{c.dataset.substr(0, c.dataset.find(' ')) + group, depth}];

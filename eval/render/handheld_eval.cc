@@ -51,13 +51,10 @@ Rigid3 PoseOf(const Place& place) {
   return Rigid3(rotation, -(rotation * place.centre));
 }
 
-}  // namespace
-
-StatusOr<std::vector<RenderEvalCase>> EvaluateSimulatedHandheld(const std::filesystem::path& scene_file,
-                                                                const RenderEvalOptions& options) {
-  PX_RETURN_IF_ERROR(options.Validate());
-  PX_ASSIGN_OR_RETURN(sim::Scene scene, sim::LoadScene(scene_file));
-  const std::string dataset = "sim " + scene_file.stem().string() + " hand-held";
+// The cases of one set of photos: with the focal length as EXIF gives it, or without (phones'
+// photos passed through messaging apps lose their EXIF), self-calibrated.
+StatusOr<std::vector<RenderEvalCase>> EvaluateShots(const sim::Scene& scene, const std::string& dataset, bool exif,
+                                                    const RenderEvalOptions& options) {
   const double s = options.sim_scale;
   const CameraModel camera = CameraModel::Pinhole(static_cast<int>(std::lround(640 * s)),
                                                   static_cast<int>(std::lround(480 * s)), kFocalPx * s);
@@ -82,8 +79,8 @@ StatusOr<std::vector<RenderEvalCase>> EvaluateSimulatedHandheld(const std::files
     Frame frame;
     PX_ASSIGN_OR_RETURN(frame.image, FromBgr(shot.bgr, PixelFormat::kRgb888));
     frame.sequence = i;
-    frame.focal_length_px = camera.fx;
-    frame.focal_length_source = "simulated EXIF";
+    frame.focal_length_px = exif ? camera.fx : 0.0;
+    if (exif) frame.focal_length_source = "simulated EXIF";
     capture.frames.push_back(std::move(frame));
   }
 
@@ -161,6 +158,19 @@ StatusOr<std::vector<RenderEvalCase>> EvaluateSimulatedHandheld(const std::files
       cases.push_back(result);
     }
   }
+  return cases;
+}
+
+}  // namespace
+
+StatusOr<std::vector<RenderEvalCase>> EvaluateSimulatedHandheld(const std::filesystem::path& scene_file,
+                                                                const RenderEvalOptions& options) {
+  PX_RETURN_IF_ERROR(options.Validate());
+  PX_ASSIGN_OR_RETURN(sim::Scene scene, sim::LoadScene(scene_file));
+  const std::string dataset = "sim " + scene_file.stem().string() + " hand-held";
+  PX_ASSIGN_OR_RETURN(std::vector<RenderEvalCase> cases, EvaluateShots(scene, dataset, true, options));
+  PX_ASSIGN_OR_RETURN(std::vector<RenderEvalCase> without, EvaluateShots(scene, dataset + " no EXIF", false, options));
+  cases.insert(cases.end(), without.begin(), without.end());
   return cases;
 }
 
