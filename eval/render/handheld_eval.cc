@@ -20,7 +20,7 @@ namespace px::eval {
 namespace {
 
 constexpr double kFocalPx = 560;  // at 640x480
-constexpr double kNoiseSigma = 2.0;  // 8-bit levels, as a phone's sensor at base ISO
+constexpr double kNoiseSigma = 2.0;  // 8-bit levels, as sim_calib's hand-held sets
 
 Eigen::Quaterniond Turn(double x_deg, double y_deg, double z_deg) {
   const double r = M_PI / 180;

@@ -1,10 +1,12 @@
 // The render evaluation's hand-held group: what the USB still camera's mode gives. A simulated
 // scene shot by hand from four places (8 cm apart, each turned by up to 2 degrees, 640x480 at
-// options.sim_scale, sensor noise, the focal length known as from EXIF) goes through the product's
-// stages: structure from motion (pipeline/run CalibrateCapture), its depth range, the depth stage
-// (or the exact depth, in the reconstruction's units) and the renderer. Novel viewpoints, chosen
-// in the true frame, are carried into the reconstruction's by the similarity that best maps its
-// poses onto the true ones (eval/calib/pose_alignment.h), so pose error counts in the figures.
+// options.sim_scale, sensor noise) plus three held-out photos goes through the product's stages:
+// structure from motion on all seven (pipeline/run CalibrateCapture), its depth range, the depth
+// stage on the four (or the exact depth, in the reconstruction's units) and the renderer, which
+// draws each held-out viewpoint at the pose SfM gave its photo, scored against a clean truth
+// (LLFF's protocol: a camera placed by aligning poses onto the truth instead is a pixel out of
+// register). Twice: with the focal length as EXIF gives it ("sim X hand-held") and without, so
+// self-calibrated ("sim X hand-held no EXIF").
 #pragma once
 
 #include <filesystem>
