@@ -57,6 +57,21 @@ StatusOr<clip::ClipFormat> ChooseFormat(const ClipArgs& args) {
   return clip::ClipFormat::kMp4;
 }
 
+// A folder without a recording's manifest, read as photos taken by hand (import_images.h).
+StatusOr<Recording> PhotoFolderAsRecording(const std::filesystem::path& folder) {
+  StatusOr<std::vector<std::filesystem::path>> photos = ListImages({folder});
+  if (!photos.ok()) {
+    return NotFoundError(folder.string() + ": neither a recording (no manifest.json) nor a folder of photos (" +
+                         photos.status().message() + ")");
+  }
+  std::vector<std::string> warnings;
+  PX_ASSIGN_OR_RETURN(Recording recording, RecordingFromImages(*photos, &warnings));
+  const auto log = Logger("clip");
+  for (const std::string& warning : warnings) log->warn("{}", warning);
+  log->info("{}: no recording manifest; {} photos taken as a hand-held image set", folder.string(), photos->size());
+  return recording;
+}
+
 Status RunClip(const ClipArgs& args) {
   device::ClipJobOptions options;
   PX_ASSIGN_OR_RETURN(options.clip.format, ChooseFormat(args));
@@ -109,23 +124,13 @@ Status RunClip(const ClipArgs& args) {
   // A folder of photos (no manifest) is imported as `parallax import` would, in memory: the
   // photos themselves are the raw capture.
   const std::filesystem::path source(args.recording);
-  StatusOr<device::ClipJobReport> made = InvalidArgumentError("no recording");
+  device::ClipJobReport report;
   if (std::filesystem::exists(source / "manifest.json")) {
-    made = device::RunClipJob(source, output, options, show);
+    PX_ASSIGN_OR_RETURN(report, device::RunClipJob(source, output, options, show));
   } else {
-    StatusOr<std::vector<std::filesystem::path>> listed = ListImages({source});
-    if (!listed.ok()) {
-      return NotFoundError(source.string() + ": neither a recording (no manifest.json) nor a folder of photos (" +
-                           listed.status().message() + ")");
-    }
-    const std::vector<std::filesystem::path>& photos = *listed;
-    std::vector<std::string> warnings;
-    PX_ASSIGN_OR_RETURN(Recording recording, RecordingFromImages(photos, &warnings));
-    for (const std::string& warning : warnings) log->warn("{}", warning);
-    log->info("{}: no recording manifest; {} photos taken as a hand-held image set", source.string(), photos.size());
-    made = device::RunClipJob(recording, std::filesystem::absolute(source), output, options, show);
+    PX_ASSIGN_OR_RETURN(Recording recording, PhotoFolderAsRecording(source));
+    PX_ASSIGN_OR_RETURN(report, device::RunClipJob(recording, std::filesystem::absolute(source), output, options, show));
   }
-  PX_ASSIGN_OR_RETURN(device::ClipJobReport report, std::move(made));
   progress.Finish();
   // The shot that reproduces this clip, for replaying or editing it (--shot).
   std::filesystem::path shot_path = report.clip_path;

@@ -256,8 +256,9 @@ void AddEvalRenderCommand(CLI::App& eval) {
                      "`parallax clip` plans on --closeup-scene, halfway and at its close-up end, at 640x480, with "
                      "the crack measure), pan (not by default: 16 frames along the lattice plane across a view "
                      "mesh edge on each --scene and lattice, with the temporal PSNR) and handheld (not by default: "
-                     "each --scene shot by hand from four places, posed by the product's structure from motion, "
-                     "novel views aligned to the truth)")
+                     "each --scene shot by hand from four places plus three held-out photos, all posed by the "
+                     "product's structure from motion, with and without EXIF; the held-out viewpoints rendered "
+                     "from the four)")
       ->capture_default_str();
   render->add_option("--closeup-scene", args->closeup_scenes, "Scenes of the closeup group")->capture_default_str();
   render->add_option("--quality", args->quality, "preview or offline")->capture_default_str();

@@ -108,15 +108,16 @@ StatusOr<std::vector<std::array<int, 3>>> DelaunayTriangles(const std::vector<Ei
   for (const Eigen::Vector2d& p : positions) {
     scaled.emplace_back(static_cast<float>((p.x() - low.x()) * scale), static_cast<float>((p.y() - low.y()) * scale));
   }
+  std::vector<std::array<int, 3>> triangles = SubdivTriangles(scaled, positions, 1021);
+  if (!triangles.empty()) return triangles;
   std::vector<cv::Point2f> hull;
   cv::convexHull(scaled, hull);
   const double hull_area = std::abs(cv::contourArea(hull)) / (scale * scale);
-  std::vector<std::array<int, 3>> triangles;
-  for (int outer = 1021; outer <= 102100000; outer *= 100) {
+  for (int outer = 102100; outer <= 102100000; outer *= 100) {
     triangles = SubdivTriangles(scaled, positions, outer);
     double area = 0;
     for (const auto& tri : triangles) area += Cross2(positions[tri[1]] - positions[tri[0]], positions[tri[2]] - positions[tri[0]]) / 2;
-    if (!triangles.empty() && (outer == 1021 || area >= (1 - 1e-4) * hull_area)) return triangles;
+    if (!triangles.empty() && area >= (1 - 1e-4) * hull_area) return triangles;
   }
   if (triangles.empty()) {
     return InternalError("view mesh: Delaunay triangulation of " + std::to_string(positions.size()) +

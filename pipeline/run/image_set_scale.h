@@ -4,19 +4,27 @@
 // The clip is then drawn at the working size, the views' resolution.
 #pragma once
 
+#include <optional>
 #include <string>
-#include <vector>
 
 #include "pipeline/core/frame_set.h"
 #include "pipeline/core/rig_calibration.h"
 
 namespace px {
 
-// Scales every usable frame of an image set whose longer side exceeds `max_side_px` down to it
-// (INTER_AREA; the frame's focal length from its metadata with it, and a rig lens calibrated for
-// the frame's full size too), re-encoded as BGR888. Frames that are not OK, or cannot be decoded,
-// are left as they are for the stages after to report. Returns one line for the log ("" when
-// nothing was scaled). max_side_px 0, or a lattice frame: nothing changes.
-std::string ScaleImageSetToWorkingSize(int max_side_px, FrameSet* capture, RigCalibration* rig);
+// An image set at its working size, and one line for the log saying what was scaled.
+struct WorkingImageSet {
+  FrameSet capture;
+  RigCalibration rig;
+  std::string note;
+};
+
+// `shot` with every usable frame whose longer side exceeds `max_side_px` scaled down to it
+// (INTER_AREA, re-encoded as BGR888; the frame's focal length from its metadata with it, and a
+// rig lens calibrated for the frame's full size too); made straight from `shot`, so no full-size
+// copy is held beside it. Frames that are not OK, or cannot be decoded, are kept as they are for
+// the stages after to report. nullopt when nothing needs scaling (max_side_px 0, a lattice frame,
+// photos within the size): use `shot` itself.
+std::optional<WorkingImageSet> ImageSetAtWorkingSize(int max_side_px, const FrameSet& shot, const RigCalibration& rig);
 
 }  // namespace px

@@ -233,16 +233,10 @@ StatusOr<PipelineReport> RunPipeline(const FrameSet& shot, const RigCalibration&
   if (sink == nullptr) return InvalidArgumentError("pipeline: no frame sink");
   const auto log = Logger("pipeline");
   // Hand-held photos at a working size (image_set_scale.h); a lattice frame as it is.
-  std::optional<FrameSet> scaled_shot;
-  std::optional<RigCalibration> scaled_rig;
-  if (shot.kind == FrameSetKind::kImageSet && options.image_set_max_side_px > 0) {
-    scaled_shot = shot;
-    scaled_rig = shot_rig;
-    const std::string note = ScaleImageSetToWorkingSize(options.image_set_max_side_px, &*scaled_shot, &*scaled_rig);
-    if (!note.empty()) log->info("{}", note);
-  }
-  const FrameSet& capture = scaled_shot ? *scaled_shot : shot;
-  const RigCalibration& rig = scaled_rig ? *scaled_rig : shot_rig;
+  const std::optional<WorkingImageSet> working = ImageSetAtWorkingSize(options.image_set_max_side_px, shot, shot_rig);
+  if (working) log->info("{}", working->note);
+  const FrameSet& capture = working ? working->capture : shot;
+  const RigCalibration& rig = working ? working->rig : shot_rig;
   const ThreadCountScope threads(options.num_threads);
   const auto report_progress = [&](const char* stage, double fraction) -> Status {
     if (progress && !progress(stage, fraction)) return CancelledError(std::string("pipeline cancelled during ") + stage);

@@ -429,23 +429,27 @@ TEST(ImageSetScaleTest, ScalesLargePhotosWithTheirFocalLengthAndLens) {
     rig.lenses.back().camera = CameraModel::Pinhole(size.width, size.height, 2000);
   }
   capture.frames[2].status = FrameStatus::kCorrupt;
-  const std::string note = ScaleImageSetToWorkingSize(1200, &capture, &rig);
-  EXPECT_NE(note.find("1 of 3 photos scaled to a longer side of 1200 px"), std::string::npos) << note;
-  EXPECT_EQ(capture.frames[0].image.width, 1200);
-  EXPECT_EQ(capture.frames[0].image.height, 800);
-  EXPECT_DOUBLE_EQ(capture.frames[0].focal_length_px, 1000);
-  EXPECT_EQ(rig.lenses[0].camera.width, 1200);
-  EXPECT_DOUBLE_EQ(rig.lenses[0].camera.fx, 1000);
-  const cv::Mat scaled = ToBgr(capture.frames[0].image).value();
+  const std::optional<WorkingImageSet> working = ImageSetAtWorkingSize(1200, capture, rig);
+  ASSERT_TRUE(working.has_value());
+  EXPECT_NE(working->note.find("1 of 3 photos scaled to a longer side of 1200 px"), std::string::npos) << working->note;
+  const std::vector<Frame>& frames = working->capture.frames;
+  ASSERT_EQ(frames.size(), 3u);
+  EXPECT_EQ(frames[0].image.width, 1200);
+  EXPECT_EQ(frames[0].image.height, 800);
+  EXPECT_DOUBLE_EQ(frames[0].focal_length_px, 1000);
+  EXPECT_EQ(working->rig.lenses[0].camera.width, 1200);
+  EXPECT_DOUBLE_EQ(working->rig.lenses[0].camera.fx, 1000);
+  const cv::Mat scaled = ToBgr(frames[0].image).value();
   EXPECT_EQ(scaled.at<cv::Vec3b>(400, 600), cv::Vec3b(10, 120, 230));
-  EXPECT_EQ(capture.frames[1].image.width, 800);   // under the working size
-  EXPECT_EQ(capture.frames[2].image.width, 2400);  // corrupt: left for the stages to report
-  EXPECT_EQ(ScaleImageSetToWorkingSize(0, &capture, &rig), "");
+  EXPECT_EQ(frames[1].image.width, 800);   // under the working size
+  EXPECT_EQ(frames[2].image.width, 2400);  // corrupt: left for the stages to report
+  EXPECT_EQ(frames[2].status, FrameStatus::kCorrupt);
+  EXPECT_FALSE(ImageSetAtWorkingSize(0, capture, rig).has_value());
+  EXPECT_FALSE(ImageSetAtWorkingSize(2400, capture, rig).has_value());  // nothing larger
   FrameSet lattice = capture;
   lattice.kind = FrameSetKind::kLatticeFrame;
   lattice.frames[2].status = FrameStatus::kOk;
-  EXPECT_EQ(ScaleImageSetToWorkingSize(1200, &lattice, &rig), "");
-  EXPECT_EQ(lattice.frames[2].image.width, 2400);
+  EXPECT_FALSE(ImageSetAtWorkingSize(1200, lattice, rig).has_value());
 }
 
 TEST_F(PipelineTest, RejectsWhatItCannotDo) {
