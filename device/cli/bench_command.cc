@@ -9,6 +9,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "device/cli/consistent_blend_flags.h"
 #include "device/cli/depth_option_override.h"
 #include "device/cli/machine_info.h"
 #include "device/cli/progress_bar.h"
@@ -36,6 +37,7 @@ struct BenchArgs {
   std::string output;  // where the clip goes; default: a temporary file removed afterwards
   bool json = false;
   std::vector<std::string> depth_overrides;  // "matching.sgm_paths=0"
+  ConsistentBlendOptions consistent_blend;
 };
 
 // Encodes frames as the pipeline renders them and times only the encoding.
@@ -65,6 +67,7 @@ Status RunBench(const BenchArgs& args) {
   PipelineOptions options;
   options.direct.duration_s = args.duration_s;
   options.direct.fps = args.fps;
+  options.render.consistent_blend = args.consistent_blend;
   for (const std::string& text : args.depth_overrides) {
     PX_RETURN_IF_ERROR(ApplyDepthOptionOverride(text, &options.depth));
   }
@@ -166,6 +169,7 @@ void AddBenchCommand(CLI::App& app) {
   bench->add_option("--option", args->depth_overrides,
                     "Override one depth option, name=value as in pipeline/depth/depth_options.h (repeatable), "
                     "e.g. --option matching.sgm_paths=0");
+  AddConsistentBlendFlags(*bench, &args->consistent_blend);
   bench->add_flag("--json", args->json, "Print the figures as JSON (machine-readable)");
   bench->callback(RunOrFail("bench", [args] { return RunBench(*args); }));
 }

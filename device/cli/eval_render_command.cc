@@ -10,6 +10,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "device/cli/consistent_blend_flags.h"
 #include "device/cli/depth_option_override.h"
 #include "device/cli/machine_info.h"
 #include "device/cli/run_or_fail.h"
@@ -31,6 +32,7 @@ struct EvalRenderArgs {
   std::vector<std::string> scenes = {"still_life", "two_faces"};
   std::vector<std::string> groups = {"standard", "closeup"};
   std::vector<std::string> closeup_scenes = eval::CloseUpScenes();
+  std::vector<std::string> motion_scenes = {"one_face"};
   std::vector<std::string> depths = {"stage", "truth"};
   std::string quality = "preview";
   double sim_scale = 1.0;
@@ -43,6 +45,7 @@ struct EvalRenderArgs {
   bool skip_hci_full_grid = false;
   bool holes_from_other_views = RenderOptions().holes_from_other_views;
   render::BorderHoleFillOptions border_holes = RenderOptions().border_holes;
+  ConsistentBlendOptions consistent_blend;
   std::vector<std::string> depth_overrides;  // name=value, as `eval depth --option`
   std::string dump_dir;
   bool json = false;
@@ -71,6 +74,7 @@ Status RunEvalRender(const EvalRenderArgs& args) {
   options.hci_full_grid = !args.skip_hci_full_grid;
   options.render.holes_from_other_views = args.holes_from_other_views;
   options.render.border_holes = args.border_holes;
+  options.render.consistent_blend = args.consistent_blend;
   options.dump_dir = args.dump_dir;
   for (const std::string& text : args.depth_overrides) {
     PX_RETURN_IF_ERROR(ApplyDepthOptionOverride(text, &options.depth_stage));
@@ -94,8 +98,8 @@ Status RunEvalRender(const EvalRenderArgs& args) {
     return std::find(args.groups.begin(), args.groups.end(), group) != args.groups.end();
   };
   for (const std::string& group : args.groups) {
-    if (group != "standard" && group != "closeup" && group != "pan" && group != "handheld") {
-      return InvalidArgumentError("--group '" + group + "' is not one of standard, closeup, pan, handheld");
+    if (group != "standard" && group != "closeup" && group != "pan" && group != "handheld" && group != "motion") {
+      return InvalidArgumentError("--group '" + group + "' is not one of standard, closeup, pan, handheld, motion");
     }
   }
   std::vector<fs::path> data;
@@ -163,6 +167,13 @@ Status RunEvalRender(const EvalRenderArgs& args) {
     }
   }
 
+  if (has_group("motion")) {
+    for (const std::string& scene : args.motion_scenes) {
+      PX_ASSIGN_OR_RETURN(fs::path file, ResolveScenePath(scene));
+      PX_RETURN_IF_ERROR(add(eval::EvaluateSimulatedHandheldMotion(file, options)));
+    }
+  }
+
   const MachineInfo machine = ReadMachineInfo();
   if (args.json) {
     nlohmann::json rows = nlohmann::json::array();
@@ -172,7 +183,8 @@ Status RunEvalRender(const EvalRenderArgs& args) {
                       {"psnr_covered_edges_db", c.psnr_covered_edges_db},
                       {"psnr_covered_flat_db", c.psnr_covered_flat_db}, {"psnr_holes_db", c.psnr_holes_db},
                       {"hole_ratio", c.hole_ratio}, {"hole_score", c.hole_score}, {"render_ms", c.render_ms},
-                      {"crack_fraction", c.crack_fraction}, {"temporal_psnr_db", c.temporal_psnr_db}});
+                      {"crack_fraction", c.crack_fraction}, {"temporal_psnr_db", c.temporal_psnr_db},
+                      {"double_image_fraction", c.double_image_fraction}});
     }
     const nlohmann::json result{{"backend", "cpu"},
                                 {"quality", args.quality},
@@ -185,9 +197,9 @@ Status RunEvalRender(const EvalRenderArgs& args) {
   }
   std::printf("render evaluation: cpu back end, %s quality; machine %s, %d cores, commit %s\n", args.quality.c_str(),
               machine.cpu_model.c_str(), machine.cores, machine.commit.c_str());
-  std::printf("%-32s %-35s %-12s %9s %4s %7s %7s %7s %7s %7s %7s %8s %8s %7s\n", "dataset", "viewpoint", "depth",
+  std::printf("%-32s %-35s %-12s %9s %4s %7s %7s %7s %7s %7s %7s %8s %8s %7s %8s\n", "dataset", "viewpoint", "depth",
               "size", "srcs", "PSNR dB", "SSIM", "edge dB", "flat dB", "hole dB", "holes %", "cracks %", "ms/frame",
-              "temp dB");
+              "temp dB", "double %");
   // Mean PSNR and cracks per kind of dataset (sim, sim close-up, hci, llff) and depth source.
   struct Mean {
     double psnr_db = 0, crack_fraction = 0, temporal_psnr_db = 0;
@@ -200,14 +212,15 @@ Status RunEvalRender(const EvalRenderArgs& args) {
   for (const eval::RenderEvalCase& c : cases) {
     const std::string size = std::to_string(c.width) + "x" + std::to_string(c.height);
     const std::string depth(eval::EvalDepthName(c.depth));
-    char temporal[16] = "      -";
+    char temporal[16] = "      -", doubled[16] = "       -";
     if (c.temporal_psnr_db >= 0) std::snprintf(temporal, sizeof temporal, "%7.2f", c.temporal_psnr_db);
-    std::printf("%-32s %-35s %-12s %9s %4d %7.2f %7.4f %7.2f %7.2f %7.2f %7.3f %8.3f %8.1f %s\n", c.dataset.c_str(),
+    if (c.double_image_fraction >= 0) std::snprintf(doubled, sizeof doubled, "%8.3f", 100 * c.double_image_fraction);
+    std::printf("%-32s %-35s %-12s %9s %4d %7.2f %7.4f %7.2f %7.2f %7.2f %7.3f %8.3f %8.1f %s %s\n", c.dataset.c_str(),
                 c.viewpoint.c_str(), depth.c_str(), size.c_str(), c.num_sources, c.psnr_db, c.ssim,
                 c.psnr_covered_edges_db, c.psnr_covered_flat_db, c.psnr_holes_db, 100 * c.hole_ratio,
-                100 * c.crack_fraction, c.render_ms, temporal);
+                100 * c.crack_fraction, c.render_ms, temporal, doubled);
     std::string group;
-    for (const char* suffix : {" close-up", " pan", " hand-held", " hand-held no EXIF"}) {
+    for (const char* suffix : {" close-up", " pan", " hand-held", " hand-held no EXIF", " hand-held, face turning"}) {
       if (ends_with(c.dataset, suffix)) group = suffix;
     }
     Mean& mean = means[{c.dataset.substr(0, c.dataset.find(' ')) + group, depth}];
@@ -258,7 +271,11 @@ void AddEvalRenderCommand(CLI::App& eval) {
                      "mesh edge on each --scene and lattice, with the temporal PSNR) and handheld (not by default: "
                      "each --scene shot by hand from four places plus three held-out photos, all posed by the "
                      "product's structure from motion, with and without EXIF; the held-out viewpoints rendered "
-                     "from the four)")
+                     "from the four) and motion (not by default: the hand-held shots of each --motion-scene with its "
+                     "face plane turning and moving between them, each held-out view scored against the face as "
+                     "the nearest shot saw it, double images measured)")
+      ->capture_default_str();
+  render->add_option("--motion-scene", args->motion_scenes, "Scenes of the motion group (with a plane named face)")
       ->capture_default_str();
   render->add_option("--closeup-scene", args->closeup_scenes, "Scenes of the closeup group")->capture_default_str();
   render->add_option("--quality", args->quality, "preview or offline")->capture_default_str();
@@ -310,6 +327,7 @@ void AddEvalRenderCommand(CLI::App& eval) {
   render->add_option("--border-hole-spread", args->border_holes.spread,
                      "Width of that fade along the border per pixel carried out, [0, 4]")
       ->capture_default_str();
+  AddConsistentBlendFlags(*render, &args->consistent_blend);
   render->add_option("--dump", args->dump_dir, "Folder to write each case's render, truth, error map (x4) and coverage to");
   render->add_flag("--json", args->json, "Print the figures as JSON (machine-readable)");
   render->callback(RunOrFail("eval", [args] { return RunEvalRender(*args); }));

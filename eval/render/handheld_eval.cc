@@ -46,6 +46,26 @@ const Viewpoint kViewpoints[] = {{"between shots", {{0.0, 0.002, 0.0}, {0, 0, 0}
                                  {"5 cm in front of the shots", {{-0.02, 0.0, 0.05}, {0, 0, 0}}},
                                  {"between shots, turned 2 deg", {{0.02, 0.0, 0.0}, {0, 2, 0}}}};
 
+// A subject that moves between the shots: in shot i the face plane is turned by kFaceTurnDeg[i]
+// about its vertical axis and moved kFaceShiftM[i] sideways (a sitter turning her head over the
+// seconds a hand-held set takes).
+constexpr double kFaceTurnDeg[] = {-9, -3, 3, 9};
+constexpr double kFaceShiftM[] = {-0.015, -0.005, 0.005, 0.015};
+
+// `scene` with its plane named "face" turned and shifted; NOT_FOUND when it has none.
+StatusOr<sim::Scene> WithFaceMoved(const sim::Scene& scene, double turn_deg, double shift_m) {
+  sim::Scene moved = scene;
+  for (sim::Plane& plane : moved.planes) {
+    if (plane.name != "face") continue;
+    const Eigen::Matrix3d turn = Eigen::AngleAxisd(turn_deg * M_PI / 180, plane.down).toRotationMatrix();
+    plane.normal = turn * plane.normal;
+    plane.right = turn * plane.right;
+    plane.centre_m += shift_m * plane.right;
+    return moved;
+  }
+  return NotFoundError(scene.name + ": no plane named 'face' to move between the shots");
+}
+
 Rigid3 PoseOf(const Place& place) {
   const Eigen::Quaterniond rotation = Turn(place.turn_deg.x(), place.turn_deg.y(), place.turn_deg.z());
   return Rigid3(rotation, -(rotation * place.centre));
@@ -53,8 +73,12 @@ Rigid3 PoseOf(const Place& place) {
 
 // The cases of one set of photos: with the focal length as EXIF gives it, or without (phones'
 // photos passed through messaging apps lose their EXIF), self-calibrated.
-StatusOr<std::vector<RenderEvalCase>> EvaluateShots(const sim::Scene& scene, const std::string& dataset, bool exif,
+// `scenes[i]` is the scene photo i saw (the shots, then the held-out viewpoints; one scene for all
+// when the subject keeps still).
+StatusOr<std::vector<RenderEvalCase>> EvaluateShots(const std::vector<const sim::Scene*>& scenes,
+                                                    const std::string& dataset, bool exif,
                                                     const RenderEvalOptions& options) {
+  const auto scene_of = [&](size_t place) -> const sim::Scene& { return *scenes[std::min(place, scenes.size() - 1)]; };
   const double s = options.sim_scale;
   const CameraModel camera = CameraModel::Pinhole(static_cast<int>(std::lround(640 * s)),
                                                   static_cast<int>(std::lround(480 * s)), kFocalPx * s);
@@ -69,7 +93,7 @@ StatusOr<std::vector<RenderEvalCase>> EvaluateShots(const sim::Scene& scene, con
   std::vector<Rigid3> true_poses;
   for (size_t i = 0; i < places.size(); ++i) {
     true_poses.push_back(PoseOf(places[i]));
-    PX_ASSIGN_OR_RETURN(sim::RenderedView shot, sim::RenderView(scene, camera, true_poses.back()));
+    PX_ASSIGN_OR_RETURN(sim::RenderedView shot, sim::RenderView(scene_of(i), camera, true_poses.back()));
     cv::Mat noise(shot.bgr.size(), CV_16SC3), noisy;
     cv::RNG rng(100 + i);
     rng.fill(noise, cv::RNG::NORMAL, 0, kNoiseSigma);
@@ -128,8 +152,8 @@ StatusOr<std::vector<RenderEvalCase>> EvaluateShots(const sim::Scene& scene, con
   // Exact depth in the reconstruction's units (depth scales by 1 / s).
   std::vector<DepthMap> exact;
   for (const View& view : sources) {
-    PX_ASSIGN_OR_RETURN(sim::RenderedView truth,
-                        sim::RenderView(scene, camera, true_poses[static_cast<size_t>(view.id.value)]));
+    PX_ASSIGN_OR_RETURN(sim::RenderedView truth, sim::RenderView(scene_of(static_cast<size_t>(view.id.value)), camera,
+                                                                 true_poses[static_cast<size_t>(view.id.value)]));
     DepthMap map;
     map.id = view.id;
     map.depth_m = truth.depth_m / align.scale;
@@ -149,7 +173,8 @@ StatusOr<std::vector<RenderEvalCase>> EvaluateShots(const sim::Scene& scene, con
         Progress(options, dataset + ": " + viewpoint.name + ": its photo was not posed; no case");
         continue;
       }
-      PX_ASSIGN_OR_RETURN(sim::RenderedView truth, sim::RenderView(scene, camera, PoseOf(viewpoint.place)));
+      PX_ASSIGN_OR_RETURN(sim::RenderedView truth,
+                          sim::RenderView(scene_of(kSources + k), camera, PoseOf(viewpoint.place)));
       const cv::Mat truth_depth = truth.depth_m / align.scale;
       PX_ASSIGN_OR_RETURN(RenderEvalCase result,
                           RenderCase(*renderer, posed_view->second->camera, posed_view->second->cam_from_world,
@@ -168,10 +193,36 @@ StatusOr<std::vector<RenderEvalCase>> EvaluateSimulatedHandheld(const std::files
   PX_RETURN_IF_ERROR(options.Validate());
   PX_ASSIGN_OR_RETURN(sim::Scene scene, sim::LoadScene(scene_file));
   const std::string dataset = "sim " + scene_file.stem().string() + " hand-held";
-  PX_ASSIGN_OR_RETURN(std::vector<RenderEvalCase> cases, EvaluateShots(scene, dataset, true, options));
-  PX_ASSIGN_OR_RETURN(std::vector<RenderEvalCase> without, EvaluateShots(scene, dataset + " no EXIF", false, options));
+  PX_ASSIGN_OR_RETURN(std::vector<RenderEvalCase> cases, EvaluateShots({&scene}, dataset, true, options));
+  PX_ASSIGN_OR_RETURN(std::vector<RenderEvalCase> without, EvaluateShots({&scene}, dataset + " no EXIF", false, options));
   cases.insert(cases.end(), without.begin(), without.end());
   return cases;
+}
+
+StatusOr<std::vector<RenderEvalCase>> EvaluateSimulatedHandheldMotion(const std::filesystem::path& scene_file,
+                                                                      const RenderEvalOptions& options) {
+  PX_RETURN_IF_ERROR(options.Validate());
+  PX_ASSIGN_OR_RETURN(sim::Scene scene, sim::LoadScene(scene_file));
+  std::vector<sim::Scene> shot_scenes;
+  for (size_t i = 0; i < std::size(kShots); ++i) {
+    PX_ASSIGN_OR_RETURN(sim::Scene moved, WithFaceMoved(scene, kFaceTurnDeg[i], kFaceShiftM[i]));
+    shot_scenes.push_back(std::move(moved));
+  }
+  // The shots, then each held-out viewpoint with the face as the nearest shot saw it.
+  std::vector<const sim::Scene*> scenes;
+  for (const sim::Scene& shot : shot_scenes) scenes.push_back(&shot);
+  for (const Viewpoint& viewpoint : kViewpoints) {
+    size_t nearest = 0;
+    for (size_t i = 1; i < std::size(kShots); ++i) {
+      if ((kShots[i].centre - viewpoint.place.centre).norm() < (kShots[nearest].centre - viewpoint.place.centre).norm()) {
+        nearest = i;
+      }
+    }
+    scenes.push_back(&shot_scenes[nearest]);
+  }
+  RenderEvalOptions measured = options;
+  measured.render.measure_double_images = true;
+  return EvaluateShots(scenes, "sim " + scene_file.stem().string() + " hand-held, face turning", true, measured);
 }
 
 }  // namespace px::eval

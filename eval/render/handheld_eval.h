@@ -20,4 +20,11 @@ namespace px::eval {
 StatusOr<std::vector<RenderEvalCase>> EvaluateSimulatedHandheld(const std::filesystem::path& scene_file,
                                                                 const RenderEvalOptions& options);
 
+// The same shots of a scene whose plane named "face" turns (9 degrees either way) and moves
+// (1.5 cm) between them, as a sitter does over the seconds a hand-held set takes; each held-out
+// viewpoint's truth has the face as the shot nearest to it saw it. With the focal length as EXIF
+// gives it; double images measured. NOT_FOUND when the scene has no face plane.
+StatusOr<std::vector<RenderEvalCase>> EvaluateSimulatedHandheldMotion(const std::filesystem::path& scene_file,
+                                                                      const RenderEvalOptions& options);
+
 }  // namespace px::eval

@@ -35,5 +35,42 @@ TEST(HandheldEvalTest, StillLifeAtHalfSize) {
   }
 }
 
+// A sitter turning her head between the hand-held shots (the face plane turned by up to 9 degrees
+// and moved 1.5 cm): with the consistent blend each held-out view shows the face once, as its
+// nearest shot saw it, with far fewer double images and a higher PSNR than the plain blend
+// (`parallax eval render --group motion`: 36.9 -> 37.8 dB, double images 0.09 -> 0.001 %).
+TEST(HandheldEvalTest, AFaceTurningBetweenShotsIsDrawnOnce) {
+  RenderEvalOptions options;  // full size: at half size the turn moves the face's texture too little to show
+  options.depths = {EvalDepth::kDepthStage};
+  RenderEvalOptions plain = options;
+  plain.render.consistent_blend.enabled = false;
+  StatusOr<std::vector<RenderEvalCase>> before = EvaluateSimulatedHandheldMotion(sim::ScenesDir() / "one_face.json", plain);
+  StatusOr<std::vector<RenderEvalCase>> after = EvaluateSimulatedHandheldMotion(sim::ScenesDir() / "one_face.json", options);
+  ASSERT_TRUE(before.ok()) << before.status().ToString();
+  ASSERT_TRUE(after.ok()) << after.status().ToString();
+  ASSERT_EQ(before->size(), 3u);
+  ASSERT_EQ(after->size(), 3u);
+  double psnr_before = 0, psnr_after = 0, double_before = 0, double_after = 0;
+  for (size_t i = 0; i < 3; ++i) {
+    std::printf("%s: PSNR %.2f -> %.2f dB, double images %.3f %% -> %.3f %%\n", (*after)[i].viewpoint.c_str(),
+                (*before)[i].psnr_db, (*after)[i].psnr_db, 100 * (*before)[i].double_image_fraction,
+                100 * (*after)[i].double_image_fraction);
+    psnr_before += (*before)[i].psnr_db / 3;
+    psnr_after += (*after)[i].psnr_db / 3;
+    double_before += (*before)[i].double_image_fraction / 3;
+    double_after += (*after)[i].double_image_fraction / 3;
+  }
+  EXPECT_GT(double_before, 0.0003);
+  EXPECT_LT(double_after, 0.25 * double_before);
+  EXPECT_GT(psnr_after, psnr_before + 0.3);
+}
+
+TEST(HandheldEvalTest, ASceneWithoutAFaceCannotMoveIt) {
+  const StatusOr<std::vector<RenderEvalCase>> cases =
+      EvaluateSimulatedHandheldMotion(sim::ScenesDir() / "still_life.json", RenderEvalOptions());
+  ASSERT_FALSE(cases.ok());
+  EXPECT_EQ(cases.status().code(), StatusCode::kNotFound);
+}
+
 }  // namespace
 }  // namespace px::eval

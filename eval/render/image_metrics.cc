@@ -24,6 +24,37 @@ double Psnr(const cv::Mat& image, const cv::Mat& reference, const cv::Mat& mask)
   return mse <= 0 ? 99.0 : 10.0 * std::log10(255.0 * 255.0 / mse);
 }
 
+cv::Mat MaskRegions(const cv::Mat& mask) {
+  const cv::Mat square = cv::getStructuringElement(cv::MORPH_RECT, cv::Size(3, 3));
+  cv::Mat opened;
+  cv::morphologyEx(mask, opened, cv::MORPH_OPEN, square);
+  return opened & mask;
+}
+
+double DoubleImageFraction(const cv::Mat& double_image, cv::Mat* regions) {
+  if (double_image.empty()) {
+    if (regions != nullptr) regions->release();
+    return -1;
+  }
+  const cv::Mat kept = MaskRegions(double_image);
+  if (regions != nullptr) *regions = kept;
+  return static_cast<double>(cv::countNonZero(kept)) / static_cast<double>(kept.total());
+}
+
+cv::Mat DepthEdgeBand(const cv::Mat& depth_m, int radius_px, double jump) {
+  PX_CHECK(depth_m.type() == CV_32F) << "DepthEdgeBand needs a CV_32F depth map";
+  cv::Mat log_depth;
+  cv::max(depth_m, 1e-6, log_depth);
+  cv::log(log_depth, log_depth);
+  cv::Mat dx, dy;
+  cv::Sobel(log_depth, dx, CV_32F, 1, 0, 1);
+  cv::Sobel(log_depth, dy, CV_32F, 0, 1, 1);
+  cv::Mat band = (cv::abs(dx) > jump) | (cv::abs(dy) > jump);
+  const int size = 2 * radius_px + 1;
+  cv::dilate(band, band, cv::getStructuringElement(cv::MORPH_RECT, cv::Size(size, size)));
+  return band;
+}
+
 double TemporalPsnr(const std::vector<cv::Mat>& renders, const std::vector<cv::Mat>& truths) {
   PX_CHECK(renders.size() == truths.size() && renders.size() >= 2) << "TemporalPsnr needs as many truths as renders, >= 2";
   // (R[k+1] - R[k]) - (T[k+1] - T[k]) = E[k+1] - E[k], E = R - T each frame's signed error.

@@ -87,22 +87,6 @@ std::vector<EvalDepth> DepthSources(const RenderEvalOptions& options, bool has_e
   return sources;
 }
 
-namespace {
-
-// Pixels within 3 px of a depth jump of more than 5% between neighbours (CV_8U).
-cv::Mat DepthEdges(const cv::Mat& depth_m) {
-  cv::Mat log_depth;
-  cv::max(depth_m, 1e-6, log_depth);
-  cv::log(log_depth, log_depth);
-  cv::Mat dx, dy;
-  cv::Sobel(log_depth, dx, CV_32F, 1, 0, 1);
-  cv::Sobel(log_depth, dy, CV_32F, 0, 1, 1);
-  cv::Mat jump = (cv::abs(dx) > 0.05) | (cv::abs(dy) > 0.05);
-  cv::dilate(jump, jump, cv::getStructuringElement(cv::MORPH_RECT, cv::Size(7, 7)));
-  return jump;
-}
-
-}  // namespace
 
 std::string DumpName(const std::string& dataset, const std::string& viewpoint, EvalDepth depth) {
   std::string name = dataset + " " + viewpoint + " " + std::string(EvalDepthName(depth));
@@ -141,13 +125,14 @@ StatusOr<RenderEvalCase> RenderAndScore(CpuSceneRenderer& renderer, const Camera
   result.num_sources = num_sources;
   result.psnr_db = Psnr(frame.bgr, truth);
   result.ssim = Ssim(frame.bgr, truth);
-  const cv::Mat edges = DepthEdges(truth_depth_m.empty() ? frame.depth_m : truth_depth_m);
+  const cv::Mat edges = DepthEdgeBand(truth_depth_m.empty() ? frame.depth_m : truth_depth_m);
   const cv::Mat covered = frame.coverage != 0;
   result.psnr_covered_edges_db = Psnr(frame.bgr, truth, covered & edges);
   result.psnr_covered_flat_db = Psnr(frame.bgr, truth, covered & ~edges);
   result.psnr_holes_db = Psnr(frame.bgr, truth, ~covered);
   result.hole_ratio = frame.holes.hole_ratio;
   result.hole_score = frame.holes.hole_score;
+  result.double_image_fraction = DoubleImageFraction(frame.double_image);
   cv::Mat cracks;
   if (!truth_depth_m.empty()) result.crack_fraction = MeasureCracks(frame.depth_m, truth_depth_m, {}, &cracks).crack_fraction;
   if (!options.dump_dir.empty()) {

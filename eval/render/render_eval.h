@@ -55,6 +55,8 @@ struct RenderEvalCase {
   // Cracks (crack_measure.h): the fraction of pixels where a farther surface shows through a thin
   // gap (<= 3 px) in a near one that has none; -1 where the dataset has no true depth.
   double crack_fraction = -1;
+  // Double images (FrameRender::double_image in regions, image_metrics.h); -1 where not measured.
+  double double_image_fraction = -1;
   double render_ms = 0;   // one frame, after a warm-up frame
   // Sequences only (pan_eval.h; the fields above are then means over the frames): TemporalPsnr of
   // the frames against their truths (image_metrics.h). -1 for a single frame.

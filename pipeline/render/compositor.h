@@ -19,13 +19,28 @@ struct FrameComposite {
   cv::Mat colour;  // CV_32FC3, 0..255, un-premultiplied where alpha > 0 (empty: coverage only)
   cv::Mat alpha;   // CV_32F, the blended alpha: covered where >= RenderOptions::covered_alpha
   cv::Mat depth;   // CV_32F, z in the novel camera, 0 where alpha == 0
+  cv::Mat double_image;  // CV_8U, 255 on double images (BlendRules::measure_double_images; else empty)
+  // The colour consensus's results where it changes a pixel, kept aside until the frame's regions
+  // of such pixels are known (preview_compositor.cc); buffers reused from frame to frame.
+  cv::Mat consensus_colour, consensus_alpha, consensus_depth, consensus_mark;
+};
+
+// How the preview resolves a pixel whose views contradict each other (contradictions.h).
+struct BlendRules {
+  bool consistent = false;         // suppress the slots that more heavily weighted views contradict
+  float dominance_exponent = 8;    // ConsistentBlendOptions::dominance_exponent
+  float colour_agree_levels = 16;  // ConsistentBlendOptions::colour_agree_levels
+  float colour_apart_levels = 32;  // ConsistentBlendOptions::colour_apart_levels
+  bool measure_double_images = false;
+  int double_image_levels = 30;    // colours further apart than this (largest channel) are two images
 };
 
 // `slots` are the frame's viewing weights (width * height), `frame_views` its set-up segments.
-// with_colour = false skips colour (Coverage()).
+// with_colour = false skips colour (Coverage()). `rules` (null: the plain soft z) say what to do
+// where the scene's views contradict each other.
 void CompositePreview(const LayeredScene& scene, const std::vector<FrameView>& frame_views,
                       const std::vector<ViewSlots>& slots, int width, int height, bool with_colour,
-                      FrameComposite* out);
+                      FrameComposite* out, const BlendRules* rules = nullptr);
 
 void CompositeOffline(const LayeredScene& scene, const std::vector<FrameView>& frame_views,
                       const std::vector<ViewSlots>& slots, int width, int height, FrameComposite* out);

@@ -245,7 +245,16 @@ CpuSceneRenderer::Core CpuSceneRenderer::RenderCore(const CameraModel& camera, c
   if (quality == RenderQuality::kOffline) {
     render::CompositeOffline(scene_, frame_views, slots_, width, height, &composite);
   } else {
-    render::CompositePreview(scene_, frame_views, slots_, width, height, true, &composite);
+    render::BlendRules rules;
+    const ConsistentBlendOptions& blend = options_.consistent_blend;
+    rules.consistent = blend.enabled;
+    rules.dominance_exponent = static_cast<float>(blend.dominance_exponent);
+    rules.colour_agree_levels = static_cast<float>(blend.colour_agree_levels);
+    rules.colour_apart_levels = static_cast<float>(blend.colour_apart_levels);
+    rules.measure_double_images = options_.measure_double_images;
+    const bool contested = rules.consistent || rules.measure_double_images;
+    render::CompositePreview(scene_, frame_views, slots_, width, height, true, &composite,
+                             contested ? &rules : nullptr);
   }
   stats_.composite_ms += MsSince(start);
   stats_.fragments += composite.fragments;
@@ -306,6 +315,7 @@ CpuSceneRenderer::Core CpuSceneRenderer::RenderCore(const CameraModel& camera, c
   for (const auto& [weight, id] : by_weight) core.sources.push_back(id);
   core.colour = composite.colour;
   core.depth = composite.depth;
+  if (!composite.double_image.empty()) core.double_image = composite.double_image.clone();
   return core;
 }
 
@@ -340,6 +350,7 @@ StatusOr<FrameRender> CpuSceneRenderer::Render(const VirtualCamera& camera) {
   frame.coverage = core.coverage;
   frame.holes = core.holes;
   frame.sources = std::move(core.sources);
+  frame.double_image = std::move(core.double_image);
   stats_.total_ms = MsSince(start);
   Logger("render")->debug(
       "cpu {} frame {}x{}: {} views, {} segments; weights {:.1f} ms, setup {:.1f} ms, composite {:.1f} ms, "

@@ -73,6 +73,7 @@ class CpuSceneRenderer final : public SceneRenderer {
     cv::Mat coverage;  // CV_8U
     CoverageReport holes;  // of `coverage`
     std::vector<ViewId> sources;
+    cv::Mat double_image;  // CV_8U when measured (RenderOptions::measure_double_images)
   };
   Status CheckCamera(const CameraModel& camera, const Rigid3& cam_from_world) const;
   Core RenderCore(const CameraModel& camera, const Rigid3& cam_from_world, const std::vector<ColorEffect>& effects,

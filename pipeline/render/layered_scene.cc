@@ -7,6 +7,7 @@
 #include <opencv2/core.hpp>
 
 #include "pipeline/render/bilinear_prefilter.h"
+#include "pipeline/render/contradictions.h"
 #include "pipeline/render/seam_planes.h"
 #include "pipeline/render/seam_skirts.h"
 
@@ -216,6 +217,9 @@ StatusOr<LayeredScene> LayeredScene::Create(const std::vector<View>& views, cons
   const double rho = options.depth_range_m > 0 ? options.depth_range_m
                                                : std::max(depths.far_m - depths.near_m, 0.01 * depths.median_m);
   scene.soft_z_ = SoftZ(rho, options.soft_z_gamma_fraction);
+  if (options.consistent_blend.enabled || options.measure_double_images) {
+    scene.contradicted_texels_ = FindContradictions(options.consistent_blend, scene.mesh_.SlotNeighbours(), &scene.views_);
+  }
   return scene;
 }
 

@@ -47,6 +47,7 @@ struct SceneSegment {
   std::array<Eigen::Vector3d, 4> corners_in_world;  // (u_min,v_min), (u_max,v_min), (u_max,v_max), (u_min,v_max)
   Eigen::Vector3d centre_in_world = Eigen::Vector3d::Zero();  // the bbox centre on the plane
   bool drawn = false;                    // false: dropped (bad plane) or covering no pixel
+  bool contradicted = false;             // some texel of it is (SceneView::contradicted)
 };
 
 struct SceneView {
@@ -57,6 +58,12 @@ struct SceneView {
   // reaching one pixel past the image needs no bounds checks): (width + 2) x (height + 2).
   std::vector<SegmentTexel> texels;
   std::vector<SceneSegment> segments;    // index = the LayeredDepthView's segment index
+  // Contradictions (contradictions.h), in the layout of `texels`: bit j of contradicted[i][layer]
+  // is set when the view neighbours[j] (an index in LayeredScene::views()) sees free space of
+  // another colour where that layer's surface lies. Empty when nothing is contradicted.
+  std::vector<std::array<uint16_t, 2>> contradicted;
+  std::vector<int> neighbours;
+  std::array<int8_t, 256> neighbour_bit;  // scene view index -> bit in `contradicted`, or -1
 
   int TexelStride() const { return camera.width + 2; }
   // Pixel (x, y), for -1 <= x <= width and -1 <= y <= height.
@@ -64,6 +71,14 @@ struct SceneView {
     return texels.data() + static_cast<ptrdiff_t>(y + 1) * TexelStride() + (x + 1);
   }
   const SegmentTexel& Texel(int x, int y) const { return *TexelPtr(x, y); }
+  // The views contradicting segment `segment` at source pixel (u, v) (within one pixel of the
+  // image): the mask of the nearest texel's layer that holds the segment, 0 when neither does.
+  uint16_t ContradictedAt(int32_t segment, float u, float v) const {
+    const int iu = static_cast<int>(u + 1.5f) - 1, iv = static_cast<int>(v + 1.5f) - 1;
+    const size_t index = static_cast<size_t>(iv + 1) * TexelStride() + (iu + 1);
+    const SegmentTexel& t = texels[index];
+    return t.segment[0] == segment ? contradicted[index][0] : t.segment[1] == segment ? contradicted[index][1] : 0;
+  }
 };
 
 class LayeredScene {
@@ -85,6 +100,8 @@ class LayeredScene {
   double far_m() const { return far_m_; }
   // Repairs and exclusions, one line each ("view 3: 12 segments dropped: plane not finite").
   const std::vector<std::string>& warnings() const { return warnings_; }
+  // Texel layers some neighbouring view contradicts (contradictions.h); 0 when not looked for.
+  long contradicted_texels() const { return contradicted_texels_; }
 
  private:
   std::vector<SceneView> views_;
@@ -92,6 +109,7 @@ class LayeredScene {
   SoftZ soft_z_;
   double near_m_ = 1.0;
   double far_m_ = 1.0;
+  long contradicted_texels_ = 0;
   std::vector<std::string> warnings_;
 };
 

@@ -9,9 +9,11 @@
 #include <algorithm>
 #include <atomic>
 #include <cstddef>
+#include <cmath>
 #include <limits>
 
 #include <opencv2/core/hal/intrin.hpp>
+#include <opencv2/imgproc.hpp>
 
 #include "pipeline/render/compositor.h"
 
@@ -24,9 +26,13 @@ constexpr float kSeenAlpha = 1e-4f;
 // One band's three rendering buffers: cell (slot k, pixel p) is cells[4 (k pixels + p) ..] =
 // premultiplied B, G, R, alpha, and depths[k pixels + p] its alpha-weighted depth. All zero
 // between bands (the resolve clears what it reads).
+// With contradictions, contra[(2 k + m) pixels + p] is the alpha of slot k's fragments that the
+// view in slot (k + 1 + m) mod 3 contradicts, and contested[p] = 1 where any is not 0.
 struct BandBuffers {
   std::vector<float> cells;
   std::vector<float> depths;
+  std::vector<float> contra;
+  std::vector<uint8_t> contested;
   int pixels = 0;  // pixels per slot plane: rows * width of the current band layout
 
   void Reserve(int band_pixels) {
@@ -35,6 +41,8 @@ struct BandBuffers {
     if (depths.size() < needed) {
       cells.assign(4 * needed, 0.0f);
       depths.assign(needed, 0.0f);
+      contra.assign(2 * needed, 0.0f);
+      contested.assign(band_pixels, 0);
     }
   }
 };
@@ -49,12 +57,13 @@ BandBuffers& ThreadBandBuffers() {
 // the per-row terms hoisted. Returns the fragments generated.
 long CompositeSegment(const SceneView& view, const FrameView& fv, const SegmentSetup& s,
                       const std::vector<ViewSlots>& slots, int width, int row_begin, int row_end, bool with_colour,
-                      BandBuffers* band) {
+                      bool contradictions, BandBuffers* band) {
   const int view_index = fv.view;
   const SceneSegment& segment = view.segments[s.segment];
   float* cells = band->cells.data();
   float* depths = band->depths.data();
   const size_t plane = static_cast<size_t>(band->pixels);
+  const bool check = contradictions && segment.contradicted;
   long fragments = 0;
   ForEachSegmentRow(fv, s, width, row_begin, row_end, [&](const SegmentRow& r) {
     const ViewSlots* slot_row = slots.data() + static_cast<size_t>(r.y) * width;
@@ -92,6 +101,19 @@ long CompositeSegment(const SceneView& view, const FrameView& fv, const SegmentS
         cv::v_store(cell, cv::v_load(cell) + cv::v_load(scaled));
       }
       row_depths[slot][x] += f * z;
+      if (!check) continue;
+      // Which of the pixel's other views contradict this fragment's surface (contradictions.h).
+      const uint16_t mask = view.ContradictedAt(s.segment, u, v);
+      if (mask == 0) continue;
+      for (int m = 0; m < 2; ++m) {
+        const int other = (slot + 1 + m) % 3;
+        const uint8_t other_view = slot_row[x].view[other];
+        if (other_view == ViewSlots::kNone) continue;
+        const int bit = view.neighbour_bit[other_view];
+        if (bit < 0 || !((mask >> bit) & 1)) continue;
+        band->contra[(2 * slot + m) * plane + row_offset + x] += f;
+        band->contested[row_offset + x] = 1;
+      }
     }
   });
   return fragments;
@@ -174,6 +196,177 @@ inline void ResolvePixel(const float* const cells[3], const float depth_sums[3],
   WriteBlend(sum, sum_b, sum_w, sum_wz, alpha, depth, bgr);
 }
 
+// One pixel's slots as the contested resolve sees them: which take part (ResolvePixel's tiers),
+// their depths, viewing weights, un-premultiplied colours, and c_kj, the share of slot k's alpha
+// that slot j's view contradicts (contradictions.h).
+struct ContestedSlots {
+  int in = 0;
+  float z[3] = {0, 0, 0};
+  float view_weight[3] = {0, 0, 0};
+  float exponent = 1;
+  mutable float powered[3] = {-1, -1, -1};  // view_weight^exponent, computed when first needed
+  float colour[3][3] = {};
+  float contradicted[3][3] = {};
+
+  bool TakesPart(int k) const { return ((in >> k) & 1) != 0; }
+  // How much slot j outweighs slot k: v_j^e / (v_j^e + v_k^e).
+  float Dominance(int j, int k) const {
+    const float pj = Powered(j), pk = Powered(k);
+    return pj + pk > 0 ? pj / (pj + pk) : 0.5f;
+  }
+  float Powered(int k) const {
+    if (powered[k] < 0) powered[k] = std::pow(view_weight[k], exponent);
+    return powered[k];
+  }
+  float ColourDistance(int j, int k) const {
+    float largest = 0;
+    for (int c = 0; c < 3; ++c) largest = std::max(largest, std::abs(colour[j][c] - colour[k][c]));
+    return largest;
+  }
+};
+
+// Trust t_k = 1 - max_j t_j c_kj d_jk, two rounds from t = 1 (a slot contradicted only by a slot
+// that is itself distrusted keeps its trust).
+void Trust(const ContestedSlots& p, const float (&contradicted)[3][3], float trust[3]) {
+  trust[0] = trust[1] = trust[2] = 1;
+  for (int round = 0; round < 2; ++round) {
+    float next[3] = {1, 1, 1};
+    for (int k = 0; k < 3; ++k) {
+      if (!p.TakesPart(k)) continue;
+      float suppressed = 0;
+      for (int j = 0; j < 3; ++j) {
+        if (j != k && p.TakesPart(j)) suppressed = std::max(suppressed, trust[j] * contradicted[k][j] * p.Dominance(j, k));
+      }
+      next[k] = 1.0f - suppressed;
+    }
+    std::copy(next, next + 3, trust);
+  }
+}
+
+// The soft z across the slots with each slot's blend and depth weight multiplied by its trust,
+// the nearest surface looked for among the slots trusted at least half (all when none is).
+// Returns whether the pixel saw anything (else alpha, depth and colour stay 0); `share` gets each
+// slot's part of the blended colour.
+bool TrustedBlend(const float* const cells[3], const ContestedSlots& p, const float trust[3], const SoftZ& soft_z,
+                  float* alpha, float* depth, float* bgr, float share[3]) {
+  float z_near = std::numeric_limits<float>::infinity();
+  for (int k = 0; k < 3; ++k) {
+    if (p.TakesPart(k) && trust[k] >= 0.5f) z_near = std::min(z_near, p.z[k]);
+  }
+  if (!std::isfinite(z_near)) {
+    for (int k = 0; k < 3; ++k) {
+      if (p.TakesPart(k)) z_near = std::min(z_near, p.z[k]);
+    }
+  }
+  cv::v_float32x4 sum = cv::v_setzero_f32();
+  float sum_b = 0, sum_w = 0, sum_wz = 0, blend[3] = {0, 0, 0};
+  for (int k = 0; k < 3; ++k) {
+    if (!p.TakesPart(k)) continue;
+    const float w = soft_z.Weight(p.z[k] - z_near) * trust[k];
+    blend[k] = p.view_weight[k] * w;
+    sum_b += blend[k];
+    sum_w += w;
+    sum_wz += w * p.z[k];
+    sum = sum + cv::v_load(cells[k]) * cv::v_setall_f32(blend[k]);
+  }
+  *alpha = *depth = 0;
+  if (bgr != nullptr) bgr[0] = bgr[1] = bgr[2] = 0;
+  if (!WriteBlend(sum, sum_b, sum_w, sum_wz, alpha, depth, bgr)) return false;
+  const float sum_ba = cv::v_extract_n<3>(sum);
+  for (int k = 0; k < 3; ++k) share[k] = p.TakesPart(k) ? blend[k] * cells[k][3] / sum_ba : 0.0f;
+  return true;
+}
+
+// Whether a blend with these shares shows a double image: a slot of at least a fifth of the colour
+// whose colour differs by more than rules.double_image_levels from another slot's that also has a
+// fifth, or that outweighs it and contradicts at least half of its alpha.
+bool ShowsDoubleImage(const ContestedSlots& p, const float share[3], const BlendRules& rules) {
+  constexpr float kVisibleShare = 0.2f;
+  for (int k = 0; k < 3; ++k) {
+    if (!p.TakesPart(k) || share[k] < kVisibleShare) continue;
+    for (int j = 0; j < 3; ++j) {
+      if (j == k || !p.TakesPart(j) || p.ColourDistance(j, k) <= static_cast<float>(rules.double_image_levels)) continue;
+      const bool blended = share[j] >= kVisibleShare;
+      const bool shown_against = p.view_weight[j] > p.view_weight[k] && p.contradicted[k][j] >= 0.5f;
+      if (blended || shown_against) return true;
+    }
+  }
+  return false;
+}
+
+// Where a contested pixel's colour consensus differs from its blend: the consensus result, kept
+// aside until CompositePreview knows whether the pixel lies in a region of such pixels.
+struct ConsensusOut {
+  float* alpha;
+  float* depth;
+  float* bgr;
+  uint8_t* mark;  // 0: the same as the blend; kConsensusDiffers, plus kConsensusDouble when it shows one
+};
+constexpr uint8_t kConsensusDiffers = 1;
+constexpr uint8_t kConsensusDouble = 2;
+
+// The resolve of a contested pixel (some slot's surface contradicted by another slot's view), of a
+// pixel whose blended slots disagree in colour under the consistent blend, or of any pixel when
+// double images are measured (ALGORITHM.md section 5): ResolvePixel's tiers and soft z with each
+// slot's trust from the contradictions (Trust, TrustedBlend) into alpha, depth and bgr, and
+// `double_image` (when not null) marked where that blend shows a double image. With the colour
+// consensus on (rules.colour_apart_levels above colour_agree_levels), slots at close depths whose
+// colours disagree count as contradicting each other too; where that changes the pixel, the
+// result goes to `consensus` instead (when not null).
+void ResolveContestedPixel(const float* const cells[3], const float depth_sums[3], const float* contra,
+                           const ViewSlots& slots, const SoftZ& soft_z, const BlendRules& rules, float* alpha,
+                           float* depth, float* bgr, uint8_t* double_image, const ConsensusOut* consensus) {
+  ContestedSlots p;
+  int seen = 0, weighted = 0;
+  for (int k = 0; k < 3; ++k) {
+    seen |= (slots.view[k] != ViewSlots::kNone && cells[k][3] > kSeenAlpha) << k;
+    weighted |= (slots.weight[k] > 0) << k;
+  }
+  p.in = seen & weighted;
+  const bool tier1 = p.in != 0;
+  if (!tier1) p.in = seen;
+  *alpha = *depth = 0;
+  if (bgr != nullptr) bgr[0] = bgr[1] = bgr[2] = 0;
+  if (double_image != nullptr) *double_image = 0;
+  if (consensus != nullptr) *consensus->mark = 0;
+  if (p.in == 0) return;
+  for (int k = 0; k < 3; ++k) {
+    p.view_weight[k] = tier1 ? slots.weight[k] : 1.0f;
+    if (!p.TakesPart(k)) continue;
+    p.z[k] = depth_sums[k] / cells[k][3];
+    for (int c = 0; c < 3; ++c) p.colour[k][c] = cells[k][c] / cells[k][3];
+    if (contra == nullptr) continue;
+    for (int m = 0; m < 2; ++m) p.contradicted[k][(k + 1 + m) % 3] = std::min(1.0f, contra[2 * k + m] / cells[k][3]);
+  }
+  p.exponent = rules.dominance_exponent;
+  float trust[3] = {1, 1, 1}, share[3];
+  if (rules.consistent && contra != nullptr) Trust(p, p.contradicted, trust);
+  if (!TrustedBlend(cells, p, trust, soft_z, alpha, depth, bgr, share)) return;
+  if (double_image != nullptr && ShowsDoubleImage(p, share, rules)) *double_image = 255;
+  if (!rules.consistent || consensus == nullptr || !(rules.colour_apart_levels > rules.colour_agree_levels)) return;
+  // The colour consensus: slots the soft z would blend (close in depth) whose colours disagree
+  // beyond noise show two images of one place; the lighter view yields as if contradicted.
+  float apart[3][3];
+  std::copy(&p.contradicted[0][0], &p.contradicted[0][0] + 9, &apart[0][0]);
+  bool differs = false;
+  const float span = rules.colour_apart_levels - rules.colour_agree_levels;
+  for (int k = 0; k < 3; ++k) {
+    for (int j = 0; j < 3; ++j) {
+      if (j == k || !p.TakesPart(j) || !p.TakesPart(k)) continue;
+      const float level = std::clamp((p.ColourDistance(j, k) - rules.colour_agree_levels) / span, 0.0f, 1.0f) *
+                          soft_z.Weight(std::abs(p.z[j] - p.z[k]));
+      if (level > apart[k][j]) {
+        apart[k][j] = level;
+        differs = true;
+      }
+    }
+  }
+  if (!differs) return;
+  Trust(p, apart, trust);
+  if (!TrustedBlend(cells, p, trust, soft_z, consensus->alpha, consensus->depth, consensus->bgr, share)) return;
+  *consensus->mark = kConsensusDiffers | (double_image != nullptr && ShowsDoubleImage(p, share, rules) ? kConsensusDouble : 0);
+}
+
 // ResolvePixel for four pixels at once (x .. x + 3 of a row) when each has a tier-1 slot (a
 // weighted view that saw something) and its tier-1 slots' depths lie within gamma of their
 // nearest (soft z weight 1): `cells[k]` and `depth_sums[k]` point at slot k of pixel x, `slots` at
@@ -181,7 +374,8 @@ inline void ResolvePixel(const float* const cells[3], const float depth_sums[3],
 // taking part adding exact zeros. False, with nothing written, when one of the four is not such
 // a pixel.
 inline bool ResolveFourUsualPixels(const float* const cells[3], const float* const depth_sums[3],
-                                   const ViewSlots* slots, float gamma, float* alpha, float* depth, float* bgr) {
+                                   const ViewSlots* slots, float gamma, float agree_levels, float* alpha, float* depth,
+                                   float* bgr) {
   using cv::v_float32x4;
   static_assert(sizeof(ViewSlots) == 16 && offsetof(ViewSlots, weight) == 4, "view bytes, then three weights");
   // Per slot: the four pixels' B, G, R, alpha and depth sums as lanes.
@@ -215,6 +409,25 @@ inline bool ResolveFourUsualPixels(const float* const cells[3], const float* con
   for (int k = 0; k < 3; ++k) {
     if (!cv::v_check_all(~in[k] | ((z[k] - near) <= gamma4))) return false;
   }
+  if (agree_levels > 0) {
+    // The consistent blend: slots whose colours disagree beyond agree_levels are resolved one by one.
+    v_float32x4 colour[3][3];
+    for (int k = 0; k < 3; ++k) {
+      const v_float32x4 inv = cv::v_select(in[k], one / a[k], zero);
+      colour[k][0] = b[k] * inv;
+      colour[k][1] = g[k] * inv;
+      colour[k][2] = r[k] * inv;
+    }
+    const v_float32x4 levels = cv::v_setall_f32(agree_levels);
+    for (int k = 0; k < 3; ++k) {
+      for (int j = k + 1; j < 3; ++j) {
+        const v_float32x4 both = in[k] & in[j];
+        for (int c = 0; c < 3; ++c) {
+          if (cv::v_check_any(both & (cv::v_abs(colour[k][c] - colour[j][c]) > levels))) return false;
+        }
+      }
+    }
+  }
   // Soft z weights 1 where taking part, 0 elsewhere: b_k = v_k, w z_k = z_k.
   v_float32x4 v[3], count[3];
   for (int k = 0; k < 3; ++k) {
@@ -235,34 +448,81 @@ inline bool ResolveFourUsualPixels(const float* const cells[3], const float* con
   return true;
 }
 
-// Rows [row_begin, row_end) of the band resolved into `out`; the band's cells cleared.
+// Rows [row_begin, row_end) of the band resolved into `out`; the band's cells cleared. `rules`
+// null: no pixel is contested.
 void ResolveBand(const std::vector<ViewSlots>& slots, const SoftZ& soft_z, int width, int row_begin, int row_end,
-                 bool with_colour, BandBuffers* band, FrameComposite* out) {
+                 bool with_colour, const BlendRules* rules, BandBuffers* band, FrameComposite* out) {
   float* cells = band->cells.data();
   float* depths = band->depths.data();
+  float* contra = band->contra.data();
+  uint8_t* contested = band->contested.data();
   const size_t plane = static_cast<size_t>(band->pixels);
   const cv::v_float32x4 zero = cv::v_setzero_f32();
+  const bool measure = rules != nullptr && rules->measure_double_images;
+  const bool consistent = rules != nullptr && rules->consistent;
+  const float agree_levels = consistent ? rules->colour_agree_levels : 0.0f;
   for (int y = row_begin; y < row_end; ++y) {
     const ViewSlots* slot_row = slots.data() + static_cast<size_t>(y) * width;
     float* alpha_row = out->alpha.ptr<float>(y);
     float* depth_row = out->depth.ptr<float>(y);
     float* colour_row = with_colour ? out->colour.ptr<float>(y) : nullptr;
+    uint8_t* double_row = measure ? out->double_image.ptr<uint8_t>(y) : nullptr;
     const size_t row_offset = static_cast<size_t>(y - row_begin) * width;
+    // Where the colour consensus changes a pixel, its result waits aside (CompositePreview).
+    const bool with_consensus = consistent && with_colour && !out->consensus_mark.empty();
+    const auto consensus_at = [&](int x) {
+      if (!with_consensus) return ConsensusOut{nullptr, nullptr, nullptr, nullptr};
+      return ConsensusOut{out->consensus_alpha.ptr<float>(y) + x, out->consensus_depth.ptr<float>(y) + x,
+                          out->consensus_colour.ptr<float>(y) + 3 * x, out->consensus_mark.ptr<uint8_t>(y) + x};
+    };
+    uint8_t* mark_row = with_consensus ? out->consensus_mark.ptr<uint8_t>(y) : nullptr;
     // Four pixels at a time; a group with an unusual pixel (or the row's last few) one by one.
     for (int x0 = 0; x0 < width; x0 += 4) {
       const int x1 = std::min(width, x0 + 4);
       const size_t first = row_offset + x0;
       const float* const group[3] = {cells + 4 * first, cells + 4 * (plane + first), cells + 4 * (2 * plane + first)};
       const float* const group_depths[3] = {depths + first, depths + plane + first, depths + 2 * plane + first};
-      if (x1 - x0 < 4 ||
-          !ResolveFourUsualPixels(group, group_depths, slot_row + x0, soft_z.gamma(), alpha_row + x0, depth_row + x0,
-                                  colour_row != nullptr ? colour_row + 3 * x0 : nullptr)) {
+      bool contested_group = false;
+      for (int x = x0; x < x1 && rules != nullptr; ++x) contested_group = contested_group || contested[row_offset + x];
+      if (measure || contested_group) {
         for (int x = x0; x < x1; ++x) {
           const size_t index = row_offset + x;
           const float* const cell[3] = {cells + 4 * index, cells + 4 * (plane + index), cells + 4 * (2 * plane + index)};
           const float sums[3] = {depths[index], depths[plane + index], depths[2 * plane + index]};
-          ResolvePixel(cell, sums, slot_row[x], soft_z, alpha_row + x, depth_row + x,
-                       colour_row != nullptr ? colour_row + 3 * x : nullptr);
+          float contra_sums[6];
+          const bool is_contested = contested[index] != 0;
+          if (is_contested) {
+            for (int i = 0; i < 6; ++i) {
+              contra_sums[i] = contra[i * plane + index];
+              contra[i * plane + index] = 0.0f;
+            }
+            contested[index] = 0;
+          }
+          const ConsensusOut consensus = consensus_at(x);
+          ResolveContestedPixel(cell, sums, is_contested ? contra_sums : nullptr, slot_row[x], soft_z, *rules,
+                                alpha_row + x, depth_row + x, colour_row != nullptr ? colour_row + 3 * x : nullptr,
+                                double_row != nullptr ? double_row + x : nullptr,
+                                with_consensus ? &consensus : nullptr);
+        }
+      } else if (x1 - x0 == 4 &&
+                 ResolveFourUsualPixels(group, group_depths, slot_row + x0, soft_z.gamma(), agree_levels,
+                                        alpha_row + x0, depth_row + x0,
+                                        colour_row != nullptr ? colour_row + 3 * x0 : nullptr)) {
+        if (mark_row != nullptr) std::fill(mark_row + x0, mark_row + x1, uint8_t{0});
+      } else {
+        for (int x = x0; x < x1; ++x) {
+          const size_t index = row_offset + x;
+          const float* const cell[3] = {cells + 4 * index, cells + 4 * (plane + index), cells + 4 * (2 * plane + index)};
+          const float sums[3] = {depths[index], depths[plane + index], depths[2 * plane + index]};
+          if (consistent) {
+            const ConsensusOut consensus = consensus_at(x);
+            ResolveContestedPixel(cell, sums, nullptr, slot_row[x], soft_z, *rules, alpha_row + x, depth_row + x,
+                                  colour_row != nullptr ? colour_row + 3 * x : nullptr, nullptr,
+                                  with_consensus ? &consensus : nullptr);
+          } else {
+            ResolvePixel(cell, sums, slot_row[x], soft_z, alpha_row + x, depth_row + x,
+                         colour_row != nullptr ? colour_row + 3 * x : nullptr);
+          }
         }
       }
       for (int k = 0; k < 3; ++k) {
@@ -276,11 +536,35 @@ void ResolveBand(const std::vector<ViewSlots>& slots, const SoftZ& soft_z, int w
   }
 }
 
+// The colour consensus where it changes a region of pixels, not a lone pixel or a line one or
+// two pixels wide (which is what views a fraction of a pixel out of register leave along the
+// edges of fine texture, where their blend is the better estimate): what a 3x3 opening of the
+// changed pixels keeps takes the consensus's colour, alpha and depth, and its double-image mark.
+void TakeRegionalConsensus(FrameComposite* out) {
+  cv::Mat regions;
+  const cv::Mat changed = out->consensus_mark != 0;
+  if (cv::countNonZero(changed) == 0) return;
+  cv::morphologyEx(changed, regions, cv::MORPH_OPEN, cv::getStructuringElement(cv::MORPH_RECT, cv::Size(5, 5)));
+  regions &= changed;
+  out->consensus_colour.copyTo(out->colour, regions);
+  out->consensus_alpha.copyTo(out->alpha, regions);
+  out->consensus_depth.copyTo(out->depth, regions);
+  if (!out->double_image.empty()) {
+    const cv::Mat consensus_double = (out->consensus_mark & kConsensusDouble) != 0;
+    consensus_double.copyTo(out->double_image, regions);
+  }
+}
+
 }  // namespace
 
 void CompositePreview(const LayeredScene& scene, const std::vector<FrameView>& frame_views,
                       const std::vector<ViewSlots>& slots, int width, int height, bool with_colour,
-                      FrameComposite* out) {
+                      FrameComposite* out, const BlendRules* rules) {
+  if (rules != nullptr && rules->measure_double_images) {
+    out->double_image.create(height, width, CV_8U);
+  } else {
+    out->double_image.release();
+  }
   if (with_colour) {
     out->colour.create(height, width, CV_32FC3);
   } else {
@@ -288,6 +572,14 @@ void CompositePreview(const LayeredScene& scene, const std::vector<FrameView>& f
   }
   out->alpha.create(height, width, CV_32F);
   out->depth.create(height, width, CV_32F);
+  if (with_colour && rules != nullptr && rules->consistent && rules->colour_apart_levels > rules->colour_agree_levels) {
+    out->consensus_colour.create(height, width, CV_32FC3);
+    out->consensus_alpha.create(height, width, CV_32F);
+    out->consensus_depth.create(height, width, CV_32F);
+    out->consensus_mark.create(height, width, CV_8U);
+  } else {
+    out->consensus_mark.release();
+  }
   const std::vector<std::vector<BandEntry>> bands = BinSegmentsIntoBands(frame_views, height);
   const SoftZ& soft_z = scene.soft_z();
   std::atomic<long> fragments{0};
@@ -300,13 +592,14 @@ void CompositePreview(const LayeredScene& scene, const std::vector<FrameView>& f
       for (const BandEntry& entry : bands[b]) {
         const FrameView& fv = frame_views[entry.frame_view];
         count += CompositeSegment(scene.views()[fv.view], fv, fv.segments[entry.setup], slots, width, row_begin,
-                                  row_end, with_colour, &band);
+                                  row_end, with_colour, rules != nullptr, &band);
       }
-      ResolveBand(slots, soft_z, width, row_begin, row_end, with_colour, &band, out);
+      ResolveBand(slots, soft_z, width, row_begin, row_end, with_colour, rules, &band, out);
     }
     fragments += count;
   });
   out->fragments = fragments;
+  if (!out->consensus_mark.empty()) TakeRegionalConsensus(out);
 }
 
 }  // namespace px::render

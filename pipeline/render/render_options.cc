@@ -55,6 +55,25 @@ Status RenderOptions::Validate() const {
   } else if (!(max_output_pixels >= 1 && max_output_pixels <= 1e9)) {
     error << "render.max_output_pixels: " << max_output_pixels << " is outside [1, 1e9]";
   }
+  if (error.str().empty()) return consistent_blend.Validate();
+  return InvalidArgumentError(error.str());
+}
+
+Status ConsistentBlendOptions::Validate() const {
+  std::ostringstream error;
+  if (!(free_space_px > 0 && free_space_px <= 100)) {
+    error << "render.consistent_blend.free_space_px: " << free_space_px << " is outside (0, 100]";
+  } else if (colour_levels < 1 || colour_levels > 255) {
+    error << "render.consistent_blend.colour_levels: " << colour_levels << " is outside [1, 255]";
+  } else if (colour_agree_levels < 0 || colour_agree_levels > 255) {
+    error << "render.consistent_blend.colour_agree_levels: " << colour_agree_levels << " is outside [0, 255]";
+  } else if (colour_apart_levels < 0 || colour_apart_levels > 255) {
+    error << "render.consistent_blend.colour_apart_levels: " << colour_apart_levels << " is outside [0, 255]";
+  } else if (max_neighbours < 1 || max_neighbours > 16) {
+    error << "render.consistent_blend.max_neighbours: " << max_neighbours << " is outside [1, 16]";
+  } else if (!(dominance_exponent >= 1 && dominance_exponent <= 64)) {
+    error << "render.consistent_blend.dominance_exponent: " << dominance_exponent << " is outside [1, 64]";
+  }
   if (error.str().empty()) return OkStatus();
   return InvalidArgumentError(error.str());
 }

@@ -6,6 +6,7 @@
 
 #include "pipeline/core/status.h"
 #include "pipeline/render/border_holes.h"
+#include "pipeline/render/consistent_blend_options.h"
 #include "pipeline/render/seam_planes.h"
 #include "pipeline/render/seam_skirt_options.h"
 
@@ -61,6 +62,13 @@ struct RenderOptions {
   // so that they agree along their seams. seam_weight = 0 (the default): off. The GL back end uses
   // the defaults.
   SeamPlaneOptions seam_planes;
+  // Where the views a pixel blends contradict each other (a subject that moved between shots, a
+  // sliver of wrong depth), draw it from the views the more heavily weighted ones do not
+  // contradict (contradictions.h; the preview only).
+  ConsistentBlendOptions consistent_blend;
+  // Measure double images in every preview frame (FrameRender::double_image; the evaluation's
+  // figure): the contradictions are then found even with the consistent blend off.
+  bool measure_double_images = false;
   // Output images larger than this many pixels are refused (memory: about 100 bytes per pixel
   // while rendering). [1, 1e9].
   double max_output_pixels = 64e6;

@@ -27,6 +27,10 @@ struct FrameRender {
   cv::Mat coverage;        // CV_8U, 255 where some source covered the pixel before hole filling
   CoverageReport holes;
   std::vector<ViewId> sources;  // the input views that contributed, most weight first
+  // CV_8U, 255 where the frame shows a double image: drawn from a view that a more heavily
+  // weighted view contradicts there, or blended from views whose colours disagree beyond noise
+  // (ALGORITHM.md section 5). Empty when the back end does not measure it.
+  cv::Mat double_image;
 };
 
 class SceneRenderer {

@@ -293,6 +293,27 @@ Eigen::Vector2d ViewMesh::ToPlane(const Eigen::Vector3d& point_in_world) const {
   return {d.dot(axis_u_), d.dot(axis_v_)};
 }
 
+std::vector<std::vector<int>> ViewMesh::SlotNeighbours() const {
+  std::vector<std::vector<int>> neighbours(num_views_);
+  const auto link = [&](int a, int b) {
+    if (a == b) return;
+    neighbours[a].push_back(b);
+    neighbours[b].push_back(a);
+  };
+  if (kind_ == Kind::kLine) {
+    for (size_t i = 0; i + 1 < line_order_.size(); ++i) link(line_order_[i], line_order_[i + 1]);
+  } else if (kind_ == Kind::kTriangles) {
+    for (const std::array<int, 3>& t : triangles_) {
+      for (int k = 0; k < 3; ++k) link(vertices_[t[k]].view, vertices_[t[(k + 1) % 3]].view);
+    }
+  }
+  for (std::vector<int>& list : neighbours) {
+    std::sort(list.begin(), list.end());
+    list.erase(std::unique(list.begin(), list.end()), list.end());
+  }
+  return neighbours;
+}
+
 ViewSlots ViewMesh::LineWeights(const Eigen::Vector2d& q) const {
   const int first = line_order_.front(), last = line_order_.back();
   const double x = q.x();

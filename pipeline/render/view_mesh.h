@@ -60,6 +60,10 @@ class ViewMesh {
   const std::vector<std::array<int, 3>>& triangles() const { return triangles_; }
   int NumDelaunayTriangles() const { return num_delaunay_triangles_; }
 
+  // For each view, the other views that can share a pixel's slots with it (the views of the
+  // triangles it is a corner of, extension ring included, or its neighbours along a line), sorted.
+  std::vector<std::vector<int>> SlotNeighbours() const;
+
   // The weights at point q of the mesh plane. `hint` (may be null): the triangle to start the
   // search from, updated to the one found (or -1 outside the mesh).
   ViewSlots WeightsAt(const Eigen::Vector2d& q, int* hint = nullptr) const;

@@ -63,7 +63,8 @@ void LogDirection(const PipelineReport& report, std::vector<std::string>* warnin
 
 // Renders every frame of report->path (novel views, a morph or a flat pan and zoom) into `sink`.
 Status RenderFrames(const std::vector<View>& views, SceneRenderer* renderer, FrameSink* sink,
-                    const std::function<Status(const char*, double)>& report_progress, PipelineReport* report) {
+                    const std::function<Status(const char*, double)>& report_progress, PipelineObserver* observer,
+                    PipelineReport* report) {
   const auto log = Logger("pipeline");
   const Clock::time_point start = Clock::now();
   const CameraPath& path = report->path;
@@ -96,8 +97,10 @@ Status RenderFrames(const std::vector<View>& views, SceneRenderer* renderer, Fra
     cv::Mat bgr;
     switch (path.kind) {
       case PathKind::kNovelView: {
-        StatusOr<FrameRender> frame = renderer->Render(path.FrameAt(t));
+        const VirtualCamera camera = path.FrameAt(t);
+        StatusOr<FrameRender> frame = renderer->Render(camera);
         if (!frame.ok()) return frame.status().WithContext("render frame " + std::to_string(i));
+        if (observer != nullptr) observer->OnFrame(i, camera, *frame);
         hole_sum += frame->holes.hole_ratio;
         report->frame_coverage.push_back(frame->holes);
         bgr = std::move(frame->bgr);
@@ -189,7 +192,7 @@ StatusOr<PipelineReport> RunUncalibrated(const FrameSet& capture, const Status& 
   report.path = *path;
   report.timings.push_back({"direct", MsSince(start)});
   LogDirection(report, &report.warnings);
-  PX_RETURN_IF_ERROR(RenderFrames(views, nullptr, sink, report_progress, &report));
+  PX_RETURN_IF_ERROR(RenderFrames(views, nullptr, sink, report_progress, options.observer, &report));
   return report;
 }
 }  // namespace
@@ -340,6 +343,8 @@ StatusOr<PipelineReport> RunPipeline(const FrameSet& shot, const RigCalibration&
     report.num_views = static_cast<int>(views.size());
   }
 
+  if (options.observer != nullptr) options.observer->OnScene(views, depth_maps);
+
   // Stage 4: the camera path, its viewpoints checked against what the renderer can cover.
   PX_RETURN_IF_ERROR(report_progress("direct", 0));
   start = Clock::now();
@@ -366,7 +371,7 @@ StatusOr<PipelineReport> RunPipeline(const FrameSet& shot, const RigCalibration&
   PX_RETURN_IF_ERROR(report_progress("direct", 1));
 
   // Stage 5: render every frame and hand it on.
-  PX_RETURN_IF_ERROR(RenderFrames(views, renderer.get(), sink, report_progress, &report));
+  PX_RETURN_IF_ERROR(RenderFrames(views, renderer.get(), sink, report_progress, options.observer, &report));
   if (renderer->cpu_fallback_frames() > 0) {
     report.warnings.push_back("render: " + std::to_string(renderer->cpu_fallback_frames()) + " frame(s) drawn on the cpu, " +
                               report.render_backend + " failed on them: " + renderer->cpu_fallback_reason());

@@ -35,6 +35,16 @@ inline calib::RigRefinementOptions NoRefinement() {
   return options;
 }
 
+// Watches a run for the evaluation tools (`parallax eval real`): the views and depth the renderer
+// draws, once, then every novel-view frame as rendered, before the sink. Called on the pipeline's
+// thread; must not keep references past the call.
+class PipelineObserver {
+ public:
+  virtual ~PipelineObserver() = default;
+  virtual void OnScene(const std::vector<View>& /*views*/, const std::vector<DepthMap>& /*depth*/) {}
+  virtual void OnFrame(int /*index*/, const VirtualCamera& /*camera*/, const FrameRender& /*frame*/) {}
+};
+
 struct PipelineOptions {
   CalibOptions calib;     // undistortion
   calib::RigRefinementOptions refinement;  // per-shot refinement of a lattice shot
@@ -53,6 +63,7 @@ struct PipelineOptions {
   // Loaded by device/ (the pipeline opens no files) and shared between runs.
   std::shared_ptr<const direct::FaceDetector> face_detector;  // null: no face detection
   std::shared_ptr<const direct::Shot> shot;                    // null: the taxonomy chooses
+  PipelineObserver* observer = nullptr;  // not owned; null: nobody watches
   Status Validate() const;
 };
 

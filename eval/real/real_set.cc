@@ -1,0 +1,126 @@
+#include "eval/real/real_set.h"
+
+#include <algorithm>
+
+#include <opencv2/imgcodecs.hpp>
+
+#include "eval/datasets/hci_light_field.h"
+#include "eval/datasets/npy.h"
+#include "pipeline/core/pixel_format.h"
+#include "sim/replay/import_images.h"
+
+namespace px::eval {
+namespace {
+
+namespace fs = std::filesystem;
+
+// Sets with more views than this hold out every 8th view instead of each in turn.
+constexpr int kMaxViewsHeldOutEach = 9;
+constexpr int kHoldOutEvery = 8;
+
+Status AddFrame(const cv::Mat& bgr, double focal_px, const std::string& focal_source, const std::string& name,
+                RealSet* set) {
+  Frame frame;
+  PX_ASSIGN_OR_RETURN(frame.image, FromBgr(bgr, PixelFormat::kRgb888));
+  frame.sequence = set->capture.frames.size();
+  frame.focal_length_px = focal_px;
+  frame.focal_length_source = focal_source;
+  set->capture.frames.push_back(std::move(frame));
+  set->view_names.push_back(name);
+  return OkStatus();
+}
+
+Status LoadPhotoFolder(const fs::path& path, RealSet* set) {
+  set->layout = "photo folder";
+  PX_ASSIGN_OR_RETURN(std::vector<fs::path> files, ListImages({path}));
+  std::vector<std::string> warnings;
+  PX_ASSIGN_OR_RETURN(Recording recording, RecordingFromImages(files, &warnings));
+  set->capture = std::move(recording.frames);
+  for (const fs::path& file : files) set->view_names.push_back(file.filename().string());
+  return OkStatus();
+}
+
+// LLFF: the photos of images_8/ with the focal length of poses_bounds.npy (H, W, f at full size).
+Status LoadLlffPhotos(const fs::path& path, RealSet* set) {
+  set->layout = "LLFF";
+  PX_ASSIGN_OR_RETURN(NpyArray poses, ReadNpyFloat64(path / "poses_bounds.npy"));
+  if (poses.shape.size() != 2 || poses.shape[1] != 17 || poses.shape[0] == 0) {
+    return DataLossError((path / "poses_bounds.npy").string() + ": shape is not (N, 17)");
+  }
+  const double full_width = poses.values[1 * 5 + 4], full_focal = poses.values[2 * 5 + 4];
+  PX_ASSIGN_OR_RETURN(std::vector<fs::path> files, ListImages({path / "images_8"}));
+  for (const fs::path& file : files) {
+    cv::Mat bgr = cv::imread(file.string(), cv::IMREAD_COLOR);
+    if (bgr.empty()) return DataLossError(file.string() + ": cannot be decoded as an image");
+    if (!(full_width > 0 && full_focal > 0)) {
+      return DataLossError((path / "poses_bounds.npy").string() + ": row 0 has no (H, W, f)");
+    }
+    PX_RETURN_IF_ERROR(AddFrame(bgr, full_focal * bgr.cols / full_width, "LLFF poses_bounds.npy focal length",
+                                file.filename().string(), set));
+  }
+  return OkStatus();
+}
+
+// HCI: the 3x3 of every 4th view of the 9x9 (corners, edge centres, centre), as photos.
+Status LoadHciPhotos(const fs::path& path, RealSet* set) {
+  set->layout = "HCI light field";
+  PX_ASSIGN_OR_RETURN(HciLightField field, LoadHciLightField(path));
+  const int step = std::max(1, (field.rows - 1) / 2);
+  for (int r = 0; r < field.rows; r += step) {
+    for (int c = 0; c < field.cols; c += step) {
+      const View& view = field.views[static_cast<size_t>(r * field.cols + c)];
+      char name[32];
+      std::snprintf(name, sizeof(name), "input_Cam%03d.png", r * field.cols + c);
+      PX_RETURN_IF_ERROR(AddFrame(view.image, field.focal_px, "HCI parameters.cfg focal length", name, set));
+    }
+  }
+  return OkStatus();
+}
+
+}  // namespace
+
+std::vector<int> HeldOutViews(int num_views) {
+  std::vector<int> held_out;
+  const int every = num_views > kMaxViewsHeldOutEach ? kHoldOutEvery : 1;
+  for (int i = 0; i < num_views; i += every) held_out.push_back(i);
+  return held_out;
+}
+
+std::vector<fs::path> StandardRealSets(const fs::path& data_dir, std::vector<std::string>* missing) {
+  static const char* const kSets[] = {
+      "handheld/kpankov_office_4views", "handheld/kpankov_frenchpress_4views", "handheld/ddd_lego_excavator_3views",
+      "llff_fern",                      "llff_flower",                         "hci_4dlf_antinous",
+      "lytro_illum_2067_center5x5",
+  };
+  std::vector<fs::path> sets;
+  for (const char* name : kSets) {
+    const fs::path path = data_dir / name;
+    std::error_code error;
+    if (fs::exists(path, error)) {
+      sets.push_back(path);
+    } else if (missing != nullptr) {
+      missing->push_back(path.string());
+    }
+  }
+  return sets;
+}
+
+StatusOr<RealSet> LoadRealSet(const fs::path& path, const std::string& name) {
+  std::error_code error;
+  if (!fs::exists(path, error)) return NotFoundError(path.string() + ": no such file or folder");
+  RealSet set;
+  set.name = name;
+  set.path = path;
+  set.capture.kind = FrameSetKind::kImageSet;
+  if (fs::exists(path / "poses_bounds.npy", error)) {
+    PX_RETURN_IF_ERROR(LoadLlffPhotos(path, &set));
+  } else if (fs::exists(path / "parameters.cfg", error)) {
+    PX_RETURN_IF_ERROR(LoadHciPhotos(path, &set));
+  } else {
+    PX_RETURN_IF_ERROR(LoadPhotoFolder(path, &set));
+  }
+  set.held_out = HeldOutViews(static_cast<int>(set.capture.frames.size()));
+  return set;
+}
+
+}  // namespace px::eval

@@ -1,0 +1,124 @@
+// The consistent blend (contradictions.h; ALGORITHM.md sections 1 and 5): a subject that moved
+// between the shots is drawn once, from the views that agree, not twice.
+#include <gtest/gtest.h>
+
+#include "pipeline/render/contradictions.h"
+#include "pipeline/render/cpu_scene_renderer.h"
+#include "pipeline/render/layered_from_depth.h"
+#include "pipeline/render/render_test_util.h"
+
+namespace px {
+namespace {
+
+using render::testing::MakeLayeredLattice;
+using render::testing::MaskedPsnr;
+using render::testing::PlaneScene;
+
+const CameraModel kCamera = CameraModel::Pinhole(320, 240, 280);
+constexpr double kBaselineM = 0.025;
+
+VirtualCamera At(const Eigen::Vector3d& centre) {
+  VirtualCamera v;
+  v.camera = kCamera;
+  v.cam_from_world = Rigid3(Eigen::Quaterniond::Identity(), -centre);
+  return v;
+}
+
+double Fraction(const cv::Mat& mask) { return static_cast<double>(cv::countNonZero(mask)) / mask.total(); }
+
+// A row of three shots of the two-plane scene; the last (view 2) saw the foreground rectangle
+// 5 cm further right: it moved between the shots.
+class MovedSubjectTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    MakeLayeredLattice(scene_, 1, 3, kBaselineM, kCamera, &views_, &layers_);
+    PlaneScene moved = scene_;
+    moved.foreground_xy.x += 0.05;
+    View& late = views_[2];
+    DepthMap depth;
+    depth.id = late.id;
+    moved.Render(kCamera, late.cam_from_world, &late.image, &depth.depth_m);
+    depth.confidence = cv::Mat(kCamera.height, kCamera.width, CV_32F, cv::Scalar(1));
+    layers_[2] = LayeredDepthFromDepthMap(late, depth).value();
+  }
+
+  FrameRender Render(const RenderOptions& options, const VirtualCamera& camera) {
+    auto renderer = CpuSceneRenderer::Create(views_, layers_, options);
+    EXPECT_TRUE(renderer.ok()) << renderer.status().ToString();
+    auto frame = (*renderer)->Render(camera);
+    EXPECT_TRUE(frame.ok()) << frame.status().ToString();
+    return *frame;
+  }
+
+  PlaneScene scene_;
+  std::vector<View> views_;
+  std::vector<LayeredDepthView> layers_;
+};
+
+TEST_F(MovedSubjectTest, TheMovedShotIsContradictedWhereItsSubjectWas) {
+  RenderOptions options;
+  auto scene = render::LayeredScene::Create(views_, layers_, options);
+  ASSERT_TRUE(scene.ok());
+  EXPECT_GT(scene->contradicted_texels(), 1000);
+  // The moved foreground in view 2 is contradicted by view 1, which sees the background there.
+  const render::SceneView& late = scene->views()[2];
+  ASSERT_FALSE(late.contradicted.empty());
+  const int bit_of_view_1 = late.neighbour_bit[1];
+  ASSERT_GE(bit_of_view_1, 0);
+  long contradicted_by_1 = 0;
+  for (const auto& mask : late.contradicted) contradicted_by_1 += (mask[0] >> bit_of_view_1) & 1;
+  EXPECT_GT(contradicted_by_1, 500);
+}
+
+TEST_F(MovedSubjectTest, ConsistentBlendDrawsTheSubjectOnce) {
+  // Between views 1 and 2, nearer 1: the moved shot has 40 % of the blend.
+  const Eigen::Vector3d centre(0.3 * kBaselineM, 0, 0);
+  cv::Mat truth, truth_depth;
+  scene_.Render(kCamera, At(centre).cam_from_world, &truth, &truth_depth);
+  RenderOptions plain;
+  plain.consistent_blend.enabled = false;
+  plain.measure_double_images = true;
+  RenderOptions consistent = plain;
+  consistent.consistent_blend.enabled = true;
+  const FrameRender before = Render(plain, At(centre));
+  const FrameRender after = Render(consistent, At(centre));
+  ASSERT_FALSE(before.double_image.empty());
+  ASSERT_FALSE(after.double_image.empty());
+  const double psnr_before = MaskedPsnr(before.bgr, truth), psnr_after = MaskedPsnr(after.bgr, truth);
+  std::printf("moved subject: double images %.3f%% -> %.3f%%, PSNR %.2f -> %.2f dB\n",
+              100 * Fraction(before.double_image), 100 * Fraction(after.double_image), psnr_before, psnr_after);
+  EXPECT_GT(Fraction(before.double_image), 0.01);
+  EXPECT_LT(Fraction(after.double_image), 0.002);
+  EXPECT_GT(psnr_after, psnr_before + 3);
+}
+
+TEST(ConsistentBlendTest, AStillSceneRendersAsWithout) {
+  PlaneScene scene;
+  std::vector<View> views;
+  std::vector<LayeredDepthView> layers;
+  MakeLayeredLattice(scene, 3, 3, kBaselineM, kCamera, &views, &layers);
+  RenderOptions off, on;
+  off.consistent_blend.enabled = false;
+  auto plain = CpuSceneRenderer::Create(views, layers, off);
+  auto consistent = CpuSceneRenderer::Create(views, layers, on);
+  ASSERT_TRUE(plain.ok() && consistent.ok());
+  const VirtualCamera camera = At(Eigen::Vector3d(0.4 * kBaselineM, -0.3 * kBaselineM, 0.02));
+  const FrameRender a = (*plain)->Render(camera).value();
+  const FrameRender b = (*consistent)->Render(camera).value();
+  EXPECT_GT(MaskedPsnr(a.bgr, b.bgr), 50.0);
+}
+
+TEST(ConsistentBlendTest, OptionsOutsideTheirRangesAreNamed) {
+  RenderOptions options;
+  options.consistent_blend.free_space_px = 0;
+  EXPECT_NE(options.Validate().message().find("free_space_px"), std::string::npos);
+  options = RenderOptions();
+  options.consistent_blend.max_neighbours = 17;
+  EXPECT_NE(options.Validate().message().find("max_neighbours"), std::string::npos);
+  options = RenderOptions();
+  options.consistent_blend.dominance_exponent = 0.5;
+  EXPECT_NE(options.Validate().message().find("dominance_exponent"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace px
