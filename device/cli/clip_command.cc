@@ -57,18 +57,21 @@ StatusOr<clip::ClipFormat> ChooseFormat(const ClipArgs& args) {
   return clip::ClipFormat::kMp4;
 }
 
-// A folder without a recording's manifest, read as photos taken by hand (import_images.h).
+// A folder without a recording's manifest, read as photos taken by hand, or a file holding
+// several views (import_images.h).
 StatusOr<Recording> PhotoFolderAsRecording(const std::filesystem::path& folder) {
   StatusOr<std::vector<std::filesystem::path>> photos = ListImages({folder});
   if (!photos.ok()) {
-    return NotFoundError(folder.string() + ": neither a recording (no manifest.json) nor a folder of photos (" +
+    return NotFoundError(folder.string() +
+                         ": neither a recording (no manifest.json), a folder of photos nor a file of views (" +
                          photos.status().message() + ")");
   }
   std::vector<std::string> warnings;
   PX_ASSIGN_OR_RETURN(Recording recording, RecordingFromImages(*photos, &warnings));
   const auto log = Logger("clip");
   for (const std::string& warning : warnings) log->warn("{}", warning);
-  log->info("{}: no recording manifest; {} photos taken as a hand-held image set", folder.string(), photos->size());
+  log->info("{}: not a recording; {} views taken as a hand-held image set", folder.string(),
+            recording.frames.frames.size());
   return recording;
 }
 
@@ -155,10 +158,10 @@ void AddClipCommand(CLI::App& app) {
   auto args = std::make_shared<ClipArgs>();
   CLI::App* clip = app.add_subcommand("clip", "Turn a recording into a clip (the offline pipeline)");
   clip->add_option("recording", args->recording,
-                   "Recording folder (see sim/replay/FORMAT.md), or a folder of hand-held photos (JPEG, PNG) taken as "
-                   "an image set")
+                   "Recording folder (see sim/replay/FORMAT.md), a folder of hand-held photos (JPEG, PNG) taken as "
+                   "an image set, a 3D camera's MPO file or a wigglegram's animated GIF or WebP")
       ->required()
-      ->check(CLI::ExistingDirectory);
+      ->check(CLI::ExistingPath);
   clip->add_option("-o,--output", args->output,
                    "Clip to write (a folder for --format png); its camera path and report (JSON) go beside it")
       ->required();

@@ -26,15 +26,16 @@ Status RunImport(const ImportArgs& args) {
   std::vector<std::string> warnings;
   PX_ASSIGN_OR_RETURN(Recording recording, RecordingFromImages(files, &warnings));
   for (const std::string& warning : warnings) log->warn("{}", warning);
-  for (size_t i = 0; i < files.size(); ++i) {
+  for (size_t i = 0; i < recording.frames.frames.size(); ++i) {
     const Frame& frame = recording.frames.frames[i];
-    log->info("{}: {}x{}, focal {}", files[i].string(), frame.image.width, frame.image.height,
+    log->info("view {}: {}x{}, focal {}", i, frame.image.width, frame.image.height,
               frame.focal_length_px > 0 ? std::to_string(static_cast<int>(frame.focal_length_px + 0.5)) + " px (" +
                                               frame.focal_length_source + ")"
                                         : std::string("unknown (self-calibrated)"));
   }
   PX_RETURN_IF_ERROR(WriteRecording(args.output, recording));
-  log->info("wrote recording {}: an image set of {} photos", args.output, files.size());
+  log->info("wrote recording {}: an image set of {} views from {} file(s)", args.output,
+            recording.frames.frames.size(), files.size());
   std::printf("%s\n", args.output.c_str());
   return OkStatus();
 }
@@ -45,8 +46,10 @@ void AddImportCommand(CLI::App& app) {
   auto args = std::make_shared<ImportArgs>();
   CLI::App* command = app.add_subcommand(
       "import", "Make a recording of photos taken by hand from a few places (JPEG, PNG; the EXIF focal length is kept), "
-                "for `parallax clip`");
-  command->add_option("photos", args->inputs, "Photos, or folders of them (sorted by name); at least 2 in all")
+                "a 3D camera's MPO file (each image a view) or a wigglegram's animated GIF or WebP (each frame a "
+                "view, repeated frames left out), for `parallax clip`");
+  command->add_option("photos", args->inputs,
+                      "Photos, MPO files, animations, or folders of them (sorted by name); at least 2 views in all")
       ->required();
   command->add_option("-o,--output", args->output, "Recording folder to create (must not exist or be empty)")
       ->required();

@@ -1,6 +1,7 @@
 #include "eval/real/real_set.h"
 
 #include <algorithm>
+#include <cctype>
 
 #include <opencv2/imgcodecs.hpp>
 
@@ -31,12 +32,18 @@ Status AddFrame(const cv::Mat& bgr, double focal_px, const std::string& focal_so
 }
 
 Status LoadPhotoFolder(const fs::path& path, RealSet* set) {
-  set->layout = "photo folder";
+  std::string extension = path.extension().string();
+  for (char& c : extension) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  set->layout = fs::is_directory(path) ? "photo folder" : extension == ".mpo" ? "MPO file" : "animation";
   PX_ASSIGN_OR_RETURN(std::vector<fs::path> files, ListImages({path}));
   std::vector<std::string> warnings;
   PX_ASSIGN_OR_RETURN(Recording recording, RecordingFromImages(files, &warnings));
   set->capture = std::move(recording.frames);
-  for (const fs::path& file : files) set->view_names.push_back(file.filename().string());
+  if (files.size() == set->capture.frames.size()) {
+    for (const fs::path& file : files) set->view_names.push_back(file.filename().string());
+  } else {  // views from inside a file
+    for (size_t i = 0; i < set->capture.frames.size(); ++i) set->view_names.push_back("view " + std::to_string(i));
+  }
   return OkStatus();
 }
 
@@ -88,9 +95,20 @@ std::vector<int> HeldOutViews(int num_views) {
 
 std::vector<fs::path> StandardRealSets(const fs::path& data_dir, std::vector<std::string>* missing) {
   static const char* const kSets[] = {
-      "handheld/kpankov_office_4views", "handheld/kpankov_frenchpress_4views", "handheld/ddd_lego_excavator_3views",
-      "llff_fern",                      "llff_flower",                         "hci_4dlf_antinous",
+      "handheld/kpankov_office_4views",
+      "handheld/kpankov_frenchpress_4views",
+      "handheld/ddd_lego_excavator_3views",
+      "handheld/ddd_seattle_portrait_2views",
+      "stereo_face/ddd_frame31_stereo",
+      "llff_fern",
+      "llff_flower",
+      "hci_4dlf_antinous",
       "lytro_illum_2067_center5x5",
+      "multicam/actionsampler_onomichi_4frames/onomichi.gif",
+      "multicam/photobooth_pi_4cam_person/wigglegram-example-charuco-calibrated.webp",
+      "mpo/nintendo3ds_mpo/sugarshack.mpo",
+      "mpo/nintendo3ds_mpo/frozenpond.mpo",
+      "mpo/panasonic_gx8_3dlens_mpo/Panasonic-DMC-GX8.mpo",
   };
   std::vector<fs::path> sets;
   for (const char* name : kSets) {

@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <cctype>
+#include <fstream>
+#include <iterator>
 #include <string>
 
 #include <opencv2/imgcodecs.hpp>
@@ -9,6 +11,8 @@
 
 #include "pipeline/core/exif.h"
 #include "pipeline/core/pixel_format.h"
+#include "sim/replay/animation_frames.h"
+#include "sim/replay/mpo.h"
 
 namespace px {
 
@@ -25,7 +29,66 @@ bool IsJpeg(const std::filesystem::path& file) {
   return extension == ".jpg" || extension == ".jpeg";
 }
 
-bool IsImage(const std::filesystem::path& file) { return IsJpeg(file) || LowerExtension(file) == ".png"; }
+bool IsMpo(const std::filesystem::path& file) { return LowerExtension(file) == ".mpo"; }
+
+bool IsAnimation(const std::filesystem::path& file) {
+  const std::string extension = LowerExtension(file);
+  return extension == ".gif" || extension == ".webp";
+}
+
+bool IsImage(const std::filesystem::path& file) {
+  return IsJpeg(file) || LowerExtension(file) == ".png" || IsMpo(file) || IsAnimation(file);
+}
+
+StatusOr<std::vector<uint8_t>> ReadBytes(const std::filesystem::path& file) {
+  std::ifstream in(file, std::ios::binary);
+  if (!in) return NotFoundError(file.string() + ": cannot be opened");
+  return std::vector<uint8_t>(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+}
+
+// One frame per image of an MPO file, each with the focal length of its own EXIF.
+Status AddMpoFrames(const std::filesystem::path& file, std::vector<std::string>* warnings, Recording* recording) {
+  PX_ASSIGN_OR_RETURN(std::vector<uint8_t> bytes, ReadBytes(file));
+  PX_ASSIGN_OR_RETURN(std::vector<std::vector<uint8_t>> images, SplitMpo(bytes, file.string()));
+  for (size_t i = 0; i < images.size(); ++i) {
+    const std::string name = file.string() + " image " + std::to_string(i);
+    cv::Mat bgr;
+    try {
+      bgr = cv::imdecode(images[i], cv::IMREAD_COLOR);
+    } catch (const cv::Exception& e) {
+      return DataLossError(name + ": cannot be decoded (" + e.what() + ")");
+    }
+    if (bgr.empty()) return DataLossError(name + ": cannot be decoded as a JPEG");
+    Frame frame;
+    PX_ASSIGN_OR_RETURN(frame.image, FromBgr(bgr, PixelFormat::kRgb888));
+    StatusOr<ExifInfo> exif = ParseJpegExif(images[i]);
+    if (exif.ok()) {
+      frame.focal_length_px = exif->FocalPx(bgr.cols, bgr.rows, &frame.focal_length_source);
+    } else {
+      warnings->push_back(name + ": EXIF unreadable (" + exif.status().message() + "); its focal length will be self-calibrated");
+    }
+    frame.sequence = recording->frames.frames.size();
+    recording->frames.frames.push_back(std::move(frame));
+  }
+  return OkStatus();
+}
+
+// One frame per view of an animation (its repeated frames left out).
+Status AddAnimationFrames(const std::filesystem::path& file, std::vector<std::string>* warnings, Recording* recording) {
+  PX_ASSIGN_OR_RETURN(std::vector<cv::Mat> frames, ReadAnimationFrames(file));
+  const std::vector<cv::Mat> views = WithoutRepeatedFrames(frames);
+  if (views.size() < frames.size()) {
+    warnings->push_back(file.string() + ": " + std::to_string(frames.size() - views.size()) + " of its " +
+                        std::to_string(frames.size()) + " frames repeat earlier ones (a back-and-forth loop): left out");
+  }
+  for (const cv::Mat& bgr : views) {
+    Frame frame;
+    PX_ASSIGN_OR_RETURN(frame.image, FromBgr(bgr, PixelFormat::kRgb888));
+    frame.sequence = recording->frames.frames.size();
+    recording->frames.frames.push_back(std::move(frame));
+  }
+  return OkStatus();
+}
 
 }  // namespace
 
@@ -39,11 +102,11 @@ StatusOr<std::vector<std::filesystem::path>> ListImages(const std::vector<std::f
         if (entry.is_regular_file() && IsImage(entry.path())) found.push_back(entry.path());
       }
       if (ec) return NotFoundError(input.string() + ": " + ec.message());
-      if (found.empty()) return NotFoundError(input.string() + ": no JPEG or PNG images in the folder");
+      if (found.empty()) return NotFoundError(input.string() + ": no images (JPEG, PNG, MPO, GIF, WebP) in the folder");
       std::sort(found.begin(), found.end());
       files.insert(files.end(), found.begin(), found.end());
     } else if (std::filesystem::is_regular_file(input, ec)) {
-      if (!IsImage(input)) return InvalidArgumentError(input.string() + ": not a JPEG or PNG file (by its name)");
+      if (!IsImage(input)) return InvalidArgumentError(input.string() + ": not a JPEG, PNG, MPO, GIF or WebP file (by its name)");
       files.push_back(input);
     } else {
       return NotFoundError(input.string() + ": no such file or folder");
@@ -54,7 +117,8 @@ StatusOr<std::vector<std::filesystem::path>> ListImages(const std::vector<std::f
 
 StatusOr<Recording> RecordingFromImages(const std::vector<std::filesystem::path>& files,
                                         std::vector<std::string>* warnings) {
-  if (files.size() < 2) {
+  const bool holds_views = files.size() == 1 && (IsMpo(files[0]) || IsAnimation(files[0]));
+  if (files.size() < 2 && !holds_views) {
     return FailedPreconditionError("an image set needs at least 2 photos from different places, got " +
                                    std::to_string(files.size()));
   }
@@ -65,12 +129,25 @@ StatusOr<Recording> RecordingFromImages(const std::vector<std::filesystem::path>
   recording.created_by = "parallax import";
   for (size_t i = 0; i < files.size(); ++i) {
     const std::filesystem::path& file = files[i];
+    if (IsMpo(file)) {
+      PX_RETURN_IF_ERROR(AddMpoFrames(file, warnings, &recording));
+      continue;
+    }
+    if (IsAnimation(file)) {
+      PX_RETURN_IF_ERROR(AddAnimationFrames(file, warnings, &recording));
+      continue;
+    }
     // IMREAD_COLOR turns the image upright by its EXIF orientation, which FocalPx expects.
-    cv::Mat bgr = cv::imread(file.string(), cv::IMREAD_COLOR);
+    cv::Mat bgr;
+    try {
+      bgr = cv::imread(file.string(), cv::IMREAD_COLOR);
+    } catch (const cv::Exception& e) {
+      return DataLossError(file.string() + ": cannot be decoded as an image (" + e.what() + ")");
+    }
     if (bgr.empty()) return DataLossError(file.string() + ": cannot be decoded as an image");
     Frame frame;
     PX_ASSIGN_OR_RETURN(frame.image, FromBgr(bgr, PixelFormat::kRgb888));
-    frame.sequence = i;
+    frame.sequence = recording.frames.frames.size();
     if (IsJpeg(file)) {
       StatusOr<ExifInfo> exif = ReadJpegExif(file);
       if (exif.ok()) {
@@ -81,6 +158,10 @@ StatusOr<Recording> RecordingFromImages(const std::vector<std::filesystem::path>
       }
     }
     recording.frames.frames.push_back(std::move(frame));
+  }
+  if (recording.frames.frames.size() < 2) {
+    return FailedPreconditionError(files.front().string() + ": holds " + std::to_string(recording.frames.frames.size()) +
+                                   " view; an image set needs at least 2 from different places");
   }
   return recording;
 }

@@ -1,6 +1,9 @@
-// Photos taken elsewhere (a phone, a camera's card) as a recording: one image set, a frame per
-// photo, as the USB still camera's source would have delivered them (drivers/ptp): upright,
-// full size, RGB888, with the lens's focal length from each JPEG's EXIF for structure from motion.
+// Photos taken elsewhere (a phone, a camera's card, a 3D camera) as a recording: one image set, a
+// frame per view, as the USB still camera's source would have delivered them (drivers/ptp):
+// upright, full size, RGB888, with the lens's focal length from each JPEG's EXIF for structure
+// from motion. A view per photo (JPEG, PNG), per image of a stereo camera's MPO file (mpo.h), or
+// per frame of a wigglegram's animated GIF or WebP, its repeated frames left out
+// (animation_frames.h).
 #pragma once
 
 #include <filesystem>
@@ -11,14 +14,15 @@
 
 namespace px {
 
-// The JPEG and PNG files among `inputs`: files as given (in that order), folders' images sorted
-// by name. Errors: an input that does not exist, a file that is not a JPEG or PNG by its name, a
-// folder with no images.
+// The JPEG, PNG, MPO, GIF and WebP files among `inputs`: files as given (in that order), folders'
+// images sorted by name. Errors: an input that does not exist, a file that is none of those by its
+// name, a folder with no images.
 StatusOr<std::vector<std::filesystem::path>> ListImages(const std::vector<std::filesystem::path>& inputs);
 
-// One frame per file, in order (sequence = index). Errors name the file: one that cannot be
-// decoded; fewer than 2 files (an image set needs two viewpoints). A JPEG whose EXIF cannot be
-// read is imported with its focal length unknown (self-calibrated later), and `warnings` says so.
+// The frames of every file, in order (sequence = index). Errors name the file: one that cannot be
+// decoded (an MPO with a broken index, a damaged animation); fewer than 2 views in all (an image
+// set needs two viewpoints). A JPEG whose EXIF cannot be read is imported with its focal length
+// unknown (self-calibrated later), and `warnings` says so, as it does of repeated frames left out.
 StatusOr<Recording> RecordingFromImages(const std::vector<std::filesystem::path>& files,
                                         std::vector<std::string>* warnings);
 

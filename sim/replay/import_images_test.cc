@@ -75,7 +75,7 @@ TEST(ImportImagesTest, ErrorsNameTheFile) {
   EXPECT_NE(missing.status().message().find("nowhere.jpg"), std::string::npos);
   StatusOr<std::vector<std::filesystem::path>> text = ListImages({dir.path() / "readme.txt"});
   EXPECT_EQ(text.status().code(), StatusCode::kInvalidArgument);
-  EXPECT_NE(text.status().message().find("readme.txt: not a JPEG or PNG"), std::string::npos);
+  EXPECT_NE(text.status().message().find("readme.txt: not a JPEG, PNG, MPO, GIF or WebP"), std::string::npos);
   StatusOr<std::vector<std::filesystem::path>> empty = ListImages({dir.path() / "empty"});
   EXPECT_EQ(empty.status().code(), StatusCode::kNotFound);
 

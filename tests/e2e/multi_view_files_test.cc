@@ -1,0 +1,211 @@
+// Files that hold several views (sim/replay/import_images.h): a 3D camera's MPO file (mpo.h) and a
+// wigglegram's animated GIF or WebP (animation_frames.h, written by the clip writers), made here
+// with known views and read from the real files in ../shared/data (skipped without it); damaged
+// ones fail naming the file.
+#include <fstream>
+
+#include <gtest/gtest.h>
+#include <opencv2/imgcodecs.hpp>
+
+#include "pipeline/clip/clip_writer.h"
+#include "sim/replay/animation_frames.h"
+#include "sim/replay/import_images.h"
+#include "sim/replay/mpo.h"
+#include "sim/replay/recording_test_util.h"
+#include "sim/synthetic/data_paths.h"
+
+namespace px {
+namespace {
+
+namespace fs = std::filesystem;
+using replay::testing::GradientNoiseBgr;
+using replay::testing::ScratchDir;
+
+std::vector<uint8_t> Jpeg(const cv::Mat& bgr) {
+  std::vector<uint8_t> bytes;
+  EXPECT_TRUE(cv::imencode(".jpg", bgr, bytes, {cv::IMWRITE_JPEG_QUALITY, 95}));
+  return bytes;
+}
+
+void Put32(std::vector<uint8_t>* out, uint32_t value) {  // big endian
+  for (int shift = 24; shift >= 0; shift -= 8) out->push_back(static_cast<uint8_t>(value >> shift));
+}
+void Put16(std::vector<uint8_t>* out, uint16_t value) {
+  out->push_back(static_cast<uint8_t>(value >> 8));
+  out->push_back(static_cast<uint8_t>(value));
+}
+
+// An MPO file of `images` as a 3D camera writes it: the first JPEG with an APP2 MP index
+// (big-endian TIFF: version, number of images, MP entries) right after its SOI, the others after it.
+std::vector<uint8_t> MakeMpo(const std::vector<std::vector<uint8_t>>& images) {
+  const size_t count = images.size();
+  std::vector<uint8_t> tiff = {'M', 'M', 0, 42};
+  Put32(&tiff, 8);  // the IFD
+  Put16(&tiff, 3);  // three entries
+  const uint32_t entries_offset = 8 + 2 + 3 * 12 + 4;
+  Put16(&tiff, 0xB000); Put16(&tiff, 7); Put32(&tiff, 4); tiff.insert(tiff.end(), {'0', '1', '0', '0'});
+  Put16(&tiff, 0xB001); Put16(&tiff, 4); Put32(&tiff, 1); Put32(&tiff, static_cast<uint32_t>(count));
+  Put16(&tiff, 0xB002); Put16(&tiff, 7); Put32(&tiff, static_cast<uint32_t>(16 * count)); Put32(&tiff, entries_offset);
+  Put32(&tiff, 0);  // no next IFD
+  const size_t segment = 2 + 4 + tiff.size() + 16 * count;
+  const size_t header_at = 2 + 4 + 4;  // SOI, APP2 marker and length, "MPF\0"
+  const size_t first_size = images[0].size() + 4 + 4 + tiff.size() + 16 * count;
+  size_t next = first_size;
+  for (size_t i = 0; i < count; ++i) {
+    Put32(&tiff, i == 0 ? 0x20030000u : 0x00020002u);  // attribute: base view, then other views
+    Put32(&tiff, static_cast<uint32_t>(i == 0 ? first_size : images[i].size()));
+    Put32(&tiff, i == 0 ? 0u : static_cast<uint32_t>(next - header_at));
+    Put32(&tiff, 0);
+    if (i > 0) next += images[i].size();
+  }
+  std::vector<uint8_t> file = {0xFF, 0xD8, 0xFF, 0xE2};
+  Put16(&file, static_cast<uint16_t>(segment));
+  file.insert(file.end(), {'M', 'P', 'F', 0});
+  file.insert(file.end(), tiff.begin(), tiff.end());
+  file.insert(file.end(), images[0].begin() + 2, images[0].end());
+  for (size_t i = 1; i < count; ++i) file.insert(file.end(), images[i].begin(), images[i].end());
+  return file;
+}
+
+fs::path WriteBytes(const fs::path& path, const std::vector<uint8_t>& bytes) {
+  std::ofstream out(path, std::ios::binary);
+  out.write(reinterpret_cast<const char*>(bytes.data()), static_cast<std::streamsize>(bytes.size()));
+  return path;
+}
+
+TEST(MpoTest, EveryImageOfTheIndexIsAView) {
+  const cv::Mat left = GradientNoiseBgr(96, 64, 1), right = GradientNoiseBgr(96, 64, 2);
+  const std::vector<uint8_t> mpo = MakeMpo({Jpeg(left), Jpeg(right)});
+  StatusOr<std::vector<std::vector<uint8_t>>> images = SplitMpo(mpo, "pair.mpo");
+  ASSERT_TRUE(images.ok()) << images.status().ToString();
+  ASSERT_EQ(images->size(), 2u);
+  EXPECT_LT(cv::norm(cv::imdecode((*images)[1], cv::IMREAD_COLOR), right, cv::NORM_INF), 40);
+
+  ScratchDir dir;
+  std::vector<std::string> warnings;
+  StatusOr<Recording> recording = RecordingFromImages({WriteBytes(dir.path() / "pair.mpo", mpo)}, &warnings);
+  ASSERT_TRUE(recording.ok()) << recording.status().ToString();
+  ASSERT_EQ(recording->frames.frames.size(), 2u);
+  EXPECT_EQ(recording->frames.frames[1].sequence, 1u);
+  EXPECT_EQ(recording->frames.frames[1].image.width, 96);
+}
+
+TEST(MpoTest, ABrokenIndexIsNamed) {
+  const std::vector<uint8_t> mpo = MakeMpo({Jpeg(GradientNoiseBgr(96, 64, 1)), Jpeg(GradientNoiseBgr(96, 64, 2))});
+  // Cut off inside the second image: its entry points past the end.
+  const std::vector<uint8_t> truncated(mpo.begin(), mpo.end() - 200);
+  StatusOr<std::vector<std::vector<uint8_t>>> images = SplitMpo(truncated, "cut.mpo");
+  ASSERT_FALSE(images.ok());
+  EXPECT_EQ(images.status().code(), StatusCode::kDataLoss);
+  EXPECT_NE(images.status().message().find("cut.mpo: image 1"), std::string::npos) << images.status().message();
+  // A plain JPEG has no index.
+  EXPECT_NE(SplitMpo(Jpeg(GradientNoiseBgr(32, 32, 3)), "plain.mpo").status().message().find("no MP index"),
+            std::string::npos);
+  EXPECT_NE(SplitMpo({1, 2, 3, 4}, "junk.mpo").status().message().find("not a JPEG"), std::string::npos);
+  // Through the importer: an error naming the file, nothing imported.
+  ScratchDir dir;
+  std::vector<std::string> warnings;
+  StatusOr<Recording> recording = RecordingFromImages({WriteBytes(dir.path() / "cut.mpo", truncated)}, &warnings);
+  ASSERT_FALSE(recording.ok());
+  EXPECT_NE(recording.status().message().find("cut.mpo"), std::string::npos);
+}
+
+// Four views played back and forth (0 1 2 3 2 1), as wigglegram animations are.
+std::vector<cv::Mat> PingPong() {
+  std::vector<cv::Mat> views;
+  for (int i = 0; i < 4; ++i) views.push_back(GradientNoiseBgr(120, 80, 10 + i));
+  return {views[0], views[1], views[2], views[3], views[2], views[1]};
+}
+
+fs::path WriteAnimation(const fs::path& path, clip::ClipFormat format, const std::vector<cv::Mat>& frames) {
+  clip::ClipOptions options;
+  options.format = format;
+  options.fps = 8;
+  options.webp_lossless = true;
+  auto writer = clip::OpenClipWriter(path, frames[0].cols, frames[0].rows, options);
+  EXPECT_TRUE(writer.ok()) << writer.status().ToString();
+  for (const cv::Mat& frame : frames) EXPECT_TRUE((*writer)->Write(frame).ok());
+  EXPECT_TRUE((*writer)->Finish().ok());
+  return path;
+}
+
+TEST(AnimationFramesTest, EachViewOnceInPlayingOrder) {
+  ScratchDir dir;
+  for (clip::ClipFormat format : {clip::ClipFormat::kGif, clip::ClipFormat::kWebp}) {
+    const fs::path file = WriteAnimation(dir.path() / ("wiggle" + std::string(clip::ClipFormatExtension(format))),
+                                         format, PingPong());
+    StatusOr<std::vector<cv::Mat>> frames = ReadAnimationFrames(file);
+    ASSERT_TRUE(frames.ok()) << frames.status().ToString();
+    ASSERT_EQ(frames->size(), 6u) << file;
+    const std::vector<cv::Mat> views = WithoutRepeatedFrames(*frames);
+    ASSERT_EQ(views.size(), 4u) << file;
+    // The views in order, as drawn (the GIF's palette costs a few levels).
+    const std::vector<cv::Mat> truth = PingPong();
+    for (int i = 0; i < 4; ++i) {
+      cv::Mat difference;
+      cv::absdiff(views[i], truth[i], difference);
+      EXPECT_LT(cv::mean(difference)[0], 8.0) << file << " view " << i;
+    }
+    std::vector<std::string> warnings;
+    StatusOr<Recording> recording = RecordingFromImages({file}, &warnings);
+    ASSERT_TRUE(recording.ok()) << recording.status().ToString();
+    EXPECT_EQ(recording->frames.frames.size(), 4u);
+    ASSERT_EQ(warnings.size(), 1u);
+    EXPECT_NE(warnings[0].find("2 of its 6 frames repeat"), std::string::npos) << warnings[0];
+  }
+}
+
+TEST(AnimationFramesTest, OneFrameDamagedChunksAndOtherFilesAreNamed) {
+  ScratchDir dir;
+  std::vector<std::string> warnings;
+  const fs::path single = WriteAnimation(dir.path() / "one.gif", clip::ClipFormat::kGif, {GradientNoiseBgr(64, 48, 1)});
+  StatusOr<Recording> recording = RecordingFromImages({single}, &warnings);
+  ASSERT_FALSE(recording.ok());
+  EXPECT_NE(recording.status().message().find("one.gif: holds 1 view"), std::string::npos)
+      << recording.status().message();
+
+  // A WebP whose frame chunks stop short of their stated sizes (a copy broken off).
+  const fs::path webp = WriteAnimation(dir.path() / "good.webp", clip::ClipFormat::kWebp, PingPong());
+  std::ifstream in(webp, std::ios::binary);
+  std::vector<uint8_t> bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  bytes.resize(bytes.size() * 3 / 5);
+  const fs::path garbled = WriteBytes(dir.path() / "garbled.webp", bytes);
+  StatusOr<std::vector<cv::Mat>> frames = ReadAnimationFrames(garbled);
+  ASSERT_FALSE(frames.ok());
+  EXPECT_EQ(frames.status().code(), StatusCode::kDataLoss);
+  EXPECT_NE(frames.status().message().find("garbled.webp"), std::string::npos);
+
+  const fs::path text = WriteBytes(dir.path() / "notes.gif", {'h', 'e', 'l', 'l', 'o'});
+  EXPECT_NE(ReadAnimationFrames(text).status().message().find("neither a GIF nor a WebP"), std::string::npos);
+}
+
+TEST(MultiViewFilesTest, RealStereoCamerasAndWigglegrams) {
+  const fs::path data = sim::SharedDataDir();
+  if (!fs::exists(data / "mpo")) GTEST_SKIP() << (data / "mpo").string() << " is absent (the shared real data)";
+  struct Case {
+    const char* file;
+    size_t views;
+    int width;
+    bool focal;
+  };
+  const Case cases[] = {{"mpo/nintendo3ds_mpo/sugarshack.mpo", 2, 640, false},
+                        {"mpo/nintendo3ds_mpo/3DS-big-endian.mpo", 2, 640, false},
+                        {"mpo/panasonic_gx8_3dlens_mpo/Panasonic-DMC-GX8.mpo", 2, 1824, true},
+                        {"multicam/actionsampler_onomichi_4frames/onomichi.gif", 4, 711, false},
+                        {"multicam/photobooth_pi_4cam_person/wigglegram-example-charuco-calibrated.webp", 4, 1200,
+                         false}};
+  for (const Case& c : cases) {
+    std::vector<std::string> warnings;
+    StatusOr<Recording> recording = RecordingFromImages({data / c.file}, &warnings);
+    ASSERT_TRUE(recording.ok()) << recording.status().ToString();
+    ASSERT_EQ(recording->frames.frames.size(), c.views) << c.file;
+    EXPECT_EQ(recording->frames.frames[0].image.width, c.width) << c.file;
+    // The 3D lens's EXIF: 65 mm equivalent (each image is half the sensor), about 3500 px.
+    if (c.focal) {
+      EXPECT_NEAR(recording->frames.frames[1].focal_length_px, 3500, 150) << c.file;
+    }
+  }
+}
+
+}  // namespace
+}  // namespace px
