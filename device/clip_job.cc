@@ -187,12 +187,23 @@ StatusOr<ClipJobReport> RunClipJob(const Recording& recording,
   report.report_path = ClipReportPathFor(report.clip_path);
   report.source_model = recording.source.model;
   RigCalibration rig;
+  PipelineOptions pipeline_options = options.pipeline;
   if (recording.source.rig) {
     rig = *recording.source.rig;
   } else if (recording.frames.kind == FrameSetKind::kLatticeFrame) {
-    return FailedPreconditionError(report.recording_dir.string() +
-                                   ": the recording has no rig calibration, and a lattice frame cannot be "
-                                   "split into views without one");
+    // No rig calibration: the pipeline finds the lattice blind and poses its tiles by structure
+    // from motion, with what the source knows of the lattice.
+    if (recording.source.lattice) {
+      pipeline_options.lattice.rows = recording.source.lattice->rows;
+      pipeline_options.lattice.cols = recording.source.lattice->cols;
+      pipeline_options.lattice.orientation = recording.source.lattice->orientation;
+    }
+    log->info("{}: a lattice frame without a rig calibration: its lattice is found blind ({} tiles, {})",
+              report.recording_dir.string(),
+              pipeline_options.lattice.rows > 0 ? std::to_string(pipeline_options.lattice.rows) + "x" +
+                                                       std::to_string(pipeline_options.lattice.cols)
+                                                 : std::string("any number of"),
+              std::string(TileOrientationName(pipeline_options.lattice.orientation)));
   }
 
   clip::ClipOptions clip_options = options.clip;
@@ -201,7 +212,7 @@ StatusOr<ClipJobReport> RunClipJob(const Recording& recording,
   const fs::path temp = TemporaryPathFor(report.clip_path);
   RemoveOnExit remove_temp(temp);
   ClipSink sink(temp, clip_options);
-  StatusOr<PipelineReport> pipeline = RunPipeline(recording.frames, rig, options.pipeline, &sink, progress);
+  StatusOr<PipelineReport> pipeline = RunPipeline(recording.frames, rig, pipeline_options, &sink, progress);
   if (!pipeline.ok()) return pipeline.status();
   report.pipeline = std::move(pipeline).value();
   PX_RETURN_IF_ERROR(sink.Finish().WithContext(temp.string()));

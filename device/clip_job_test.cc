@@ -192,12 +192,16 @@ TEST_F(ClipJobTest, PhotosInMemoryMakeAClipNamedAfterTheirFolder) {
   EXPECT_EQ(nlohmann::json::parse(*text)["source"], "import");
 }
 
-TEST_F(ClipJobTest, LatticeRecordingWithoutRigFailsAndLeavesNoClip) {
+// A lattice frame without a rig calibration is processed, not refused: its lattice is found blind
+// (a raw sensor's tiles, each turned by its lens, as the pipeline assumes when the recording says
+// nothing of its lattice) and its tiles posed by structure from motion.
+TEST_F(ClipJobTest, LatticeRecordingWithoutRigIsFoundBlind) {
   const fs::path recording = SaveSimRecording(/*with_rig=*/false);
   auto report = RunClipJob(recording, dir() / "clips" / "x.mp4", SmallClipOptions());
-  EXPECT_EQ(report.status().code(), StatusCode::kFailedPrecondition);
-  EXPECT_THAT(report.status().message(), HasSubstr("no rig calibration"));
-  EXPECT_TRUE(ClipsFolder().empty());
+  ASSERT_TRUE(report.ok()) << report.status().ToString();
+  EXPECT_EQ(report->pipeline.calibration, "structure from motion (no rig calibration)");
+  EXPECT_EQ(report->pipeline.num_views, 9);
+  EXPECT_EQ(ClipsFolder(), (std::vector<std::string>{"x.json", "x.mp4"}));
 }
 
 TEST_F(ClipJobTest, CancelledJobLeavesNoClipOrTemporary) {

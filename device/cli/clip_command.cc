@@ -1,5 +1,6 @@
 #include "device/cli/clip_command.h"
 
+#include <cctype>
 #include <cstdio>
 #include <filesystem>
 #include <memory>
@@ -55,6 +56,13 @@ StatusOr<clip::ClipFormat> ChooseFormat(const ClipArgs& args) {
     if (output.extension() == clip::ClipFormatExtension(format)) return format;
   }
   return clip::ClipFormat::kMp4;
+}
+
+// A JPEG or PNG file (by its name): one photo, which holds several views only as a lattice.
+bool IsSinglePhoto(const std::filesystem::path& path) {
+  std::string extension = path.extension().string();
+  for (char& c : extension) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return std::filesystem::is_regular_file(path) && (extension == ".jpg" || extension == ".jpeg" || extension == ".png");
 }
 
 // A folder without a recording's manifest, read as photos taken by hand, or a file holding
@@ -130,6 +138,13 @@ Status RunClip(const ClipArgs& args) {
   device::ClipJobReport report;
   if (std::filesystem::exists(source / "manifest.json")) {
     PX_ASSIGN_OR_RETURN(report, device::RunClipJob(source, output, options, show));
+  } else if (IsSinglePhoto(source)) {
+    // One photo: a lattice of views (a film scan, a multi-lens frame), found blind.
+    std::vector<std::string> warnings;
+    PX_ASSIGN_OR_RETURN(Recording recording, RecordingFromLatticePhoto(source, LatticeHint{}, &warnings));
+    for (const std::string& warning : warnings) log->warn("{}", warning);
+    log->info("{}: one photo, taken as a lattice of views (found blind)", source.string());
+    PX_ASSIGN_OR_RETURN(report, device::RunClipJob(recording, std::filesystem::absolute(source), output, options, show));
   } else {
     PX_ASSIGN_OR_RETURN(Recording recording, PhotoFolderAsRecording(source));
     PX_ASSIGN_OR_RETURN(report, device::RunClipJob(recording, std::filesystem::absolute(source), output, options, show));

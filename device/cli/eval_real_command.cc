@@ -27,6 +27,7 @@ namespace fs = std::filesystem;
 struct EvalRealArgs {
   std::vector<std::string> data;  // sets; empty = the standard real sets under ../shared/data
   std::vector<std::string> parts = {"loo", "path"};
+  std::string lattice;  // a lattice photo's size given with --data; "" = known or auto
   std::string dump_dir;
   int max_photo_side_px = PipelineOptions{}.image_set_max_side_px;
   double duration_s = 5.0;
@@ -106,31 +107,31 @@ nlohmann::json OutcomeJson(const SetOutcome& o) {
 
 void PrintOutcomes(const std::vector<SetOutcome>& outcomes) {
   std::printf("\nleave-one-out novel views (PSNR dB / SSIM; edge: PSNR within 3 px of our render's depth edges)\n");
-  std::printf("%-40s %5s %5s  %-21s %-21s %-21s %8s\n", "set", "views", "held", "ours dB/SSIM/edge",
+  std::printf("%-52s %5s %5s  %-21s %-21s %-21s %8s\n", "set", "views", "held", "ours dB/SSIM/edge",
               "nearest dB/SSIM/edge", "plane dB/SSIM/edge", "invented");
   for (const SetOutcome& o : outcomes) {
     if (!o.loo) {
-      if (!o.loo_skipped.empty()) std::printf("%-40s skipped: %s\n", o.name.c_str(), o.loo_skipped.c_str());
+      if (!o.loo_skipped.empty()) std::printf("%-52s skipped: %s\n", o.name.c_str(), o.loo_skipped.c_str());
       continue;
     }
     const eval::LeaveOneOutMeans m = eval::Means(*o.loo);
     const eval::ImageScores &ours = m.ours, &nearest = m.nearest, &plane = m.plane;
     const double invented = m.invented;
-    std::printf("%-40s %5d %5zu  %6.2f %.3f %6.2f   %6.2f %.3f %6.2f   %6.2f %.3f %6.2f   %7.2f%%\n", o.name.c_str(),
+    std::printf("%-52s %5d %5zu  %6.2f %.3f %6.2f   %6.2f %.3f %6.2f   %6.2f %.3f %6.2f   %7.2f%%\n", o.name.c_str(),
                 o.views, o.loo->cases.size(), ours.psnr_db, ours.ssim, ours.psnr_edges_db, nearest.psnr_db,
                 nearest.ssim, nearest.psnr_edges_db, plane.psnr_db, plane.ssim, plane.psnr_edges_db, 100 * invented);
   }
   std::printf("\nthe automatic clip (means over its frames, worst frame in brackets)\n");
-  std::printf("%-40s %-9s %-20s %-9s %-17s %-17s %-17s %-15s %6s\n", "set", "mode", "move", "size", "torn %",
+  std::printf("%-52s %-9s %-20s %-9s %-17s %-17s %-17s %-15s %6s\n", "set", "mode", "move", "size", "torn %",
               "double %", "flicker %", "holes %", "s");
   for (const SetOutcome& o : outcomes) {
     if (!o.path) {
-      if (!o.path_skipped.empty()) std::printf("%-40s failed: %s\n", o.name.c_str(), o.path_skipped.c_str());
+      if (!o.path_skipped.empty()) std::printf("%-52s failed: %s\n", o.name.c_str(), o.path_skipped.c_str());
       continue;
     }
     const eval::PathResult& p = *o.path;
     const std::string size = std::to_string(p.width) + "x" + std::to_string(p.height);
-    std::printf("%-40s %-9s %-20s %-9s %6.3f (%6.3f) %6.3f (%6.3f) %6.3f (%6.3f) %5.2f (%5.2f) %6.1f\n", o.name.c_str(),
+    std::printf("%-52s %-9s %-20s %-9s %6.3f (%6.3f) %6.3f (%6.3f) %6.3f (%6.3f) %5.2f (%5.2f) %6.1f\n", o.name.c_str(),
                 p.mode.c_str(), p.move.c_str(), size.c_str(), 100 * p.torn, 100 * p.torn_max, 100 * p.double_image,
                 100 * p.double_image_max, 100 * p.flicker, 100 * p.flicker_max, 100 * p.holes, 100 * p.holes_max,
                 p.seconds);
@@ -229,7 +230,8 @@ Status RunEvalReal(const EvalRealArgs& args) {
   for (const fs::path& set_path : paths) {
     SetOutcome outcome;
     outcome.name = SetName(set_path);
-    StatusOr<eval::RealSet> set = eval::LoadRealSet(set_path, outcome.name);
+    StatusOr<eval::RealSet> set =
+        eval::LoadRealSet(set_path, outcome.name, args.lattice.empty() ? eval::KnownLatticeSize(set_path) : args.lattice);
     if (!set.ok()) {
       outcome.loo_skipped = outcome.path_skipped = set.status().message();
       outcomes.push_back(outcome);
@@ -290,7 +292,11 @@ void AddEvalRealCommand(CLI::App& eval) {
       "warp of it; and the automatic clip measured along its path (torn pixels, double images, flicker, holes)");
   real->add_option("--data", args->data,
                    "Real sets to score instead of the standard ones under ../shared/data (repeatable): a folder of "
-                   "photos, an LLFF folder (poses_bounds.npy) or an HCI light-field folder (parameters.cfg)");
+                   "photos, an LLFF folder (poses_bounds.npy), an HCI light-field folder (parameters.cfg), an MPO "
+                   "file, an animated GIF or WebP, or one photo of a lattice of views");
+  real->add_option("--lattice", args->lattice,
+                   "The size of the lattice in the photos given with --data (auto: found blind; RxC, e.g. 1x3); by "
+                   "default auto, or what the standard set is known to hold");
   real->add_option("--part", args->parts, "What to run (repeatable): loo (leave-one-out), path (the automatic clip)")
       ->capture_default_str();
   real->add_option("--dump", args->dump_dir,

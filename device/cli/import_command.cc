@@ -17,9 +17,30 @@ namespace {
 struct ImportArgs {
   std::vector<std::string> inputs;
   std::string output;
+  std::string lattice;  // "" = photos; "auto" or "RxC": one photo of a lattice of views
 };
 
+// One photo holding a lattice of views, as a lattice-frame recording to be split blind.
+Status RunImportLattice(const ImportArgs& args) {
+  const auto log = Logger("import");
+  if (args.inputs.size() != 1) {
+    return InvalidArgumentError("--lattice takes one photo of a lattice, got " + std::to_string(args.inputs.size()));
+  }
+  PX_ASSIGN_OR_RETURN(LatticeHint hint, ParseLatticeSize(args.lattice));
+  std::vector<std::string> warnings;
+  PX_ASSIGN_OR_RETURN(Recording recording, RecordingFromLatticePhoto(args.inputs[0], hint, &warnings));
+  for (const std::string& warning : warnings) log->warn("{}", warning);
+  PX_RETURN_IF_ERROR(WriteRecording(args.output, recording));
+  const Frame& frame = recording.frames.frames[0];
+  log->info("wrote recording {}: a lattice frame of {}x{} ({}), no rig calibration: split blind when processed",
+            args.output, frame.image.width, frame.image.height,
+            hint.rows > 0 ? std::to_string(hint.rows) + "x" + std::to_string(hint.cols) + " tiles" : "lattice found blind");
+  std::printf("%s\n", args.output.c_str());
+  return OkStatus();
+}
+
 Status RunImport(const ImportArgs& args) {
+  if (!args.lattice.empty()) return RunImportLattice(args);
   const auto log = Logger("import");
   std::vector<std::filesystem::path> inputs(args.inputs.begin(), args.inputs.end());
   PX_ASSIGN_OR_RETURN(std::vector<std::filesystem::path> files, ListImages(inputs));
@@ -53,6 +74,10 @@ void AddImportCommand(CLI::App& app) {
       ->required();
   command->add_option("-o,--output", args->output, "Recording folder to create (must not exist or be empty)")
       ->required();
+  command->add_option("--lattice", args->lattice,
+                      "The one photo holds a lattice of views (a film scan of a Nishika, Nimslo, ActionSampler or "
+                      "Pop9 frame, a multi-lens or wiggle lens's frame, a side-by-side stereo JPEG): auto (found "
+                      "blind) or RxC, e.g. 1x4; posed later by structure from motion");
   command->callback(RunOrFail("import", [args]() { return RunImport(*args); }));
 }
 

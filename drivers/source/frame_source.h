@@ -27,6 +27,9 @@ struct SourceDescription {
   std::string model;                 // "sim:pop9", "replay:/path", "v4l2:/dev/video0"
   FrameSetKind kind = FrameSetKind::kLatticeFrame;
   std::optional<RigCalibration> rig; // the factory calibration, when the source knows it
+  // A lattice frame without a rig calibration: what is known of its lattice (a lattice photo's
+  // upright tiles, the count the user gave), for finding it blind.
+  std::optional<LatticeHint> lattice;
 };
 
 enum class ConfigureResult {

@@ -164,8 +164,9 @@ LeaveOneOutMeans Means(const LeaveOneOutResult& result) {
 StatusOr<LeaveOneOutResult> EvaluateLeaveOneOut(const RealSet& set, const LeaveOneOutOptions& options) {
   LeaveOneOutResult result;
   result.set = set.name;
+  const bool lattice_photo = set.capture.kind == FrameSetKind::kLatticeFrame;
   result.num_views = static_cast<int>(set.capture.frames.size());
-  if (result.num_views < 3) {
+  if (!lattice_photo && result.num_views < 3) {
     return FailedPreconditionError(set.name + ": " + std::to_string(result.num_views) +
                                    " views; leaving one out needs at least 3");
   }
@@ -176,12 +177,18 @@ StatusOr<LeaveOneOutResult> EvaluateLeaveOneOut(const RealSet& set, const LeaveO
   std::vector<std::string> warnings;
   std::vector<StageTiming> timings;
   StatusOr<CalibratedViews> calibrated = CalibrateCapture(capture, RigCalibration{}, CalibOptions{},
-                                                          calib::RigRefinementOptions{}, options.sfm, &warnings, &timings);
+                                                          calib::RigRefinementOptions{}, options.sfm, &warnings, &timings,
+                                                          set.lattice);
   if (!calibrated.ok()) {
     return FailedPreconditionError(set.name + ": not posed (" + calibrated.status().message() + ")");
   }
   const std::vector<View>& views = calibrated->views;
   result.num_posed = static_cast<int>(views.size());
+  std::vector<int> held_out = set.held_out;
+  if (lattice_photo) {  // its views are its tiles, known now
+    result.num_views = result.num_posed;
+    held_out = HeldOutViews(result.num_posed);
+  }
   result.calibration = calibrated->calibration + (calibrated->summary.empty() ? "" : ": " + calibrated->summary);
   if (result.num_posed < 3) {
     return FailedPreconditionError(set.name + ": only " + std::to_string(result.num_posed) + " of " +
@@ -190,9 +197,11 @@ StatusOr<LeaveOneOutResult> EvaluateLeaveOneOut(const RealSet& set, const LeaveO
   for (const std::string& warning : warnings) result.notes.push_back(warning);
   const DepthOptions depth_options = options.depth.WithDefaultDepthRange(calibrated->depth_min_m, calibrated->depth_max_m);
 
-  for (int held : set.held_out) {
+  for (int held : held_out) {
     const auto target = std::find_if(views.begin(), views.end(), [&](const View& v) { return v.id.value == held; });
-    const std::string view_name = held < static_cast<int>(set.view_names.size()) ? set.view_names[held] : "";
+    const std::string view_name = lattice_photo                                      ? "tile " + std::to_string(held)
+                                  : held < static_cast<int>(set.view_names.size()) ? set.view_names[held]
+                                                                                   : "";
     if (target == views.end()) {
       result.notes.push_back("view " + std::to_string(held) + " (" + view_name + ") was not posed: not scored");
       continue;

@@ -180,6 +180,7 @@ StatusOr<PathResult> EvaluatePath(const RealSet& set, const PathEvalOptions& opt
   PipelineOptions pipeline = options.pipeline;
   pipeline.render_backend.backend = render::gl::RenderBackend::kCpu;
   pipeline.render.measure_double_images = true;
+  if (set.capture.kind == FrameSetKind::kLatticeFrame) pipeline.lattice = set.lattice;
   pipeline.observer = &watcher;
   if (options.progress) options.progress(set.name + ": the automatic clip");
   PX_ASSIGN_OR_RETURN(PipelineReport report, RunPipeline(set.capture, RigCalibration{}, pipeline, &watcher));

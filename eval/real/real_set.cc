@@ -84,6 +84,26 @@ Status LoadHciPhotos(const fs::path& path, RealSet* set) {
   return OkStatus();
 }
 
+bool IsSinglePhoto(const fs::path& path) {
+  std::string extension = path.extension().string();
+  for (char& c : extension) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  std::error_code error;
+  return fs::is_regular_file(path, error) && (extension == ".jpg" || extension == ".jpeg" || extension == ".png");
+}
+
+Status LoadLatticePhoto(const fs::path& path, const std::string& size, RealSet* set) {
+  set->layout = "lattice photo";
+  PX_ASSIGN_OR_RETURN(LatticeHint hint, ParseLatticeSize(size));
+  std::vector<std::string> warnings;
+  PX_ASSIGN_OR_RETURN(Recording recording, RecordingFromLatticePhoto(path, hint, &warnings));
+  set->capture = std::move(recording.frames);
+  set->lattice.rows = hint.rows;
+  set->lattice.cols = hint.cols;
+  set->lattice.orientation = hint.orientation;
+  set->view_names = {path.filename().string()};
+  return OkStatus();
+}
+
 }  // namespace
 
 std::vector<int> HeldOutViews(int num_views) {
@@ -104,6 +124,9 @@ std::vector<fs::path> StandardRealSets(const fs::path& data_dir, std::vector<std
       "llff_flower",
       "hci_4dlf_antinous",
       "lytro_illum_2067_center5x5",
+      "lattice_frames/nishika_n8000_scan_1x4/img_small.jpg",
+      "lattice_frames/wigglelens_3view_plants/plants.jpg",
+      "lattice_frames/actionsampler_2x2_face/imm000_0.jpg",
       "multicam/actionsampler_onomichi_4frames/onomichi.gif",
       "multicam/photobooth_pi_4cam_person/wigglegram-example-charuco-calibrated.webp",
       "mpo/nintendo3ds_mpo/sugarshack.mpo",
@@ -123,7 +146,11 @@ std::vector<fs::path> StandardRealSets(const fs::path& data_dir, std::vector<std
   return sets;
 }
 
-StatusOr<RealSet> LoadRealSet(const fs::path& path, const std::string& name) {
+std::string KnownLatticeSize(const fs::path& path) {
+  return path.filename() == "plants.jpg" && path.parent_path().filename() == "wigglelens_3view_plants" ? "1x3" : "auto";
+}
+
+StatusOr<RealSet> LoadRealSet(const fs::path& path, const std::string& name, const std::string& lattice) {
   std::error_code error;
   if (!fs::exists(path, error)) return NotFoundError(path.string() + ": no such file or folder");
   RealSet set;
@@ -134,6 +161,9 @@ StatusOr<RealSet> LoadRealSet(const fs::path& path, const std::string& name) {
     PX_RETURN_IF_ERROR(LoadLlffPhotos(path, &set));
   } else if (fs::exists(path / "parameters.cfg", error)) {
     PX_RETURN_IF_ERROR(LoadHciPhotos(path, &set));
+  } else if (IsSinglePhoto(path)) {
+    PX_RETURN_IF_ERROR(LoadLatticePhoto(path, lattice, &set));
+    return set;
   } else {
     PX_RETURN_IF_ERROR(LoadPhotoFolder(path, &set));
   }

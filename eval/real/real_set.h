@@ -6,7 +6,10 @@
 //  - an LLFF folder (poses_bounds.npy, images_8/): the photos with the focal length the set's
 //    metadata gives (a phone's EXIF would), its poses ignored;
 //  - an HCI light field folder (parameters.cfg): its 3x3 of every 4th view (the 9x9's corners,
-//    edge centres and centre, the widest Pop9-like lattice in it), with the focal length.
+//    edge centres and centre, the widest Pop9-like lattice in it), with the focal length;
+//  - one photo of a lattice of views (a film scan, a multi-lens frame): a lattice frame without a
+//    rig calibration, its lattice found blind (or of the size given) and its tiles posed by
+//    structure from motion, as `parallax clip FRAME.jpg` does.
 #pragma once
 
 #include <filesystem>
@@ -14,6 +17,7 @@
 #include <vector>
 
 #include "pipeline/core/frame_set.h"
+#include "pipeline/lattice/lattice_options.h"
 #include "pipeline/core/status.h"
 
 namespace px::eval {
@@ -21,11 +25,13 @@ namespace px::eval {
 struct RealSet {
   std::string name;            // "handheld/kpankov_office_4views": the path under the data folder
   std::filesystem::path path;
-  std::string layout;          // "photo folder", "LLFF", "HCI light field"
-  FrameSet capture;            // kImageSet, frame i = view i
+  std::string layout;          // "photo folder", "LLFF", "HCI light field", "lattice photo", ...
+  FrameSet capture;            // kImageSet, frame i = view i; or kLatticeFrame, one photo
+  LatticeOptions lattice;      // a lattice photo's: finding its lattice blind (tiles upright)
   std::vector<std::string> view_names;  // a file name per frame
-  // The frames held out in turn: every frame of a set of up to 9 views; in larger sets every
-  // 8th (LLFF's protocol: 0, 8, 16, ...), each still left out alone.
+  // The views held out in turn: every view of a set of up to 9; in larger sets every 8th
+  // (LLFF's protocol: 0, 8, 16, ...), each still left out alone. Empty for a lattice photo, whose
+  // views (tiles) are known once it is split: HeldOutViews of their number.
   std::vector<int> held_out;
 };
 
@@ -34,9 +40,15 @@ struct RealSet {
 std::vector<std::filesystem::path> StandardRealSets(const std::filesystem::path& data_dir,
                                                     std::vector<std::string>* missing);
 
-// Reads the set at `path` by its layout; `name` labels it. Errors name the file and the reason:
-// no such path, no images, an image that cannot be decoded.
-StatusOr<RealSet> LoadRealSet(const std::filesystem::path& path, const std::string& name);
+// Reads the set at `path` by its layout; `name` labels it; `lattice` ("auto" or "RxC") is the
+// size of a lattice photo's lattice. Errors name the file and the reason: no such path, no
+// images, an image that cannot be decoded.
+StatusOr<RealSet> LoadRealSet(const std::filesystem::path& path, const std::string& name,
+                              const std::string& lattice = "auto");
+
+// The lattice size a standard set's photo is known to hold ("auto" for the rest): the wiggle
+// lens's three abutting tiles, which no gap tells apart.
+std::string KnownLatticeSize(const std::filesystem::path& path);
 
 // Which frames a set of `num_views` holds out (see RealSet::held_out).
 std::vector<int> HeldOutViews(int num_views);

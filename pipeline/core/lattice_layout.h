@@ -19,6 +19,16 @@ enum class TileOrientation { kUpright, kRotated180, kMirroredX, kMirroredY };
 std::string_view TileOrientationName(TileOrientation orientation);  // "upright", "rotated180", ...
 StatusOr<TileOrientation> ParseTileOrientation(std::string_view name);
 
+// What a source knows of its lattice without a calibration: how many tiles (0 = unknown, found
+// blind) and how each tile's picture lies in the frame (a photo of a film scan or a multi-lens
+// frame, turned upright to be looked at, has upright tiles; a raw sensor's are turned 180 degrees
+// by their lenses).
+struct LatticeHint {
+  int rows = 0;
+  int cols = 0;
+  TileOrientation orientation = TileOrientation::kUpright;
+};
+
 struct Tile {
   static constexpr double kMaxRotationDeg = 45.0;
 

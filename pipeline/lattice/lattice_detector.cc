@@ -655,6 +655,30 @@ std::string LatticeReport::Summary() const {
   return out.str();
 }
 
+// The frame cut into rows x cols equal tiles: a lattice of the size the user gave whose tiles abut
+// (a wiggle lens's sub-images, vignetted towards each other), so that no gap stands out to find.
+LatticeDetection EvenSplit(const cv::Size& size, const LatticeOptions& options, const std::string& why) {
+  LatticeDetection detection;
+  LatticeReport& report = detection.report;
+  report.rows = options.rows;
+  report.cols = options.cols;
+  for (int r = 0; r < options.rows; ++r) {
+    for (int c = 0; c < options.cols; ++c) {
+      DetectedTile tile;
+      tile.row = r;
+      tile.col = c;
+      const int x0 = c * size.width / options.cols, x1 = (c + 1) * size.width / options.cols;
+      const int y0 = r * size.height / options.rows, y1 = (r + 1) * size.height / options.rows;
+      tile.rect = cv::Rect(x0, y0, x1 - x0, y1 - y0);
+      report.tiles.push_back(tile);
+    }
+  }
+  detection.layout = LayoutFromTiles(report.tiles, options.rows, options.cols, size,
+                                     std::vector<TileOrientation>(options.rows * options.cols, options.orientation));
+  report.evidence = {Format("%.0f columns x %.0f rows as given, cut evenly: ", options.cols, options.rows) + why};
+  return detection;
+}
+
 StatusOr<LatticeDetection> DetectLattice(const cv::Mat& sensor_bgr, const LatticeOptions& options,
                                          const LatticeLayout* prior) {
   const auto start = std::chrono::steady_clock::now();
@@ -667,6 +691,19 @@ StatusOr<LatticeDetection> DetectLattice(const cv::Mat& sensor_bgr, const Lattic
   }
   StatusOr<LatticeDetection> detection = prior != nullptr ? DetectNearPrior(frame, options, *prior)
                                                           : DetectBlind(frame, options);
+  if (!detection.ok() && prior == nullptr && options.rows > 0 && options.cols > 0 &&
+      detection.status().code() == StatusCode::kNotFound) {
+    // The size is known and no gap stands out. When nothing in the frame shows another lattice
+    // either (the tiles abut), cut it evenly; a frame that shows another lattice is refused.
+    LatticeOptions any_size = options;
+    any_size.rows = any_size.cols = 0;
+    const StatusOr<LatticeDetection> other = DetectBlind(frame, any_size);
+    // An axis along which no gap stands out (a count of 1) says nothing against the size given.
+    const auto contradicts = [](int found, int given) { return found > 1 && found != given; };
+    if (!other.ok() || (!contradicts(other->report.rows, options.rows) && !contradicts(other->report.cols, options.cols))) {
+      detection = EvenSplit(frame.grey.size(), options, "no gap stands out (" + detection.status().message() + ")");
+    }
+  }
   if (detection.ok()) {
     detection->report.ms =
         MsSince(start);

@@ -55,7 +55,10 @@ struct LatticeDetection {
 // bad options, an empty or wrongly typed frame, a prior of another aspect ratio; NOT_FOUND, with
 // the reason, when no lattice can be found (a blank frame, no gaps, an ambiguous period, a
 // micro-lens image, tiles of wildly different sizes, edges that fit no tile, a frame that does
-// not show the prior's lattice, a confidence below options.min_confidence).
+// not show the prior's lattice, a confidence below options.min_confidence). Blind, with both
+// options.rows and options.cols given, a frame whose gaps cannot be found, and that shows no
+// lattice of another size either, is cut into equal tiles (abutting tiles, as a wiggle lens's),
+// confidence 0, the evidence saying so.
 StatusOr<LatticeDetection> DetectLattice(const cv::Mat& sensor_bgr, const LatticeOptions& options,
                                          const LatticeLayout* prior = nullptr);
 

@@ -259,7 +259,8 @@ StatusOr<CalibratedViews> ImageSetViews(const FrameSet& capture, const RigCalibr
 // length is self-calibrated: unobservable on a lattice of parallel lenses, which the report says).
 StatusOr<CalibratedViews> BlindLatticeViews(const FrameSet& capture, const RigCalibration& rig,
                                             const CalibOptions& calib_options, const calib::SfmOptions& sfm,
-                                            std::vector<std::string>* warnings, std::vector<StageTiming>* timings) {
+                                            const LatticeOptions& lattice, std::vector<std::string>* warnings,
+                                            std::vector<StageTiming>* timings) {
   const Clock::time_point lattice_start = Clock::now();
   size_t chosen = capture.frames.size();
   for (size_t i = 0; i < capture.frames.size() && chosen == capture.frames.size(); ++i) {
@@ -268,7 +269,7 @@ StatusOr<CalibratedViews> BlindLatticeViews(const FrameSet& capture, const RigCa
   if (chosen == capture.frames.size()) return UnusableFrameError(capture, 0);
   const std::string name = FrameName(capture, chosen);
   PX_ASSIGN_OR_RETURN(cv::Mat sensor, ToBgr(capture.frames[chosen].image));
-  StatusOr<LatticeDetection> found = DetectLattice(sensor, LatticeOptions());
+  StatusOr<LatticeDetection> found = DetectLattice(sensor, lattice);
   if (!found.ok()) {
     return FailedPreconditionError(name + ": no rig calibration, and the lattice cannot be found blind: " +
                                    found.status().message());
@@ -284,7 +285,9 @@ StatusOr<CalibratedViews> BlindLatticeViews(const FrameSet& capture, const RigCa
   std::vector<calib::SfmImage> images;
   std::vector<size_t> view_ids;
   std::vector<std::string> image_names;
-  int with_intrinsics = 0;
+  int with_intrinsics = 0, with_metadata_focal = 0;
+  // A photo's focal length (EXIF) is the lenses' too: they share the frame's pixels.
+  const double frame_focal_px = capture.frames[chosen].focal_length_px;
   for (size_t i = 0; i < tiles.size(); ++i) {
     calib::SfmImage image;
     image.image = tiles[i];
@@ -296,6 +299,10 @@ StatusOr<CalibratedViews> BlindLatticeViews(const FrameSet& capture, const RigCa
         ++with_intrinsics;
       }
     }
+    if (image.intrinsics.fx == 0 && frame_focal_px > 0) {
+      image.intrinsics = CameraModel::Pinhole(tiles[i].cols, tiles[i].rows, frame_focal_px);
+      ++with_metadata_focal;
+    }
     images.push_back(std::move(image));
     view_ids.push_back(i);
     image_names.push_back("view " + std::to_string(i));
@@ -303,6 +310,10 @@ StatusOr<CalibratedViews> BlindLatticeViews(const FrameSet& capture, const RigCa
   if (with_intrinsics > 0) {
     warnings->push_back("calib: lens intrinsics of " + std::to_string(with_intrinsics) + " of " +
                         std::to_string(tiles.size()) + " tiles from the rig calibration's lenses (no layout)");
+  }
+  if (with_metadata_focal > 0) {
+    warnings->push_back("calib: the lenses' focal length from the frame's metadata (" +
+                        capture.frames[chosen].focal_length_source + ")");
   }
   PX_ASSIGN_OR_RETURN(CalibratedViews out, SfmViews(name, images, view_ids, image_names, calib_options, sfm, warnings));
   out.calibration = "structure from motion (no rig calibration)";
@@ -323,14 +334,14 @@ std::string FrameName(const FrameSet& capture, size_t index) {
 StatusOr<CalibratedViews> CalibrateCapture(const FrameSet& capture, const RigCalibration& rig,
                                            const CalibOptions& calib, const calib::RigRefinementOptions& refinement,
                                            const calib::SfmOptions& sfm, std::vector<std::string>* warnings,
-                                           std::vector<StageTiming>* timings) {
+                                           std::vector<StageTiming>* timings, const LatticeOptions& blind_lattice) {
   if (capture.kind == FrameSetKind::kImageSet) {
     return ImageSetViews(capture, rig, calib, sfm, warnings, timings);
   }
   if (capture.frames.empty()) {
     return InvalidArgumentError("capture " + std::to_string(capture.capture_id) + " holds no frames");
   }
-  if (rig.lattice.rows == 0) return BlindLatticeViews(capture, rig, calib, sfm, warnings, timings);
+  if (rig.lattice.rows == 0) return BlindLatticeViews(capture, rig, calib, sfm, blind_lattice, warnings, timings);
   PX_RETURN_IF_ERROR(rig.Validate().WithContext("rig calibration '" + rig.rig_name + "'"));
 
   const Clock::time_point lattice_start = Clock::now();

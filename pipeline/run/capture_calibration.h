@@ -14,6 +14,7 @@
 #include "pipeline/core/rig_calibration.h"
 #include "pipeline/core/status.h"
 #include "pipeline/core/view.h"
+#include "pipeline/lattice/lattice_options.h"
 #include "pipeline/run/pipeline.h"
 
 namespace px {
@@ -28,12 +29,13 @@ struct CalibratedViews {
 };
 
 // Splits the lattice frame and makes the views, timing both stages ("lattice", "calib" in
-// `timings`); image sets go through structure from motion instead. What was worked around is
-// in `warnings`.
+// `timings`); image sets go through structure from motion instead. A lattice frame without a rig
+// calibration has its lattice found blind with `lattice` (its size when known, its tiles'
+// orientation). What was worked around is in `warnings`.
 StatusOr<CalibratedViews> CalibrateCapture(const FrameSet& capture, const RigCalibration& rig,
                                            const CalibOptions& calib, const calib::RigRefinementOptions& refinement,
                                            const calib::SfmOptions& sfm, std::vector<std::string>* warnings,
-                                           std::vector<StageTiming>* timings);
+                                           std::vector<StageTiming>* timings, const LatticeOptions& lattice = {});
 
 // "frame i" or the frame's file name, for warnings that name a frame.
 std::string FrameName(const FrameSet& capture, size_t index);

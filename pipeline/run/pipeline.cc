@@ -143,7 +143,8 @@ Status RenderFrames(const std::vector<View>& views, SceneRenderer* renderer, Fra
 }
 
 // An image set that cannot be calibrated: its usable images become views without poses or
-// depth, and the direction stage morphs between two of them (or pans over one).
+// depth, and the direction stage morphs between two of them (or pans over one); a lattice frame
+// whose lattice cannot be found or posed is one such image.
 StatusOr<PipelineReport> RunUncalibrated(const FrameSet& capture, const Status& why, const PipelineOptions& options,
                                          FrameSink* sink,
                                          const std::function<Status(const char*, double)>& report_progress,
@@ -177,7 +178,8 @@ StatusOr<PipelineReport> RunUncalibrated(const FrameSet& capture, const Status& 
   if (views.empty()) return FailedPreconditionError("capture " + std::to_string(capture.capture_id) + ": no usable image; " + why.message());
   report.num_views = static_cast<int>(views.size());
   report.timings.push_back({"decode", MsSince(start)});
-  const std::string reason = "image set without calibration (" + why.message() + ")";
+  const std::string reason = std::string(capture.kind == FrameSetKind::kImageSet ? "image set" : "lattice frame") +
+                             " without calibration (" + why.message() + ")";
   report.warnings.push_back(reason);
   log->warn("{}: morphing instead", reason);
 
@@ -201,6 +203,7 @@ Status PipelineOptions::Validate() const {
   PX_RETURN_IF_ERROR(calib.Validate());
   PX_RETURN_IF_ERROR(refinement.Validate().WithContext("pipeline.refinement"));
   PX_RETURN_IF_ERROR(sfm.Validate().WithContext("pipeline.sfm"));
+  PX_RETURN_IF_ERROR(lattice.Validate().WithContext("pipeline.lattice"));
   PX_RETURN_IF_ERROR(depth.Validate());
   PX_RETURN_IF_ERROR(direct.Validate());
   PX_RETURN_IF_ERROR(render.Validate());
@@ -250,10 +253,12 @@ StatusOr<PipelineReport> RunPipeline(const FrameSet& shot, const RigCalibration&
   // Stages 1 and 2: lattice and calibrated views.
   PX_RETURN_IF_ERROR(report_progress("lattice", 0));
   StatusOr<CalibratedViews> made = CalibrateCapture(capture, rig, options.calib, options.refinement, options.sfm,
-                                                    &report.warnings, &report.timings);
-  if (!made.ok() && capture.kind == FrameSetKind::kImageSet &&
+                                                    &report.warnings, &report.timings, options.lattice);
+  const bool blind_lattice = capture.kind == FrameSetKind::kLatticeFrame && rig.lattice.rows == 0;
+  if (!made.ok() && (capture.kind == FrameSetKind::kImageSet || blind_lattice) &&
       (made.status().code() == StatusCode::kUnimplemented || made.status().code() == StatusCode::kFailedPrecondition)) {
-    // Never fail the button: images that cannot be calibrated still morph (paper 4.5).
+    // Never fail the button: images that cannot be calibrated still morph (paper 4.5); a photo
+    // whose lattice cannot be found or posed gets a pan and zoom over the whole of it.
     return RunUncalibrated(capture, made.status(), options, sink, report_progress, std::move(report));
   }
   if (!made.ok()) return made.status();

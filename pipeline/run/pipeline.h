@@ -23,6 +23,7 @@
 #include "pipeline/direct/face_detector.h"
 #include "pipeline/direct/plan_camera_path.h"
 #include "pipeline/direct/shot_file.h"
+#include "pipeline/lattice/lattice_options.h"
 #include "pipeline/render/gl/backend_scene_renderer.h"
 #include "pipeline/render/render_options.h"
 
@@ -49,6 +50,10 @@ struct PipelineOptions {
   CalibOptions calib;     // undistortion
   calib::RigRefinementOptions refinement;  // per-shot refinement of a lattice shot
   calib::SfmOptions sfm;  // structure from motion for image sets (hand-held)
+  // Finding the lattice blind on a lattice frame without a rig calibration: its size when known
+  // (0 = found blind) and how its tiles lie (upright for a photo of a lattice; the recording's
+  // source.lattice says, see device/clip_job.h).
+  LatticeOptions lattice;
   DepthOptions depth;     // depth range 0 = the rig's nominal range
   DirectOptions direct;   // move, effect, seed, duration, fps, subjects, search
   RenderOptions render;

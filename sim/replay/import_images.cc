@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cctype>
+#include <cstdio>
 #include <fstream>
 #include <iterator>
 #include <string>
@@ -164,6 +165,52 @@ StatusOr<Recording> RecordingFromImages(const std::vector<std::filesystem::path>
                                    " view; an image set needs at least 2 from different places");
   }
   return recording;
+}
+
+StatusOr<Recording> RecordingFromLatticePhoto(const std::filesystem::path& file, const LatticeHint& hint,
+                                              std::vector<std::string>* warnings) {
+  std::error_code error;
+  if (!std::filesystem::is_regular_file(file, error)) return NotFoundError(file.string() + ": no such file");
+  cv::Mat bgr;
+  try {
+    bgr = cv::imread(file.string(), cv::IMREAD_COLOR);  // upright by its EXIF orientation
+  } catch (const cv::Exception& e) {
+    return DataLossError(file.string() + ": cannot be decoded as an image (" + e.what() + ")");
+  }
+  if (bgr.empty()) return DataLossError(file.string() + ": cannot be decoded as an image");
+  Recording recording;
+  recording.source.model = "import:lattice photo";
+  recording.source.kind = FrameSetKind::kLatticeFrame;
+  recording.source.lattice = hint;
+  recording.frames.kind = FrameSetKind::kLatticeFrame;
+  recording.created_by = "parallax import";
+  Frame frame;
+  PX_ASSIGN_OR_RETURN(frame.image, FromBgr(bgr, PixelFormat::kRgb888));
+  if (IsJpeg(file)) {
+    StatusOr<ExifInfo> exif = ReadJpegExif(file);
+    if (exif.ok()) {
+      frame.focal_length_px = exif->FocalPx(bgr.cols, bgr.rows, &frame.focal_length_source);
+    } else {
+      warnings->push_back(file.string() + ": EXIF unreadable (" + exif.status().message() +
+                          "); the lenses' focal length will be self-calibrated");
+    }
+  }
+  recording.frames.frames.push_back(std::move(frame));
+  return recording;
+}
+
+StatusOr<LatticeHint> ParseLatticeSize(const std::string& text) {
+  LatticeHint hint;
+  if (text == "auto") return hint;
+  int rows = 0, cols = 0;
+  char x = 0, extra = 0;
+  if (std::sscanf(text.c_str(), "%d%c%d%c", &rows, &x, &cols, &extra) != 3 || (x != 'x' && x != 'X') || rows < 1 ||
+      cols < 1 || rows > 16 || cols > 16 || rows * cols < 2) {
+    return InvalidArgumentError("lattice '" + text + "' is neither auto nor RxC (rows x columns, 1..16 each, 2 tiles at least)");
+  }
+  hint.rows = rows;
+  hint.cols = cols;
+  return hint;
 }
 
 }  // namespace px

@@ -26,4 +26,15 @@ StatusOr<std::vector<std::filesystem::path>> ListImages(const std::vector<std::f
 StatusOr<Recording> RecordingFromImages(const std::vector<std::filesystem::path>& files,
                                         std::vector<std::string>* warnings);
 
+// One photo holding a lattice of views (a film scan of a Nishika, Nimslo, ActionSampler or Pop9
+// frame; a frame from a multi-lens or "wiggle" lens; a side-by-side stereo JPEG) as a lattice-frame
+// recording without a rig calibration: the photo upright (EXIF orientation), its focal length from
+// EXIF, and `hint` (the lattice's size when known, 0 = found blind; its tiles upright) for the
+// pipeline to split it. Errors name the file: missing, undecodable.
+StatusOr<Recording> RecordingFromLatticePhoto(const std::filesystem::path& file, const LatticeHint& hint,
+                                              std::vector<std::string>* warnings);
+
+// "auto" (0x0: found blind) or "RxC" (rows x columns, each 1..16, at least 2 tiles).
+StatusOr<LatticeHint> ParseLatticeSize(const std::string& text);
+
 }  // namespace px

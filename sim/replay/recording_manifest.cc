@@ -292,6 +292,12 @@ std::string ManifestToJsonText(const Manifest& manifest) {
     source["rig_calibration"] = nlohmann::ordered_json::parse(
         RigCalibrationToJson(*manifest.source.rig).dump(-1, ' ', false, Json::error_handler_t::replace));
   }
+  if (manifest.source.lattice) {
+    const LatticeHint& hint = *manifest.source.lattice;
+    source["lattice"] = {{"rows", hint.rows},
+                         {"cols", hint.cols},
+                         {"tile_orientation", std::string(TileOrientationName(hint.orientation))}};
+  }
   j["source"] = source;
   j["capture_id"] = manifest.capture_id;
   nlohmann::ordered_json frames = nlohmann::ordered_json::array();
@@ -337,6 +343,25 @@ StatusOr<Manifest> ManifestFromJson(const Json& j) {
                                                                       : error.WithContext("source.rig_calibration");
     }
     manifest.source.rig = *std::move(rig);
+  }
+  if (source->contains("lattice") && !(*source)["lattice"].is_null()) {
+    const Json& lattice = (*source)["lattice"];
+    if (!lattice.is_object()) return Mistyped("source.lattice", "an object", lattice);
+    LatticeHint hint;
+    PX_ASSIGN_OR_RETURN(const int64_t rows, json::GetIntegerOr(lattice, "rows", "source.lattice", 0));
+    PX_ASSIGN_OR_RETURN(const int64_t cols, json::GetIntegerOr(lattice, "cols", "source.lattice", 0));
+    if (rows < 0 || rows > 16 || cols < 0 || cols > 16) {
+      return InvalidArgumentError("source.lattice: rows and cols must lie in [0, 16] (0: found blind), got " +
+                                  std::to_string(rows) + "x" + std::to_string(cols));
+    }
+    hint.rows = static_cast<int>(rows);
+    hint.cols = static_cast<int>(cols);
+    PX_ASSIGN_OR_RETURN(const std::string orientation,
+                        json::GetStringOr(lattice, "tile_orientation", "source.lattice", "upright"));
+    StatusOr<TileOrientation> parsed = ParseTileOrientation(orientation);
+    if (!parsed.ok()) return parsed.status().WithContext("source.lattice.tile_orientation");
+    hint.orientation = *parsed;
+    manifest.source.lattice = hint;
   }
 
   PX_ASSIGN_OR_RETURN(manifest.capture_id, GetUnsigned(j, "capture_id", ""));
