@@ -47,6 +47,30 @@ StatusOr<std::vector<uint8_t>> ReadBytes(const std::filesystem::path& file) {
   return std::vector<uint8_t>(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
 }
 
+// One photo file as a frame: upright by its EXIF orientation (IMREAD_COLOR, which FocalPx
+// expects), with a JPEG's EXIF focal length (unknown, and said in `warnings`, when unreadable).
+StatusOr<Frame> PhotoFrame(const std::filesystem::path& file, std::vector<std::string>* warnings) {
+  cv::Mat bgr;
+  try {
+    bgr = cv::imread(file.string(), cv::IMREAD_COLOR);
+  } catch (const cv::Exception& e) {
+    return DataLossError(file.string() + ": cannot be decoded as an image (" + e.what() + ")");
+  }
+  if (bgr.empty()) return DataLossError(file.string() + ": cannot be decoded as an image");
+  Frame frame;
+  PX_ASSIGN_OR_RETURN(frame.image, FromBgr(bgr, PixelFormat::kRgb888));
+  if (IsJpeg(file)) {
+    StatusOr<ExifInfo> exif = ReadJpegExif(file);
+    if (exif.ok()) {
+      frame.focal_length_px = exif->FocalPx(bgr.cols, bgr.rows, &frame.focal_length_source);
+    } else {
+      warnings->push_back(file.string() + ": EXIF unreadable (" + exif.status().message() +
+                          "); its focal length will be self-calibrated");
+    }
+  }
+  return frame;
+}
+
 // One frame per image of an MPO file, each with the focal length of its own EXIF.
 Status AddMpoFrames(const std::filesystem::path& file, std::vector<std::string>* warnings, Recording* recording) {
   PX_ASSIGN_OR_RETURN(std::vector<uint8_t> bytes, ReadBytes(file));
@@ -138,26 +162,8 @@ StatusOr<Recording> RecordingFromImages(const std::vector<std::filesystem::path>
       PX_RETURN_IF_ERROR(AddAnimationFrames(file, warnings, &recording));
       continue;
     }
-    // IMREAD_COLOR turns the image upright by its EXIF orientation, which FocalPx expects.
-    cv::Mat bgr;
-    try {
-      bgr = cv::imread(file.string(), cv::IMREAD_COLOR);
-    } catch (const cv::Exception& e) {
-      return DataLossError(file.string() + ": cannot be decoded as an image (" + e.what() + ")");
-    }
-    if (bgr.empty()) return DataLossError(file.string() + ": cannot be decoded as an image");
-    Frame frame;
-    PX_ASSIGN_OR_RETURN(frame.image, FromBgr(bgr, PixelFormat::kRgb888));
+    PX_ASSIGN_OR_RETURN(Frame frame, PhotoFrame(file, warnings));
     frame.sequence = recording.frames.frames.size();
-    if (IsJpeg(file)) {
-      StatusOr<ExifInfo> exif = ReadJpegExif(file);
-      if (exif.ok()) {
-        frame.focal_length_px = exif->FocalPx(bgr.cols, bgr.rows, &frame.focal_length_source);
-      } else {
-        warnings->push_back(file.string() + ": EXIF unreadable (" + exif.status().message() +
-                            "); its focal length will be self-calibrated");
-      }
-    }
     recording.frames.frames.push_back(std::move(frame));
   }
   if (recording.frames.frames.size() < 2) {
@@ -171,30 +177,13 @@ StatusOr<Recording> RecordingFromLatticePhoto(const std::filesystem::path& file,
                                               std::vector<std::string>* warnings) {
   std::error_code error;
   if (!std::filesystem::is_regular_file(file, error)) return NotFoundError(file.string() + ": no such file");
-  cv::Mat bgr;
-  try {
-    bgr = cv::imread(file.string(), cv::IMREAD_COLOR);  // upright by its EXIF orientation
-  } catch (const cv::Exception& e) {
-    return DataLossError(file.string() + ": cannot be decoded as an image (" + e.what() + ")");
-  }
-  if (bgr.empty()) return DataLossError(file.string() + ": cannot be decoded as an image");
+  PX_ASSIGN_OR_RETURN(Frame frame, PhotoFrame(file, warnings));
   Recording recording;
   recording.source.model = "import:lattice photo";
   recording.source.kind = FrameSetKind::kLatticeFrame;
   recording.source.lattice = hint;
   recording.frames.kind = FrameSetKind::kLatticeFrame;
   recording.created_by = "parallax import";
-  Frame frame;
-  PX_ASSIGN_OR_RETURN(frame.image, FromBgr(bgr, PixelFormat::kRgb888));
-  if (IsJpeg(file)) {
-    StatusOr<ExifInfo> exif = ReadJpegExif(file);
-    if (exif.ok()) {
-      frame.focal_length_px = exif->FocalPx(bgr.cols, bgr.rows, &frame.focal_length_source);
-    } else {
-      warnings->push_back(file.string() + ": EXIF unreadable (" + exif.status().message() +
-                          "); the lenses' focal length will be self-calibrated");
-    }
-  }
   recording.frames.frames.push_back(std::move(frame));
   return recording;
 }
