@@ -33,11 +33,14 @@ CostVolume BuildCostVolume(const WorkingView& ref, const std::vector<const Worki
   volume.slices.resize(planes.count);
   volume.sampled = cv::Mat::zeros(size, CV_8U);
   volume.best_unfiltered_cost = cv::Mat(size, CV_32F, cv::Scalar(kNoDataCost));
+  cv::Mat typical_sum = cv::Mat::zeros(size, CV_32F), typical_count = cv::Mat::zeros(size, CV_32F);
+  constexpr int kTypicalPlaneStep = 4;
   std::mutex merge_mutex;
   // Planes are independent: each worker takes a range of them with its own buffers.
   cv::parallel_for_(cv::Range(0, planes.count), [&](const cv::Range& range) {
     cv::Mat sampled_here = cv::Mat::zeros(size, CV_8U);
     cv::Mat best_here(size, CV_32F, cv::Scalar(kNoDataCost));
+    cv::Mat sum_here = cv::Mat::zeros(size, CV_32F), count_here = cv::Mat::zeros(size, CV_32F), sampled_slice;
     cv::Mat warped, valid;
     ZnccWorkspace zncc;
     std::vector<cv::Mat> costs(neighbours.size());
@@ -57,12 +60,22 @@ CostVolume BuildCostVolume(const WorkingView& ref, const std::vector<const Worki
       AggregateBestHalf(costs, &aggregation, &slice);
       cv::bitwise_or(sampled_here, slice < kNoDataCost, sampled_here);
       cv::min(best_here, slice, best_here);
+      if (p % kTypicalPlaneStep == 0) {
+        sampled_slice = slice < kNoDataCost;
+        cv::add(sum_here, slice, sum_here, sampled_slice);
+        cv::add(count_here, cv::Scalar(1), count_here, sampled_slice);
+      }
       if (filter_costs) FilterCostSlice(guide, &filter, &slice);
     }
     const std::lock_guard<std::mutex> lock(merge_mutex);
     cv::bitwise_or(volume.sampled, sampled_here, volume.sampled);
     cv::min(volume.best_unfiltered_cost, best_here, volume.best_unfiltered_cost);
+    typical_sum += sum_here;
+    typical_count += count_here;
   });
+  volume.typical_unfiltered_cost = cv::Mat(size, CV_32F, cv::Scalar(kNoDataCost));
+  cv::divide(typical_sum, typical_count, volume.typical_unfiltered_cost);
+  volume.typical_unfiltered_cost.setTo(kNoDataCost, typical_count == 0);
   return volume;
 }
 

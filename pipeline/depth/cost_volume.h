@@ -39,6 +39,10 @@ struct CostVolume {
   // well the pixel's own window matches the neighbours at its best depth, whatever the
   // aggregation (the depth stage's check for views of another scene reads it).
   cv::Mat best_unfiltered_cost;
+  // CV_32F, per pixel the mean of those costs over every 4th plane where the neighbours were
+  // sampled (kNoDataCost where never): what the pixel's window costs at depths that are not its
+  // own, against which its best cost tells a match from a view of another scene.
+  cv::Mat typical_unfiltered_cost;
 };
 
 // Planes are processed in parallel (cv::parallel_for_), each worker with its own buffers.

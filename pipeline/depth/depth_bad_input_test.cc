@@ -67,7 +67,9 @@ DepthOptions BadInputOptions() {
 void PrintMatchCosts(const DepthStageResult& result, const DepthOptions& options, const std::string& name) {
   std::printf("%s, filter radius %d: median best matching cost per view (threshold %.2f):", name.c_str(),
               options.matching.cost_filter_radius_px, options.max_view_match_cost);
-  for (const ViewDepthReport& report : result.report.views) std::printf(" %.3f", report.median_match_cost);
+  for (const ViewDepthReport& report : result.report.views) {
+    std::printf(" %.3f (%.3f elsewhere)", report.median_match_cost, report.median_typical_cost);
+  }
   std::printf("\n");
 }
 
@@ -164,6 +166,30 @@ TEST(DepthBadInputTest, ExposureDifferencesBetweenLensesDoNotMatter) {
   PrintMatchCosts(*result, BadInputOptions(), "exposure differences");
   EXPECT_TRUE(result->report.disagreeing_views.empty());
   ExpectOthersStillGood(*result, input, {});
+}
+
+// Every view matching poorly (here sensor noise in all of them, as film grain or a subject
+// moving between sequential exposures would) is not a view of another scene: none is thrown
+// away, the shot is warned about, and the consistency checks judge the depth.
+TEST(DepthBadInputTest, AShotWhoseViewsAllMatchPoorlyIsWarnedAboutNotThrownAway) {
+  BadInputCase input = SquareBeforeWallCase();
+  cv::RNG rng(7);
+  for (View& view : input.views) {
+    cv::Mat noise(view.image.size(), CV_16SC3), noisy;
+    rng.fill(noise, cv::RNG::NORMAL, 0, 10);
+    cv::add(view.image, noise, noisy, cv::noArray(), CV_8UC3);
+    view.image = noisy;
+  }
+  StatusOr<DepthStageResult> result = ComputeLayeredDepth(input.views, BadInputOptions());
+  ASSERT_TRUE(result.ok()) << result.status().ToString();
+  PrintMatchCosts(*result, BadInputOptions(), "noise in every view");
+  EXPECT_TRUE(result->report.disagreeing_views.empty());
+  bool warned = false;
+  for (const std::string& warning : result->report.warnings) warned = warned || warning.find("matches its neighbours poorly") != std::string::npos;
+  EXPECT_TRUE(warned);
+  double confident = 0;
+  for (const ViewDepthReport& report : result->report.views) confident += report.confident_fraction;
+  EXPECT_GT(confident / 9, 0.05) << "the depth the views agree on is kept";
 }
 
 TEST(DepthBadInputTest, TexturelessSceneGetsLowConfidenceAndSaysWhy) {

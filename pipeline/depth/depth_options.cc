@@ -125,6 +125,9 @@ Status DepthOptions::Validate() const {
   if (!(max_view_match_cost > 0 && max_view_match_cost <= 2)) {
     return OutOfRange("max_view_match_cost", max_view_match_cost, "(0, 2]");
   }
+  if (!(view_match_outlier_ratio >= 1 && view_match_outlier_ratio <= 100)) {
+    return OutOfRange("view_match_outlier_ratio", view_match_outlier_ratio, "[1, 100]");
+  }
   if (num_threads < 0 || num_threads > 256) return OutOfRange("num_threads", num_threads, "[0, 256]");
   return OkStatus();
 }

@@ -174,6 +174,13 @@ struct DepthOptions {
   // (real pairs of two scenes) and 0.59-0.68 (a real image in the HCI 3x3). 0.18 is about twice
   // the worst honest view and 1.8 times under the lowest view of another scene.
   double max_view_match_cost = 0.18;
+  // ... and exceeds the shot's median view cost this many times: a view is told apart from the
+  // others of its shot, so a shot whose views all match poorly (film-scan lenses differing in
+  // exposure and vignetting, a subject moving between sequential exposures, a two-view pair) is
+  // warned about and left to the consistency checks rather than thrown away whole. Measured:
+  // honest real shots 0.05-0.43 with their views within 1.4x of each other; a view of another
+  // scene 3.7x and more its shot's median. [1, 100].
+  double view_match_outlier_ratio = 2.5;
   // Worker threads: 0 = OpenCV's default (all cores). [0, 256].
   int num_threads = 0;
 

@@ -26,6 +26,9 @@ struct ViewDepthReport {
   // aggregation, in [0, 2] (1 - ZNCC, best half of the neighbours): under 0.1 for views of the
   // same scene, 0.3 and more for unrelated images (the best of many depths matches by chance).
   double median_match_cost = 0;
+  // The median over the same pixels of their cost at depths not their own (the mean over planes):
+  // a view of the scene matches well below it; a view of another scene hardly below.
+  double median_typical_cost = 0;
   bool disagrees = false;          // matches none of its neighbours: left out as a neighbour
   cv::Mat low_confidence;          // CV_8U at view resolution: 255 where depth is unreliable
   int num_segments = 0;

@@ -196,16 +196,23 @@ ReferenceDepth MatchReference(const std::vector<View>& views, const std::vector<
   const cv::Size size = ref.gray.size();
   const cv::Mat textured = TexturedPixels(ref.gray, m.window_radius_px, m.min_texture_stddev);
   {
-    std::vector<float> costs;
+    std::vector<float> costs, typical;
     costs.reserve(size.area());
+    typical.reserve(size.area());
     for (int y = 0; y < size.height; ++y) {
       const float* c = volume.best_unfiltered_cost.ptr<float>(y);
+      const float* u = volume.typical_unfiltered_cost.ptr<float>(y);
       const uint8_t* t = textured.ptr<uint8_t>(y);
       for (int x = 0; x < size.width; ++x) {
-        if (t[x]) costs.push_back(c[x]);
+        if (!t[x]) continue;
+        costs.push_back(c[x]);
+        if (u[x] < depth::kNoDataCost) typical.push_back(u[x]);
       }
     }
     result.report.median_match_cost = costs.empty() ? depth::kNeutralCost : MedianOf(std::move(costs));
+    result.report.median_typical_cost = typical.empty() ? depth::kNeutralCost : MedianOf(std::move(typical));
+    Logger("depth")->debug("view {}: median matching cost {:.3f}, {:.3f} at other depths", view.id.value,
+                           result.report.median_match_cost, result.report.median_typical_cost);
   }
   result.report.textureless_fraction = 1.0 - cv::countNonZero(textured) / static_cast<double>(size.area());
   // With semi-global aggregation the winner comes from the aggregate and its sub-plane position
@@ -388,12 +395,26 @@ void ApplyConsistency(const std::vector<View>& views, const std::vector<int>& re
   }
 }
 
-// Whether a view matches none of its neighbours: its textured pixels match nothing, or it is a
-// black or saturated frame. A view with (nearly) no texture at all cannot tell, and is not
-// counted as disagreeing: its depth is merely unconfident.
-bool Disagrees(const ViewDepthReport& report, const DepthOptions& options) {
+// Whether a view matches none of its neighbours: a black or saturated frame, or textured pixels
+// that match nothing while the shot's other views do (its cost both over the threshold and well
+// above the shot's median view). A view with (nearly) no texture cannot tell, and is not counted
+// as disagreeing: its depth is merely unconfident.
+bool Disagrees(const ViewDepthReport& report, double shot_median_cost, const DepthOptions& options) {
   if (report.dark_fraction > 0.9 || report.saturated_fraction > 0.9) return true;
-  return report.textureless_fraction < 0.95 && report.median_match_cost > options.max_view_match_cost;
+  return report.textureless_fraction < 0.95 && report.median_match_cost > options.max_view_match_cost &&
+         report.median_match_cost > options.view_match_outlier_ratio * shot_median_cost;
+}
+
+// The median of the views' matching costs, over the views that can be judged by it (textured,
+// neither black nor saturated); 0 when there are none.
+double ShotMedianMatchCost(const std::vector<ReferenceDepth>& references) {
+  std::vector<float> costs;
+  for (const ReferenceDepth& reference : references) {
+    const ViewDepthReport& report = reference.report;
+    if (report.dark_fraction > 0.9 || report.saturated_fraction > 0.9 || report.textureless_fraction >= 0.95) continue;
+    costs.push_back(static_cast<float>(report.median_match_cost));
+  }
+  return costs.empty() ? 0.0 : MedianOf(std::move(costs));
 }
 
 std::string Percent(double fraction) { return std::to_string(static_cast<int>(std::lround(100 * fraction))) + "%"; }
@@ -407,7 +428,9 @@ void FinishReport(const DepthOptions& options, ReferenceDepth* reference) {
   if (report.disagrees) {
     std::ostringstream reason;
     reason << "matches none of its neighbours (median matching cost " << report.median_match_cost << " > "
-           << options.max_view_match_cost << "): another scene, a black or saturated frame?";
+           << options.max_view_match_cost << " and " << options.view_match_outlier_ratio
+           << " times the shot's median view; " << report.median_typical_cost
+           << " at other depths): another scene, a black or saturated frame?";
     report.reasons.push_back(reason.str());
   }
   if (report.textureless_fraction > 0.3) report.reasons.push_back(Percent(report.textureless_fraction) + " of pixels have no texture to match");
@@ -464,9 +487,10 @@ StatusOr<DepthStageResult> ComputeLayeredDepthForViews(const std::vector<View>& 
 
   // Views that match none of their neighbours: reported, their depth not trusted, and (when
   // the rest of the shot does match) left out as neighbours of the others, which are redone.
+  const double shot_median_cost = ShotMedianMatchCost(references);
   int num_disagreeing = 0;
   for (size_t i = 0; i < reference_indices.size(); ++i) {
-    if (Disagrees(references[i].report, options)) {
+    if (Disagrees(references[i].report, shot_median_cost, options)) {
       references[i].report.disagrees = true;
       ++num_disagreeing;
     }
@@ -486,8 +510,15 @@ StatusOr<DepthStageResult> ComputeLayeredDepthForViews(const std::vector<View>& 
     result.report.warnings.push_back("depth: no view matches its neighbours (all views of different scenes, or "
                                      "all black or saturated): depth is guesswork everywhere");
   }
+  if (num_disagreeing == 0 && shot_median_cost > options.max_view_match_cost) {
+    std::ostringstream warning;
+    warning << "depth: every view matches its neighbours poorly (median matching cost " << shot_median_cost << " > "
+            << options.max_view_match_cost << "): lenses differing in exposure, colour or vignetting, a subject "
+            << "moving between exposures, or poses off; depth is trusted only where the views agree";
+    result.report.warnings.push_back(warning.str());
+  }
   for (size_t i = 0; i < reference_indices.size(); ++i) {
-    if (Disagrees(references[i].report, options)) {
+    if (Disagrees(references[i].report, shot_median_cost, options)) {
       references[i].report.disagrees = true;
       references[i].layered.confidence.setTo(0);
       for (DepthSegment& segment : references[i].layered.segments) segment.confidence = 0;
