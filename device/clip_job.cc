@@ -150,6 +150,7 @@ nlohmann::json ClipJobReportToJson(const ClipJobReport& report) {
       {"mean_hole_ratio", report.pipeline.mean_hole_ratio},
       {"frame_coverage", FrameCoverageToJson(report.pipeline.frame_coverage)},
       {"render_backend", {{"name", report.pipeline.render_backend}, {"reason", report.pipeline.render_backend_reason}}},
+      {"photometric", report.pipeline.photometric},
       {"warnings", report.pipeline.warnings},
       {"timings_ms", timings},
       {"total_ms", report.total_ms},

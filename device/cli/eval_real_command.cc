@@ -33,6 +33,7 @@ struct EvalRealArgs {
   double duration_s = 5.0;
   double fps = 30.0;
   bool no_faces = false;
+  bool no_photometric = false;
   std::vector<std::string> depth_overrides;
   ConsistentBlendOptions consistent_blend;
   bool json = false;
@@ -207,8 +208,10 @@ Status RunEvalReal(const EvalRealArgs& args) {
   loo.progress = progress;
   for (const std::string& text : args.depth_overrides) PX_RETURN_IF_ERROR(ApplyDepthOptionOverride(text, &loo.depth));
   loo.render.consistent_blend = args.consistent_blend;
+  loo.photometric.enabled = !args.no_photometric;
   eval::PathEvalOptions path;
   path.pipeline.render.consistent_blend = args.consistent_blend;
+  path.pipeline.photometric.enabled = !args.no_photometric;
   path.pipeline.image_set_max_side_px = args.max_photo_side_px;
   path.pipeline.direct.duration_s = args.duration_s;
   path.pipeline.direct.fps = args.fps;
@@ -308,6 +311,8 @@ void AddEvalRealCommand(CLI::App& eval) {
   real->add_option("--duration", args->duration_s, "The automatic clip's length, seconds")->capture_default_str();
   real->add_option("--fps", args->fps, "The automatic clip's frame rate")->capture_default_str();
   real->add_flag("--no-faces", args->no_faces, "No face detection for the automatic clip");
+  real->add_flag("--no-photometric", args->no_photometric,
+                 "Leave each view's exposure, colour and vignetting as shot (no equalisation to the centre view)");
   real->add_option("--option", args->depth_overrides,
                    "Override one of the depth stage's options, name=value as in pipeline/depth/depth_options.h "
                    "(repeatable)");

@@ -13,7 +13,9 @@
 
 #include "eval/real/contact_sheet.h"
 #include "eval/render/image_metrics.h"
+#include "pipeline/calib/photometric.h"
 #include "pipeline/depth/depth_stage.h"
+#include "pipeline/direct/scene_geometry.h"
 #include "pipeline/render/cpu_scene_renderer.h"
 #include "pipeline/run/capture_calibration.h"
 #include "pipeline/run/image_set_scale.h"
@@ -182,7 +184,13 @@ StatusOr<LeaveOneOutResult> EvaluateLeaveOneOut(const RealSet& set, const LeaveO
   if (!calibrated.ok()) {
     return FailedPreconditionError(set.name + ": not posed (" + calibrated.status().message() + ")");
   }
-  const std::vector<View>& views = calibrated->views;
+  std::vector<View>& views = calibrated->views;
+  if (options.photometric.enabled && views.size() >= 2) {
+    StatusOr<calib::PhotometricReport> equalised =
+        calib::EqualisePhotometry(&views, direct::CentreViewIndex(views), options.photometric);
+    result.notes.push_back(equalised.ok() ? "photometric: " + equalised->Summary()
+                                          : "photometric equalisation skipped: " + equalised.status().message());
+  }
   result.num_posed = static_cast<int>(views.size());
   std::vector<int> held_out = set.held_out;
   if (lattice_photo) {  // its views are its tiles, known now

@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "eval/real/real_set.h"
+#include "pipeline/calib/photometric.h"
 #include "pipeline/calib/sfm_options.h"
 #include "pipeline/core/status.h"
 #include "pipeline/depth/depth_options.h"
@@ -51,6 +52,9 @@ struct LeaveOneOutOptions {
   DepthOptions depth;         // depth range 0: the calibration's
   RenderOptions render;
   calib::SfmOptions sfm;
+  // The views (the held-out one included, as the product would have it) equalised to the centre
+  // view's exposure, colour and vignetting before depth and scoring, as the product does.
+  calib::PhotometricOptions photometric;
   int max_side_px = 1200;     // photos are processed at this longer side, as the product does
   int edge_band_px = 3;       // the edge band's half-width
   // When not empty: per case, the photo, ours, both baselines and their error maps as one PNG.

@@ -55,6 +55,18 @@ CameraPath MorphPath(const View& a, const View& b, const std::vector<Subject>& s
   return path;
 }
 
+// `image` cut or padded (edges repeated) about its centre to `size`: tiles of a film scan differ
+// by a few pixels, and the morph pairs pixels of one size.
+cv::Mat CentredOnSize(const cv::Mat& image, cv::Size size) {
+  if (image.size() == size) return image;
+  const int cut_x = std::max(0, image.cols - size.width), cut_y = std::max(0, image.rows - size.height);
+  cv::Mat cut = image(cv::Rect(cut_x / 2, cut_y / 2, image.cols - cut_x, image.rows - cut_y));
+  const int pad_x = size.width - cut.cols, pad_y = size.height - cut.rows;
+  cv::Mat out;
+  cv::copyMakeBorder(cut, out, pad_y / 2, pad_y - pad_y / 2, pad_x / 2, pad_x - pad_x / 2, cv::BORDER_REPLICATE);
+  return out;
+}
+
 struct Planner {
   const std::vector<View>& views;
   const std::vector<DepthMap>& depths;
@@ -71,8 +83,15 @@ struct Planner {
     if (views.size() >= 2 && options.move != "pan_zoom_2d") {
       const auto [ia, ib] = MorphPair(views, centre);
       direct::MorphOptions morph_options;
+      const cv::Mat& image_a = views[ia].image;
+      if (views[ib].image.size() != image_a.size()) {
+        report.notes.push_back("morph: view " + std::to_string(views[ib].id.value) + " (" +
+                               std::to_string(views[ib].image.cols) + "x" + std::to_string(views[ib].image.rows) +
+                               ") cut or padded about its centre to view " + std::to_string(views[ia].id.value) +
+                               "'s " + std::to_string(image_a.cols) + "x" + std::to_string(image_a.rows));
+      }
       StatusOr<std::unique_ptr<direct::ViewMorph>> morph =
-          direct::ViewMorph::Create(views[ia].image, views[ib].image, morph_options);
+          direct::ViewMorph::Create(image_a, CentredOnSize(views[ib].image, image_a.size()), morph_options);
       if (morph.ok() && (*morph)->report().consistent_fraction >= kMinMorphConsistency) {
         const direct::MorphReport& m = (*morph)->report();
         CameraPath path = MorphPath(views[ia], views[ib], subjects, options);
@@ -304,7 +323,8 @@ StatusOr<CameraPath> PlanCameraPath(const std::vector<View>& views, const std::v
   planner.centre = direct::CentreViewIndex(views);
 
   StatusOr<direct::SubjectSearch> found =
-      direct::FindSubjects(views, depths, planner.centre, context.face_detector, options, context.centre_faces);
+      direct::FindSubjects(views, depths, planner.centre, context.face_detector, options, context.centre_faces,
+                           context.metric_scale);
   if (found.ok()) {
     if (context.centre_faces != nullptr && context.centre_faces->view == views[planner.centre].id) {
       report.faces_before_ms = context.centre_faces->ms;
@@ -334,8 +354,6 @@ StatusOr<CameraPath> PlanCameraPath(const std::vector<View>& views, const std::v
     std::snprintf(text, sizeof(text), "only %.0f%% of the centre view's depth is confident (want %.0f%%)",
                   100 * confident, 100 * options.min_confident_fraction);
     no_3d = text;
-  } else if (views.size() == 2 && options.move == "auto" && context.shot == nullptr) {
-    no_3d = "two views: the paper morphs between them (4.5)";
   }
   if (options.move == "morph" || options.move == "pan_zoom_2d") no_3d = "requested " + options.move;
 

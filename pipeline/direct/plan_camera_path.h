@@ -35,6 +35,9 @@ struct DirectionContext {
   // then not attempted and `distrust_reason` goes into the path's notes.
   bool depth_trusted = true;
   std::string distrust_reason;
+  // Whether the views' distances are metres (a rig calibration); false after structure from
+  // motion, whose scale is a guess: a face is then not judged by its size in metres.
+  bool metric_scale = true;
   const direct::Shot* shot = nullptr;  // an authored shot to follow instead of choosing (4.4)
 };
 

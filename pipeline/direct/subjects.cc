@@ -97,7 +97,7 @@ DetectedFaces DetectFaces(cv::Mat image, ViewId view, const FaceDetector& detect
 
 StatusOr<SubjectSearch> FindSubjects(const std::vector<View>& views, const std::vector<DepthMap>& depths,
                                      int centre_index, const FaceDetector* detector, const DirectOptions& options,
-                                     const DetectedFaces* detected) {
+                                     const DetectedFaces* detected, bool metric_scale) {
   const auto start = std::chrono::steady_clock::now();
   SubjectSearch search;
   if (views.empty()) return InvalidArgumentError("subjects: no views");
@@ -137,7 +137,10 @@ StatusOr<SubjectSearch> FindSubjects(const std::vector<View>& views, const std::
       StatusOr<Subject> subject = SubjectFromBox(view, depth, face.box, "face");
       if (!subject.ok()) continue;
       subject->score = face.score;
-      if (subject->depth_known) {
+      if (subject->depth_known && !metric_scale) {
+        search.notes.push_back("face " + BoxText(face.box) +
+                               " kept without a size check: the views' scale is not metric (structure from motion)");
+      } else if (subject->depth_known) {
         const double width_m = face.box.width * subject->depth_m / view.camera.fx;
         if (width_m < options.faces.min_face_width_m || width_m > options.faces.max_face_width_m) {
           char note[200];

@@ -52,10 +52,11 @@ struct SubjectSearch {
 // else faces on views[centre_index] from `detector` (null: none, said in `detector`). A face
 // whose physical width at its depth is outside options.faces' range is dropped, so that a
 // face-like texture on a far wall or a tiny pattern up close does not become a subject; without
-// depth every face is kept. `detected`, when it is for the centre view, replaces the detection
+// depth, or without `metric_scale` (structure from motion's scale is a guess, and a real face
+// would be dropped as 6 cm wide), every face is kept, with a note. `detected`, when it is for the centre view, replaces the detection
 // (its time is then not in SubjectSearch::ms).
 StatusOr<SubjectSearch> FindSubjects(const std::vector<View>& views, const std::vector<DepthMap>& depths,
                                      int centre_index, const FaceDetector* detector, const DirectOptions& options,
-                                     const DetectedFaces* detected = nullptr);
+                                     const DetectedFaces* detected = nullptr, bool metric_scale = true);
 
 }  // namespace px::direct

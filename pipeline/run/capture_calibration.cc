@@ -119,6 +119,7 @@ RigCalibration RefinedRig(const std::vector<cv::Mat>& tiles, const RigCalibratio
                           const calib::RigRefinementOptions& refinement, std::vector<std::string>* warnings,
                           CalibratedViews* out) {
   out->calibration = "factory";
+  out->metric_scale = true;  // the rig's baselines are measured
   if (!refinement.enabled) return rig;
   const auto log = Logger("calib");
   StatusOr<calib::RigRefinementResult> refined = calib::RefineRigCalibration(tiles, rig, refinement);

@@ -25,6 +25,9 @@ struct CalibratedViews {
   double depth_min_m = 0;
   double depth_max_m = 0;
   std::string calibration;  // PipelineReport::calibration
+  // Whether distances are in metres: a rig calibration's baselines are; structure from motion's
+  // scale is a guess (its median depth), so nothing is judged by a size in metres there.
+  bool metric_scale = false;
   std::string summary;
 };
 

@@ -11,6 +11,7 @@
 #include "pipeline/core/log.h"
 #include "pipeline/core/pixel_format.h"
 #include "pipeline/core/stage_clock.h"
+#include "pipeline/calib/photometric.h"
 #include "pipeline/depth/depth_stage.h"
 #include "pipeline/direct/pan_zoom_2d.h"
 #include "pipeline/direct/plan_camera_path.h"
@@ -145,6 +146,22 @@ Status RenderFrames(const std::vector<View>& views, SceneRenderer* renderer, Fra
 // An image set that cannot be calibrated: its usable images become views without poses or
 // depth, and the direction stage morphs between two of them (or pans over one); a lattice frame
 // whose lattice cannot be found or posed is one such image.
+// The views' exposure, colour cast and vignetting brought to views[reference]'s. A failure
+// leaves the views as they were: it costs seams, never the clip.
+void EqualiseViews(const calib::PhotometricOptions& options, int reference, std::vector<View>* views,
+                   PipelineReport* report) {
+  if (!options.enabled || views->size() < 2) return;
+  const auto log = Logger("calib");
+  StatusOr<calib::PhotometricReport> equalised = calib::EqualisePhotometry(views, reference, options);
+  if (!equalised.ok()) {
+    report->warnings.push_back("calib: photometric equalisation skipped: " + equalised.status().message());
+    log->warn("{}", report->warnings.back());
+    return;
+  }
+  report->photometric = equalised->Summary();
+  log->info("photometric: {}", report->photometric);
+}
+
 StatusOr<PipelineReport> RunUncalibrated(const FrameSet& capture, const Status& why, const PipelineOptions& options,
                                          FrameSink* sink,
                                          const std::function<Status(const char*, double)>& report_progress,
@@ -177,6 +194,7 @@ StatusOr<PipelineReport> RunUncalibrated(const FrameSet& capture, const Status& 
   }
   if (views.empty()) return FailedPreconditionError("capture " + std::to_string(capture.capture_id) + ": no usable image; " + why.message());
   report.num_views = static_cast<int>(views.size());
+  EqualiseViews(options.photometric, static_cast<int>(views.size() / 2), &views, &report);
   report.timings.push_back({"decode", MsSince(start)});
   const std::string reason = std::string(capture.kind == FrameSetKind::kImageSet ? "image set" : "lattice frame") +
                              " without calibration (" + why.message() + ")";
@@ -269,6 +287,7 @@ StatusOr<PipelineReport> RunPipeline(const FrameSet& shot, const RigCalibration&
   report.calibration_summary = calibrated.summary;
   log->info("lattice: {} views of {}x{} in {:.0f} ms, calib in {:.0f} ms", views.size(), views.front().camera.width,
             views.front().camera.height, report.timings[0].ms, report.timings[1].ms);
+  EqualiseViews(options.photometric, direct::CentreViewIndex(views), &views, &report);
   PX_RETURN_IF_ERROR(report_progress("calib", 1));
 
   // Face detection needs only the centre view's image: it runs beside the depth stage, so the
@@ -302,6 +321,7 @@ StatusOr<PipelineReport> RunPipeline(const FrameSet& shot, const RigCalibration&
   report.depth = depth->report;
   for (const std::string& warning : depth->report.warnings) report.warnings.push_back(warning);
   DirectionContext direction;
+  direction.metric_scale = calibrated.metric_scale;
   {
     const double fraction = depth->report.confident_fraction;
     log->info("depth: {} layered views, {:.0f} to {:.2f} m, {:.0f}% confident, in {:.0f} ms", depth->maps.size(),

@@ -11,6 +11,7 @@
 #include <opencv2/core.hpp>
 
 #include "pipeline/calib/calib_options.h"
+#include "pipeline/calib/photometric.h"
 #include "pipeline/core/coverage_report.h"
 #include "pipeline/calib/rig_refinement_options.h"
 #include "pipeline/calib/sfm_options.h"
@@ -50,6 +51,9 @@ struct PipelineOptions {
   CalibOptions calib;     // undistortion
   calib::RigRefinementOptions refinement;  // per-shot refinement of a lattice shot
   calib::SfmOptions sfm;  // structure from motion for image sets (hand-held)
+  // Each view's exposure, colour cast and vignetting brought to the centre view's before depth,
+  // direction and rendering (a morph included).
+  calib::PhotometricOptions photometric;
   // Finding the lattice blind on a lattice frame without a rig calibration: its size when known
   // (0 = found blind) and how its tiles lie (upright for a photo of a lattice; the recording's
   // source.lattice says, see device/clip_job.h).
@@ -90,6 +94,7 @@ struct PipelineReport {
   // refinement) or "structure from motion"; the refinement's or SfM's figures in one line (matches, inliers, RMS before and after).
   std::string calibration;
   std::string calibration_summary;
+  std::string photometric;  // what the photometric equalisation changed, per view
   std::vector<std::string> warnings;  // degraded results, for the log and the clip's JSON
   // Per stage, wall time. "encode" is the frame sink's own time on its thread (it overlaps
   // "render", which leaves out the waits for the sink).

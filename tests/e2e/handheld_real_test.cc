@@ -57,10 +57,11 @@ TEST_P(HandheldRealTest, MakesAClipAtTheWorkingSize) {
 }
 
 // Which sets hold a 3D move is measured, not wished: the excavator's wide turns and the
-// portrait's two different people leave no trusted depth; the French press is too plain.
+// portrait's two different people leave no trusted depth; the French press's plain wall leaves a
+// quarter of its depth confident, enough (its held-out views: eval real).
 INSTANTIATE_TEST_SUITE_P(Sets, HandheldRealTest,
                          ::testing::Values(Expected{"kpankov_office_4views", true},
-                                           Expected{"kpankov_frenchpress_4views", false},
+                                           Expected{"kpankov_frenchpress_4views", true},
                                            Expected{"ddd_seattle_portrait_2views", false},
                                            Expected{"ddd_lego_excavator_3views", false}),
                          [](const ::testing::TestParamInfo<Expected>& param) {
