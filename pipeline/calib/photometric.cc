@@ -6,6 +6,7 @@
 #include <sstream>
 
 #include <opencv2/imgproc.hpp>
+#include <opencv2/video/tracking.hpp>
 
 #include "pipeline/core/stage_clock.h"
 
@@ -105,6 +106,40 @@ bool FitLogGain(const cv::Mat& reference, const cv::Mat& view, const cv::Mat& va
   return true;
 }
 
+// The gain field (CV_32FC3) of the log-gain `shape` shared by the channels plus each channel's
+// own constant: the median of what the shape leaves of its log ratio.
+cv::Mat GainField(const cv::Vec<double, kTerms>& shape, const std::vector<cv::Mat>& reference_channels,
+                  const std::vector<cv::Mat>& view_channels, const cv::Mat& valid, double max_log_gain) {
+  const cv::Size size = valid.size();
+  const cv::Mat shape_field = FieldOf(shape, size, max_log_gain);
+  std::vector<cv::Mat> fields(3);
+  for (int c = 0; c < 3; ++c) {
+    std::vector<float> offsets;
+    for (int y = 0; y < size.height; ++y) {
+      const float* r = reference_channels[c].ptr<float>(y);
+      const float* w = view_channels[c].ptr<float>(y);
+      const float* g = shape_field.ptr<float>(y);
+      const uint8_t* m = valid.ptr<uint8_t>(y);
+      for (int x = 0; x < size.width; ++x) {
+        if (!m[x] || r[x] < kDarkest || r[x] > kBrightest || w[x] < kDarkest || w[x] > kBrightest) continue;
+        offsets.push_back(std::log(r[x]) - std::log(w[x]) - g[x]);
+      }
+    }
+    double offset = 0;
+    if (offsets.size() >= kMinSamples) {
+      std::nth_element(offsets.begin(), offsets.begin() + offsets.size() / 2, offsets.end());
+      offset = offsets[offsets.size() / 2];
+    }
+    cv::Vec<double, kTerms> channel = shape;
+    channel[0] += offset;
+    fields[c] = FieldOf(channel, size, max_log_gain);
+  }
+  cv::Mat log_field, gain;
+  cv::merge(fields, log_field);
+  cv::exp(log_field, gain);
+  return gain;
+}
+
 // Mean over the channels (a colour cast counts, which grey would hide).
 double MeanAbsDifference(const cv::Mat& a, const cv::Mat& b, const cv::Mat& valid) {
   cv::Mat difference;
@@ -167,19 +202,29 @@ StatusOr<PhotometricReport> EqualisePhotometry(std::vector<View>* views, int ref
   const cv::Size small(std::max(1, static_cast<int>(std::lround(reference.image.cols * scale))),
                        std::max(1, static_cast<int>(std::lround(reference.image.rows * scale))));
   const double sigma = options.blur_fraction * small.width;
+  // Sharp reduced images for the flow, blurred ones for the fit.
   const auto reduce = [&](const cv::Mat& image) {
-    cv::Mat reduced, blurred;
+    cv::Mat reduced;
     cv::resize(image, reduced, small, 0, 0, cv::INTER_AREA);
     reduced.convertTo(reduced, CV_32FC3);
-    cv::GaussianBlur(reduced, blurred, cv::Size(), sigma);
-    return blurred;
+    return reduced;
   };
-  const cv::Mat reference_small = reduce(reference.image);
-  cv::Mat reference_grey;
-  cv::cvtColor(reference_small, reference_grey, cv::COLOR_BGR2GRAY);
-  cv::Mat window;
-  cv::createHanningWindow(window, small, CV_32F);
+  const auto blurred = [&](const cv::Mat& image) {
+    cv::Mat out;
+    cv::GaussianBlur(image, out, cv::Size(), sigma);
+    return out;
+  };
+  const auto grey8 = [](const cv::Mat& bgr) {
+    cv::Mat grey, out;
+    cv::cvtColor(bgr, grey, cv::COLOR_BGR2GRAY);
+    grey.convertTo(out, CV_8U);
+    return out;
+  };
+  const cv::Mat reference_sharp = reduce(reference.image);
+  const cv::Mat reference_grey = grey8(reference_sharp);
   const double max_log_gain = std::log(options.max_gain);
+  // DIS normalises each patch's mean, so exposure and vignetting do not bend the flow.
+  cv::Ptr<cv::DISOpticalFlow> flow = cv::DISOpticalFlow::create(cv::DISOpticalFlow::PRESET_MEDIUM);
 
   for (size_t i = 0; i < views->size(); ++i) {
     View& view = (*views)[i];
@@ -195,18 +240,31 @@ StatusOr<PhotometricReport> EqualisePhotometry(std::vector<View>* views, int ref
       report.views.push_back(result);
       continue;
     }
-    const cv::Mat view_small = reduce(view.image);
-    cv::Mat view_grey;
-    cv::cvtColor(view_small, view_grey, cv::COLOR_BGR2GRAY);
-    // The reference moved onto the view by the global shift between them (parallax of a lens
-    // array or a hand-held step); what the shift cannot explain the robust fit leaves out.
-    // (phaseCorrelate windows its inputs in place: it gets copies.)
-    const cv::Point2d shift = cv::phaseCorrelate(view_grey.clone(), reference_grey.clone(), window);
-    const cv::Matx23d move(1, 0, -shift.x, 0, 1, -shift.y);
-    cv::Mat aligned, valid(small, CV_8U, cv::Scalar(255));
-    cv::warpAffine(reference_small, aligned, move, small, cv::INTER_LINEAR, cv::BORDER_CONSTANT);
-    cv::warpAffine(valid, valid, move, small, cv::INTER_NEAREST, cv::BORDER_CONSTANT);
-    cv::erode(valid, valid, cv::Mat(), cv::Point(-1, -1), std::max(1, static_cast<int>(std::ceil(2 * sigma))));
+    const cv::Mat view_sharp = reduce(view.image);
+    const cv::Mat view_grey = grey8(view_sharp);
+    // The reference moved onto the view along the dense flow between them, so parallax (a lens
+    // array's, a hand-held step's) is not taken for light; pixels whose flow does not come back
+    // (occlusions, a moving subject) and the frame's border are left out of the fit.
+    cv::Mat to_reference, to_view;
+    flow->calc(view_grey, reference_grey, to_reference);
+    flow->calc(reference_grey, view_grey, to_view);
+    cv::Mat map(small, CV_32FC2), valid(small, CV_8U, cv::Scalar(0));
+    for (int y = 0; y < small.height; ++y) {
+      const cv::Vec2f* f = to_reference.ptr<cv::Vec2f>(y);
+      cv::Vec2f* m = map.ptr<cv::Vec2f>(y);
+      uint8_t* v = valid.ptr<uint8_t>(y);
+      for (int x = 0; x < small.width; ++x) {
+        m[x] = cv::Vec2f(x + f[x][0], y + f[x][1]);
+        const int bx = static_cast<int>(std::lround(m[x][0])), by = static_cast<int>(std::lround(m[x][1]));
+        if (bx < 0 || by < 0 || bx >= small.width || by >= small.height) continue;
+        const cv::Vec2f back = to_view.at<cv::Vec2f>(by, bx);
+        v[x] = std::hypot(f[x][0] + back[0], f[x][1] + back[1]) < 1.0 ? 255 : 0;
+      }
+    }
+    cv::Mat aligned_sharp;
+    cv::remap(reference_sharp, aligned_sharp, map, cv::noArray(), cv::INTER_LINEAR, cv::BORDER_REPLICATE);
+    const cv::Mat aligned = blurred(aligned_sharp), view_small = blurred(view_sharp);
+    cv::erode(valid, valid, cv::Mat(), cv::Point(-1, -1), std::max(1, static_cast<int>(std::ceil(sigma))));
     result.difference_before = MeanAbsDifference(aligned, view_small, valid);
 
     if (result.difference_before < options.min_difference) {
@@ -216,50 +274,38 @@ StatusOr<PhotometricReport> EqualisePhotometry(std::vector<View>* views, int ref
     }
     // The field's shape (vignetting, tilt) from the grey images; each channel only adds its own
     // constant (a colour cast): a shape per channel would fit parallax in a channel's few samples.
-    cv::Mat aligned_grey;
+    cv::Mat aligned_grey, view_small_grey;
     cv::cvtColor(aligned, aligned_grey, cv::COLOR_BGR2GRAY);
+    cv::cvtColor(view_small, view_small_grey, cv::COLOR_BGR2GRAY);
     cv::Vec<double, kTerms> shape;
-    if (!FitLogGain(aligned_grey, view_grey, valid, &shape)) {
+    if (!FitLogGain(aligned_grey, view_small_grey, valid, &shape)) {
       result.note = "too few comparable pixels (dark, saturated or outside the overlap)";
       report.views.push_back(result);
       continue;
     }
-    std::vector<cv::Mat> reference_channels, view_channels, fields(3);
+    std::vector<cv::Mat> reference_channels, view_channels;
     cv::split(aligned, reference_channels);
     cv::split(view_small, view_channels);
-    const cv::Mat grey_field = FieldOf(shape, small, max_log_gain);
-    for (int c = 0; c < 3; ++c) {
-      std::vector<float> offsets;
-      for (int y = 0; y < small.height; ++y) {
-        const float* r = reference_channels[c].ptr<float>(y);
-        const float* w = view_channels[c].ptr<float>(y);
-        const float* g = grey_field.ptr<float>(y);
-        const uint8_t* m = valid.ptr<uint8_t>(y);
-        for (int x = 0; x < small.width; ++x) {
-          if (!m[x] || r[x] < kDarkest || r[x] > kBrightest || w[x] < kDarkest || w[x] > kBrightest) continue;
-          offsets.push_back(std::log(r[x]) - std::log(w[x]) - g[x]);
-        }
-      }
-      double offset = 0;
-      if (offsets.size() >= kMinSamples) {
-        std::nth_element(offsets.begin(), offsets.begin() + offsets.size() / 2, offsets.end());
-        offset = offsets[offsets.size() / 2];
-      }
-      cv::Vec<double, kTerms> channel = shape;
-      channel[0] += offset;
-      fields[c] = FieldOf(channel, small, max_log_gain);
-    }
-    cv::Mat log_field, gain_small;
-    cv::merge(fields, log_field);
-    cv::exp(log_field, gain_small);
+    // An exposure and a cast alone first; the shape (vignetting) only where it explains clearly
+    // more: on a strip with much parallax the shape terms would otherwise fit the parallax.
+    const cv::Mat flat_gain = GainField(cv::Vec<double, kTerms>::all(0), reference_channels, view_channels, valid,
+                                        max_log_gain);
+    const double flat_after = MeanAbsDifference(aligned, view_small.mul(flat_gain), valid);
+    const cv::Mat shaped_gain = GainField(shape, reference_channels, view_channels, valid, max_log_gain);
+    const double shaped_after = MeanAbsDifference(aligned, view_small.mul(shaped_gain), valid);
+    const bool shaped = shaped_after < (1 - options.min_improvement) * flat_after;
+    const cv::Mat gain_small = shaped ? shaped_gain : flat_gain;
+    std::vector<cv::Mat> fields;
+    cv::Mat log_gain;
+    cv::log(gain_small, log_gain);
+    cv::split(log_gain, fields);
     double largest_change = 0;
     for (const cv::Mat& field : fields) {
       double low, high;
       cv::minMaxLoc(field, &low, &high);
       largest_change = std::max({largest_change, std::abs(std::exp(low) - 1), std::abs(std::exp(high) - 1)});
     }
-    const cv::Mat equalised_small = view_small.mul(gain_small);
-    result.difference_after = MeanAbsDifference(aligned, equalised_small, valid);
+    result.difference_after = shaped ? shaped_after : flat_after;
     const cv::Vec3f centre = gain_small.at<cv::Vec3f>(small.height / 2, small.width / 2);
     result.centre_gain = cv::Vec3d(centre[0], centre[1], centre[2]);
     double falloff = 0;

@@ -3,8 +3,10 @@
 // are brought to a reference view's by a smooth gain field per channel (exp of a quadratic in the
 // image coordinates plus a fourth-power radial term: exposure, tilt and vignetting, shared by the
 // channels, and a constant per channel: the colour cast), fitted
-// robustly to the ratio of the two heavily blurred, globally aligned images, so that parallax,
-// occlusions and a moving subject are outliers of the fit rather than part of it. Matching
+// robustly to the ratio of the two images, the reference moved onto the view along dense optical
+// flow (DIS) and both heavily blurred: parallax is followed, occlusions and a moving subject
+// (whose flow does not come back) are left out, and what remains is light. The shape terms are
+// kept only where they explain clearly more than an exposure and a cast alone. Matching
 // (zero-mean normalised correlation) is blind to gain already; the blend and the morph are not.
 #pragma once
 
@@ -21,8 +23,8 @@ namespace px::calib {
 struct PhotometricOptions {
   bool enabled = true;
   int working_width_px = 192;  // the fit's image width, [32, 1024]
-  // Blur of the fit's images, a fraction of their width (0, 0.2]: wide enough that parallax
-  // of a few per cent of the frame blurs into the background level.
+  // Blur of the fit's images, a fraction of their width (0, 0.2]: what the flow leaves of
+  // parallax and texture blurs away.
   double blur_fraction = 0.03;
   // A view whose field stays within this of 1 everywhere is left as it is (the same exposure).
   double min_change = 0.02;
@@ -31,7 +33,7 @@ struct PhotometricOptions {
   // 0.5-3; real lenses or shots that differ in light 4-30).
   double min_difference = 4.0;
   // ... or whose difference from the reference (blurred, aligned) it lowers by less than this
-  // fraction: what remains is parallax, not light.
+  // fraction: what remains is not light. The same margin decides whether the shape terms are kept.
   double min_improvement = 0.15;
   double max_gain = 2.5;  // fields are clamped to [1 / max_gain, max_gain], (1, 10]
 
