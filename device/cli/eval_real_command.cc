@@ -9,6 +9,7 @@
 #include <nlohmann/json.hpp>
 
 #include "device/cli/consistent_blend_flags.h"
+#include "device/cli/texture_stretch_flags.h"
 #include "device/cli/depth_option_override.h"
 #include "device/cli/machine_info.h"
 #include "device/cli/run_or_fail.h"
@@ -36,6 +37,7 @@ struct EvalRealArgs {
   bool no_photometric = false;
   std::vector<std::string> depth_overrides;
   ConsistentBlendOptions consistent_blend;
+  TextureStretchOptions texture_stretch;
   bool json = false;
   bool markdown = false;
 };
@@ -208,9 +210,11 @@ Status RunEvalReal(const EvalRealArgs& args) {
   loo.progress = progress;
   for (const std::string& text : args.depth_overrides) PX_RETURN_IF_ERROR(ApplyDepthOptionOverride(text, &loo.depth));
   loo.render.consistent_blend = args.consistent_blend;
+  loo.render.texture_stretch = args.texture_stretch;
   loo.photometric.enabled = !args.no_photometric;
   eval::PathEvalOptions path;
   path.pipeline.render.consistent_blend = args.consistent_blend;
+  path.pipeline.render.texture_stretch = args.texture_stretch;
   path.pipeline.photometric.enabled = !args.no_photometric;
   path.pipeline.image_set_max_side_px = args.max_photo_side_px;
   path.pipeline.direct.duration_s = args.duration_s;
@@ -317,6 +321,7 @@ void AddEvalRealCommand(CLI::App& eval) {
                    "Override one of the depth stage's options, name=value as in pipeline/depth/depth_options.h "
                    "(repeatable)");
   AddConsistentBlendFlags(*real, &args->consistent_blend);
+  AddTextureStretchFlags(*real, &args->texture_stretch);
   real->add_flag("--json", args->json, "Print the figures as JSON (machine-readable)");
   real->add_flag("--markdown", args->markdown, "Print the figures as the README's tables, with the machine and commit");
   real->callback(RunOrFail("eval", [args] { return RunEvalReal(*args); }));

@@ -11,6 +11,7 @@
 #include <nlohmann/json.hpp>
 
 #include "device/cli/consistent_blend_flags.h"
+#include "device/cli/texture_stretch_flags.h"
 #include "device/cli/depth_option_override.h"
 #include "device/cli/machine_info.h"
 #include "device/cli/run_or_fail.h"
@@ -46,6 +47,7 @@ struct EvalRenderArgs {
   bool holes_from_other_views = RenderOptions().holes_from_other_views;
   render::BorderHoleFillOptions border_holes = RenderOptions().border_holes;
   ConsistentBlendOptions consistent_blend;
+  TextureStretchOptions texture_stretch;
   std::vector<std::string> depth_overrides;  // name=value, as `eval depth --option`
   std::string dump_dir;
   bool json = false;
@@ -75,6 +77,7 @@ Status RunEvalRender(const EvalRenderArgs& args) {
   options.render.holes_from_other_views = args.holes_from_other_views;
   options.render.border_holes = args.border_holes;
   options.render.consistent_blend = args.consistent_blend;
+  options.render.texture_stretch = args.texture_stretch;
   options.dump_dir = args.dump_dir;
   for (const std::string& text : args.depth_overrides) {
     PX_RETURN_IF_ERROR(ApplyDepthOptionOverride(text, &options.depth_stage));
@@ -328,6 +331,7 @@ void AddEvalRenderCommand(CLI::App& eval) {
                      "Width of that fade along the border per pixel carried out, [0, 4]")
       ->capture_default_str();
   AddConsistentBlendFlags(*render, &args->consistent_blend);
+  AddTextureStretchFlags(*render, &args->texture_stretch);
   render->add_option("--dump", args->dump_dir, "Folder to write each case's render, truth, error map (x4) and coverage to");
   render->add_flag("--json", args->json, "Print the figures as JSON (machine-readable)");
   render->callback(RunOrFail("eval", [args] { return RunEvalRender(*args); }));

@@ -110,7 +110,11 @@ inline void RasterizeSegment(const SceneView& view, const FrameView& frame_view,
       float u, v;
       if (!FragmentSource(s, segment, r, fx, &u, &v)) continue;
       float bgr[3] = {0, 0, 0};
-      const float alpha = SampleSegment(view, s.segment, u, v, bgr);
+      float alpha = SampleSegment(view, s.segment, u, v, bgr);
+      if (s.texture_weight < 1.0f) {  // stretched (texture_stretch.h)
+        alpha *= s.texture_weight;
+        for (float& c : bgr) c *= s.texture_weight;
+      }
       if (alpha <= 1e-6f) continue;
       const float inv_z = s.inv_depth[0] * fx + r.iz0;
       if (!(inv_z > 0)) continue;

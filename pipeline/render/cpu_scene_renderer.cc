@@ -229,7 +229,7 @@ CpuSceneRenderer::Core CpuSceneRenderer::RenderCore(const CameraModel& camera, c
   stats_.weights_ms += MsSince(start);
 
   start = Clock::now();
-  render::SetUpFrame(scene_, camera, cam_from_world, slots_, &frame_views_);
+  render::SetUpFrame(scene_, camera, cam_from_world, slots_, options_.texture_stretch, &frame_views_);
   const std::vector<render::FrameView>& frame_views = frame_views_;
   stats_.setup_ms += MsSince(start);
   stats_.views_drawn = static_cast<int>(frame_views.size());
@@ -283,7 +283,8 @@ CpuSceneRenderer::Core CpuSceneRenderer::RenderCore(const CameraModel& camera, c
     // The preview leaves holes under 2 radius + 1 px across to its 7x7 fill (the paper's rule).
     const int small_radius = quality == RenderQuality::kPreview ? radius : 0;
     stats_.other_view_pixels = render::CoverHolesFromOtherViews(scene_, camera, cam_from_world, slots_, quality,
-                                                                options_.covered_alpha, small_radius, &known,
+                                                                options_.covered_alpha, options_.texture_stretch,
+                                                                small_radius, &known,
                                                                 &composite)
                                    .covered;
   }
@@ -371,7 +372,7 @@ StatusOr<CoverageReport> CpuSceneRenderer::Coverage(const CameraModel& camera, c
   // hole measure does not depend on how the blend shares a pixel among its views.
   scene.mesh().ComputeWeights(camera, cam_from_world, &slots);
   std::vector<render::FrameView> frame_views;
-  render::SetUpFrame(scene, camera, cam_from_world, slots, &frame_views);
+  render::SetUpFrame(scene, camera, cam_from_world, slots, options_.texture_stretch, &frame_views);
   render::FrameComposite composite;
   render::CompositePreview(scene, frame_views, slots, camera.width, camera.height, false, &composite);
   return MeasureCoverage(composite.alpha >= options_.covered_alpha);

@@ -128,6 +128,7 @@ cv::Rect LargeHoles(const cv::Mat& known, int small_hole_radius_px, cv::Mat* hol
 OtherViewsReport CoverHolesFromOtherViews(const LayeredScene& scene, const CameraModel& camera,
                                           const Rigid3& cam_from_world, const std::vector<ViewSlots>& slots,
                                           RenderQuality quality, double covered_alpha,
+                                          const TextureStretchOptions& stretch,
                                           int small_hole_radius_px, cv::Mat* known, FrameComposite* composite) {
   PX_CHECK(known != nullptr && composite != nullptr) << "CoverHolesFromOtherViews needs outputs";
   OtherViewsReport report;
@@ -138,14 +139,14 @@ OtherViewsReport CoverHolesFromOtherViews(const LayeredScene& scene, const Camer
   cv::Mat holes;
   const cv::Rect crop = LargeHoles(*known, small_hole_radius_px, &holes);
   if (crop.empty()) return report;
-  report.covered = CoverLargeHolesFromOtherViews(scene, camera, cam_from_world, slots, quality, covered_alpha, holes,
+  report.covered = CoverLargeHolesFromOtherViews(scene, camera, cam_from_world, slots, quality, covered_alpha, stretch, holes,
                                                  crop, known, composite);
   return report;
 }
 
 int CoverLargeHolesFromOtherViews(const LayeredScene& scene, const CameraModel& camera, const Rigid3& cam_from_world,
                                   const std::vector<ViewSlots>& slots, RenderQuality quality, double covered_alpha,
-                                  const cv::Mat& holes, const cv::Rect& crop, cv::Mat* known,
+                                  const TextureStretchOptions& stretch, const cv::Mat& holes, const cv::Rect& crop, cv::Mat* known,
                                   FrameComposite* composite) {
   PX_CHECK(known != nullptr && composite != nullptr) << "CoverLargeHolesFromOtherViews needs outputs";
   if (crop.empty() || scene.views().size() <= 1) return 0;
@@ -161,7 +162,7 @@ int CoverLargeHolesFromOtherViews(const LayeredScene& scene, const CameraModel& 
   crop_camera.cx -= crop.x;
   crop_camera.cy -= crop.y;
   std::vector<FrameView> frame_views;
-  SetUpFrame(scene, crop_camera, cam_from_world, crop_slots, &frame_views);
+  SetUpFrame(scene, crop_camera, cam_from_world, crop_slots, stretch, &frame_views);
   FrameComposite drawn;
   if (quality == RenderQuality::kOffline) {
     CompositeOffline(scene, frame_views, crop_slots, crop.width, crop.height, &drawn);

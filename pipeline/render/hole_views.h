@@ -49,13 +49,14 @@ struct OtherViewsReport {
 OtherViewsReport CoverHolesFromOtherViews(const LayeredScene& scene, const CameraModel& camera,
                                           const Rigid3& cam_from_world, const std::vector<ViewSlots>& slots,
                                           RenderQuality quality, double covered_alpha,
+                                          const TextureStretchOptions& stretch,
                                           int small_hole_radius_px, cv::Mat* known, FrameComposite* composite);
 
 // The same for holes already found by LargeHoles (`holes`, `crop`): for a renderer that asked
 // first, before preparing the scene. Returns the pixels covered.
 int CoverLargeHolesFromOtherViews(const LayeredScene& scene, const CameraModel& camera, const Rigid3& cam_from_world,
                                   const std::vector<ViewSlots>& slots, RenderQuality quality, double covered_alpha,
-                                  const cv::Mat& holes, const cv::Rect& crop, cv::Mat* known,
+                                  const TextureStretchOptions& stretch, const cv::Mat& holes, const cv::Rect& crop, cv::Mat* known,
                                   FrameComposite* composite);
 
 }  // namespace px::render

@@ -64,6 +64,8 @@ long CompositeSegment(const SceneView& view, const FrameView& fv, const SegmentS
   float* depths = band->depths.data();
   const size_t plane = static_cast<size_t>(band->pixels);
   const bool check = contradictions && segment.contradicted;
+  const bool faded = s.texture_weight < 1.0f;  // stretched (texture_stretch.h)
+  const cv::v_float32x4 fade = cv::v_setall_f32(s.texture_weight);
   long fragments = 0;
   ForEachSegmentRow(fv, s, width, row_begin, row_end, [&](const SegmentRow& r) {
     const ViewSlots* slot_row = slots.data() + static_cast<size_t>(r.y) * width;
@@ -80,7 +82,8 @@ long CompositeSegment(const SceneView& view, const FrameView& fv, const SegmentS
       const float fx = static_cast<float>(x);
       float u, v;
       if (!FragmentSource(s, segment, r, fx, &u, &v)) continue;
-      const cv::v_float32x4 sample = SampleSegmentPremultiplied(view, s.segment, u, v);
+      cv::v_float32x4 sample = SampleSegmentPremultiplied(view, s.segment, u, v);
+      if (faded) sample = sample * fade;
       const float alpha = cv::v_extract_n<3>(sample);
       if (alpha <= 1e-6f) continue;
       const float inv_z = s.inv_depth[0] * fx + r.iz0;

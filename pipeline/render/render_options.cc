@@ -48,6 +48,10 @@ Status RenderOptions::Validate() const {
     error << "render.seam_skirts.min_step: " << seam_skirts.min_step << " is outside [0, max_step)";
   } else if (!(seam_skirts.weight > 0 && seam_skirts.weight <= 1)) {
     error << "render.seam_skirts.weight: " << seam_skirts.weight << " is outside (0, 1]";
+  } else if (!(texture_stretch.fade_from >= 0 && texture_stretch.fade_from <= 100)) {
+    error << "render.texture_stretch.fade_from: " << texture_stretch.fade_from << " is outside [0, 100]";
+  } else if (!(texture_stretch.fade_from == 0 || texture_stretch.fade_to > texture_stretch.fade_from)) {
+    error << "render.texture_stretch.fade_to: " << texture_stretch.fade_to << " is not above fade_from";
   } else if (!(seam_planes.seam_weight >= 0 && seam_planes.seam_weight <= 1e4)) {
     error << "render.seam_planes.seam_weight: " << seam_planes.seam_weight << " is outside [0, 1e4]";
   } else if (!(seam_planes.max_step > 0 && seam_planes.max_step < 1)) {

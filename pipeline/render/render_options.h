@@ -9,6 +9,7 @@
 #include "pipeline/render/consistent_blend_options.h"
 #include "pipeline/render/seam_planes.h"
 #include "pipeline/render/seam_skirt_options.h"
+#include "pipeline/render/texture_stretch.h"
 
 namespace px {
 
@@ -66,6 +67,10 @@ struct RenderOptions {
   // sliver of wrong depth), draw it from the views the more heavily weighted ones do not
   // contradict (contradictions.h; the preview only).
   ConsistentBlendOptions consistent_blend;
+  // Segments whose texture the output camera stretches far more than a face-on surface's (seen
+  // edge-on by their own view) fade out, so that other views or the hole filling draw the place
+  // rather than a streak (texture_stretch.h). Both back ends.
+  TextureStretchOptions texture_stretch;
   // Measure double images in every preview frame (FrameRender::double_image; the evaluation's
   // figure): the contradictions are then found even with the consistent blend off.
   bool measure_double_images = false;

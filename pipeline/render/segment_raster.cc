@@ -23,6 +23,8 @@ struct ViewTransfer {
   Eigen::Matrix3d novel_rotation;  // novel cam_from_world rotation
   Eigen::Vector3d novel_translation;
   Eigen::Matrix3d novel_k;
+  Rigid3 source_from_novel;
+  double focal_ratio = 1;  // output focal length / source focal length
 };
 
 ViewTransfer MakeTransfer(const SceneView& view, const CameraModel& camera, const Rigid3& cam_from_world) {
@@ -38,12 +40,14 @@ ViewTransfer MakeTransfer(const SceneView& view, const CameraModel& camera, cons
   transfer.novel_rotation = cam_from_world.RotationMatrix();
   transfer.novel_translation = cam_from_world.translation;
   transfer.novel_k = kn;
+  transfer.source_from_novel = source_from_novel;
+  transfer.focal_ratio = kn(0, 0) / ks(0, 0);
   return transfer;
 }
 
 // Sets up one segment; false when it is culled.
 bool SetUpSegment(const SceneSegment& segment, const ViewTransfer& transfer, const cv::Rect& region,
-                  SegmentSetup* out) {
+                  const TextureStretchOptions& stretch, SegmentSetup* out) {
   double x_lo = std::numeric_limits<double>::infinity(), x_hi = -x_lo, y_lo = x_lo, y_hi = -x_lo;
   for (int k = 0; k < 4; ++k) {
     const Eigen::Vector3d p = transfer.novel_rotation * segment.corners_in_world[k] + transfer.novel_translation;
@@ -72,13 +76,23 @@ bool SetUpSegment(const SceneSegment& segment, const ViewTransfer& transfer, con
   for (int i = 0; i < 3; ++i) out->inv_depth[i] = static_cast<float>(novel_plane[i]);
   const Eigen::Vector3d centre = transfer.novel_rotation * segment.centre_in_world + transfer.novel_translation;
   out->key = static_cast<float>(centre.z());
+  out->texture_weight = 1.0f;
+  if (stretch.fade_from > 0 && centre.z() > kNearM) {
+    const Eigen::Vector2d centre_px(transfer.novel_k(0, 0) * centre.x() / centre.z() + transfer.novel_k(0, 2),
+                                    transfer.novel_k(1, 1) * centre.y() / centre.z() + transfer.novel_k(1, 2));
+    const double source_z = (transfer.source_from_novel * centre).z();
+    out->texture_weight =
+        TextureWeight(TextureStretch(h, centre_px, transfer.focal_ratio * source_z / centre.z()), stretch);
+    if (out->texture_weight <= 0) return false;
+  }
   return true;
 }
 
 }  // namespace
 
 void SetUpFrame(const LayeredScene& scene, const CameraModel& camera, const Rigid3& cam_from_world,
-                const std::vector<ViewSlots>& slots, std::vector<FrameView>* out) {
+                const std::vector<ViewSlots>& slots, const TextureStretchOptions& stretch,
+                std::vector<FrameView>* out) {
   const int num_views = static_cast<int>(scene.views().size());
   const int width = camera.width, height = camera.height;
   // Per view: the span of each row holding it in a slot, and its weight sum per chunk of rows.
@@ -153,7 +167,7 @@ void SetUpFrame(const LayeredScene& scene, const CameraModel& camera, const Rigi
         const SceneSegment& segment = view.segments[s];
         if (!segment.drawn) continue;
         setup.segment = static_cast<int32_t>(s);
-        if (SetUpSegment(segment, transfers[i], frame_views[i].region, &setup)) list.push_back(setup);
+        if (SetUpSegment(segment, transfers[i], frame_views[i].region, stretch, &setup)) list.push_back(setup);
       }
       std::sort(list.begin(), list.end(), [](const SegmentSetup& a, const SegmentSetup& b) {
         return a.key < b.key || (a.key == b.key && a.segment < b.segment);

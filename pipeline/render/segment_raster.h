@@ -15,6 +15,7 @@
 #include "pipeline/core/camera_model.h"
 #include "pipeline/core/rigid3.h"
 #include "pipeline/render/layered_scene.h"
+#include "pipeline/render/texture_stretch.h"
 #include "pipeline/render/view_mesh.h"
 
 namespace px::render {
@@ -27,6 +28,7 @@ struct SegmentSetup {
   std::array<std::array<float, 2>, 4> corners{};     // projected rectangle corners, novel pixels
   std::array<float, 9> homography{};        // row-major, novel pixel (x, y, 1) -> source pixel
   std::array<float, 3> inv_depth{};         // 1/z in the novel camera = a x + b y + c
+  float texture_weight = 1;                 // its fragments' alpha scale (texture_stretch.h), (0, 1]
 };
 
 // One view drawn this frame: the output pixels that hold it in a slot, and its segments.
@@ -40,9 +42,11 @@ struct FrameView {
 
 // The views the slots refer to and their segments, set up for one frame (parallel over views'
 // segments) into `frame_views`, whose storage is reused from the previous frame (a frame sets up
-// tens of thousands of segments). Views never referenced are absent.
+// tens of thousands of segments). Views never referenced are absent. Segments stretched beyond
+// `stretch.fade_to` are culled, those beyond fade_from carry their texture_weight.
 void SetUpFrame(const LayeredScene& scene, const CameraModel& camera, const Rigid3& cam_from_world,
-                const std::vector<ViewSlots>& slots, std::vector<FrameView>* frame_views);
+                const std::vector<ViewSlots>& slots, const TextureStretchOptions& stretch,
+                std::vector<FrameView>* frame_views);
 
 // Pixels [*x_begin, *x_end) of row y whose centres lie in the segment's projected rectangle,
 // clipped to [0, width). False when none.

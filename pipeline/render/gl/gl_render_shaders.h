@@ -128,13 +128,14 @@ layout(location = 2) in vec3 h_row0;
 layout(location = 3) in vec3 h_row1;
 layout(location = 4) in vec3 h_row2;
 layout(location = 5) in vec3 inv_depth_plane;
-layout(location = 6) in float segment_id;
+layout(location = 6) in vec2 segment_and_weight;  // segment index, texture weight (texture_stretch.h)
 uniform vec2 viewport_size;
 flat out vec3 h0;
 flat out vec3 h1;
 flat out vec3 h2;
 flat out vec3 plane;
 flat out int segment;
+flat out float texture_weight;
 void main() {
   // Strip order 0, 1, 3, 2 of the corners (x0-1, y0-1), (x0+w, y0-1), (x0+w, y0+h), (x0-1, y0+h).
   vec2 c = gl_VertexID == 0 ? corners01.xy : gl_VertexID == 1 ? corners01.zw
@@ -144,7 +145,8 @@ void main() {
   h1 = h_row1;
   h2 = h_row2;
   plane = inv_depth_plane;
-  segment = int(segment_id + 0.5);
+  segment = int(segment_and_weight.x + 0.5);
+  texture_weight = segment_and_weight.y;
 }
 )";
 
@@ -164,6 +166,7 @@ flat in vec3 h1;
 flat in vec3 h2;
 flat in vec3 plane;
 flat in int segment;
+flat in float texture_weight;
 layout(location = 0) out vec4 colour_out;
 layout(location = 1) out vec4 depth_out;
 vec4 Unpack(uint bgra) {
@@ -195,7 +198,10 @@ void main() {
     }
   }
   if (alpha <= 1e-6) discard;
-  colour_out = vec4(colour / alpha, min(alpha, 1.0));
+  colour = colour / alpha;
+  alpha *= texture_weight;
+  if (alpha <= 1e-6) discard;
+  colour_out = vec4(colour, min(alpha, 1.0));
   depth_out = vec4(z / z_scale, 0.0, 0.0, min(alpha, 1.0));
 }
 )";

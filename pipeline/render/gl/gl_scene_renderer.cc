@@ -24,7 +24,7 @@
 namespace px::render::gl {
 namespace {
 
-constexpr int kFloatsPerInstance = 22;  // corners 8, homography 9, plane 3, segment 1, pad 1
+constexpr int kFloatsPerInstance = 22;  // corners 8, homography 9, plane 3, segment 1, texture weight 1
 constexpr double kNearDepthM = 1e-3;
 
 std::string ViewName(const LayeredDepthView& view, int index) {
@@ -48,7 +48,7 @@ bool SegmentUsable(const DepthSegment& s) {
 // on (one buffer holds every view's instances; each view's draw starts at its own).
 void PointInstanceAttributes(const GlFunctions& gl, size_t first) {
   const GLsizei stride = kFloatsPerInstance * sizeof(float);
-  const std::array<std::pair<int, int>, 7> attributes = {{{4, 0}, {4, 4}, {3, 8}, {3, 11}, {3, 14}, {3, 17}, {1, 20}}};
+  const std::array<std::pair<int, int>, 7> attributes = {{{4, 0}, {4, 4}, {3, 8}, {3, 11}, {3, 14}, {3, 17}, {2, 20}}};
   for (int a = 0; a < static_cast<int>(attributes.size()); ++a) {
     gl.EnableVertexAttribArray(a);
     const size_t offset = (first * kFloatsPerInstance + attributes[a].second) * sizeof(float);
@@ -152,6 +152,7 @@ Status GlSceneRendererOptions::Validate() const {
   render.soft_z_gamma_fraction = soft_z_gamma_fraction;
   render.hole_window_radius_px = hole_window_radius_px;
   render.border_holes = border_holes;
+  render.texture_stretch = texture_stretch;
   const Status render_status = render.Validate();
   if (!render_status.ok()) return InvalidArgumentError("gl renderer: " + render_status.message());
   return context.Validate();
@@ -164,6 +165,7 @@ GlSceneRendererOptions GlOptionsFrom(const RenderOptions& render) {
   options.border_holes = render.border_holes;
   options.seam_skirts = render.seam_skirts;
   options.seam_planes = render.seam_planes;
+  options.texture_stretch = render.texture_stretch;
   options.soft_z_gamma_fraction = render.soft_z_gamma_fraction;
   options.hole_window_radius_px = render.hole_window_radius_px;
   return options;
@@ -193,6 +195,7 @@ StatusOr<std::unique_ptr<GlSceneRenderer>> GlSceneRenderer::Create(std::vector<P
   renderer->border_holes_ = options.border_holes;
   renderer->seam_skirts_ = options.seam_skirts;
   renderer->seam_planes_ = options.seam_planes;
+  renderer->texture_stretch_ = options.texture_stretch;
   renderer->context_ = std::move(context);
   renderer->views_ = std::move(views);
   ScopedCurrent current(renderer->context_.get());
@@ -475,14 +478,25 @@ StatusOr<GlSceneRenderer::RawFrame> GlSceneRenderer::RenderRaw(const CameraModel
       }
       for (int c = 0; c < 3; ++c) item.data[17 + c] = static_cast<float>(inv_depth_novel(c));
       item.data[20] = static_cast<float>(s);
-      item.data[21] = 0;
       const double cx = seg.bbox.x + (seg.bbox.width - 1) / 2.0, cy = seg.bbox.y + (seg.bbox.height - 1) / 2.0;
       const double z_centre = 1.0 / seg.InverseDepthAt(cx, cy);
+      const Eigen::Vector3d centre_novel =
+          novel_from_source * (z_centre * k_source.inverse() * Eigen::Vector3d(cx, cy, 1.0));
       // Rounded to float as the CPU reference's key is, so that both break the same near-ties by
       // segment index (seam planes put the segments of one flat surface on one plane, and with
       // seam skirts the order of two of them shows a little).
-      item.depth = static_cast<float>(
-          (novel_from_source * (z_centre * k_source.inverse() * Eigen::Vector3d(cx, cy, 1.0))).z());
+      item.depth = static_cast<float>(centre_novel.z());
+      // The CPU reference's fade of stretched segments (texture_stretch.h), from the same centre.
+      float texture_weight = 1.0f;
+      if (texture_stretch_.fade_from > 0) {
+        const Eigen::Vector3d centre_px = k_novel * centre_novel;
+        texture_weight = render::TextureWeight(
+            render::TextureStretch(h, centre_px.head<2>() / centre_px.z(),
+                                   k_novel(0, 0) / k_source(0, 0) * z_centre / centre_novel.z()),
+            texture_stretch_);
+        if (texture_weight <= 0) continue;
+      }
+      item.data[21] = texture_weight;
       sorted.push_back(item);
     }
     std::sort(sorted.begin(), sorted.end(), [](const Sorted& a, const Sorted& b) {
@@ -749,7 +763,8 @@ int GlSceneRenderer::CoverHolesFromOtherViews(const VirtualCamera& camera, const
   composite.colour = *colour;
   composite.depth = *depth;
   return CoverLargeHolesFromOtherViews(*scene, camera.camera, camera.cam_from_world, hole_slots_,
-                                       RenderQuality::kPreview, RenderOptions{}.covered_alpha, large, crop, known,
+                                       RenderQuality::kPreview, RenderOptions{}.covered_alpha, texture_stretch_, large,
+                                       crop, known,
                                        &composite);
 }
 

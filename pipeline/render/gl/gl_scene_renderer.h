@@ -58,6 +58,8 @@ struct GlSceneRendererOptions {
   // once, on upload, as the CPU reference's LayeredScene applies them.
   SeamSkirtOptions seam_skirts = RenderOptions{}.seam_skirts;
   SeamPlaneOptions seam_planes = RenderOptions{}.seam_planes;
+  // RenderOptions::texture_stretch (the same default): stretched segments fade out.
+  TextureStretchOptions texture_stretch = RenderOptions{}.texture_stretch;
   Status Validate() const;
 };
 
@@ -162,6 +164,7 @@ class GlSceneRenderer final : public SceneRenderer {
   render::BorderHoleFillOptions border_holes_;
   SeamSkirtOptions seam_skirts_;
   SeamPlaneOptions seam_planes_;
+  TextureStretchOptions texture_stretch_;
   // Holes from other views: the CPU scene made from views_ on first use, each GL view's index in
   // that scene (-1: the scene left it out), and the read-back slots turned into the scene's.
   std::unique_ptr<LayeredScene> other_views_scene_;
