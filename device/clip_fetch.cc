@@ -77,6 +77,15 @@ StatusOr<int> OpenClipInStore(const StorageLayout& layout, const std::string& na
     ::close(fd);
     return PermissionDeniedError("clip " + clip.string() + " is not a regular file; refusing to read it");
   }
+  // A clip the daemon wrote has one link and is the daemon's: another link planted under its name
+  // could expose any file its user can read.
+  if (info.st_nlink != 1 || info.st_uid != ::geteuid()) {
+    ::close(fd);
+    return PermissionDeniedError("clip " + clip.string() +
+                                 (info.st_nlink != 1 ? " has " + std::to_string(info.st_nlink) + " hard links"
+                                                     : " is not owned by the daemon's user") +
+                                 "; refusing to read it");
+  }
   *size = static_cast<uint64_t>(info.st_size);
   return fd;
 }

@@ -1,6 +1,6 @@
 // A clip fetch never leaves the clip store: each trick a client or a tampered store could play
 // (path-like ids, a journal record naming another file, a symbolic link as the clip or as the
-// clips folder, a FIFO or a folder under the clip's name) is refused with the reason, and the
+// clips folder, a hard link, a FIFO or a folder under the clip's name) is refused with the reason, and the
 // file outside the store is never read.
 #include "device/clip_fetch.h"
 
@@ -100,6 +100,13 @@ TEST_F(ClipFetchTest, AFifoOrAFolderUnderTheClipsNameIsRefusedWithoutHanging) {
   ExpectRefusedWithoutTheSecret(Fetch("000006", Done("000006")), StatusCode::kPermissionDenied, "not a regular file");
   fs::create_directory(layout_->ClipPath("000007"));
   ExpectRefusedWithoutTheSecret(Fetch("000007", Done("000007")), StatusCode::kPermissionDenied, "not a regular file");
+}
+
+TEST_F(ClipFetchTest, AHardLinkPlantedAsTheClipIsRefused) {
+  // A hard link shares the secret's inode: no path trick to see, only its link count shows it.
+  fs::create_hard_link(secret_, layout_->ClipPath("000008"));
+  ExpectRefusedWithoutTheSecret(Fetch("000008", Done("000008")), StatusCode::kPermissionDenied,
+                                "has 2 hard links; refusing to read it");
 }
 
 TEST_F(ClipFetchTest, JobsWithoutAClipSayWhy) {

@@ -273,6 +273,7 @@ StatusOr<DaemonConfig> DaemonConfigFromJson(const nlohmann::json& j) {
   PX_RETURN_IF_ERROR(storage.Number("quota_mb", &quota_mb));
   if (!(quota_mb >= 0 && quota_mb < 1e9)) return RangeError("storage.quota_mb", quota_mb, "[0, 1e9) (0 = no quota)");
   config.storage.quota_bytes = static_cast<uint64_t>(quota_mb * kBytesPerMb + 0.5);
+  PX_RETURN_IF_ERROR(storage.String("group", &config.storage_group));
   PX_RETURN_IF_ERROR(storage.CheckNoUnknownFields());
 
   PX_ASSIGN_OR_RETURN(ObjectReader control, root.Child("control"));
@@ -359,7 +360,8 @@ nlohmann::json DaemonConfigToJson(const DaemonConfig& config) {
   nlohmann::json j;
   j["storage"] = {{"root", config.storage.root.string()},
                   {"min_free_mb", static_cast<double>(config.storage.min_free_bytes) / kBytesPerMb},
-                  {"quota_mb", static_cast<double>(config.storage.quota_bytes) / kBytesPerMb}};
+                  {"quota_mb", static_cast<double>(config.storage.quota_bytes) / kBytesPerMb},
+                  {"group", config.storage_group}};
   j["control"] = {{"socket", config.control_socket.string()}, {"group", config.control_group}};
   j["source"] = {
       {"kind", config.source.kind},

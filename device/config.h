@@ -112,6 +112,9 @@ struct DaemonConfig {
   // JSON: control.group: a group name or gid whose members may use the socket too (mode 0660,
   // the socket's group set to it); "" = the daemon's user and root only (mode 0600).
   std::string control_group;
+  // JSON: storage.group: a group name or gid given read access to the store (its folders 02750,
+  // owned by that group, so captures and clips made there are too); "" = the daemon's own group.
+  std::string storage_group;
   SourceSettings source;
   ClipSettings clip;
   RenderSettings render;  // JSON: render.backend

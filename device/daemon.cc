@@ -80,7 +80,7 @@ Status Daemon::Start() {
   auto log = Logger("device");
   PX_RETURN_IF_ERROR(options_.Validate());
   PX_CHECK(!started_) << "Daemon::Start called twice";
-  PX_RETURN_IF_ERROR(layout_.Prepare());
+  PX_RETURN_IF_ERROR(layout_.Prepare(options_.storage.group));
   PX_ASSIGN_OR_RETURN(journal_, JobJournal::Open(layout_.JobsDir()));
   // Ids continue after any capture or clip whose journal record was lost.
   taken_ids_ = NamesIn(layout_.CapturesDir());

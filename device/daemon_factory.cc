@@ -105,6 +105,9 @@ StatusOr<std::unique_ptr<Daemon>> BuildDaemon(const DaemonConfig& config, const 
   if (!config.control_group.empty()) {
     PX_ASSIGN_OR_RETURN(options.control_group, ResolveGroup(config.control_group));
   }
+  if (!config.storage_group.empty()) {
+    PX_ASSIGN_OR_RETURN(options.storage.group, ResolveGroup(config.storage_group, "storage.group"));
+  }
   return std::make_unique<Daemon>(std::move(options), std::move(opened.source), MakeClipJobRunner(clip_options));
 }
 

@@ -8,10 +8,9 @@
 #include <string>
 #include <vector>
 
-#include <opencv2/imgcodecs.hpp>
-
 #include "device/cli/run_or_fail.h"
 #include "pipeline/calib/rig_calibrator.h"
+#include "pipeline/core/image_file.h"
 #include "pipeline/core/log.h"
 #include "pipeline/core/rig_calibration_json.h"
 #include "pipeline/lattice/lattice_detector.h"
@@ -49,8 +48,9 @@ StatusOr<LoadedCapture> LoadCapture(const std::filesystem::path& path) {
     if (recording.source.rig && recording.source.rig->lattice.rows > 0) capture.prior = recording.source.rig->lattice;
     return capture;
   }
-  capture.bgr = cv::imread(path.string(), cv::IMREAD_COLOR | cv::IMREAD_IGNORE_ORIENTATION);
-  if (capture.bgr.empty()) return NotFoundError("cannot read " + path.string() + " as a recording or an image");
+  ImageDecodeOptions decode;
+  decode.apply_orientation = false;
+  PX_ASSIGN_OR_RETURN(capture.bgr, DecodeImageFile(path, decode));
   return capture;
 }
 

@@ -66,10 +66,10 @@ Status CheckPeer(const PeerCredentials& peer, const ControlAccess& access) {
   return PermissionDeniedError(Who(peer) + " may not use the control socket: " + Allowed(access));
 }
 
-StatusOr<gid_t> ResolveGroup(const std::string& name_or_gid) {
-  if (name_or_gid.empty()) return InvalidArgumentError("control.group: empty");
+StatusOr<gid_t> ResolveGroup(const std::string& name_or_gid, const std::string& field) {
+  if (name_or_gid.empty()) return InvalidArgumentError(field + ": empty");
   if (std::all_of(name_or_gid.begin(), name_or_gid.end(), [](char c) { return c >= '0' && c <= '9'; })) {
-    if (name_or_gid.size() > 9) return InvalidArgumentError("control.group: gid " + name_or_gid + " is too large");
+    if (name_or_gid.size() > 9) return InvalidArgumentError(field + ": gid " + name_or_gid + " is too large");
     return static_cast<gid_t>(std::stoul(name_or_gid));
   }
   std::vector<char> buffer(4096);
@@ -81,9 +81,9 @@ StatusOr<gid_t> ResolveGroup(const std::string& name_or_gid) {
     buffer.resize(buffer.size() * 2);
   }
   if (err != 0) {
-    return UnavailableError("control.group: looking up '" + name_or_gid + "': " + std::strerror(err));
+    return UnavailableError(field + ": looking up '" + name_or_gid + "': " + std::strerror(err));
   }
-  if (found == nullptr) return NotFoundError("control.group: '" + name_or_gid + "': no such group");
+  if (found == nullptr) return NotFoundError(field + ": '" + name_or_gid + "': no such group");
   return found->gr_gid;
 }
 

@@ -40,7 +40,7 @@ Status CheckPeer(const PeerCredentials& peer, const ControlAccess& access);
 
 // "parallax" or "1234" -> a gid. NOT_FOUND names the group; INVALID_ARGUMENT for an empty or
 // malformed name.
-StatusOr<gid_t> ResolveGroup(const std::string& name_or_gid);
+StatusOr<gid_t> ResolveGroup(const std::string& name_or_gid, const std::string& field = "control.group");
 
 // Call after bind() and before listen(): mode 0600, or 0660 with the file's group set to
 // access.group. Errors name the socket and the group.

@@ -1,5 +1,10 @@
 #include "device/storage/storage_layout.h"
 
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <cerrno>
+#include <cstring>
 #include <system_error>
 
 #include "pipeline/core/durable_file.h"
@@ -22,6 +27,18 @@ Status CreateDirDurably(const fs::path& dir) {
   return FsyncDir(dir.parent_path());
 }
 
+// `dir` to 0750 (02750 and owned by `group` when given).
+Status RestrictFolder(const fs::path& dir, std::optional<gid_t> group) {
+  if (group && ::chown(dir.c_str(), static_cast<uid_t>(-1), *group) != 0) {
+    const int err = errno;
+    return PermissionDeniedError(dir.string() + ": cannot give it to group " + std::to_string(*group) +
+                                 " (storage.group): " + std::strerror(err) +
+                                 (err == EPERM ? "; the daemon's user must be a member of that group" : ""));
+  }
+  if (::chmod(dir.c_str(), group ? 02750 : 0750) != 0) return ErrnoToStatus(errno, "chmod", dir);
+  return OkStatus();
+}
+
 }  // namespace
 
 Status StorageOptions::Validate() const {
@@ -37,9 +54,12 @@ StorageLayout::StorageLayout(const fs::path& root) {
   if (!root_.has_filename() && root_.has_parent_path() && root_ != root_.root_path()) root_ = root_.parent_path();
 }
 
-Status StorageLayout::Prepare() const {
+Status StorageLayout::Prepare(std::optional<gid_t> group) const {
+  const mode_t previous = ::umask(0);
+  ::umask(previous | 027);
   for (const fs::path& dir : {root_, CapturesDir(), ClipsDir(), JobsDir()}) {
     PX_RETURN_IF_ERROR(CreateDirDurably(dir));
+    PX_RETURN_IF_ERROR(RestrictFolder(dir, group));
   }
   int removed = 0;
   for (const fs::path& dir : {CapturesDir(), ClipsDir(), JobsDir()}) removed += RemoveStaleTemporaries(dir);

@@ -8,7 +8,10 @@
 
 #include <cstdint>
 #include <filesystem>
+#include <optional>
 #include <string>
+
+#include <sys/types.h>
 
 #include "pipeline/core/status.h"
 
@@ -20,6 +23,8 @@ struct StorageOptions {
   // At most this many bytes under root (captures, clips, journal); 0 = no quota. Oldest done jobs
   // are evicted to stay under it (storage_quota.h); unprocessed captures never are.
   uint64_t quota_bytes = 0;
+  // The group given read access to the store; nullopt: the daemon's own (config: storage.group).
+  std::optional<gid_t> group;
   Status Validate() const;
 };
 
@@ -41,8 +46,11 @@ class StorageLayout {
   std::filesystem::path JobRecordPath(const std::string& job_id) const { return JobsDir() / (job_id + ".json"); }
 
   // Creates the folders (fsyncing each new one into its parent) and removes temporaries that a
-  // crashed writer left behind. Errors name the folder.
-  Status Prepare() const;
+  // crashed writer left behind. Errors name the folder. Whatever the caller's umask, the store is
+  // the daemon's and its group's alone: the process's umask gains 027 (folders 0750, files 0640
+  // from here on) and the four folders are set to 0750, or 02750 owned by `group` (new entries
+  // then inherit it), so a store made by an earlier, laxer run is closed too.
+  Status Prepare(std::optional<gid_t> group = std::nullopt) const;
 
  private:
   std::filesystem::path root_;

@@ -1,6 +1,7 @@
 #include "device/storage/storage_layout.h"
 
 #include <gtest/gtest.h>
+#include <sys/stat.h>
 
 #include "pipeline/core/durable_file.h"
 #include "tests/testing/temp_dir.h"
@@ -38,6 +39,39 @@ TEST_F(StorageLayoutTest, PrepareCreatesFoldersAndClearsStaleTemporaries) {
   ASSERT_TRUE(layout.Prepare().ok());  // idempotent
   EXPECT_FALSE(fs::exists(stale));
   EXPECT_TRUE(fs::exists(layout.ClipPath("000002")));
+}
+
+// Folders 0750 and files 0640 whatever umask the daemon was started with (by hand, 022 or 000),
+// including a store an earlier run left open to everyone.
+TEST_F(StorageLayoutTest, TheStoreIsTheDaemonsAloneWhateverTheUmask) {
+  for (const mode_t start_umask : {mode_t{0}, mode_t{022}}) {
+    ::umask(start_umask);
+    const fs::path root = dir() / ("umask" + std::to_string(start_umask));
+    fs::create_directories(root / "clips");
+    fs::permissions(root, fs::perms::all);  // an old, open store
+    StorageLayout layout(root);
+    ASSERT_TRUE(layout.Prepare().ok());
+    for (const fs::path& folder : {layout.root(), layout.CapturesDir(), layout.ClipsDir(), layout.JobsDir()}) {
+      struct stat info {};
+      ASSERT_EQ(::stat(folder.c_str(), &info), 0);
+      EXPECT_EQ(info.st_mode & 07777, 0750u) << folder << " under umask " << start_umask;
+    }
+    ASSERT_TRUE(WriteFileAtomically(layout.ClipPath("000001"), "a clip").ok());
+    struct stat info {};
+    ASSERT_EQ(::stat(layout.ClipPath("000001").c_str(), &info), 0);
+    EXPECT_EQ(info.st_mode & 0777, 0640u) << "umask " << start_umask;
+  }
+  ::umask(022);
+}
+
+TEST_F(StorageLayoutTest, AStorageGroupOwnsTheFoldersAndIsInherited) {
+  StorageLayout layout(dir() / "grouped");
+  const gid_t group = ::getegid();  // one the process may always give its files to
+  ASSERT_TRUE(layout.Prepare(group).ok());
+  struct stat info {};
+  ASSERT_EQ(::stat(layout.ClipsDir().c_str(), &info), 0);
+  EXPECT_EQ(info.st_mode & 07777, 02750u);
+  EXPECT_EQ(info.st_gid, group);
 }
 
 TEST_F(StorageLayoutTest, PrepareFailsWhenRootIsAFile) {

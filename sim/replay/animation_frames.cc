@@ -14,11 +14,19 @@ extern "C" {
 #include <libswscale/swscale.h>
 }
 
+#include "pipeline/core/image_file.h"
+
 namespace px {
 namespace {
 
 // Animations of more frames than this are not a handful of views.
 constexpr size_t kMaxFrames = 256;
+// Nor are more pixels in all than one photo may have (ImageDecodeOptions::max_pixels).
+const double kMaxDecodedPixels = ImageDecodeOptions{}.max_pixels;
+
+bool WithinPixelBudget(const std::vector<cv::Mat>& frames, int width, int height) {
+  return static_cast<double>(frames.size() + 1) * width * height <= kMaxDecodedPixels;
+}
 
 StatusOr<std::vector<uint8_t>> ReadBytes(const std::filesystem::path& file) {
   std::ifstream in(file, std::ios::binary);
@@ -42,7 +50,8 @@ StatusOr<std::vector<cv::Mat>> WebpFrames(const std::filesystem::path& file, con
   WebPAnimInfo info;
   if (!WebPAnimDecoderGetInfo(decoder.get(), &info)) return DataLossError(file.string() + ": no WebP canvas");
   std::vector<cv::Mat> frames;
-  while (WebPAnimDecoderHasMoreFrames(decoder.get()) && frames.size() < kMaxFrames) {
+  while (WebPAnimDecoderHasMoreFrames(decoder.get()) && frames.size() < kMaxFrames &&
+         WithinPixelBudget(frames, static_cast<int>(info.canvas_width), static_cast<int>(info.canvas_height))) {
     uint8_t* canvas = nullptr;
     int timestamp_ms = 0;
     if (!WebPAnimDecoderGetNext(decoder.get(), &canvas, &timestamp_ms)) {
@@ -88,7 +97,10 @@ StatusOr<std::vector<cv::Mat>> GifFrames(const std::filesystem::path& file) {
   std::vector<cv::Mat> frames;
   const auto drain = [&]() -> Status {
     while (avcodec_receive_frame(codec.get(), frame.get()) == 0) {
-      if (frame->width <= 0 || frame->height <= 0 || frames.size() >= kMaxFrames) continue;
+      if (frame->width <= 0 || frame->height <= 0 || frames.size() >= kMaxFrames ||
+          !WithinPixelBudget(frames, frame->width, frame->height)) {
+        continue;
+      }
       SwsContext* context = sws_getCachedContext(sws.release(), frame->width, frame->height,
                                                  static_cast<AVPixelFormat>(frame->format), frame->width,
                                                  frame->height, AV_PIX_FMT_BGR24, SWS_POINT, nullptr, nullptr, nullptr);
@@ -119,6 +131,16 @@ StatusOr<std::vector<cv::Mat>> GifFrames(const std::filesystem::path& file) {
 
 StatusOr<std::vector<cv::Mat>> ReadAnimationFrames(const std::filesystem::path& file) {
   PX_ASSIGN_OR_RETURN(std::vector<uint8_t> bytes, ReadBytes(file));
+  // The canvas its header claims, checked before any frame is decoded (image_file.h).
+  if (StatusOr<ImageHeaderSize> canvas = ReadImageHeaderSize(bytes); canvas.ok()) {
+    const double pixels = static_cast<double>(canvas->width) * static_cast<double>(canvas->height);
+    if (pixels > kMaxDecodedPixels) {
+      return ResourceExhaustedError(file.string() + ": its header claims a canvas of " + std::to_string(canvas->width) +
+                                    "x" + std::to_string(canvas->height) + " pixels, over the limit of " +
+                                    std::to_string(static_cast<int64_t>(kMaxDecodedPixels / 1e6)) +
+                                    " MP; refused before decoding");
+    }
+  }
   if (StartsWith(bytes, 0, "RIFF") && StartsWith(bytes, 8, "WEBP")) return WebpFrames(file, bytes);
   if (StartsWith(bytes, 0, "GIF87a") || StartsWith(bytes, 0, "GIF89a")) return GifFrames(file);
   return DataLossError(file.string() + ": neither a GIF nor a WebP by its first bytes");

@@ -7,10 +7,10 @@
 #include <iterator>
 #include <string>
 
-#include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
 #include "pipeline/core/exif.h"
+#include "pipeline/core/image_file.h"
 #include "pipeline/core/pixel_format.h"
 #include "sim/replay/animation_frames.h"
 #include "sim/replay/mpo.h"
@@ -50,13 +50,7 @@ StatusOr<std::vector<uint8_t>> ReadBytes(const std::filesystem::path& file) {
 // One photo file as a frame: upright by its EXIF orientation (IMREAD_COLOR, which FocalPx
 // expects), with a JPEG's EXIF focal length (unknown, and said in `warnings`, when unreadable).
 StatusOr<Frame> PhotoFrame(const std::filesystem::path& file, std::vector<std::string>* warnings) {
-  cv::Mat bgr;
-  try {
-    bgr = cv::imread(file.string(), cv::IMREAD_COLOR);
-  } catch (const cv::Exception& e) {
-    return DataLossError(file.string() + ": cannot be decoded as an image (" + e.what() + ")");
-  }
-  if (bgr.empty()) return DataLossError(file.string() + ": cannot be decoded as an image");
+  PX_ASSIGN_OR_RETURN(const cv::Mat bgr, DecodeImageFile(file));
   Frame frame;
   PX_ASSIGN_OR_RETURN(frame.image, FromBgr(bgr, PixelFormat::kRgb888));
   if (IsJpeg(file)) {
@@ -77,13 +71,7 @@ Status AddMpoFrames(const std::filesystem::path& file, std::vector<std::string>*
   PX_ASSIGN_OR_RETURN(std::vector<std::vector<uint8_t>> images, SplitMpo(bytes, file.string()));
   for (size_t i = 0; i < images.size(); ++i) {
     const std::string name = file.string() + " image " + std::to_string(i);
-    cv::Mat bgr;
-    try {
-      bgr = cv::imdecode(images[i], cv::IMREAD_COLOR);
-    } catch (const cv::Exception& e) {
-      return DataLossError(name + ": cannot be decoded (" + e.what() + ")");
-    }
-    if (bgr.empty()) return DataLossError(name + ": cannot be decoded as a JPEG");
+    PX_ASSIGN_OR_RETURN(const cv::Mat bgr, DecodeImageBytes(images[i], name));
     Frame frame;
     PX_ASSIGN_OR_RETURN(frame.image, FromBgr(bgr, PixelFormat::kRgb888));
     StatusOr<ExifInfo> exif = ParseJpegExif(images[i]);

@@ -68,5 +68,21 @@ TEST(CorpusReplayTest, Ptp) {
   EXPECT_FALSE(accepted["length_lies"]);
 }
 
+TEST(CorpusReplayTest, Photo) {
+  ReplayCorpus("photo", [](const uint8_t* d, size_t n) { return FuzzPhoto(d, n) > 0; });
+  const auto decodes = [](const std::string& seed) {
+    std::ifstream in(fs::path(PX_SOURCE_DIR) / "tests" / "fuzz" / "corpus" / "photo" / seed, std::ios::binary);
+    const std::vector<uint8_t> bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    return FuzzPhoto(bytes.data(), bytes.size());
+  };
+  for (const char* seed : {"jpeg_ok", "png_ok", "gif_ok", "webp_ok_anim"}) EXPECT_GE(decodes(seed), 1) << seed;
+  EXPECT_EQ(decodes("mpo_ok"), 2);  // its first image as a JPEG, and both through the MP index
+  EXPECT_LT(decodes("mpo_index_past_end"), 2);
+  for (const char* seed : {"png_claims_40000x40000", "png_claims_4000x3000_short_data", "not_an_image",
+                           "gif_claims_65535x65535"}) {
+    EXPECT_EQ(decodes(seed), 0) << seed;
+  }
+}
+
 }  // namespace
 }  // namespace px::fuzz

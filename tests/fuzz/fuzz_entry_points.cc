@@ -12,6 +12,9 @@
 #include "device/control/control_protocol.h"
 #include "drivers/ptp/ptp_container.h"
 #include "drivers/ptp/ptp_datasets.h"
+#include "pipeline/core/image_file.h"
+#include "sim/replay/animation_frames.h"
+#include "sim/replay/mpo.h"
 #include "sim/replay/recording.h"
 
 namespace px::fuzz {
@@ -88,6 +91,23 @@ int FuzzPtp(const uint8_t* data, size_t size) {
     decoded += ptp::DecodeDeviceInfo(container->payload).ok() ? 1 : 0;
     decoded += ptp::DecodeObjectInfo(container->payload).ok() ? 1 : 0;
   }
+  return decoded;
+}
+
+int FuzzPhoto(const uint8_t* data, size_t size) {
+  const std::span<const uint8_t> bytes(data, size);
+  ImageDecodeOptions limits;
+  limits.max_pixels = 4e6;
+  int decoded = DecodeImageBytes(bytes, "fuzz", limits).ok() ? 1 : 0;
+  StatusOr<std::vector<std::vector<uint8_t>>> images = SplitMpo(std::vector<uint8_t>(data, data + size), "fuzz");
+  if (images.ok()) {
+    bool all = true;
+    for (const std::vector<uint8_t>& image : *images) all = DecodeImageBytes(image, "fuzz", limits).ok() && all;
+    decoded += all ? 1 : 0;
+  }
+  const fs::path file = ScratchDir() / "animation";
+  WriteFile(file, std::string_view(reinterpret_cast<const char*>(data), size));
+  decoded += ReadAnimationFrames(file).ok() ? 1 : 0;
   return decoded;
 }
 

@@ -26,4 +26,10 @@ Status FuzzRecording(const uint8_t* data, size_t size);
 // of those decoded.
 int FuzzPtp(const uint8_t* data, size_t size);
 
+// A photo file a user imports: the bytes decoded as one image (DecodeImageBytes, its header checked
+// first, with a limit of 4 MP so that a claimed size stays cheap), split as an MPO with each image
+// decoded, and read as an animated GIF or WebP (ReadAnimationFrames, from a scratch file). Returns
+// how many of those three decoded.
+int FuzzPhoto(const uint8_t* data, size_t size);
+
 }  // namespace px::fuzz
