@@ -4,10 +4,10 @@
 #include <cstdio>
 #include <optional>
 
-#include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
 #include "pipeline/core/exif.h"
+#include "pipeline/core/image_file.h"
 #include "pipeline/core/log.h"
 
 namespace px {
@@ -194,17 +194,15 @@ class PtpSource final : public FrameSource {
                              std::to_string(info.object_compressed_size) + " bytes";
       return OkStatus();
     }
-    cv::Mat bgr;
-    try {
-      bgr = cv::imdecode(cv::Mat(1, static_cast<int>(jpeg.size()), CV_8UC1, jpeg.data()), cv::IMREAD_COLOR);
-    } catch (const cv::Exception& e) {
-      bgr.release();
-    }
-    if (bgr.empty()) {
+    // The camera's bytes are not trusted: the size their header claims is checked before decoding.
+    StatusOr<cv::Mat> decoded = DecodeImageBytes(jpeg, object);
+    if (!decoded.ok()) {
       frame->status = FrameStatus::kCorrupt;
-      frame->status_detail = what + ": " + object + ": not a decodable image (format " + Hex16(info.object_format) + ")";
+      frame->status_detail = what + ": " + object + ": not a decodable image (format " + Hex16(info.object_format) +
+                             "): " + decoded.status().message();
       return OkStatus();
     }
+    cv::Mat bgr = std::move(decoded).value();
     // The lens's focal length from the JPEG's EXIF, for structure from motion (imdecode has
     // turned the image upright, which FocalPx expects). A missing or unreadable EXIF leaves it unknown.
     if (StatusOr<ExifInfo> exif = ParseJpegExif(jpeg); exif.ok()) {
@@ -218,6 +216,8 @@ class PtpSource final : public FrameSource {
     frame->image.width = bgr.cols;
     frame->image.height = bgr.rows;
     frame->image.bytes.assign(bgr.data, bgr.data + bgr.total() * bgr.elemSize());
+    // The recording keeps the camera's own file rather than re-encoding its pixels.
+    if (granted_.pixel_format == PixelFormat::kRgb888) frame->jpeg = jpeg;
     if ((granted_.width != 0 && bgr.cols != granted_.width) || (granted_.height != 0 && bgr.rows != granted_.height)) {
       frame->status = FrameStatus::kWrongFormat;
       frame->status_detail = what + ": " + object + ": " + std::to_string(bgr.cols) + "x" + std::to_string(bgr.rows) +

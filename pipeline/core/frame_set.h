@@ -38,6 +38,10 @@ struct Frame {
   // EXIF); 0 = unknown, and structure from motion then self-calibrates it.
   double focal_length_px = 0;
   std::string focal_length_source;  // how it was found ("EXIF 35 mm equivalent focal length"); "" if unknown
+  // The JPEG file `image` was decoded from (an RGB888 image, upright by the file's EXIF
+  // orientation), when the camera or the photo delivered one: a recording keeps it byte for byte
+  // instead of re-encoding the pixels. Empty otherwise.
+  std::vector<uint8_t> jpeg;
 };
 
 struct FrameSet {

@@ -123,7 +123,7 @@ StatusOr<cv::Mat> DecodeImageBytes(std::span<const uint8_t> bytes, const std::st
   return bgr;
 }
 
-StatusOr<cv::Mat> DecodeImageFile(const std::filesystem::path& file, const ImageDecodeOptions& options) {
+StatusOr<std::vector<uint8_t>> ReadImageFileBytes(const std::filesystem::path& file, const ImageDecodeOptions& options) {
   std::error_code ec;
   const uintmax_t file_bytes = std::filesystem::file_size(file, ec);
   // A compressed image is far smaller than its pixels; a file over 3 bytes a pixel allowed is not a photo.
@@ -135,8 +135,13 @@ StatusOr<cv::Mat> DecodeImageFile(const std::filesystem::path& file, const Image
   }
   std::ifstream in(file, std::ios::binary);
   if (!in) return NotFoundError(file.string() + ": cannot be opened");
-  const std::vector<uint8_t> bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  std::vector<uint8_t> bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
   if (in.bad()) return DataLossError(file.string() + ": read error");
+  return bytes;
+}
+
+StatusOr<cv::Mat> DecodeImageFile(const std::filesystem::path& file, const ImageDecodeOptions& options) {
+  PX_ASSIGN_OR_RETURN(const std::vector<uint8_t> bytes, ReadImageFileBytes(file, options));
   return DecodeImageBytes(bytes, file.string(), options);
 }
 

@@ -9,6 +9,7 @@
 #include <filesystem>
 #include <span>
 #include <string>
+#include <vector>
 
 #include <opencv2/core.hpp>
 
@@ -42,5 +43,9 @@ StatusOr<ImageHeaderSize> ReadImageHeaderSize(std::span<const uint8_t> bytes);
 StatusOr<cv::Mat> DecodeImageBytes(std::span<const uint8_t> bytes, const std::string& name,
                                    const ImageDecodeOptions& options = {});
 StatusOr<cv::Mat> DecodeImageFile(const std::filesystem::path& file, const ImageDecodeOptions& options = {});
+
+// The file's bytes, refused unread when it is larger than any image within the limit could be.
+StatusOr<std::vector<uint8_t>> ReadImageFileBytes(const std::filesystem::path& file,
+                                                  const ImageDecodeOptions& options = {});
 
 }  // namespace px

@@ -7,6 +7,8 @@
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
+#include "pipeline/core/image_file.h"
+
 namespace px::replay {
 namespace {
 
@@ -27,23 +29,37 @@ bool PngCanHold(PixelFormat format) {
   return format == PixelFormat::kRgb888 || format == PixelFormat::kBgr888 || format == PixelFormat::kGray8;
 }
 
-FrameFileType ChooseFrameFileType(const RawImage& image) {
-  return PngCanHold(image.format) && image.Validate().ok() ? FrameFileType::kPng : FrameFileType::kRaw;
+FrameFileType ChooseFrameFileType(const RawImage& image, bool has_jpeg) {
+  if (!image.Validate().ok()) return FrameFileType::kRaw;
+  if (has_jpeg && image.format == PixelFormat::kRgb888) return FrameFileType::kJpeg;
+  return PngCanHold(image.format) ? FrameFileType::kPng : FrameFileType::kRaw;
 }
 
-std::string_view FrameFileExtension(FrameFileType type) { return type == FrameFileType::kPng ? ".png" : ".raw"; }
+std::string_view FrameFileExtension(FrameFileType type) {
+  switch (type) {
+    case FrameFileType::kPng:
+      return ".png";
+    case FrameFileType::kJpeg:
+      return ".jpg";
+    case FrameFileType::kRaw:
+      break;
+  }
+  return ".raw";
+}
 
 StatusOr<FrameFileType> FrameFileTypeOf(std::string_view file_name) {
   auto ends_with = [&](std::string_view suffix) {
     return file_name.size() > suffix.size() && file_name.substr(file_name.size() - suffix.size()) == suffix;
   };
   if (ends_with(".png")) return FrameFileType::kPng;
+  if (ends_with(".jpg")) return FrameFileType::kJpeg;
   if (ends_with(".raw")) return FrameFileType::kRaw;
-  return InvalidArgumentError("'" + std::string(file_name) + "' is neither a .png nor a .raw file");
+  return InvalidArgumentError("'" + std::string(file_name) + "' is none of a .png, .jpg or .raw file");
 }
 
 StatusOr<std::vector<uint8_t>> EncodeFrameFile(const RawImage& image, FrameFileType type) {
   if (type == FrameFileType::kRaw) return image.bytes;
+  if (type == FrameFileType::kJpeg) return InvalidArgumentError("a JPEG frame file is the camera's own, not encoded here");
   if (!PngCanHold(image.format)) {
     return InvalidArgumentError(std::string(PixelFormatName(image.format)) + " cannot be stored as PNG");
   }
@@ -112,6 +128,18 @@ StatusOr<std::vector<uint8_t>> DecodePngFrame(std::span<const uint8_t> file, Pix
   // cvtColor / copyTo must have written into our buffer, not reallocated.
   PX_CHECK(packed.data == bytes.data()) << "decoded frame was not unpacked in place";
   return bytes;
+}
+
+StatusOr<std::vector<uint8_t>> DecodeJpegFrame(std::span<const uint8_t> file, int width, int height) {
+  StatusOr<cv::Mat> bgr = DecodeImageBytes(file, "JPEG frame");
+  if (!bgr.ok()) return DataLossError("truncated or not a JPEG (" + bgr.status().message() + ")");
+  if (bgr->cols != width || bgr->rows != height) {
+    return DataLossError("decodes to " + SizeText(bgr->cols, bgr->rows) + ", the manifest says " +
+                         SizeText(width, height));
+  }
+  cv::Mat rgb;
+  cv::cvtColor(*bgr, rgb, cv::COLOR_BGR2RGB);
+  return std::vector<uint8_t>(rgb.data, rgb.data + rgb.total() * rgb.elemSize());
 }
 
 }  // namespace px::replay

@@ -3,8 +3,6 @@
 #include <algorithm>
 #include <cctype>
 #include <cstdio>
-#include <fstream>
-#include <iterator>
 #include <string>
 
 #include <opencv2/imgproc.hpp>
@@ -41,33 +39,29 @@ bool IsImage(const std::filesystem::path& file) {
   return IsJpeg(file) || LowerExtension(file) == ".png" || IsMpo(file) || IsAnimation(file);
 }
 
-StatusOr<std::vector<uint8_t>> ReadBytes(const std::filesystem::path& file) {
-  std::ifstream in(file, std::ios::binary);
-  if (!in) return NotFoundError(file.string() + ": cannot be opened");
-  return std::vector<uint8_t>(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
-}
-
 // One photo file as a frame: upright by its EXIF orientation (IMREAD_COLOR, which FocalPx
 // expects), with a JPEG's EXIF focal length (unknown, and said in `warnings`, when unreadable).
 StatusOr<Frame> PhotoFrame(const std::filesystem::path& file, std::vector<std::string>* warnings) {
-  PX_ASSIGN_OR_RETURN(const cv::Mat bgr, DecodeImageFile(file));
+  PX_ASSIGN_OR_RETURN(std::vector<uint8_t> bytes, ReadImageFileBytes(file));
+  PX_ASSIGN_OR_RETURN(const cv::Mat bgr, DecodeImageBytes(bytes, file.string()));
   Frame frame;
   PX_ASSIGN_OR_RETURN(frame.image, FromBgr(bgr, PixelFormat::kRgb888));
   if (IsJpeg(file)) {
-    StatusOr<ExifInfo> exif = ReadJpegExif(file);
+    StatusOr<ExifInfo> exif = ParseJpegExif(bytes);
     if (exif.ok()) {
       frame.focal_length_px = exif->FocalPx(bgr.cols, bgr.rows, &frame.focal_length_source);
     } else {
       warnings->push_back(file.string() + ": EXIF unreadable (" + exif.status().message() +
                           "); its focal length will be self-calibrated");
     }
+    frame.jpeg = std::move(bytes);  // a recording keeps the photo as it came
   }
   return frame;
 }
 
 // One frame per image of an MPO file, each with the focal length of its own EXIF.
 Status AddMpoFrames(const std::filesystem::path& file, std::vector<std::string>* warnings, Recording* recording) {
-  PX_ASSIGN_OR_RETURN(std::vector<uint8_t> bytes, ReadBytes(file));
+  PX_ASSIGN_OR_RETURN(std::vector<uint8_t> bytes, ReadImageFileBytes(file));
   PX_ASSIGN_OR_RETURN(std::vector<std::vector<uint8_t>> images, SplitMpo(bytes, file.string()));
   for (size_t i = 0; i < images.size(); ++i) {
     const std::string name = file.string() + " image " + std::to_string(i);
@@ -80,6 +74,7 @@ Status AddMpoFrames(const std::filesystem::path& file, std::vector<std::string>*
     } else {
       warnings->push_back(name + ": EXIF unreadable (" + exif.status().message() + "); its focal length will be self-calibrated");
     }
+    frame.jpeg = std::move(images[i]);
     frame.sequence = recording->frames.frames.size();
     recording->frames.frames.push_back(std::move(frame));
   }

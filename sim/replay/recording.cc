@@ -11,6 +11,7 @@
 #include "pipeline/core/json_fields.h"
 #include "pipeline/core/log.h"
 #include "pipeline/core/durable_file.h"
+#include "pipeline/core/image_file.h"
 #include "sim/replay/frame_file.h"
 #include "sim/replay/recording_manifest.h"
 #include "sim/replay/sha256.h"
@@ -80,6 +81,17 @@ Status PrepareFolder(const fs::path& dir, WriteCleanup* cleanup) {
   return OkStatus();
 }
 
+// Whether the frame's JPEG is the image's own: an ok frame whose JPEG header's size is the image's
+// (or turned a quarter, by its EXIF orientation). A JPEG left beside an image changed since is not
+// stored, nor one of a frame kept as bad data.
+bool JpegHoldsImage(const Frame& frame) {
+  if (frame.jpeg.empty() || frame.status != FrameStatus::kOk) return false;
+  StatusOr<ImageHeaderSize> size = ReadImageHeaderSize(frame.jpeg);
+  if (!size.ok()) return false;
+  const int64_t w = frame.image.width, h = frame.image.height;
+  return (size->width == w && size->height == h) || (size->width == h && size->height == w);
+}
+
 // The manifest's view of the recording, before any file is written (sizes and checksums of
 // PNG files are filled in as they are encoded).
 StatusOr<Manifest> PlanManifest(const Recording& recording) {
@@ -114,10 +126,12 @@ StatusOr<Manifest> PlanManifest(const Recording& recording) {
     entry.focal_length_px = frame.focal_length_px;
     entry.focal_length_source = frame.focal_length_source;
     if (!frame.image.bytes.empty()) {
-      const replay::FrameFileType type = replay::ChooseFrameFileType(frame.image);
+      const replay::FrameFileType type = replay::ChooseFrameFileType(frame.image, JpegHoldsImage(frame));
       entry.file = replay::FrameFileName(i, replay::FrameFileExtension(type));
       entry.sha256 = std::string(64, '0');  // placeholder until the file is encoded
-      entry.bytes = type == replay::FrameFileType::kRaw ? frame.image.bytes.size() : 0;
+      entry.bytes = type == replay::FrameFileType::kRaw    ? frame.image.bytes.size()
+                    : type == replay::FrameFileType::kJpeg ? frame.jpeg.size()
+                                                           : 0;
     }
     manifest.frames.push_back(std::move(entry));
   }
@@ -126,8 +140,10 @@ StatusOr<Manifest> PlanManifest(const Recording& recording) {
   return manifest;
 }
 
-// Reads, checks and decodes frame file `index`; errors name the file and the manifest field.
-StatusOr<std::vector<uint8_t>> LoadFrameFile(const fs::path& dir, const FrameEntry& entry, size_t index) {
+// Reads, checks and decodes frame file `index` (a JPEG's own bytes into `jpeg`); errors name the file
+// and the manifest field.
+StatusOr<std::vector<uint8_t>> LoadFrameFile(const fs::path& dir, const FrameEntry& entry, size_t index,
+                                             std::vector<uint8_t>* jpeg) {
   const fs::path path = dir / *entry.file;
   const std::string field = "manifest.json frames[" + std::to_string(index) + "]";
   StatusOr<std::vector<uint8_t>> file = ReadFileBytes(path, kMaxFrameFileBytes);
@@ -150,10 +166,12 @@ StatusOr<std::vector<uint8_t>> LoadFrameFile(const fs::path& dir, const FrameEnt
   PX_ASSIGN_OR_RETURN(replay::FrameFileType type, replay::FrameFileTypeOf(*entry.file));
   if (type == replay::FrameFileType::kRaw) return std::move(file).value();
   StatusOr<std::vector<uint8_t>> decoded =
-      replay::DecodePngFrame(*file, entry.pixel_format, entry.width, entry.height);
+      type == replay::FrameFileType::kJpeg ? replay::DecodeJpegFrame(*file, entry.width, entry.height)
+                                           : replay::DecodePngFrame(*file, entry.pixel_format, entry.width, entry.height);
   if (!decoded.ok()) {
     return Status(decoded.status().code(), path.string() + ": " + decoded.status().message() + " (" + field + ")");
   }
+  if (type == replay::FrameFileType::kJpeg) *jpeg = std::move(file).value();
   return decoded;
 }
 
@@ -181,13 +199,20 @@ Status WriteRecording(const fs::path& dir, const Recording& recording, const Bef
   for (size_t i = 0; i < manifest.frames.size(); ++i) {
     FrameEntry& entry = manifest.frames[i];
     if (!entry.file) continue;
-    const RawImage& image = recording.frames.frames[i].image;
+    const Frame& frame = recording.frames.frames[i];
     PX_ASSIGN_OR_RETURN(replay::FrameFileType type, replay::FrameFileTypeOf(*entry.file));
-    StatusOr<std::vector<uint8_t>> encoded = replay::EncodeFrameFile(image, type);
-    if (!encoded.ok()) return encoded.status().WithContext((dir / *entry.file).string());
-    entry.bytes = encoded->size();
-    entry.sha256 = replay::Sha256Hex(*encoded);
-    PX_RETURN_IF_ERROR(commit(dir / *entry.file, *encoded));
+    std::vector<uint8_t> encoded;
+    if (type != replay::FrameFileType::kJpeg) {
+      StatusOr<std::vector<uint8_t>> made = replay::EncodeFrameFile(frame.image, type);
+      if (!made.ok()) return made.status().WithContext((dir / *entry.file).string());
+      encoded = std::move(made).value();
+    }
+    const std::span<const uint8_t> bytes = type == replay::FrameFileType::kJpeg
+                                               ? std::span<const uint8_t>(frame.jpeg)
+                                               : std::span<const uint8_t>(encoded);
+    entry.bytes = bytes.size();
+    entry.sha256 = replay::Sha256Hex(bytes);
+    PX_RETURN_IF_ERROR(commit(dir / *entry.file, bytes));
     total_bytes += entry.bytes;
   }
   // The frames' names must be durable before the manifest that points at them.
@@ -245,7 +270,7 @@ StatusOr<Recording> ReadRecording(const fs::path& dir) {
     frame.focal_length_px = entry.focal_length_px;
     frame.focal_length_source = entry.focal_length_source;
     if (entry.file) {
-      PX_ASSIGN_OR_RETURN(frame.image.bytes, LoadFrameFile(dir, entry, i));
+      PX_ASSIGN_OR_RETURN(frame.image.bytes, LoadFrameFile(dir, entry, i, &frame.jpeg));
       total_bytes += entry.bytes;
     }
     recording.frames.frames.push_back(std::move(frame));

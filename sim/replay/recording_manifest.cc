@@ -178,13 +178,18 @@ Status ValidateFrameEntry(const FrameEntry& entry, const std::string& path) {
     return InvalidArgumentError(FieldPath(path, "file") + ": '" + *entry.file + "' is a PNG, but " +
                                 std::string(PixelFormatName(entry.pixel_format)) + " frames are stored as .raw");
   }
-  // Writers store complete RGB888/BGR888/GRAY8 frames as PNG; a raw file for an ok frame of
+  if (*type == FrameFileType::kJpeg &&
+      (entry.pixel_format != PixelFormat::kRgb888 || entry.status != FrameStatus::kOk)) {
+    return InvalidArgumentError(FieldPath(path, "file") + ": '" + *entry.file +
+                                "' is a JPEG, which only an ok RGB888 frame may be");
+  }
+  // Writers store complete RGB888/BGR888/GRAY8 frames as PNG (or their camera's JPEG); a raw file for an ok frame of
   // those formats would let a changed pixel_format (SRGGB8 -> GRAY8) pass unnoticed.
   if (*type == FrameFileType::kRaw && entry.status == FrameStatus::kOk && PngCanHold(entry.pixel_format)) {
     return InvalidArgumentError(FieldPath(path, "file") + ": '" + *entry.file + "' is raw, but ok " +
                                 std::string(PixelFormatName(entry.pixel_format)) + " frames are stored as PNG");
   }
-  if (entry.status == FrameStatus::kOk || *type == FrameFileType::kPng) {
+  if (entry.status == FrameStatus::kOk || *type != FrameFileType::kRaw) {
     StatusOr<size_t> packed = PackedImageBytes(entry.pixel_format, entry.width, entry.height);
     if (!packed.ok()) return packed.status().WithContext(FieldPath(path, "width") + ", height");
     // A raw file holds the packed bytes themselves; only a frame marked bad may be short or long.

@@ -81,6 +81,46 @@ TEST(RecordingTest, ColourPngShowsTheTrueColoursInOtherTools) {
   }
 }
 
+// A frame decoded from its camera's JPEG is stored as that JPEG, byte for byte (no re-encoding:
+// the capture as it came, and an import of a 24 MP photo in well under a second), and reads back
+// as the same JPEG and the pixels it decodes to.
+TEST(RecordingTest, ACamerasJpegIsKeptAsItCame) {
+  ScratchDir scratch;
+  Recording recording = LatticeRecording(PixelFormat::kRgb888, 4);
+  Frame& frame = recording.frames.frames[0];
+  StatusOr<cv::Mat> bgr = ToBgr(frame.image);
+  ASSERT_TRUE(bgr.ok());
+  ASSERT_TRUE(cv::imencode(".jpg", *bgr, frame.jpeg, {cv::IMWRITE_JPEG_QUALITY, 90}));
+  ASSERT_TRUE(WriteRecording(scratch.path() / "shot", recording).ok());
+  const fs::path stored = scratch.path() / "shot" / "frame_0000.jpg";
+  ASSERT_TRUE(fs::exists(stored));
+  const std::string text = ReadText(stored);
+  EXPECT_EQ(std::vector<uint8_t>(text.begin(), text.end()), frame.jpeg);
+
+  StatusOr<Recording> read = ReadRecording(scratch.path() / "shot");
+  ASSERT_TRUE(read.ok()) << read.status().ToString();
+  const Frame& back = read->frames.frames[0];
+  EXPECT_EQ(back.jpeg, frame.jpeg);
+  EXPECT_EQ(back.image.format, PixelFormat::kRgb888);
+  StatusOr<cv::Mat> back_bgr = ToBgr(back.image);
+  ASSERT_TRUE(back_bgr.ok());
+  EXPECT_EQ(cv::norm(*back_bgr, cv::imdecode(frame.jpeg, cv::IMREAD_COLOR), cv::NORM_INF), 0);
+  // Written again from what was read, it is the same file.
+  ASSERT_TRUE(WriteRecording(scratch.path() / "again", *read).ok());
+  EXPECT_EQ(ReadText(scratch.path() / "again" / "frame_0000.jpg"), text);
+}
+
+TEST(RecordingTest, AJpegThatNoLongerHoldsTheImageIsNotStored) {
+  // The image was changed (resized) after decoding: its pixels are stored, not the stale JPEG.
+  ScratchDir scratch;
+  Recording recording = LatticeRecording(PixelFormat::kRgb888, 4);
+  Frame& frame = recording.frames.frames[0];
+  ASSERT_TRUE(cv::imencode(".jpg", cv::Mat(10, 12, CV_8UC3, cv::Scalar(1, 2, 3)), frame.jpeg));
+  ASSERT_TRUE(WriteRecording(scratch.path() / "shot", recording).ok());
+  EXPECT_TRUE(fs::exists(scratch.path() / "shot" / "frame_0000.png"));
+  EXPECT_FALSE(fs::exists(scratch.path() / "shot" / "frame_0000.jpg"));
+}
+
 TEST(RecordingTest, ImageSetWithEveryFrameStatusComesBackExactly) {
   ScratchDir scratch;
   Recording recording = ImageSetRecording(5, PixelFormat::kBgr888);
