@@ -44,6 +44,7 @@ Status DaemonOptions::Validate() const {
     return InvalidArgumentError("capture_timeout: " + std::to_string(capture_timeout.count()) + " ms is not positive");
   }
   if (max_attempts < 1) return InvalidArgumentError("max_attempts: " + std::to_string(max_attempts) + " is below 1");
+  if (space_retry_interval.count() <= 0) return InvalidArgumentError("space_retry_interval: not above 0");
   return OkStatus();
 }
 
@@ -201,6 +202,12 @@ StatusOr<std::string> Daemon::Press() {
   std::lock_guard<std::mutex> lock(mutex_);
   if (!started_) return FailedPreconditionError("daemon not started; press ignored");
   if (stopping_) return FailedPreconditionError("daemon is shutting down; press ignored");
+  // A press the store has no room for, even after evicting what may be evicted, is refused before
+  // it is acknowledged: the user learns at once, and no job is made that can only fail.
+  if (StatusOr<StorageUsage> usage = MeasureStorage(layout_, options_.storage, *journal_); usage.ok() && usage->full) {
+    log->error("press refused before acknowledgement: {}", usage->shortfall.message());
+    return Status(usage->shortfall.code(), "press refused: " + usage->shortfall.message());
+  }
   JobRecord record;
   record.id = journal_->NewId(taken_ids_);
   taken_ids_.clear();
@@ -443,8 +450,15 @@ void Daemon::ProcessLoop() {
     std::string id;
     {
       std::unique_lock<std::mutex> lock(mutex_);
-      changed_.wait(
-          lock, [this] { return (stopping_ && !drain_) || !process_queue_.empty() || (stopping_ && capture_done_); });
+      const auto ready = [this] {
+        return (stopping_ && !drain_) || !process_queue_.empty() || (stopping_ && capture_done_);
+      };
+      if (waiting_for_space_.empty()) {
+        changed_.wait(lock, ready);
+      } else if (!changed_.wait_for(lock, options_.space_retry_interval, ready)) {
+        RequeueIfRoomLocked();
+        continue;
+      }
       if (stopping_ && !drain_) break;
       if (process_queue_.empty()) break;  // stopping, captures finished, nothing left
       id = process_queue_.front();
@@ -464,6 +478,18 @@ void Daemon::ProcessLoop() {
   process_done_ = true;
   changed_.notify_all();
 }
+
+namespace {
+
+// A clip lost for want of disk space (ENOSPC, EDQUOT, or the free-space floor), not to the shot.
+bool IsDiskFull(const Status& status) {
+  if (status.code() != StatusCode::kResourceExhausted) return false;
+  const std::string& message = status.message();
+  return message.find("disk full") != std::string::npos || message.find("No space left") != std::string::npos ||
+         message.find("quota exceeded") != std::string::npos;
+}
+
+}  // namespace
 
 std::optional<JobRecord> Daemon::ProcessJob(const std::string& id) {
   auto log = Logger("device");
@@ -541,7 +567,29 @@ std::optional<JobRecord> Daemon::ProcessJob(const std::string& id) {
               record.process_ms / 1000.0);
     return std::nullopt;
   }
+  if (IsDiskFull(outcome.status())) {
+    // Not the shot's fault: it waits, saved, for the store to have room again.
+    record.state = JobState::kSaved;
+    record.attempts -= 1;
+    record.note = "waiting for free space: " + outcome.status().message() +
+                  "; the clip is made once there is room (raw capture kept)";
+    Record(record);
+    log->warn("job {}: {}", id, record.note);
+    std::lock_guard<std::mutex> lock(mutex_);
+    waiting_for_space_.push_back(id);
+    return std::nullopt;
+  }
   return FailJob(record, outcome.status(), "processing");
+}
+
+void Daemon::RequeueIfRoomLocked() {
+  StatusOr<StorageUsage> usage = MeasureStorage(layout_, options_.storage, *journal_);
+  if (!usage.ok() || usage->full) return;
+  Logger("device")->info("the store has room again: {} job(s) waiting for free space go back to processing",
+                         waiting_for_space_.size());
+  for (std::string& id : waiting_for_space_) process_queue_.push_back(std::move(id));
+  waiting_for_space_.clear();
+  OnProgressLocked();
 }
 
 void Daemon::HandleRequest(const std::string& line, ControlServer::Respond respond) {

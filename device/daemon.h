@@ -43,6 +43,9 @@ struct DaemonOptions {
   std::vector<std::shared_ptr<LoopInput>> loop_inputs;
   std::string created_by = "parallaxd";  // written into each recording
   int max_attempts = 3;  // processing attempts per job before giving up (a job that kills the daemon), >= 1
+  // A job whose clip could not be written for want of disk space waits (saved, its attempt not
+  // counted) and is processed again once the store has room, checked this often; > 0.
+  std::chrono::milliseconds space_retry_interval{10000};
   Status Validate() const;
 };
 
@@ -116,6 +119,7 @@ class Daemon {
   // Each returns the job's record when it reached done or failed (to answer "wait"s once the
   // job no longer shows as current), nullopt when it moved on to another queue.
   std::optional<JobRecord> CaptureJob(const std::string& id);
+  void RequeueIfRoomLocked();  // waiting_for_space_ back to processing when the store has room
   std::optional<JobRecord> ProcessJob(const std::string& id);
   Status EnsureConfigured();
   // Writes the record; logs (never throws away) a journal write failure.
@@ -153,6 +157,7 @@ class Daemon {
   std::condition_variable changed_;
   std::deque<std::string> capture_queue_;
   std::deque<std::string> process_queue_;
+  std::vector<std::string> waiting_for_space_;  // saved jobs whose clip wait for disk space
   std::string capturing_id_;
   std::string processing_id_;
   std::string processing_stage_;

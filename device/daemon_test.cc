@@ -324,16 +324,39 @@ TEST_F(DaemonTest, RecoveryResumesSavedAndInterruptedJobsAndFailsLostCaptures) {
   EXPECT_EQ(Clips().size(), 3u);
 }
 
-TEST_F(DaemonTest, FullDiskFailsThePressWithTheFreeSpaceMessage) {
+TEST_F(DaemonTest, APressOnAFullDiskIsRefusedBeforeItIsAcknowledged) {
   DaemonOptions options = Options();
   options.storage.min_free_bytes = 1ull << 62;  // more than any disk holds
   auto daemon = StartDaemon(options);
+  const nlohmann::json reply = Call(R"({"cmd":"capture"})");
+  EXPECT_EQ(reply["ok"], false) << reply.dump();
+  EXPECT_EQ(reply["code"], "RESOURCE_EXHAUSTED");
+  EXPECT_THAT(reply["error"].get<std::string>(),
+              ::testing::MatchesRegex("press refused: disk full: [0-9]+ MB free under .*/store, need [0-9]+ MB"));
+  EXPECT_FALSE(reply.contains("job"));
+  EXPECT_TRUE(Call(R"({"cmd":"list"})")["jobs"].empty()) << "no job was made for the refused press";
+  EXPECT_EQ(Call(R"({"cmd":"status"})")["ok"], true);
+}
+
+// A clip that could not be written for want of space is not a failed shot: the job waits, saved,
+// with the reason, and is processed again once the store has room; the attempt does not count.
+TEST_F(DaemonTest, AClipLostToAFullDiskIsMadeOnceThereIsRoomAgain) {
+  std::atomic<int> runs{0};
+  DaemonOptions options = Options();
+  options.space_retry_interval = std::chrono::milliseconds(50);
+  auto daemon = StartDaemon(options, [&runs](const JobContext& context) -> StatusOr<JobOutcome> {
+    if (runs.fetch_add(1) == 0) {
+      return DiskFullError(context.clip_path.parent_path(), 3'000'000, 40'000'000)
+          .WithContext("write " + context.clip_path.string());
+    }
+    return PngJob(context);
+  });
   const std::string id = Call(R"({"cmd":"capture"})")["job"];
   nlohmann::json job = Call(R"({"cmd":"wait","job":")" + id + R"("})")["job"];
-  EXPECT_EQ(job["state"], "failed");
-  EXPECT_THAT(job["error"].get<std::string>(),
-              ::testing::MatchesRegex("RESOURCE_EXHAUSTED: disk full: [0-9]+ MB free under .*/store, need [0-9]+ MB"));
-  EXPECT_EQ(Call(R"({"cmd":"status"})")["ok"], true);
+  EXPECT_EQ(job["state"], "done") << job.dump();
+  EXPECT_EQ(runs.load(), 2);
+  EXPECT_EQ(job["attempts"], 1) << "the attempt lost to the full disk does not count";
+  EXPECT_TRUE(fs::exists(daemon->layout().ClipPath(id)));
 }
 
 TEST_F(DaemonTest, StaleSocketFromACrashedDaemonIsReplaced) {

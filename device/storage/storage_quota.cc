@@ -123,6 +123,7 @@ StatusOr<StorageUsage> MeasureStorage(const StorageLayout& layout, const Storage
       Shortfall(layout, options, usage, usage.evictable_bytes, journal.List().size() - evictable.size());
   usage.full = !shortfall.ok();
   usage.reason = shortfall.ok() ? "" : shortfall.ToString();
+  usage.shortfall = shortfall;
   return usage;
 }
 

@@ -14,6 +14,7 @@
 
 #include "device/storage/job_journal.h"
 #include "device/storage/storage_layout.h"
+#include "pipeline/core/status.h"
 
 namespace px::device {
 
@@ -24,6 +25,7 @@ struct StorageUsage {
   uint64_t next_job_bytes = 0;   // estimate: the newest capture with its clip (0 before the first)
   bool full = false;    // a capture would be refused even after evicting everything evictable
   std::string reason;   // why, when full: the same message the press fails with
+  Status shortfall;     // that refusal as a status (RESOURCE_EXHAUSTED), OK when a capture fits
 };
 
 // Walks the root. Errors name the folder.
