@@ -46,10 +46,9 @@ TEST(DepthEvalHciTest, CentralThreeByThreeCropBadPix007) {
   const HciMetrics metrics = EvaluateHciDisparity(disparity, lf->gt_disparity(crop).clone());
   std::printf("HCI antinous 3x3, 192x192 crop: BadPix.07 %.2f %%, BadPix.03 %.2f %%, MSE x 100 %.3f\n",
               metrics.bad_pix_007, metrics.bad_pix_003, metrics.mse_x100);
-  // Measured 15.8 % on this crop with session 14's light-field options (14.9 % with session
-  // 13's: its 24 px segments flatten some of the statue's relief that this crop is made of,
-  // while the whole view went from 20.8 to 14.8 %; the naive plane sweep 37.6 %): the bound
-  // leaves a few points for platform differences in the SLIC segmentation.
+  // About 16 % on this crop with the light-field options (the whole view scores under 15 %; the
+  // naive plane sweep 37.6 %): the bound leaves a few points for platform differences in the
+  // SLIC segmentation.
   EXPECT_LT(metrics.bad_pix_007, 20.0);
 }
 

@@ -150,17 +150,17 @@ DepthOptions LightFieldDepthOptions(const DepthOptions& ours) {
   options.matching.spread_neighbors = 12;
   options.segments.pixel_depth_tolerance_px = 1.0;
   // Segment-level PatchMatch on larger segments, the steep ones (the floor) against the exact
-  // slanted cost, and per-pixel depth only where confident: BadPix.07 3x3 20.8 -> 14.7 %, 9x9
-  // 12.9 -> 7.0 % (pipeline/depth/README.md has each step alone).
+  // slanted cost, and per-pixel depth only where confident: together they take the HCI 3x3's
+  // BadPix.07 under its 15 % goal (pipeline/depth/README.md).
   options.segments.region_size_px = 24;
   options.segments.refine_iterations = 3;
   options.segments.slanted_min_slope_px = 0.01;
   options.segments.pixel_depth_min_confidence = 0.2;
-  // Guided-filter radius 3 (against 4: 9x9 7.03 -> 6.45 %, 3x3 14.68 -> 14.81 %); the default
-  // 2 gives 6.15 and 15.09 %, over the 3x3's 15 % goal.
+  // Guided-filter radius 3: the best 9x9 BadPix.07 that keeps the 3x3 under 15 % (the default 2
+  // takes the 3x3 just over it, 4 the 9x9 up).
   options.matching.cost_filter_radius_px = 3;
   // No coplanar groups: the light field's relief keeps per-pixel depth, and groups would flatten
-  // it (HCI 3x3 BadPix.07 14.70 -> 14.83 %, 9x9 MSE 15.33 -> 15.86).
+  // it (HCI BadPix.07 and MSE both worse with them).
   options.segments.coplanar_keep_fraction = 0;
   return options;
 }

@@ -18,9 +18,9 @@ struct MatchingOptions {
   int max_planes = 128;        // [2, 1024]
   // Neighbour views per reference view, nearest camera centres first. [1, 16] (the best-half
   // aggregation holds at most 16 costs per pixel); fewer are used when the shot has fewer (a 3x3
-  // lattice uses its 8 others). 12 rather than 8 for the 5x4 lattice: pixels off by > 5 % 43.2
-  // -> 40.0 %, within 3 px of depth edges 65.0 -> 59.4 %, for 40 % more CPU (16: 37.2 / 54.8 %
-  // for twice the CPU).
+  // lattice uses its 8 others). 12: on the 5x4 lattice more neighbours cut the pixels off by
+  // over 5 % and the errors near depth edges (`parallax eval depth`), and 12 is where the gain
+  // still pays for the CPU (16 costs twice 8's).
   int num_neighbors = 12;
   // How many of those are spread out over the widest baselines and every direction instead of
   // taken nearest first (farthest-point sampling of camera centres, neighbour_views.h): wide
@@ -34,11 +34,10 @@ struct MatchingOptions {
   int window_radius_px = 2;
   // Guided-filter aggregation of each cost slice (cost-volume filtering): radius in pixels at
   // the working scale [0, 15] (0 = off), and the edge threshold eps in grey variance [1e-6, 1].
-  // 2 rather than 4 (`parallax eval depth`): Middlebury bad-1 0.1-1.6 points better on every
-  // pair (Bowling1 29.33 -> 27.80 %), Pop9 >5 % 13.08 -> 12.69 %, near edges 51.8 -> 48.3 %,
-  // 5x4 39.9 -> 39.3 %; worse: ETH3D bad-1 / bad-2 6.41 / 3.18 -> 6.74 / 3.69 %, cones bad-2
-  // 10.60 -> 10.68 %, Bowling1 bad-2 18.31 -> 18.91 % (all still under both references). Light
-  // fields take 3 (eval/depth: 2 gives the HCI 3x3 15.09 %).
+  // 2 (`parallax eval depth`): a wider filter blurs depth across edges; 2 scores better than 4
+  // on every Middlebury pair's bad-1 and on the simulated lattices, slightly worse on ETH3D
+  // (both still under the references). Light fields take 3 (eval/depth), their baselines being
+  // finer.
   int cost_filter_radius_px = 2;
   double cost_filter_eps = 1e-4;
   // Grey standard deviation (images in [0, 1]) under which a window counts as textureless: its
@@ -76,10 +75,9 @@ struct SegmentOptions {
   // Coplanar groups (coplanar_groups.h): adjacent fitted segments take one plane fitted to all
   // of them where it keeps at least coplanar_keep_fraction ((0, 1]; 0 = off) of the confident
   // pixel weight each segment's own plane keeps within coplanar_tolerance_px (disparity against
-  // the nearest neighbour at the working scale, (0, 8]). For the close-ups a dolly in ends on:
-  // `parallax eval render --depth stage`, close-ups 30.27 -> 31.37 dB (one_face's end 24.99 ->
-  // 28.45), sim 36.19 -> 36.15, HCI 49.43 -> 49.22, fern 24.40 -> 24.35; eval depth Pop9 >5 % 12.69 -> 10.07 %
-  // (near edges 48.3 -> 41.3), 5x4 39.3 -> 40.5 %. 0.85 and 0.95 score within 0.1 dB of 0.9.
+  // the nearest neighbour at the working scale, (0, 8]). They keep one surface on one plane, so
+  // that the close-ups a dolly in ends on show no steps between its segments (`parallax eval
+  // render --group closeup`, about 1 dB); 0.85 and 0.95 score within 0.1 dB of 0.9.
   double coplanar_keep_fraction = 0.9;
   double coplanar_tolerance_px = 0.25;
   // Segment-level PatchMatch after the fits (refine_segment_planes.h): in each of
@@ -108,9 +106,8 @@ struct SegmentOptions {
   // edge_disparity_px of disparity against the nearest neighbour (view resolution, (0, 64]) share
   // a soft band band_radius_px wide on each side ([1, 16], view resolution).
   double edge_disparity_px = 1.0;
-  // 1 (a 3 px band): with the boundary matte, a narrower band mixes fewer pixels wrongly; against
-  // 2, eval render sim 36.01 -> 36.26 dB, HCI 48.55 -> 49.15, fern 24.15 -> 24.17, and eval
-  // depth better on every set but HCI 3x3's BadPix.07 (20.78 -> 20.87).
+  // 1 (a 3 px band): with the boundary matte, a narrower band mixes fewer pixels wrongly (eval
+  // render and eval depth score better with 1 than with 2 on every set but HCI 3x3's BadPix.07).
   int band_radius_px = 1;
   // Coplanar groups' planes moved along the rays by up to this much disparity (view resolution,
   // against the nearest neighbour) to where the exact multi-view ZNCC over the group's interior
@@ -124,9 +121,9 @@ struct SegmentOptions {
   double edge_label_smoothness = 2;
   // The labels' colour cost leaves out the views where the candidate's point is hidden behind
   // the reference's own surfaces and averages the rest (edge_labels.h); false: the best half of
-  // all views. eval render (depth stage): sim 37.76 -> 37.78 dB, close-ups 34.76 -> 34.91, HCI
-  // 49.66 -> 49.63, fern 24.92 -> 24.94; eval depth: Pop9 >5 % 10.58 -> 10.37 % (near edges 41.39
-  // -> 39.45), HCI 9x9 MSE x 100 9.75 -> 9.14, 3x3 9.62 -> 9.99; +94 ms of depth for 9 views.
+  // all views. A view that cannot see the candidate's point says nothing about its colour; with
+  // it left out the close-ups and the Pop9's depth edges score better (eval render, eval depth),
+  // for about 0.1 s more depth on 9 views.
   bool edge_label_visibility = true;
   // Pixels whose own matched depth lies within this many pixels of disparity (against the
   // nearest neighbour, view resolution) of their segment's plane keep it in depth_m instead of

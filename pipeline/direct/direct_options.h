@@ -15,14 +15,14 @@ namespace px {
 struct FaceDetectionOptions {
   bool enabled = true;        // false: no detection; only user regions are subjects
   double scale_factor = 1.1;  // detector pyramid step, (1, 2]; smaller finds more, slower
-  // Overlapping raw detections a face needs, [1, 30]; more = fewer false faces. 5 (was 4):
-  // `parallax eval faces` precision 0.88 -> 0.94 at the same recall (0.83) on faces_dlib_pascalvoc.
+  // Overlapping raw detections a face needs, [1, 30]; more = fewer false faces. 5: the highest
+  // precision at the recall of lower values (`parallax eval faces` on faces_dlib_pascalvoc).
   int min_neighbors = 5;
   int min_face_px = 20;       // smallest face side searched, pixels of the view, [8, 1024]
   // Views whose longer side is below this are upscaled to it for detection (Haar cascades miss
-  // faces under ~24 px), pixels, [0, 4096]; 0 = never. 400 (was 800): upscaling 500-640 px
-  // images made false faces (`parallax eval faces`: 4 -> 2 on the 640x480 two-face sim scene,
-  // precision 0.70 -> 0.88 on the real photos) and found no more true ones; 320x240 views still are.
+  // faces under ~24 px), pixels, [0, 4096]; 0 = never. 400: upscaling 500-640 px images makes
+  // false faces (`parallax eval faces`, the two-face sim scene and the real photos) and finds no
+  // more true ones; 320x240 views still are upscaled.
   int upscale_below_px = 400;
   bool profiles = true;  // also run the profile cascade, on the image and its mirror
   // When depth is known, a detection whose physical width at its median depth is outside this

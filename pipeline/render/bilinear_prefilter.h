@@ -30,7 +30,7 @@ constexpr float kBilinearSharpen = 1.0f / 12;
 // within this fraction of the pixel's own segment's inverse depth. Measured on the simulated
 // scenes with the depth stage (`parallax eval render --depth stage`): 0.002, 0.005 and 0.02 all
 // 37.76 dB against 37.57 with the boost cut at every segment border; 1 (across depth edges too)
-// 37.75, and exact depth 38.08 -> 38.00, HCI 49.66 -> 49.61.
+// 37.75, and worse with exact depth and on HCI.
 constexpr double kSameSurfaceTolerance = 0.005;
 
 // Both layers' colours of `view`, sharpened (CV_8UC3 each; texels of weight 0 unchanged). Planes

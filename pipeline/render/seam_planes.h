@@ -15,7 +15,7 @@ namespace px {
 struct SeamPlaneOptions {
   // Weight of agreement at one seam pixel pair against one pixel's own fit; 0 = off. [0, 1e4].
   // Off by default: 16 gains 0.14 dB and a straighter silhouette on the simulated close-ups and
-  // 0.13 dB on HCI but loses 0.04 dB on LLFF fern (24.15 -> 24.11, under LLFF's 24.13) and 0.02 dB
+  // 0.13 dB on HCI but loses 0.04 dB on LLFF fern (under LLFF's 24.13) and 0.02 dB
   // on the standard simulated viewpoints (pipeline/render/README.md); the depth stage, which knows
   // its own fit's uncertainty, is the better place for it.
   double seam_weight = 0;
