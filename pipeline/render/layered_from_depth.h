@@ -3,8 +3,8 @@
 // split into a near and a far segment, and at the jump the near pixels get a second layer: the far
 // segment extended under them, with the pixel's colour and a share of its weight.
 //
-// It stands in for the depth stage's segment-based stereo until that lands, and turns exact depth
-// (the simulator's ground truth) into renderer input for the tests and the evaluation.
+// It turns exact depth (the simulator's ground truth) into renderer input for the tests and the
+// evaluation, and makes the coarse scene the CPU back end's Coverage() draws at reduced size.
 #pragma once
 
 #include "pipeline/core/layered_depth.h"

@@ -56,11 +56,10 @@ struct RenderOptions {
   int aperture_samples = 24;
   // Seam skirts (seam_skirts.h): texels on a seam between two segments of one surface also carry
   // the neighbour, so that the seam cannot crack open in a magnified view. max_step = 0: off.
-  // The GL back end uses the defaults.
+  // Both back ends.
   SeamSkirtOptions seam_skirts;
   // Seam planes (seam_planes.h): the planes of touching segments of one surface refitted jointly
-  // so that they agree along their seams. seam_weight = 0 (the default): off. The GL back end uses
-  // the defaults.
+  // so that they agree along their seams. seam_weight = 0 (the default): off. Both back ends.
   SeamPlaneOptions seam_planes;
   // Where the views a pixel blends contradict each other (a subject that moved between shots, a
   // sliver of wrong depth), draw it from the views the more heavily weighted ones do not

@@ -1,5 +1,5 @@
 // Planes of touching segments of one surface made to agree along their shared border, once per
-// scene before rendering (issue 5). Each segment's plane is fitted on its own, so two neighbours
+// scene before rendering. Each segment's plane is fitted on its own, so two neighbours
 // on one surface disagree a little at their seam; a magnified view parts them there (cracks, which
 // the seam skirts cover) and, along a silhouette, puts each segment's piece of the edge somewhere
 // slightly different (a staircase, which no skirt can cover). Here all of a view's planes are

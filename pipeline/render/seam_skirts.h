@@ -1,4 +1,4 @@
-// Seams between segments of one surface, closed before rendering (ALGORITHM.md section 1, issue 5).
+// Seams between segments of one surface, closed before rendering (ALGORITHM.md section 1).
 // Neighbouring segments on one surface have slightly different fitted planes, so in a novel view
 // their projections separate along the seam, by a pixel or more where the view is magnified (a
 // close-up). Each masked bilinear sample then has alpha < 1 there, and a farther segment whose

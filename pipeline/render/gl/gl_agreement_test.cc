@@ -197,7 +197,7 @@ TEST_P(GlAgreementTest, EffectsAndDepthOfFieldAgreeWithTheCpuReference) {
 
 // A viewpoint outside the rig leaves holes: both back ends find the same ones and the same H(V),
 // and Coverage (passes without colour, at a quarter of the size) agrees with it. At a quarter of
-// the size the CPU reference draws its coarse scene (ALGORITHM.md 9: front depth in 8 px blocks), an
+// the size the CPU reference draws its coarse scene (ALGORITHM.md 9: front depth in 16 px blocks), an
 // approximation, so H(V) there agrees within 10 % rather than 2 %.
 TEST_P(GlAgreementTest, HolesAndTheirScoreAgree) {
   const VirtualCamera camera = Camera(PoseAt(Eigen::Vector3d(-0.12, 0.0, 0.1)));

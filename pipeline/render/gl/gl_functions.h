@@ -1,7 +1,7 @@
 // The GL entry points the GL back end uses, resolved at run time through the context's own
 // GetProcAddress (OSMesaGetProcAddress or eglGetProcAddress). Nothing here links libGL,
 // libOpenGL or libOSMesa: a binary that links glvnd's libOpenGL ahead of libOSMesa sends every
-// GL call to a context-less dispatcher that silently does nothing (PLATFORM.md), and a machine
+// GL call to a context-less dispatcher that silently does nothing (../shared/PLATFORM.md), and a machine
 // without any GL library must still start and fall back to the CPU back end. One table per
 // context: the two platforms' entry points are different functions.
 #pragma once

@@ -1,5 +1,5 @@
 // Which render back end draws the frames: the CPU or GL (EGL or OSMesa), chosen automatically or
-// forced (`--gl=cpu|egl|osmesa`, `render.gl`). The rule for "auto", from measurement
+// forced (`--gl=cpu|egl|osmesa`, daemon `render.backend`). The rule for "auto", from measurement
 // (README.md in this folder): GL when the context is hardware (an EGL GPU device), the CPU
 // otherwise, because on a CPU-only machine Mesa's llvmpipe renders the segment passes several
 // times slower than the CPU renderer (2 cores: ~2.5 vs ~14 fps at 480x320 under load). A forced
