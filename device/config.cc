@@ -184,6 +184,19 @@ Status ValidateTrigger(const TriggerSettings& trigger) {
   return OkStatus();
 }
 
+Status ValidateWorker(const WorkerSettings& worker) {
+  if (worker.memory_limit_mb != 0 && (worker.memory_limit_mb < 64 || worker.memory_limit_mb > 1048576)) {
+    return RangeError("worker.memory_limit_mb", worker.memory_limit_mb, "0 or [64, 1048576]");
+  }
+  if (worker.timeout_s < 10 || worker.timeout_s > 86400) {
+    return RangeError("worker.timeout_s", worker.timeout_s, "[10, 86400]");
+  }
+  if (worker.max_crashes < 1 || worker.max_crashes > 100) {
+    return RangeError("worker.max_crashes", worker.max_crashes, "[1, 100]");
+  }
+  return OkStatus();
+}
+
 }  // namespace
 
 Status DaemonConfig::Validate() const {
@@ -224,6 +237,7 @@ Status DaemonConfig::Validate() const {
   PX_RETURN_IF_ERROR(ValidateV4l2(source.v4l2));
   PX_RETURN_IF_ERROR(ValidatePtp(source.ptp));
   PX_RETURN_IF_ERROR(ValidateTrigger(trigger));
+  PX_RETURN_IF_ERROR(ValidateWorker(worker));
   if (source.timeout_ms <= 0 || source.timeout_ms > 600000) {
     return RangeError("source.timeout_ms", source.timeout_ms, "(0, 600000]");
   }
@@ -347,6 +361,12 @@ StatusOr<DaemonConfig> DaemonConfigFromJson(const nlohmann::json& j) {
   PX_RETURN_IF_ERROR(trigger.Int("retry_ms", &config.trigger.retry_ms));
   PX_RETURN_IF_ERROR(trigger.CheckNoUnknownFields());
 
+  PX_ASSIGN_OR_RETURN(ObjectReader worker, root.Child("worker"));
+  PX_RETURN_IF_ERROR(worker.Int("memory_limit_mb", &config.worker.memory_limit_mb));
+  PX_RETURN_IF_ERROR(worker.Int("timeout_s", &config.worker.timeout_s));
+  PX_RETURN_IF_ERROR(worker.Int("max_crashes", &config.worker.max_crashes));
+  PX_RETURN_IF_ERROR(worker.CheckNoUnknownFields());
+
   PX_ASSIGN_OR_RETURN(ObjectReader log, root.Child("log"));
   PX_RETURN_IF_ERROR(log.String("levels", &config.log_levels));
   PX_RETURN_IF_ERROR(log.CheckNoUnknownFields());
@@ -410,6 +430,9 @@ nlohmann::json DaemonConfigToJson(const DaemonConfig& config) {
                   {"key", config.trigger.key},
                   {"debounce_ms", config.trigger.debounce_ms},
                   {"retry_ms", config.trigger.retry_ms}};
+  j["worker"] = {{"memory_limit_mb", config.worker.memory_limit_mb},
+                 {"timeout_s", config.worker.timeout_s},
+                 {"max_crashes", config.worker.max_crashes}};
   j["log"] = {{"levels", config.log_levels}};
   return j;
 }

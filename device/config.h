@@ -106,6 +106,19 @@ struct TriggerSettings {
   int retry_ms = 2000;                 // reopen interval while the device is missing, [10, 600000]
 };
 
+// The child process each job's pipeline runs in (device/worker): what it may use before it is
+// killed, and how often it may crash on one capture before that job is failed.
+struct WorkerSettings {
+  // Resident memory at which the worker is killed; 0 = three quarters of the machine's memory, so
+  // a runaway job is stopped before the kernel's OOM killer picks a process. Else [64, 1048576].
+  int memory_limit_mb = 0;
+  // One job's processing; a 24 MP photo takes about a minute on 2 cores. [10, 86400]
+  int timeout_s = 900;
+  // Worker crashes (a signal, or a limit above) on one job before it is failed; a daemon that is
+  // itself stopped or killed never counts. [1, 100]
+  int max_crashes = 3;
+};
+
 struct DaemonConfig {
   StorageOptions storage;  // JSON: storage.root, storage.min_free_mb, storage.quota_mb
   std::filesystem::path control_socket = "/run/parallax/control.sock";  // JSON: control.socket; "" = no socket
@@ -119,6 +132,7 @@ struct DaemonConfig {
   ClipSettings clip;
   RenderSettings render;  // JSON: render.backend
   TriggerSettings trigger;
+  WorkerSettings worker;  // JSON: worker.memory_limit_mb, worker.timeout_s, worker.max_crashes
   std::string log_levels = "info";  // JSON: log.levels, e.g. "info" or "info,depth=debug"
 
   // Checks ranges and names; errors name the JSON field ("clip.fps: 0 is not in (0, 240]").

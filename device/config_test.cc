@@ -114,6 +114,10 @@ TEST(DaemonConfigTest, ErrorsNameTheField) {
   EXPECT_EQ(ErrorOf(R"({"storage": {"min_free_mb": -1}})"), "storage.min_free_mb: -1 is not in [0, 1e9)");
   EXPECT_EQ(ErrorOf(R"({"render": {"backend": "vulkan"}})"),
             "render.backend: 'vulkan' is not one of auto, cpu, egl, osmesa");
+  EXPECT_EQ(ErrorOf(R"({"worker": {"memory_limit_mb": 10}})"),
+            "worker.memory_limit_mb: 10 is not in 0 or [64, 1048576]");
+  EXPECT_EQ(ErrorOf(R"({"worker": {"timeout_s": 5}})"), "worker.timeout_s: 5 is not in [10, 86400]");
+  EXPECT_EQ(ErrorOf(R"({"worker": {"max_crashes": 0}})"), "worker.max_crashes: 0 is not in [1, 100]");
   EXPECT_EQ(ErrorOf(R"([1, 2])"), "config: want an object, got array");
 }
 
@@ -197,6 +201,9 @@ TEST(DaemonConfigTest, PrintedConfigParsesBackToTheSameConfig) {
   config.clip.duration_s = 0.5;
   config.clip.fps = 12.5;
   config.log_levels = "warn";
+  config.worker.memory_limit_mb = 2048;
+  config.worker.timeout_s = 120;
+  config.worker.max_crashes = 5;
   const nlohmann::json printed = DaemonConfigToJson(config);
   auto parsed = DaemonConfigFromJson(nlohmann::json::parse(printed.dump(2)));
   ASSERT_TRUE(parsed.ok()) << parsed.status().ToString();

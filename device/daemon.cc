@@ -43,7 +43,9 @@ Status DaemonOptions::Validate() const {
   if (capture_timeout.count() <= 0) {
     return InvalidArgumentError("capture_timeout: " + std::to_string(capture_timeout.count()) + " ms is not positive");
   }
-  if (max_attempts < 1) return InvalidArgumentError("max_attempts: " + std::to_string(max_attempts) + " is below 1");
+  if (max_worker_crashes < 1) {
+    return InvalidArgumentError("max_worker_crashes: " + std::to_string(max_worker_crashes) + " is below 1");
+  }
   if (space_retry_interval.count() <= 0) return InvalidArgumentError("space_retry_interval: not above 0");
   return OkStatus();
 }
@@ -172,18 +174,12 @@ void Daemon::Recover() {
         break;
       }
       case JobState::kProcessing:
-        if (record.attempts >= options_.max_attempts) {
-          FailJob(record,
-                  InternalError("gave up after " + std::to_string(record.attempts) +
-                                " processing attempts; the daemon stopped during each (capture kept at " +
-                                record.capture_dir + ")"),
-                  "processing");
-          break;
-        }
-        log->warn("job {}: processing was interrupted (attempt {} of {}); resuming",
+        // The daemon stopped (killed, power lost) while the job's worker ran: not the job's
+        // fault, so it resumes however often that happened. Crashes of the worker itself are
+        // counted as they happen (ProcessJob).
+        log->warn("job {}: the daemon stopped while it was being processed (attempt {}); resuming",
                   record.id,
-                  record.attempts,
-                  options_.max_attempts);
+                  record.attempts);
         record.state = JobState::kSaved;
         record.updated_at = NowIso8601Utc();
         Record(record);
@@ -509,11 +505,14 @@ std::optional<JobRecord> Daemon::ProcessJob(const std::string& id) {
   context.move = record.move;
   context.shot = record.shot;
   context.progress = [this, id](const std::string& stage, double fraction) {
-    if (fraction > 0) PauseHereIfAsked(stage);
     std::lock_guard<std::mutex> lock(mutex_);
     processing_stage_ = stage;
     processing_fraction_ = fraction;
     return !(stopping_ && !drain_) && cancel_id_ != id;
+  };
+  context.worker = [this](int pid) {
+    std::lock_guard<std::mutex> lock(mutex_);
+    processing_worker_pid_ = pid;
   };
   const auto start = std::chrono::steady_clock::now();
   StatusOr<JobOutcome> outcome = InternalError("job runner did not return");
@@ -579,7 +578,31 @@ std::optional<JobRecord> Daemon::ProcessJob(const std::string& id) {
     waiting_for_space_.push_back(id);
     return std::nullopt;
   }
+  if (outcome.status().code() == StatusCode::kAborted) return WorkerCrashed(std::move(record), outcome.status());
   return FailJob(record, outcome.status(), "processing");
+}
+
+std::optional<JobRecord> Daemon::WorkerCrashed(JobRecord record, const Status& crash) {
+  auto log = Logger("device");
+  // Only the worker wrote under clips/, and it died mid-write: its temporaries are garbage.
+  if (int removed = RemoveStaleTemporaries(layout_.ClipsDir()); removed > 0) {
+    log->info("job {}: removed {} temporary file(s) the worker left", record.id, removed);
+  }
+  record.worker_crashes += 1;
+  if (record.worker_crashes >= options_.max_worker_crashes) {
+    return FailJob(record,
+                   AbortedError(crash.message() + "; failed after " + std::to_string(record.worker_crashes) +
+                                " worker crash(es) on this job"),
+                   "processing");
+  }
+  record.state = JobState::kSaved;
+  record.note = "worker crash " + std::to_string(record.worker_crashes) + " of " +
+                std::to_string(options_.max_worker_crashes) + ": " + crash.message() + "; retrying";
+  Record(record);
+  log->error("job {}: {}", record.id, record.note);
+  std::lock_guard<std::mutex> lock(mutex_);
+  process_queue_.push_back(record.id);  // behind jobs already waiting: a bad capture never blocks good ones
+  return std::nullopt;
 }
 
 void Daemon::RequeueIfRoomLocked() {
@@ -669,7 +692,11 @@ nlohmann::json Daemon::StatusJson() const {
        processing_id_.empty()
            ? nlohmann::json(nullptr)
            : nlohmann::json(
-                 {{"job", processing_id_}, {"stage", processing_stage_}, {"progress", processing_fraction_}})},
+                 {{"job", processing_id_},
+                  {"stage", processing_stage_},
+                  {"progress", processing_fraction_},
+                  {"worker_pid", processing_worker_pid_ == 0 ? nlohmann::json(nullptr)
+                                                             : nlohmann::json(processing_worker_pid_)}})},
       {"jobs", counts},
       {"last_job", records.empty() ? nlohmann::json(nullptr) : JobRecordToJson(records.back())},
       {"move", move_.empty() ? nlohmann::json(nullptr) : nlohmann::json(move_)},

@@ -42,7 +42,10 @@ struct DaemonOptions {
   // runs when there is a socket, a trigger fd or any of these.
   std::vector<std::shared_ptr<LoopInput>> loop_inputs;
   std::string created_by = "parallaxd";  // written into each recording
-  int max_attempts = 3;  // processing attempts per job before giving up (a job that kills the daemon), >= 1
+  // A job whose worker process crashes (a signal, or killed for a limit: JobRunner returns
+  // ABORTED) this many times is failed; it is retried before that. The daemon being stopped or
+  // killed never counts: its jobs resume at the next start. >= 1
+  int max_worker_crashes = 3;
   // A job whose clip could not be written for want of disk space waits (saved, its attempt not
   // counted) and is processed again once the store has room, checked this often; > 0.
   std::chrono::milliseconds space_retry_interval{10000};
@@ -59,6 +62,9 @@ struct JobContext {
   std::function<bool(const std::string& stage, double fraction)> progress;
   std::string move;  // the camera move asked for at the press ("set_move"); "" = the runner's own
   std::string shot;  // the shot (JSON text, validated) asked for at the press ("set_shot"); "" = none
+  // A runner that works in a child process tells its pid here when it starts, 0 when it has
+  // ended (status shows it); may be empty.
+  std::function<void(int pid)> worker;
 };
 
 struct JobOutcome {
@@ -68,8 +74,9 @@ struct JobOutcome {
   std::filesystem::path clip_path;
 };
 
-// Turns a saved capture into a clip. The daemon uses RunClipJob (clip_job.h); tests may pass a
-// simpler real job.
+// Turns a saved capture into a clip. parallaxd runs RunClipJob (clip_job.h) in a worker process
+// (worker/worker_runner.h); tests may pass a simpler real job. ABORTED means the work was killed
+// from outside (a worker crash) and counts against max_worker_crashes.
 using JobRunner = std::function<StatusOr<JobOutcome>(const JobContext&)>;
 
 class Daemon {
@@ -119,6 +126,8 @@ class Daemon {
   // Each returns the job's record when it reached done or failed (to answer "wait"s once the
   // job no longer shows as current), nullopt when it moved on to another queue.
   std::optional<JobRecord> CaptureJob(const std::string& id);
+  // An ABORTED outcome: counts the crash, then queues the job again or fails it at the limit.
+  std::optional<JobRecord> WorkerCrashed(JobRecord record, const Status& crash);
   void RequeueIfRoomLocked();  // waiting_for_space_ back to processing when the store has room
   std::optional<JobRecord> ProcessJob(const std::string& id);
   Status EnsureConfigured();
@@ -161,6 +170,7 @@ class Daemon {
   std::string capturing_id_;
   std::string processing_id_;
   std::string processing_stage_;
+  int processing_worker_pid_ = 0;  // the job's worker process; 0 = none (or an in-process runner)
   std::string cancel_id_;  // the job being processed that a "cancel" asked to stop
   std::string move_;       // from "set_move", for jobs pressed after it; "" = the config's
   std::string shot_;       // from "set_shot" (JSON text), for jobs pressed after it; "" = none

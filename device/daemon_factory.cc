@@ -7,6 +7,7 @@
 #include "device/source_registry.h"
 #include "device/trigger/input_trigger.h"
 #include "device/trigger/key_codes.h"
+#include "device/worker/worker_runner.h"
 #include "pipeline/core/json_fields.h"
 #include "pipeline/core/log.h"
 #include "pipeline/direct/direct_options.h"
@@ -55,6 +56,7 @@ DaemonOptions DaemonOptionsFromConfig(const DaemonConfig& config, const DaemonRu
   options.capture_timeout = std::chrono::milliseconds(config.source.timeout_ms);
   options.created_by = "parallaxd " PX_VERSION_STRING;
   options.loop_inputs = flags.loop_inputs;
+  options.max_worker_crashes = config.worker.max_crashes;
   if (!config.trigger.input_device.empty()) {
     InputTriggerOptions trigger;
     trigger.device = config.trigger.input_device;
@@ -98,7 +100,8 @@ JobRunner MakeClipJobRunner(const ClipJobOptions& options) {
 
 StatusOr<std::unique_ptr<Daemon>> BuildDaemon(const DaemonConfig& config, const DaemonRunFlags& flags) {
   PX_RETURN_IF_ERROR(config.Validate());
-  PX_ASSIGN_OR_RETURN(ClipJobOptions clip_options, ClipJobOptionsFromConfig(config));
+  // Checked here, so a bad clip setting stops the daemon at start rather than failing each job.
+  PX_RETURN_IF_ERROR(ClipJobOptionsFromConfig(config).status());
   PX_ASSIGN_OR_RETURN(OpenedSource opened, OpenSource(config.source));
   DaemonOptions options = DaemonOptionsFromConfig(config, flags);
   options.wanted_source = opened.wanted;
@@ -108,7 +111,20 @@ StatusOr<std::unique_ptr<Daemon>> BuildDaemon(const DaemonConfig& config, const 
   if (!config.storage_group.empty()) {
     PX_ASSIGN_OR_RETURN(options.storage.group, ResolveGroup(config.storage_group, "storage.group"));
   }
-  return std::make_unique<Daemon>(std::move(options), std::move(opened.source), MakeClipJobRunner(clip_options));
+  WorkerRunnerOptions worker;
+  worker.binary = flags.worker_binary.empty() ? std::filesystem::path("/proc/self/exe") : flags.worker_binary;
+  worker.config = DaemonConfigToJson(config);
+  worker.memory_limit_bytes = config.worker.memory_limit_mb > 0
+                                  ? static_cast<uint64_t>(config.worker.memory_limit_mb) << 20
+                                  : DefaultWorkerMemoryLimit();
+  worker.timeout = std::chrono::seconds(config.worker.timeout_s);
+  std::error_code ec;
+  const std::filesystem::path shown = std::filesystem::read_symlink(worker.binary, ec);
+  Logger("device")->info("jobs run in worker processes ({}), killed above {} MB or after {} s",
+                         (ec ? worker.binary : shown).string(),
+                         worker.memory_limit_bytes >> 20,
+                         config.worker.timeout_s);
+  return std::make_unique<Daemon>(std::move(options), std::move(opened.source), MakeWorkerJobRunner(std::move(worker)));
 }
 
 }  // namespace px::device

@@ -2,6 +2,7 @@
 // the clip settings. parallaxd's main() is flags + this + Run.
 #pragma once
 
+#include <filesystem>
 #include <memory>
 #include <vector>
 
@@ -16,6 +17,8 @@ struct DaemonRunFlags {
   bool exit_when_idle = false;  // stop once nothing is queued (see DaemonOptions)
   // More inputs for the daemon's loop, e.g. parallaxd's systemd watchdog pinger.
   std::vector<std::shared_ptr<LoopInput>> loop_inputs;
+  // The executable each job's worker process runs (it must serve --job-worker); "" = this one.
+  std::filesystem::path worker_binary;
 };
 
 // The pipeline and encoder options for the config's clip settings. Errors name the field
@@ -25,10 +28,12 @@ StatusOr<ClipJobOptions> ClipJobOptionsFromConfig(const DaemonConfig& config);
 // The daemon's options for a config (storage, socket, timeout) and the run flags.
 DaemonOptions DaemonOptionsFromConfig(const DaemonConfig& config, const DaemonRunFlags& flags);
 
-// A JobRunner that runs RunClipJob and logs the pipeline's warnings.
+// A JobRunner that runs RunClipJob in this process and logs the pipeline's warnings (what a
+// job's worker process runs).
 JobRunner MakeClipJobRunner(const ClipJobOptions& options);
 
-// Opens the configured source and assembles the daemon (not started).
+// Opens the configured source and assembles the daemon (not started); its jobs run in worker
+// processes (worker/worker_runner.h) under the config's worker limits.
 StatusOr<std::unique_ptr<Daemon>> BuildDaemon(const DaemonConfig& config, const DaemonRunFlags& flags);
 
 }  // namespace px::device

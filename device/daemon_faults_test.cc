@@ -22,6 +22,13 @@
 namespace px::device {
 namespace {
 
+// Jobs run in worker processes of the built parallaxd (this test binary serves no --job-worker).
+DaemonRunFlags WorkerFlags() {
+  DaemonRunFlags flags;
+  flags.worker_binary = std::filesystem::path(PX_BINARY_DIR) / "parallaxd";
+  return flags;
+}
+
 namespace fs = std::filesystem;
 using namespace std::chrono_literals;
 using ::testing::AllOf;
@@ -53,7 +60,7 @@ class DaemonFaultsTest : public px::testing::TempDirTest {
   }
 
   void Start(const DaemonConfig& config) {
-    auto daemon = BuildDaemon(config, {});
+    auto daemon = BuildDaemon(config, WorkerFlags());
     ASSERT_TRUE(daemon.ok()) << daemon.status().ToString();
     daemon_ = std::move(daemon).value();
     ASSERT_TRUE(daemon_->Start().ok());

@@ -16,6 +16,13 @@
 namespace px::device {
 namespace {
 
+// Jobs run in worker processes of the built parallaxd (this test binary serves no --job-worker).
+DaemonRunFlags WorkerFlags() {
+  DaemonRunFlags flags;
+  flags.worker_binary = std::filesystem::path(PX_BINARY_DIR) / "parallaxd";
+  return flags;
+}
+
 namespace fs = std::filesystem;
 using ::testing::HasSubstr;
 
@@ -60,7 +67,7 @@ struct PressedDaemon {
 };
 
 void PressAndWait(const DaemonConfig& config, PressedDaemon* out) {
-  auto daemon = BuildDaemon(config, {});
+  auto daemon = BuildDaemon(config, WorkerFlags());
   ASSERT_TRUE(daemon.ok()) << daemon.status().ToString();
   out->daemon = std::move(daemon).value();
   out->daemon->SetClipListener([mutex = out->announced_mutex, announced = out->announced](const fs::path& clip) {
@@ -149,7 +156,7 @@ TEST_F(DaemonIntegrationTest, ConfiguredClipFormatNamesTheClip) {
 TEST_F(DaemonIntegrationTest, MissingSceneFileIsAnErrorNamingTheField) {
   DaemonConfig config = SmallConfig(dir());
   config.source.sim.scene = dir() / "no_such_scene.json";
-  auto daemon = BuildDaemon(config, {});
+  auto daemon = BuildDaemon(config, WorkerFlags());
   ASSERT_FALSE(daemon.ok());
   EXPECT_THAT(daemon.status().message(), HasSubstr("source.sim"));
   EXPECT_THAT(daemon.status().message(), HasSubstr("no_such_scene.json"));
@@ -158,7 +165,7 @@ TEST_F(DaemonIntegrationTest, MissingSceneFileIsAnErrorNamingTheField) {
 TEST_F(DaemonIntegrationTest, UnknownMoveIsAnErrorNamingTheField) {
   DaemonConfig config = SmallConfig(dir());
   config.clip.move = "barrel_roll";
-  auto daemon = BuildDaemon(config, {});
+  auto daemon = BuildDaemon(config, WorkerFlags());
   EXPECT_EQ(daemon.status().message(), "clip.move: 'barrel_roll' is not a known camera move");
 }
 

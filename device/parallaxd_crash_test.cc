@@ -13,8 +13,10 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include <fstream>
 #include <nlohmann/json.hpp>
 #include <random>
+#include <thread>
 
 #include "device/process/daemon_process.h"
 #include "device/storage/storage_layout.h"
@@ -154,6 +156,42 @@ class ParallaxdCrashTest : public px::testing::TempDirTest {
     ExpectNothingHalfWritten(/*allow_temporaries=*/false, "after restart (" + when + ")");
   }
 
+  // The pid of the worker process of the job being processed, once there is one (polls status).
+  static pid_t WorkerPid(ControlClient& client, pid_t not_this = 0) {
+    for (int i = 0; i < 600; ++i) {
+      const nlohmann::json status = Call(client, R"({"cmd":"status"})");
+      const nlohmann::json& processing = status["processing"];
+      if (processing.is_object() && processing["worker_pid"].is_number_integer()) {
+        const pid_t pid = processing["worker_pid"].get<pid_t>();
+        if (pid != not_this) return pid;
+      }
+      std::this_thread::sleep_for(100ms);
+    }
+    ADD_FAILURE() << "no worker process showed in status within 60 s";
+    return 0;
+  }
+
+  // Polls until `text` occurs `times` times in the daemon's log (its workers log there too).
+  static void WaitForLogCount(DaemonProcess& daemon, const std::string& text, int times) {
+    for (int i = 0; i < 1200; ++i) {
+      const std::string log = daemon.Log();
+      int found = 0;
+      for (size_t at = log.find(text); at != std::string::npos; at = log.find(text, at + 1)) ++found;
+      if (found >= times) return;
+      std::this_thread::sleep_for(100ms);
+    }
+    FAIL() << "'" << text << "' did not appear " << times << " times within 120 s:\n" << daemon.Log();
+  }
+
+  // A process that has ended: gone from /proc, or a zombie nobody has reaped yet.
+  static bool Ended(pid_t pid) {
+    std::ifstream stat("/proc/" + std::to_string(pid) + "/stat");
+    std::string pid_field;
+    std::string name;
+    std::string state;
+    return !(stat >> pid_field >> name >> state) || state == "Z" || state == "X";
+  }
+
   std::unique_ptr<StorageLayout> layout_;
 };
 
@@ -207,6 +245,85 @@ TEST_F(ParallaxdCrashTest, KillAtARandomMoment) {
   std::cout << "capture " << (saved ? "was" : "was not") << " saved when killed\n";
   ExpectNothingHalfWritten(/*allow_temporaries=*/true, "killed at random");
   RestartAndCheck(id, saved, "random");
+}
+
+// The daemon never runs the pipeline itself: a worker process killed by a signal mid-stage costs
+// the job an attempt, never the daemon. The job is retried, then failed after worker.max_crashes
+// with the signal and the stage named, its raw capture kept, and the daemon still takes presses.
+class WorkerKilled : public ParallaxdCrashTest, public ::testing::WithParamInterface<int> {};
+
+TEST_P(WorkerKilled, TheJobIsRetriedThenFailedWithItsCaptureKeptAndTheDaemonStaysUp) {
+  const int signal = GetParam();
+  const std::string signal_name = signal == SIGSEGV ? "SIGSEGV" : "SIGKILL";
+  auto daemon = Launch("depth", "worker-" + signal_name + ".log");
+  ASSERT_NE(daemon, nullptr);
+  auto client = daemon->Connect(Socket(), 60s);
+  ASSERT_TRUE(client.ok()) << client.status().ToString();
+  const std::string id = Press(**client);
+  pid_t worker = 0;
+  for (int crash = 1; crash <= 3; ++crash) {  // worker.max_crashes is 3 by default
+    WaitForLogCount(*daemon, "paused at depth", crash);
+    worker = WorkerPid(**client, worker);
+    ASSERT_GT(worker, 0);
+    ASSERT_NE(worker, daemon->pid());
+    std::cout << "crash " << crash << ": " << signal_name << " to worker " << worker << "\n";
+    ASSERT_EQ(::kill(worker, signal), 0);
+  }
+  const nlohmann::json job = WaitJob(**client, id);
+  EXPECT_EQ(job.value("state", ""), "failed") << job.dump();
+  EXPECT_EQ(job.value("worker_crashes", 0), 3) << job.dump();
+  EXPECT_THAT(job.value("error", ""), HasSubstr("ABORTED: the worker was killed by " + signal_name + " during depth"));
+  EXPECT_THAT(job.value("error", ""), HasSubstr("failed after 3 worker crash(es)"));
+  EXPECT_TRUE(ReadRecording(layout_->CaptureDir(id)).ok()) << "the raw capture must be kept";
+  EXPECT_FALSE(fs::exists(layout_->ClipPath(id)));
+  EXPECT_TRUE(daemon->running()) << "a worker's crash must not take the daemon down";
+  EXPECT_EQ(Call(**client, R"({"cmd":"status"})")["ok"], true);
+  ExpectNothingHalfWritten(/*allow_temporaries=*/false, "after the worker crashes");
+  ASSERT_TRUE(daemon->KillHard().ok());
+}
+
+INSTANTIATE_TEST_SUITE_P(BySignal, WorkerKilled, ::testing::Values(SIGSEGV, SIGKILL),
+                         [](const ::testing::TestParamInfo<int>& param_info) {
+                           return std::string(param_info.param == SIGSEGV ? "SIGSEGV" : "SIGKILL");
+                         });
+
+// A daemon killed again and again while the same job runs (a restart loop, a flaky power supply)
+// is not the job's fault: the job resumes every time and is finally made. Its worker dies with
+// the daemon each time rather than writing a clip nobody journals.
+TEST_F(ParallaxdCrashTest, TheDaemonKilledTenTimesDuringAJobStillMakesItsClip) {
+  std::string id;
+  for (int kill = 1; kill <= 10; ++kill) {
+    auto daemon = Launch("depth", "killed-" + std::to_string(kill) + ".log");
+    ASSERT_NE(daemon, nullptr);
+    auto client = daemon->Connect(Socket(), 60s);
+    ASSERT_TRUE(client.ok()) << client.status().ToString();
+    if (kill == 1) id = Press(**client);
+    WaitForLogCount(*daemon, "paused at depth", 1);
+    const pid_t worker = WorkerPid(**client);
+    ASSERT_GT(worker, 0);
+    ASSERT_TRUE(daemon->KillHard().ok());
+    bool ended = false;
+    for (int i = 0; i < 50 && !ended; ++i) {
+      ended = Ended(worker);
+      if (!ended) std::this_thread::sleep_for(100ms);
+    }
+    EXPECT_TRUE(ended) << "kill " << kill << ": worker " << worker << " outlived its daemon";
+    ExpectNothingHalfWritten(/*allow_temporaries=*/true, "daemon killed " + std::to_string(kill) + " times");
+  }
+  auto daemon = Launch("", "finally.log");
+  ASSERT_NE(daemon, nullptr);
+  auto client = daemon->Connect(Socket(), 60s);
+  ASSERT_TRUE(client.ok()) << client.status().ToString();
+  const nlohmann::json job = WaitJob(**client, id);
+  EXPECT_EQ(job.value("state", ""), "done") << job.dump() << "\n" << daemon->Log();
+  EXPECT_EQ(job.value("attempts", 0), 11) << job.dump();
+  EXPECT_EQ(job.value("worker_crashes", -1), 0) << job.dump();
+  EXPECT_TRUE(px::testing::ProbeVideo(layout_->ClipPath(id)).ok());
+  EXPECT_EQ(Call(**client, R"({"cmd":"quit"})")["ok"], true);
+  auto exit_code = daemon->WaitExit(60s);
+  ASSERT_TRUE(exit_code.ok()) << exit_code.status().ToString();
+  EXPECT_EQ(*exit_code, 0);
+  ExpectNothingHalfWritten(/*allow_temporaries=*/false, "after the last restart");
 }
 
 }  // namespace

@@ -5,15 +5,19 @@
 #include <signal.h>
 
 #include <CLI/CLI.hpp>
+#include <cstdio>
 #include <cstdlib>
 #include <iostream>
 #include <mutex>
+#include <string>
 #include <nlohmann/json.hpp>
 #include <thread>
 
 #include "device/config.h"
 #include "device/daemon_factory.h"
 #include "device/systemd/systemd_notifier.h"
+#include "device/worker/worker_main.h"
+#include "device/worker/worker_protocol.h"
 #include "pipeline/core/log.h"
 
 namespace {
@@ -28,6 +32,13 @@ int Fail(const px::Status& status) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  // A job's worker process (device/worker), started by the daemon itself; not for users.
+  if (argc == 4 && std::string(argv[1]) == px::device::kJobWorkerFlag && std::string(argv[2]) == "--parent") {
+    const int code = px::device::RunJobWorker(static_cast<pid_t>(std::atoll(argv[3])));
+    spdlog::apply_all([](const std::shared_ptr<spdlog::logger>& logger) { logger->flush(); });
+    std::fflush(nullptr);
+    std::_Exit(code);  // skip static destructors: the pipeline's thread pools need no orderly end
+  }
   CLI::App app{"parallaxd: turns each button press into a capture and a 3D pan & scan clip"};
   std::string config_path;
   bool print_config = false;

@@ -94,6 +94,7 @@ nlohmann::json JobRecordToJson(const JobRecord& record) {
       {"save_ms", record.save_ms},
       {"process_ms", record.process_ms},
       {"attempts", record.attempts},
+      {"worker_crashes", record.worker_crashes},
       {"error", record.error},
       {"note", record.note},
       {"move", record.move},
@@ -119,6 +120,8 @@ StatusOr<JobRecord> JobRecordFromJson(const nlohmann::json& j, const std::string
   PX_ASSIGN_OR_RETURN(record.process_ms, json::GetNumberOr(j, "process_ms", what, 0));
   PX_ASSIGN_OR_RETURN(int64_t attempts, json::GetIntegerOr(j, "attempts", what, 0));
   record.attempts = static_cast<int>(attempts);
+  PX_ASSIGN_OR_RETURN(int64_t worker_crashes, json::GetIntegerOr(j, "worker_crashes", what, 0));
+  record.worker_crashes = static_cast<int>(worker_crashes);
   PX_ASSIGN_OR_RETURN(record.error, json::GetStringOr(j, "error", what, ""));
   PX_ASSIGN_OR_RETURN(record.note, json::GetStringOr(j, "note", what, ""));
   PX_ASSIGN_OR_RETURN(record.move, json::GetStringOr(j, "move", what, ""));

@@ -44,7 +44,8 @@ struct JobRecord {
   double capture_ms = 0;    // taking the frame set
   double save_ms = 0;       // writing the recording
   double process_ms = 0;    // making the clip (last attempt)
-  int attempts = 0;         // processing attempts started (crash recovery counts them)
+  int attempts = 0;         // processing attempts started (not those a shutdown or a full disk cut short)
+  int worker_crashes = 0;   // attempts whose worker process died by a signal or was killed for a limit
   std::string error;        // why it failed: a Status::ToString()
   std::string note;         // a short human summary of the last step ("90 frames, 9 views")
   std::string move;         // the camera move asked for at the press (set_move); "" = the config's clip.move

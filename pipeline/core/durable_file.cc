@@ -11,6 +11,8 @@
 #include <atomic>
 #include <cerrno>
 #include <cstring>
+#include <fstream>
+#include <string>
 #include <system_error>
 
 namespace px {
@@ -101,6 +103,20 @@ bool IsTemporaryName(const std::string& filename) {
   return filename.size() > 1 && filename[0] == '.' && filename.find(kTempMarker) != std::string::npos;
 }
 
+namespace {
+
+// Alive: it exists and is not a zombie (a dead worker its parent's death left unreaped).
+bool ProcessIsAlive(pid_t pid) {
+  if (::kill(pid, 0) != 0) return false;
+  std::ifstream stat("/proc/" + std::to_string(pid) + "/stat");
+  std::string line;
+  if (!std::getline(stat, line)) return true;  // no /proc: trust kill()
+  const size_t name_end = line.rfind(')');    // the name may hold spaces and parentheses
+  return name_end == std::string::npos || name_end + 2 >= line.size() || line[name_end + 2] != 'Z';
+}
+
+}  // namespace
+
 int RemoveStaleTemporaries(const fs::path& dir) {
   std::error_code ec;
   int removed = 0;
@@ -110,7 +126,7 @@ int RemoveStaleTemporaries(const fs::path& dir) {
     // Leave temporaries of live processes alone (a CLI run writing beside the daemon).
     const size_t pid_at = name.find(kTempMarker) + kTempMarker.size();
     const pid_t pid = static_cast<pid_t>(std::strtol(name.c_str() + pid_at, nullptr, 10));
-    if (pid > 0 && pid != ::getpid() && ::kill(pid, 0) == 0) continue;
+    if (pid > 0 && pid != ::getpid() && ProcessIsAlive(pid)) continue;
     std::error_code remove_ec;
     if (fs::remove_all(it->path(), remove_ec) > 0) ++removed;
   }

@@ -1,6 +1,7 @@
 #include "pipeline/core/log.h"
 
 #include <mutex>
+#include <string>
 
 #include <spdlog/sinks/stdout_color_sinks.h>
 
@@ -17,13 +18,18 @@ spdlog::level::level_enum& DefaultLevel() {
   return level;
 }
 
+std::string& Pattern() {
+  static std::string pattern = "%H:%M:%S.%e %^%L%$ [%n] %v";
+  return pattern;
+}
+
 }  // namespace
 
 std::shared_ptr<spdlog::logger> Logger(const std::string& module) {
   std::lock_guard<std::mutex> lock(RegistryMutex());
   if (auto existing = spdlog::get(module)) return existing;
   auto logger = spdlog::stderr_color_mt(module);
-  logger->set_pattern("%H:%M:%S.%e %^%L%$ [%n] %v");
+  logger->set_pattern(Pattern());
   logger->set_level(DefaultLevel());
   return logger;
 }
@@ -59,6 +65,12 @@ Status SetLogLevels(std::string_view spec) {
     if (end == spec.size()) break;
   }
   return OkStatus();
+}
+
+void SetLogProcessName(std::string_view name) {
+  std::lock_guard<std::mutex> lock(RegistryMutex());
+  Pattern() = name.empty() ? "%H:%M:%S.%e %^%L%$ [%n] %v" : "%H:%M:%S.%e %^%L%$ [" + std::string(name) + " %n] %v";
+  spdlog::apply_all([](std::shared_ptr<spdlog::logger> l) { l->set_pattern(Pattern()); });
 }
 
 }  // namespace px

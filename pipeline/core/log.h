@@ -19,4 +19,8 @@ std::shared_ptr<spdlog::logger> Logger(const std::string& module);
 // "info" sets every module; "depth=debug,device=warn" sets some. Unknown level names fail.
 Status SetLogLevels(std::string_view spec);
 
+// Names the process in every line ("[worker 000007 depth] ..."), for a child whose stderr is its
+// parent's; "" = none.
+void SetLogProcessName(std::string_view name);
+
 }  // namespace px

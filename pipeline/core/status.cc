@@ -22,8 +22,16 @@ std::string_view StatusCodeName(StatusCode code) {
     case StatusCode::kUnavailable: return "UNAVAILABLE";
     case StatusCode::kDataLoss: return "DATA_LOSS";
     case StatusCode::kPermissionDenied: return "PERMISSION_DENIED";
+    case StatusCode::kAborted: return "ABORTED";
   }
   return "UNKNOWN";
+}
+
+std::optional<StatusCode> StatusCodeFromName(std::string_view name) {
+  for (int code = 0; code <= static_cast<int>(StatusCode::kAborted); ++code) {
+    if (StatusCodeName(static_cast<StatusCode>(code)) == name) return static_cast<StatusCode>(code);
+  }
+  return std::nullopt;
 }
 
 std::string Status::ToString() const {

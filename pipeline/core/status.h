@@ -27,9 +27,13 @@ enum class StatusCode {
   kUnavailable,         // a device went away or is busy; may work later
   kDataLoss,            // truncated or corrupt data
   kPermissionDenied,    // the caller may not do this (a control-socket peer of another user)
+  kAborted,             // cut short from outside: a worker process killed by a signal or a limit
 };
 
 std::string_view StatusCodeName(StatusCode code);
+// The inverse of StatusCodeName (for statuses carried across a process boundary); nullopt for an
+// unknown name.
+std::optional<StatusCode> StatusCodeFromName(std::string_view name);
 
 class [[nodiscard]] Status {
  public:
@@ -66,6 +70,7 @@ inline Status OutOfRangeError(std::string m) { return {StatusCode::kOutOfRange, 
 inline Status CancelledError(std::string m) { return {StatusCode::kCancelled, std::move(m)}; }
 inline Status UnimplementedError(std::string m) { return {StatusCode::kUnimplemented, std::move(m)}; }
 inline Status PermissionDeniedError(std::string m) { return {StatusCode::kPermissionDenied, std::move(m)}; }
+inline Status AbortedError(std::string m) { return {StatusCode::kAborted, std::move(m)}; }
 
 template <typename T>
 class [[nodiscard]] StatusOr {

@@ -25,6 +25,14 @@ TEST(StatusTest, OkAndErrorsCarryCodeAndMessage) {
   EXPECT_EQ(s.WithContext("recording /tmp/r").message(), "recording /tmp/r: view 4: 100 bytes, want 200");
 }
 
+TEST(StatusTest, EveryCodeNameReadsBackAsItsCode) {
+  for (StatusCode code : {StatusCode::kOk, StatusCode::kCancelled, StatusCode::kDataLoss, StatusCode::kAborted}) {
+    EXPECT_EQ(StatusCodeFromName(StatusCodeName(code)), code) << StatusCodeName(code);
+  }
+  EXPECT_EQ(StatusCodeFromName("ABORTED"), StatusCode::kAborted);
+  EXPECT_EQ(StatusCodeFromName("SEGFAULT"), std::nullopt);
+}
+
 TEST(StatusTest, AssignOrReturnPropagatesTheFirstError) {
   EXPECT_EQ(*Quarter(8), 2);
   StatusOr<int> odd = Quarter(6);
