@@ -7,6 +7,7 @@
 #include <sstream>
 
 #include "device/trigger/key_codes.h"
+#include "pipeline/direct/clip_timing.h"
 #include "pipeline/clip/clip_writer.h"
 #include "pipeline/core/durable_file.h"
 #include "pipeline/core/json_fields.h"
@@ -244,6 +245,13 @@ Status DaemonConfig::Validate() const {
   if (clip.move.empty()) return InvalidArgumentError("clip.move: empty");
   if (!(clip.duration_s > 0 && clip.duration_s <= 60)) return RangeError("clip.duration_s", clip.duration_s, "(0, 60]");
   if (!(clip.fps > 0 && clip.fps <= 240)) return RangeError("clip.fps", clip.fps, "(0, 240]");
+  if (auto style = ParseClipStyle(clip.style); !style.ok()) return style.status().WithContext("clip.style");
+  if (auto ease = ParseClipEase(clip.ease); !ease.ok()) return ease.status().WithContext("clip.ease");
+  if (!(clip.hold_s >= 0 && clip.hold_s <= 60)) return RangeError("clip.hold_s", clip.hold_s, "[0, 60]");
+  if (clip.hold_s > 0 && clip.style != "once") {
+    return InvalidArgumentError("clip.hold_s: only a clip played once holds its last frame (clip.style is " +
+                                clip.style + ")");
+  }
   if (clip.crf < 0 || clip.crf > 51) return RangeError("clip.crf", clip.crf, "[0, 51]");
   static const std::set<std::string> kPresets = {
       "ultrafast", "superfast", "veryfast", "faster", "fast", "medium", "slow", "slower", "veryslow"};
@@ -339,6 +347,9 @@ StatusOr<DaemonConfig> DaemonConfigFromJson(const nlohmann::json& j) {
   PX_ASSIGN_OR_RETURN(ObjectReader clip, root.Child("clip"));
   PX_RETURN_IF_ERROR(clip.String("move", &config.clip.move));
   PX_RETURN_IF_ERROR(clip.Number("duration_s", &config.clip.duration_s));
+  PX_RETURN_IF_ERROR(clip.String("style", &config.clip.style));
+  PX_RETURN_IF_ERROR(clip.String("ease", &config.clip.ease));
+  PX_RETURN_IF_ERROR(clip.Number("hold_s", &config.clip.hold_s));
   PX_RETURN_IF_ERROR(clip.Number("fps", &config.clip.fps));
   PX_RETURN_IF_ERROR(clip.String("format", &config.clip.format));
   PX_RETURN_IF_ERROR(clip.Int("crf", &config.clip.crf));
@@ -416,6 +427,9 @@ nlohmann::json DaemonConfigToJson(const DaemonConfig& config) {
   };
   j["clip"] = {{"move", config.clip.move},
                {"duration_s", config.clip.duration_s},
+               {"style", config.clip.style},
+               {"ease", config.clip.ease},
+               {"hold_s", config.clip.hold_s},
                {"fps", config.clip.fps},
                {"format", config.clip.format},
                {"crf", config.clip.crf},

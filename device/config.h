@@ -75,6 +75,11 @@ struct ClipSettings {
   std::string move = "auto";        // camera move, see pipeline/direct/direct_options.h
   double duration_s = 3.0;          // clip length in seconds, (0, 60]
   double fps = 30.0;                // frames per second, (0, 240]
+  // How the clip plays the move (pipeline/direct/clip_timing.h): "once" (then hold_s on the last
+  // frame), "loop" (out and back, seamless when repeated) or "boomerang"; eased "smooth" or "linear".
+  std::string style = "once";
+  std::string ease = "smooth";
+  double hold_s = 0;                // once: seconds the last frame is held, [0, 60]
   // "mp4" (H.264), "gif" or "webp" (looping animations), or "png" (a folder of frames,
   // clips/<id>/frame_00000.png ...); see pipeline/clip/README.md.
   std::string format = "mp4";

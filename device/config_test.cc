@@ -114,6 +114,10 @@ TEST(DaemonConfigTest, ErrorsNameTheField) {
   EXPECT_EQ(ErrorOf(R"({"storage": {"min_free_mb": -1}})"), "storage.min_free_mb: -1 is not in [0, 1e9)");
   EXPECT_EQ(ErrorOf(R"({"render": {"backend": "vulkan"}})"),
             "render.backend: 'vulkan' is not one of auto, cpu, egl, osmesa");
+  EXPECT_EQ(ErrorOf(R"({"clip": {"style": "spiral"}})"), "clip.style: 'spiral' is not one of once, loop, boomerang");
+  EXPECT_EQ(ErrorOf(R"({"clip": {"ease": "bouncy"}})"), "clip.ease: 'bouncy' is not one of linear, smooth");
+  EXPECT_EQ(ErrorOf(R"({"clip": {"style": "loop", "hold_s": 1}})"),
+            "clip.hold_s: only a clip played once holds its last frame (clip.style is loop)");
   EXPECT_EQ(ErrorOf(R"({"worker": {"memory_limit_mb": 10}})"),
             "worker.memory_limit_mb: 10 is not in 0 or [64, 1048576]");
   EXPECT_EQ(ErrorOf(R"({"worker": {"timeout_s": 5}})"), "worker.timeout_s: 5 is not in [10, 86400]");
@@ -201,6 +205,8 @@ TEST(DaemonConfigTest, PrintedConfigParsesBackToTheSameConfig) {
   config.clip.duration_s = 0.5;
   config.clip.fps = 12.5;
   config.log_levels = "warn";
+  config.clip.style = "boomerang";
+  config.clip.ease = "linear";
   config.worker.memory_limit_mb = 2048;
   config.worker.timeout_s = 120;
   config.worker.max_crashes = 5;

@@ -24,6 +24,10 @@ StatusOr<ClipJobOptions> ClipJobOptionsFromConfig(const DaemonConfig& config) {
   options.pipeline.direct.move = config.clip.move;
   options.pipeline.direct.duration_s = config.clip.duration_s;
   options.pipeline.direct.fps = config.clip.fps;
+  // DaemonConfig::Validate checked the names.
+  options.pipeline.direct.timing.style = ParseClipStyle(config.clip.style).value();
+  options.pipeline.direct.timing.ease = ParseClipEase(config.clip.ease).value();
+  options.pipeline.direct.timing.hold_s = config.clip.hold_s;
   options.pipeline.num_threads = config.clip.num_threads;
   options.pipeline.image_set_max_side_px = config.clip.max_photo_side_px;
   // DaemonConfig::Validate checked the name.

@@ -33,6 +33,9 @@ struct ClipArgs {
   bool no_faces = false;
   double duration_s = 5.0;
   double fps = 30.0;
+  std::string style = "once";
+  std::string ease = "smooth";
+  double hold_s = 0;
   std::string format = "auto";
   int crf = 20;
   std::string preset = "veryfast";
@@ -117,6 +120,9 @@ Status RunClip(const ClipArgs& args) {
   }
   options.pipeline.direct.duration_s = args.duration_s;
   options.pipeline.direct.fps = args.fps;
+  PX_ASSIGN_OR_RETURN(options.pipeline.direct.timing.style, ParseClipStyle(args.style));
+  PX_ASSIGN_OR_RETURN(options.pipeline.direct.timing.ease, ParseClipEase(args.ease));
+  options.pipeline.direct.timing.hold_s = args.hold_s;
   options.pipeline.num_threads = args.threads;
   options.pipeline.image_set_max_side_px = args.max_photo_side_px;
   options.clip.crf = args.crf;
@@ -191,6 +197,17 @@ void AddClipCommand(CLI::App& app) {
   clip->add_flag("--no-faces", args->no_faces, "Do not detect faces (only --subject regions are subjects)");
   clip->add_option("--duration", args->duration_s, "Clip length in seconds")->capture_default_str();
   clip->add_option("--fps", args->fps, "Frames per second")->capture_default_str();
+  clip->add_option("--style", args->style,
+                   "once (the move, then --hold), loop (out and back in --duration, seamless when repeated) or "
+                   "boomerang (the move, then the same frames backwards)")
+      ->check(CLI::IsMember({"once", "loop", "boomerang"}))
+      ->capture_default_str();
+  clip->add_option("--ease", args->ease,
+                   "smooth (eases in and out: no abrupt start or stop) or linear (constant speed, as in the paper)")
+      ->check(CLI::IsMember({"smooth", "linear"}))
+      ->capture_default_str();
+  clip->add_option("--hold", args->hold_s, "once: seconds the last frame is held after the move, 0..60")
+      ->capture_default_str();
   clip->add_option("--format", args->format,
                    "mp4 (H.264), gif or webp (looping animations), png (a folder of frames), or auto: from the "
                    "output's extension (.mp4, .gif, .webp; a folder: png), else mp4")

@@ -80,6 +80,8 @@ Status CameraPath::Validate() const {
     error << "aspect " << aspect << " is not positive";
   } else if (!(fps > 0) || !(duration_s > 0)) {
     error << "fps " << fps << " or duration_s " << duration_s << " is not positive";
+  } else if (Status timing_valid = timing.Validate(); !timing_valid.ok()) {
+    error << timing_valid.message();
   } else if (keyframes.size() < 2) {
     error << "has " << keyframes.size() << " keyframes, want at least 2";
   } else if (keyframes.front().t != 0.0 || keyframes.back().t != 1.0) {
@@ -240,13 +242,9 @@ int NumFrames(double fps, double duration_s) {
   return std::max(1, static_cast<int>(std::lround(fps * duration_s)));
 }
 
-int CameraPath::NumFrames() const { return px::NumFrames(fps, duration_s); }
+int CameraPath::NumFrames() const { return timing.NumFrames(fps, duration_s); }
 
-double CameraPath::FrameTime(int index) const {
-  const int n = NumFrames();
-  if (n <= 1) return 0.0;
-  return std::clamp(static_cast<double>(index) / (n - 1), 0.0, 1.0);
-}
+double CameraPath::FrameTime(int index) const { return timing.FrameTime(index, fps, duration_s); }
 
 nlohmann::json SubjectToJson(const Subject& subject) {
   nlohmann::json corners = nlohmann::json::array();
@@ -342,6 +340,9 @@ nlohmann::json CameraPathToJson(const CameraPath& path) {
                         {"aspect", path.aspect},
                         {"fps", path.fps},
                         {"duration_s", path.duration_s},
+                        {"style", std::string(ClipStyleName(path.timing.style))},
+                        {"ease", std::string(ClipEaseName(path.timing.ease))},
+                        {"hold_s", path.timing.hold_s},
                         {"num_frames", path.NumFrames()},
                         {"keyframes", keyframes}};
 }
@@ -393,6 +394,17 @@ StatusOr<CameraPath> CameraPathFromJson(const nlohmann::json& j, const std::stri
   PX_ASSIGN_OR_RETURN(path.aspect, json::GetNumberOr(j, "aspect", where, 1.0));
   PX_ASSIGN_OR_RETURN(path.fps, json::GetNumber(j, "fps", where));
   PX_ASSIGN_OR_RETURN(path.duration_s, json::GetNumber(j, "duration_s", where));
+  // A path written without timing was the linear move played once.
+  PX_ASSIGN_OR_RETURN(std::string style, json::GetStringOr(j, "style", where, "once"));
+  PX_ASSIGN_OR_RETURN(std::string ease, json::GetStringOr(j, "ease", where, "linear"));
+  StatusOr<ClipStyle> parsed_style = ParseClipStyle(style);
+  if (!parsed_style.ok()) return parsed_style.status().WithContext(json::FieldPath(where, "style"));
+  StatusOr<ClipEase> parsed_ease = ParseClipEase(ease);
+  if (!parsed_ease.ok()) return parsed_ease.status().WithContext(json::FieldPath(where, "ease"));
+  path.timing.style = *parsed_style;
+  path.timing.ease = *parsed_ease;
+  PX_ASSIGN_OR_RETURN(path.timing.hold_s, json::GetNumberOr(j, "hold_s", where, 0.0));
+  if (Status timing = path.timing.Validate(); !timing.ok()) return timing.WithContext(where);
   PX_ASSIGN_OR_RETURN(const nlohmann::json* keyframes, json::GetField(j, "keyframes", where));
   const std::string keyframes_path = json::FieldPath(where, "keyframes");
   if (!keyframes->is_array()) return InvalidArgumentError(keyframes_path + ": want an array");

@@ -23,6 +23,7 @@
 #include "pipeline/core/rigid3.h"
 #include "pipeline/core/status.h"
 #include "pipeline/core/virtual_camera.h"
+#include "pipeline/direct/clip_timing.h"
 #include "pipeline/direct/direct_options.h"
 #include "pipeline/direct/spline.h"
 #include "pipeline/direct/subject.h"
@@ -69,7 +70,10 @@ struct CameraPath {
   double cy = 0;
   double aspect = 1;  // fy / fx, kept from the source camera
   double fps = 30;    // frame rate the path is rendered at
-  double duration_s = 5;
+  double duration_s = 5;  // the move's length (the clip's frames: timing.NumFrames)
+  // How the frames walk the path. Default: the paper's linear move played once (what a path
+  // written without timing meant); the planner sets DirectOptions::timing.
+  ClipTiming timing{ClipStyle::kOnce, ClipEase::kLinear, 0};
   std::vector<CameraKeyframe> keyframes;  // t ascending, first at 0, last at 1
 
   // At least two keyframes, t from 0 to 1 ascending, positive size and focal lengths, lens and
@@ -87,8 +91,9 @@ struct CameraPath {
   // the effect layers with interpolated amounts, regions and falloffs.
   VirtualCamera FrameAt(double t) const;
 
-  int NumFrames() const;
-  // Normalised time of frame `index` of NumFrames(): first frame at 0, last at 1.
+  int NumFrames() const;  // timing.NumFrames(fps, duration_s)
+  // Normalised time of frame `index` of NumFrames() (timing.FrameTime): once, the first frame at
+  // 0 and the move's last at 1.
   double FrameTime(int index) const;
 };
 

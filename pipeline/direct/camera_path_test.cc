@@ -118,6 +118,25 @@ TEST(CameraPathJsonTest, RoundTrips) {
   }
 }
 
+TEST(CameraPathJsonTest, TimingRoundTripsAndAPathWrittenWithoutItIsTheLinearMovePlayedOnce) {
+  CameraPath path = TwoKeyframePath();
+  path.timing = {ClipStyle::kBoomerang, ClipEase::kSmooth, 0};
+  nlohmann::json j = CameraPathToJson(path);
+  EXPECT_EQ(j.at("num_frames"), 299);
+  StatusOr<CameraPath> back = CameraPathFromJson(j);
+  ASSERT_TRUE(back.ok()) << back.status().ToString();
+  EXPECT_EQ(back->timing.style, ClipStyle::kBoomerang);
+  EXPECT_EQ(back->timing.ease, ClipEase::kSmooth);
+  j.erase("style");
+  j.erase("ease");
+  j.erase("hold_s");
+  back = CameraPathFromJson(j);
+  ASSERT_TRUE(back.ok()) << back.status().ToString();
+  EXPECT_EQ(back->timing.style, ClipStyle::kOnce);
+  EXPECT_EQ(back->timing.ease, ClipEase::kLinear);
+  EXPECT_EQ(back->NumFrames(), 150);
+}
+
 TEST(CameraPathJsonTest, MissingFieldIsNamed) {
   nlohmann::json j = CameraPathToJson(TwoKeyframePath());
   j["keyframes"][1].erase("focal_px");

@@ -8,6 +8,7 @@
 #include <opencv2/core/types.hpp>
 
 #include "pipeline/core/status.h"
+#include "pipeline/direct/clip_timing.h"
 
 namespace px {
 
@@ -78,6 +79,9 @@ struct DirectOptions {
   uint64_t seed = 1;        // draws the move and effect; the same seed gives the same clip
   double duration_s = 5.0;  // clip length in seconds, (0, 60]
   double fps = 30.0;        // frames per second, (0, 240]
+  // How the clip plays the move: once (then an optional hold), loop or boomerang, eased
+  // smoothly by default so the camera neither lurches off nor stops dead (clip_timing.h).
+  ClipTiming timing;
   // Subjects given by the user: rectangles (x, y, width, height) in pixels of `subject_view`
   // (-1 = the centre view). When any is given, face detection is not run.
   std::vector<cv::Rect2d> subject_boxes_px;

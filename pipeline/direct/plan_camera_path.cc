@@ -419,6 +419,8 @@ StatusOr<CameraPath> PlanCameraPath(const std::vector<View>& views, const std::v
     }
   }
   if (!path.ok()) return path.status().WithContext("direction");
+  // Timing walks the same positions in another rhythm, so everything checked above still holds.
+  path->timing = options.timing;
   if (path->subjects.empty()) path->subjects = path->kind == PathKind::kNovelView ? with_depth : planner.subjects;
   for (const std::string& note : report.notes) path->notes.push_back(note);
   report.coverage_probes = search.calls() + verify.calls();

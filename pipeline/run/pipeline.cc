@@ -18,6 +18,7 @@
 #include "pipeline/direct/scene_geometry.h"
 #include "pipeline/run/capture_calibration.h"
 #include "pipeline/run/image_set_scale.h"
+#include "pipeline/run/repeated_frames.h"
 #include "pipeline/run/overlapped_frame_sink.h"
 
 namespace px {
@@ -93,28 +94,42 @@ Status RenderFrames(const std::vector<View>& views, SceneRenderer* renderer, Fra
   report->frame_coverage.clear();
   report->frame_coverage.reserve(num_frames);
   PX_RETURN_IF_ERROR(report_progress("render", 0));
+  // A hold, a loop's way back or a boomerang's return shows places already drawn: up to 512 MiB
+  // of them are kept (a 1080p boomerang's whole outward pass at 30 fps for 2.7 s).
+  RepeatedFrames repeated(path, size_t{512} << 20);
   for (int i = 0; i < num_frames; ++i) {
     const double t = path.FrameTime(i);
     cv::Mat bgr;
-    switch (path.kind) {
-      case PathKind::kNovelView: {
-        const VirtualCamera camera = path.FrameAt(t);
-        StatusOr<FrameRender> frame = renderer->Render(camera);
-        if (!frame.ok()) return frame.status().WithContext("render frame " + std::to_string(i));
-        if (observer != nullptr) observer->OnFrame(i, camera, *frame);
-        hole_sum += frame->holes.hole_ratio;
-        report->frame_coverage.push_back(frame->holes);
-        bgr = std::move(frame->bgr);
-        break;
+    if (std::optional<DrawnFrame> drawn = repeated.Take(i)) {
+      bgr = drawn->bgr;
+      if (path.kind == PathKind::kNovelView) {
+        hole_sum += drawn->holes.hole_ratio;
+        report->frame_coverage.push_back(drawn->holes);
       }
-      case PathKind::kMorph:
-        bgr = report->direction.morph->FrameAt(t);
-        break;
-      case PathKind::kPanZoom2d:
-        cv::warpPerspective(flat_source->image, bgr,
-                            direct::FlatFrameHomography(*flat_source, path.CameraAt(t), path.PoseAt(t)),
-                            cv::Size(path.width, path.height), cv::INTER_LINEAR, cv::BORDER_REPLICATE);
-        break;
+    } else {
+      CoverageReport holes;
+      switch (path.kind) {
+        case PathKind::kNovelView: {
+          const VirtualCamera camera = path.FrameAt(t);
+          StatusOr<FrameRender> frame = renderer->Render(camera);
+          if (!frame.ok()) return frame.status().WithContext("render frame " + std::to_string(i));
+          if (observer != nullptr) observer->OnFrame(i, camera, *frame);
+          holes = frame->holes;
+          hole_sum += frame->holes.hole_ratio;
+          report->frame_coverage.push_back(frame->holes);
+          bgr = std::move(frame->bgr);
+          break;
+        }
+        case PathKind::kMorph:
+          bgr = report->direction.morph->FrameAt(t);
+          break;
+        case PathKind::kPanZoom2d:
+          cv::warpPerspective(flat_source->image, bgr,
+                              direct::FlatFrameHomography(*flat_source, path.CameraAt(t), path.PoseAt(t)),
+                              cv::Size(path.width, path.height), cv::INTER_LINEAR, cv::BORDER_REPLICATE);
+          break;
+      }
+      repeated.Keep(i, bgr, holes);
     }
     const Status consumed = overlapped.Consume(i, bgr);
     if (!consumed.ok()) return consumed.WithContext("frame sink, before frame " + std::to_string(i));
@@ -129,10 +144,15 @@ Status RenderFrames(const std::vector<View>& views, SceneRenderer* renderer, Fra
   const double sink_ms = overlapped.sink_ms();
   report->timings.push_back({"render", MsSince(start) - overlapped.wait_ms()});
   report->timings.push_back({"encode", sink_ms});
-  log->info("render ({}): {} frames of {}x{} ({}), {:.1f} ms each, {:.2f}% holes on average; sink {:.0f} ms",
+  report->frames_reused = repeated.reused();
+  const int drawn = std::max(1, num_frames - report->frames_reused);
+  log->info("render ({}): {} frames of {}x{} ({}, {} {}), {} drawn at {:.1f} ms each, {} reused, {:.2f}% holes on "
+            "average; sink {:.0f} ms",
             renderer != nullptr ? std::string(renderer->BackendName()) : std::string("2d"), num_frames,
-            path.width, path.height, PathKindName(path.kind),
-            report->timings[report->timings.size() - 2].ms / num_frames, 100 * report->mean_hole_ratio, sink_ms);
+            path.width, path.height, PathKindName(path.kind), ClipStyleName(path.timing.style),
+            ClipEaseName(path.timing.ease), num_frames - report->frames_reused,
+            report->timings[report->timings.size() - 2].ms / drawn, report->frames_reused,
+            100 * report->mean_hole_ratio, sink_ms);
   if (report->mean_hole_ratio > kHighHoleRatio) {
     char text[160];
     std::snprintf(text, sizeof(text), "render: %.1f%% of each frame on average was inpainted (no source saw it)",

@@ -101,7 +101,8 @@ struct PipelineReport {
   std::vector<StageTiming> timings;
   CameraPath path;              // the path rendered
   DirectionReport direction;    // subjects, the move's choice, fallbacks, search figures
-  int frames_rendered = 0;
+  int frames_rendered = 0;     // frames given to the sink
+  int frames_reused = 0;       // of which shown again from an earlier drawing (a hold, a way back)
   double mean_hole_ratio = 0;   // fraction of pixels no source covered, before filling
   std::vector<CoverageReport> frame_coverage;  // per rendered frame: hole ratio and H(V) before filling
   DepthReport depth;            // per view: confident fraction, low-confidence mask, disagreement

@@ -200,6 +200,36 @@ TEST_F(PipelineTest, RendersTheDollyFromALatticeFrame) {
   }
 }
 
+// A boomerang plays the move and then the same frames backwards, each place drawn once; a hold
+// repeats the last frame without drawing it again.
+TEST_F(PipelineTest, ABoomerangShowsItsFramesBackwardsAndDrawsEachPlaceOnce) {
+  CollectingSink sink;
+  PipelineOptions options = ShortClip();
+  options.shot = MiddleRowShot();
+  options.direct.timing = {ClipStyle::kBoomerang, ClipEase::kSmooth, 0};
+  StatusOr<PipelineReport> report = RunPipeline(Capture(sensor_), rig_, options, &sink);
+  ASSERT_TRUE(report.ok()) << report.status().ToString();
+  ASSERT_EQ(report->frames_rendered, 19);
+  EXPECT_EQ(report->frames_reused, 9);
+  ASSERT_EQ(sink.frames.size(), 19u);
+  ASSERT_EQ(report->frame_coverage.size(), 19u);
+  for (int i = 0; i < 9; ++i) {
+    EXPECT_EQ(cv::norm(sink.frames[i], sink.frames[18 - i], cv::NORM_INF), 0.0) << "frame " << i;
+  }
+  EXPECT_GT(cv::norm(sink.frames[0], sink.frames[9], cv::NORM_L1), 0.0) << "the move must move";
+  // Eased: the first step is a small fraction of the middle one.
+  const CameraPath& path = report->path;
+  EXPECT_LT(path.FrameTime(1) - path.FrameTime(0), 0.25 * (path.FrameTime(5) - path.FrameTime(4)));
+
+  CollectingSink held;
+  options.direct.timing = {ClipStyle::kOnce, ClipEase::kSmooth, 0.5};
+  report = RunPipeline(Capture(sensor_), rig_, options, &held);
+  ASSERT_TRUE(report.ok()) << report.status().ToString();
+  ASSERT_EQ(report->frames_rendered, 15);
+  EXPECT_EQ(report->frames_reused, 5);
+  for (int i = 10; i < 15; ++i) EXPECT_EQ(cv::norm(held.frames[i], held.frames[9], cv::NORM_INF), 0.0);
+}
+
 // Without a shot the taxonomy decides: no faces (no detector here), so an establishing move
 // (row 0 of table 1) through viewpoints the renderer covers.
 TEST_F(PipelineTest, ChoosesAnEstablishingMoveThroughValidViewpoints) {
