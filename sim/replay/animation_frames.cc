@@ -23,6 +23,9 @@ namespace {
 constexpr size_t kMaxFrames = 256;
 // Nor are more pixels in all than one photo may have (ImageDecodeOptions::max_pixels).
 const double kMaxDecodedPixels = ImageDecodeOptions{}.max_pixels;
+// Nor a canvas larger than this: a wigglegram's frame is a photo of a few megapixels, while the
+// decoders keep two whole canvases of 4 bytes a pixel besides the frames (50 MP: about 0.6 GB).
+constexpr double kMaxCanvasPixels = 50e6;
 
 bool WithinPixelBudget(const std::vector<cv::Mat>& frames, int width, int height) {
   return static_cast<double>(frames.size() + 1) * width * height <= kMaxDecodedPixels;
@@ -134,11 +137,11 @@ StatusOr<std::vector<cv::Mat>> ReadAnimationFrames(const std::filesystem::path& 
   // The canvas its header claims, checked before any frame is decoded (image_file.h).
   if (StatusOr<ImageHeaderSize> canvas = ReadImageHeaderSize(bytes); canvas.ok()) {
     const double pixels = static_cast<double>(canvas->width) * static_cast<double>(canvas->height);
-    if (pixels > kMaxDecodedPixels) {
+    if (pixels > kMaxCanvasPixels) {
       return ResourceExhaustedError(file.string() + ": its header claims a canvas of " + std::to_string(canvas->width) +
                                     "x" + std::to_string(canvas->height) + " pixels, over the limit of " +
-                                    std::to_string(static_cast<int64_t>(kMaxDecodedPixels / 1e6)) +
-                                    " MP; refused before decoding");
+                                    std::to_string(static_cast<int64_t>(kMaxCanvasPixels / 1e6)) +
+                                    " MP for an animation; refused before decoding");
     }
   }
   if (StartsWith(bytes, 0, "RIFF") && StartsWith(bytes, 8, "WEBP")) return WebpFrames(file, bytes);
