@@ -200,6 +200,18 @@ Status ValidateWorker(const WorkerSettings& worker) {
 
 }  // namespace
 
+StatusOr<OutputFrameOptions> ClipOutputFrame(const ClipSettings& clip) {
+  OutputFrameOptions frame;
+  if (!clip.size.empty()) {
+    PX_RETURN_IF_ERROR(ParseOutputSize(clip.size, &frame).WithContext("clip.size"));
+    return frame;
+  }
+  PX_RETURN_IF_ERROR(ParseOutputAspect(clip.aspect, &frame).WithContext("clip.aspect"));
+  frame.height = clip.height;
+  PX_RETURN_IF_ERROR(frame.Validate().WithContext("clip.height"));
+  return frame;
+}
+
 Status DaemonConfig::Validate() const {
   PX_RETURN_IF_ERROR(storage.Validate());
   if (control_socket.string().size() > 107) {
@@ -248,6 +260,7 @@ Status DaemonConfig::Validate() const {
   if (auto style = ParseClipStyle(clip.style); !style.ok()) return style.status().WithContext("clip.style");
   if (auto ease = ParseClipEase(clip.ease); !ease.ok()) return ease.status().WithContext("clip.ease");
   if (!(clip.hold_s >= 0 && clip.hold_s <= 60)) return RangeError("clip.hold_s", clip.hold_s, "[0, 60]");
+  if (StatusOr<OutputFrameOptions> frame = ClipOutputFrame(clip); !frame.ok()) return frame.status();
   if (clip.hold_s > 0 && clip.style != "once") {
     return InvalidArgumentError("clip.hold_s: only a clip played once holds its last frame (clip.style is " +
                                 clip.style + ")");
@@ -350,6 +363,9 @@ StatusOr<DaemonConfig> DaemonConfigFromJson(const nlohmann::json& j) {
   PX_RETURN_IF_ERROR(clip.String("style", &config.clip.style));
   PX_RETURN_IF_ERROR(clip.String("ease", &config.clip.ease));
   PX_RETURN_IF_ERROR(clip.Number("hold_s", &config.clip.hold_s));
+  PX_RETURN_IF_ERROR(clip.String("size", &config.clip.size));
+  PX_RETURN_IF_ERROR(clip.String("aspect", &config.clip.aspect));
+  PX_RETURN_IF_ERROR(clip.Int("height", &config.clip.height));
   PX_RETURN_IF_ERROR(clip.Number("fps", &config.clip.fps));
   PX_RETURN_IF_ERROR(clip.String("format", &config.clip.format));
   PX_RETURN_IF_ERROR(clip.Int("crf", &config.clip.crf));
@@ -430,6 +446,9 @@ nlohmann::json DaemonConfigToJson(const DaemonConfig& config) {
                {"style", config.clip.style},
                {"ease", config.clip.ease},
                {"hold_s", config.clip.hold_s},
+               {"size", config.clip.size},
+               {"aspect", config.clip.aspect},
+               {"height", config.clip.height},
                {"fps", config.clip.fps},
                {"format", config.clip.format},
                {"crf", config.clip.crf},

@@ -10,6 +10,7 @@
 
 #include "device/storage/storage_layout.h"
 #include "pipeline/core/status.h"
+#include "pipeline/direct/output_frame.h"
 #include "sim/faults/fault_spec.h"
 
 namespace px::device {
@@ -80,6 +81,11 @@ struct ClipSettings {
   std::string style = "once";
   std::string ease = "smooth";
   double hold_s = 0;                // once: seconds the last frame is held, [0, 60]
+  // The clip's frame (pipeline/direct/output_frame.h): "WxH", or "" for aspect ("16:9", "9:16",
+  // "1:1", "4:5", or "source") at `height` pixels (0 = the capture's).
+  std::string size;
+  std::string aspect = "source";
+  int height = 0;
   // "mp4" (H.264), "gif" or "webp" (looping animations), or "png" (a folder of frames,
   // clips/<id>/frame_00000.png ...); see pipeline/clip/README.md.
   std::string format = "mp4";
@@ -143,6 +149,9 @@ struct DaemonConfig {
   // Checks ranges and names; errors name the JSON field ("clip.fps: 0 is not in (0, 240]").
   Status Validate() const;
 };
+
+// The clip's frame the settings describe; errors name the field ("clip.aspect: ...").
+StatusOr<OutputFrameOptions> ClipOutputFrame(const ClipSettings& clip);
 
 // Parses a config object. Absent fields keep their defaults; unknown fields and wrong types are
 // errors naming the field ("source.sim.camra: unknown field (known: scene, camera, ...)").

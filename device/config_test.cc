@@ -118,6 +118,11 @@ TEST(DaemonConfigTest, ErrorsNameTheField) {
   EXPECT_EQ(ErrorOf(R"({"clip": {"ease": "bouncy"}})"), "clip.ease: 'bouncy' is not one of linear, smooth");
   EXPECT_EQ(ErrorOf(R"({"clip": {"style": "loop", "hold_s": 1}})"),
             "clip.hold_s: only a clip played once holds its last frame (clip.style is loop)");
+  EXPECT_EQ(ErrorOf(R"({"clip": {"size": "big"}})"), "clip.size: size 'big': want WIDTHxHEIGHT, e.g. 1080x1920");
+  EXPECT_EQ(ErrorOf(R"({"clip": {"aspect": "tall"}})"),
+            "clip.aspect: aspect 'tall': want W:H (16:9, 9:16, 1:1, 4:5) or source");
+  EXPECT_EQ(ErrorOf(R"({"clip": {"aspect": "9:16", "height": 5}})"),
+            "clip.height: output height 5 is not within 16..8192");
   EXPECT_EQ(ErrorOf(R"({"worker": {"memory_limit_mb": 10}})"),
             "worker.memory_limit_mb: 10 is not in 0 or [64, 1048576]");
   EXPECT_EQ(ErrorOf(R"({"worker": {"timeout_s": 5}})"), "worker.timeout_s: 5 is not in [10, 86400]");
@@ -207,6 +212,8 @@ TEST(DaemonConfigTest, PrintedConfigParsesBackToTheSameConfig) {
   config.log_levels = "warn";
   config.clip.style = "boomerang";
   config.clip.ease = "linear";
+  config.clip.aspect = "9:16";
+  config.clip.height = 1920;
   config.worker.memory_limit_mb = 2048;
   config.worker.timeout_s = 120;
   config.worker.max_crashes = 5;

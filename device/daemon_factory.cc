@@ -28,6 +28,7 @@ StatusOr<ClipJobOptions> ClipJobOptionsFromConfig(const DaemonConfig& config) {
   options.pipeline.direct.timing.style = ParseClipStyle(config.clip.style).value();
   options.pipeline.direct.timing.ease = ParseClipEase(config.clip.ease).value();
   options.pipeline.direct.timing.hold_s = config.clip.hold_s;
+  PX_ASSIGN_OR_RETURN(options.pipeline.direct.output, ClipOutputFrame(config.clip));
   options.pipeline.num_threads = config.clip.num_threads;
   options.pipeline.image_set_max_side_px = config.clip.max_photo_side_px;
   // DaemonConfig::Validate checked the name.

@@ -36,6 +36,9 @@ struct ClipArgs {
   std::string style = "once";
   std::string ease = "smooth";
   double hold_s = 0;
+  std::string size;               // "WxH"; "" = from --aspect and --height
+  std::string aspect = "source";  // "16:9", "9:16", "1:1", "4:5", ... or source
+  int height = 0;                 // with --aspect: the output's height; 0 = the capture's
   std::string format = "auto";
   int crf = 20;
   std::string preset = "veryfast";
@@ -123,6 +126,12 @@ Status RunClip(const ClipArgs& args) {
   PX_ASSIGN_OR_RETURN(options.pipeline.direct.timing.style, ParseClipStyle(args.style));
   PX_ASSIGN_OR_RETURN(options.pipeline.direct.timing.ease, ParseClipEase(args.ease));
   options.pipeline.direct.timing.hold_s = args.hold_s;
+  if (!args.size.empty()) {
+    PX_RETURN_IF_ERROR(ParseOutputSize(args.size, &options.pipeline.direct.output).WithContext("--size"));
+  } else {
+    PX_RETURN_IF_ERROR(ParseOutputAspect(args.aspect, &options.pipeline.direct.output).WithContext("--aspect"));
+    options.pipeline.direct.output.height = args.height;
+  }
   options.pipeline.num_threads = args.threads;
   options.pipeline.image_set_max_side_px = args.max_photo_side_px;
   options.clip.crf = args.crf;
@@ -207,6 +216,13 @@ void AddClipCommand(CLI::App& app) {
       ->check(CLI::IsMember({"smooth", "linear"}))
       ->capture_default_str();
   clip->add_option("--hold", args->hold_s, "once: seconds the last frame is held after the move, 0..60")
+      ->capture_default_str();
+  clip->add_option("--size", args->size,
+                   "Output size WxH (1920x1080, 1080x1920); the move is planned in that frame, cut from the widest "
+                   "field of its aspect the capture saw (the clip's JSON says if it is upsampled)");
+  clip->add_option("--aspect", args->aspect, "Output aspect W:H (16:9, 9:16, 1:1, 4:5) or source; see --height")
+      ->capture_default_str();
+  clip->add_option("--height", args->height, "With --aspect: output height in pixels, 0 = the capture's")
       ->capture_default_str();
   clip->add_option("--format", args->format,
                    "mp4 (H.264), gif or webp (looping animations), png (a folder of frames), or auto: from the "

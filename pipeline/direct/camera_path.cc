@@ -242,6 +242,21 @@ int NumFrames(double fps, double duration_s) {
   return std::max(1, static_cast<int>(std::lround(fps * duration_s)));
 }
 
+void FitPathToOutput(CameraPath* path, OutputSize size) {
+  if (path->width == size.width && path->height == size.height) return;
+  CameraModel source = CameraModel::Pinhole(path->width, path->height, 1.0);
+  source.cx = path->cx;
+  source.cy = path->cy;
+  double scale = 1;
+  const CameraModel framed = FrameOutputCamera(source, size, &scale);
+  path->width = framed.width;
+  path->height = framed.height;
+  path->cx = framed.cx;
+  path->cy = framed.cy;
+  for (CameraKeyframe& key : path->keyframes) key.focal_px *= scale;
+  path->output_scale *= scale;
+}
+
 int CameraPath::NumFrames() const { return timing.NumFrames(fps, duration_s); }
 
 double CameraPath::FrameTime(int index) const { return timing.FrameTime(index, fps, duration_s); }
@@ -343,6 +358,7 @@ nlohmann::json CameraPathToJson(const CameraPath& path) {
                         {"style", std::string(ClipStyleName(path.timing.style))},
                         {"ease", std::string(ClipEaseName(path.timing.ease))},
                         {"hold_s", path.timing.hold_s},
+                        {"output_scale", path.output_scale},
                         {"num_frames", path.NumFrames()},
                         {"keyframes", keyframes}};
 }
@@ -405,6 +421,7 @@ StatusOr<CameraPath> CameraPathFromJson(const nlohmann::json& j, const std::stri
   path.timing.ease = *parsed_ease;
   PX_ASSIGN_OR_RETURN(path.timing.hold_s, json::GetNumberOr(j, "hold_s", where, 0.0));
   if (Status timing = path.timing.Validate(); !timing.ok()) return timing.WithContext(where);
+  PX_ASSIGN_OR_RETURN(path.output_scale, json::GetNumberOr(j, "output_scale", where, 1.0));
   PX_ASSIGN_OR_RETURN(const nlohmann::json* keyframes, json::GetField(j, "keyframes", where));
   const std::string keyframes_path = json::FieldPath(where, "keyframes");
   if (!keyframes->is_array()) return InvalidArgumentError(keyframes_path + ": want an array");

@@ -25,6 +25,7 @@
 #include "pipeline/core/virtual_camera.h"
 #include "pipeline/direct/clip_timing.h"
 #include "pipeline/direct/direct_options.h"
+#include "pipeline/direct/output_frame.h"
 #include "pipeline/direct/spline.h"
 #include "pipeline/direct/subject.h"
 
@@ -74,6 +75,9 @@ struct CameraPath {
   // How the frames walk the path. Default: the paper's linear move played once (what a path
   // written without timing meant); the planner sets DirectOptions::timing.
   ClipTiming timing{ClipStyle::kOnce, ClipEase::kLinear, 0};
+  // Output pixels per pixel of the view the frame was cut from (> 1: upsampled beyond the
+  // capture's detail); 1 when the clip has its source's size.
+  double output_scale = 1;
   std::vector<CameraKeyframe> keyframes;  // t ascending, first at 0, last at 1
 
   // At least two keyframes, t from 0 to 1 ascending, positive size and focal lengths, lens and
@@ -100,6 +104,11 @@ struct CameraPath {
 // A path of `kind` with no keyframes yet, effect "none", at `camera`'s size, principal point and
 // aspect, with the clip's timing: what every planner starts from.
 CameraPath BlankPath(PathKind kind, std::string move, const CameraModel& camera, double fps, double duration_s);
+
+// Re-frames a path cut from a view of the path's size to `size` (output_frame.h): focal lengths
+// and principal point scaled as FrameOutputCamera does, output_scale multiplied. A path already
+// of that size is left as it is.
+void FitPathToOutput(CameraPath* path, OutputSize size);
 
 // Frames in a clip of `duration_s` at `fps`: round(fps * duration_s), at least 1.
 int NumFrames(double fps, double duration_s);

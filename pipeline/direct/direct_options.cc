@@ -96,6 +96,7 @@ Status DirectOptions::Validate() const {
     }
   }
   PX_RETURN_IF_ERROR(timing.Validate().WithContext("direct.timing"));
+  PX_RETURN_IF_ERROR(output.Validate().WithContext("direct.output"));
   PX_RETURN_IF_ERROR(faces.Validate());
   PX_RETURN_IF_ERROR(search.Validate());
   if (!InRange(zoom_in, 1, 4)) return RangeError("direct.zoom_in", zoom_in, "[1, 4]");

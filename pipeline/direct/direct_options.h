@@ -9,6 +9,7 @@
 
 #include "pipeline/core/status.h"
 #include "pipeline/direct/clip_timing.h"
+#include "pipeline/direct/output_frame.h"
 
 namespace px {
 
@@ -82,6 +83,8 @@ struct DirectOptions {
   // How the clip plays the move: once (then an optional hold), loop or boomerang, eased
   // smoothly by default so the camera neither lurches off nor stops dead (clip_timing.h).
   ClipTiming timing;
+  // The clip's size and aspect (output_frame.h); default: the centre view's.
+  OutputFrameOptions output;
   // Subjects given by the user: rectangles (x, y, width, height) in pixels of `subject_view`
   // (-1 = the centre view). When any is given, face detection is not run.
   std::vector<cv::Rect2d> subject_boxes_px;

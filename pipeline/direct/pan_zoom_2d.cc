@@ -26,22 +26,29 @@ Rigid3 Pose(const View& view, const Eigen::Vector3d& direction) {
   return Rigid3::LookAt(centre, centre + direction, up);
 }
 
-CameraModel Output(const View& view, double focal_px) {
-  CameraModel camera = view.camera.WithoutDistortion();
-  camera.fy = focal_px * view.camera.fy / view.camera.fx;
-  camera.fx = focal_px;
-  return camera;
-}
+// The clip's frame over the view (output_frame.h): its size and aspect, at a zoom given as a
+// focal length in the view's own pixels.
+struct FlatFrame {
+  CameraModel base;  // the view's widest crop of the output's aspect, at the output's size
+  double scale = 1;  // output pixels per view pixel
+
+  CameraModel At(double focal_px) const {
+    CameraModel camera = base;
+    camera.fy = focal_px * scale * base.fy / base.fx;
+    camera.fx = focal_px * scale;
+    return camera;
+  }
+};
 
 Eigen::Vector3d Axis(const View& view) { return view.cam_from_world.rotation.conjugate() * Eigen::Vector3d::UnitZ(); }
 
 // Turns the key towards the view's own axis (and zooms in if needed) until its frame lies inside
 // the image: the most of the wanted aim that the image allows.
-FlatKey FitInside(const View& view, FlatKey key) {
+FlatKey FitInside(const View& view, const FlatFrame& frame, FlatKey key) {
   const double f = view.camera.fx;
   key.focal_px = std::max(key.focal_px, kMinZoom * f);
   const auto inside = [&](const Eigen::Vector3d& direction) {
-    return FrameInsideSource(view, Output(view, key.focal_px), Pose(view, direction));
+    return FrameInsideSource(view, frame.At(key.focal_px), Pose(view, direction));
   };
   if (inside(key.direction)) return key;
   const Eigen::Vector3d axis = Axis(view);
@@ -104,6 +111,9 @@ StatusOr<CameraPath> PlanPanZoom2d(const View& view, const std::vector<Subject>&
   const Eigen::Vector3d centre = CameraCentre(view.cam_from_world);
   const Eigen::Vector3d axis = Axis(view);
   const CameraModel pinhole = view.camera.WithoutDistortion();
+  FlatFrame frame;
+  frame.base = FrameOutputCamera(pinhole, ResolveOutputSize(options.output, view.camera.width, view.camera.height),
+                                 &frame.scale);
   const Rigid3 world_from_cam = view.cam_from_world.Inverse();
 
   FlatKey a, b;
@@ -130,15 +140,34 @@ StatusOr<CameraPath> PlanPanZoom2d(const View& view, const std::vector<Subject>&
 
   // Subjects first: narrow each key's zoom until they fit (never below kMinZoom), then keep the
   // frame inside the image.
-  const double margin_px = options.framing_margin * view.camera.width;
+  const double margin_px = options.framing_margin * frame.base.width;
   std::vector<FlatKey> keys = {a, b};
+  Eigen::Vector3d towards_subjects = Eigen::Vector3d::Zero();
+  for (const Subject& subject : subjects) towards_subjects += Towards(view, subject.LowerHalfCentreInWorld(), f).direction;
   for (FlatKey& key : keys) {
-    const double most = MaxFocalKeepingInside(subjects, Output(view, key.focal_px), Pose(view, key.direction), margin_px);
+    // A frame narrower than the view (a portrait cut from a landscape) can miss the subjects from
+    // the key's aim at any zoom: turn it towards them, as little as brings them into frame.
+    const auto framed = [&](const Eigen::Vector3d& direction) {
+      return SubjectsInside(subjects, frame.At(kMinZoom * f), Pose(view, direction), margin_px);
+    };
+    if (!subjects.empty() && !framed(key.direction)) {
+      const Eigen::Vector3d from = key.direction.normalized();
+      const Eigen::Vector3d to = towards_subjects.normalized();
+      double lo = 0, hi = 1;
+      for (int i = 0; i < 30; ++i) {
+        const double mid = 0.5 * (lo + hi);
+        (framed(((1 - mid) * from + mid * to).normalized()) ? hi : lo) = mid;
+      }
+      key.direction = ((1 - hi) * from + hi * to).normalized();
+    }
+    const double most =
+        MaxFocalKeepingInside(subjects, frame.At(key.focal_px), Pose(view, key.direction), margin_px) / frame.scale;
     key.focal_px = std::max(kMinZoom * f, std::min(key.focal_px, most));
-    key = FitInside(view, key);
+    key = FitInside(view, frame, key);
   }
 
-  CameraPath path = BlankPath(PathKind::kPanZoom2d, move, pinhole, options.fps, options.duration_s);
+  CameraPath path = BlankPath(PathKind::kPanZoom2d, move, frame.base, options.fps, options.duration_s);
+  path.output_scale = frame.scale;
   path.source_views = {view.id.value};
   path.subjects = subjects;
   for (size_t i = 0; i < keys.size(); ++i) {
@@ -146,7 +175,7 @@ StatusOr<CameraPath> PlanPanZoom2d(const View& view, const std::vector<Subject>&
     key.t = static_cast<double>(i);
     key.centre_in_world = centre;
     key.cam_from_world_rotation = Pose(view, keys[i].direction).rotation;
-    key.focal_px = keys[i].focal_px;
+    key.focal_px = keys[i].focal_px * frame.scale;
     path.keyframes.push_back(key);
   }
   // Between the keys the frame turns and zooms linearly; nudge the zoom up until every frame is
@@ -171,8 +200,8 @@ StatusOr<CameraPath> PlanPanZoom2d(const View& view, const std::vector<Subject>&
   }
   char reason[200];
   std::snprintf(reason, sizeof(reason), "flat %s over view %d (%zu subject%s), zoom %.2ff to %.2ff", move.c_str(),
-                view.id.value, subjects.size(), subjects.size() == 1 ? "" : "s", path.keyframes[0].focal_px / f,
-                path.keyframes[1].focal_px / f);
+                view.id.value, subjects.size(), subjects.size() == 1 ? "" : "s",
+                path.keyframes[0].focal_px / (frame.scale * f), path.keyframes[1].focal_px / (frame.scale * f));
   path.reason = reason;
   PX_RETURN_IF_ERROR(path.Validate());
   return path;

@@ -358,6 +358,9 @@ StatusOr<CameraPath> PlanCameraPath(const std::vector<View>& views, const std::v
   if (options.move == "morph" || options.move == "pan_zoom_2d") no_3d = "requested " + options.move;
 
   StatusOr<CameraPath> path = FailedPreconditionError("not planned");
+  const CameraModel& centre_camera = views[direct::CentreViewIndex(views)].camera;
+  const OutputSize output_size = ResolveOutputSize(options.output, centre_camera.width, centre_camera.height);
+  double framed_scale = 1;  // output pixels per centre-view pixel, once the scene is framed
   std::optional<direct::SceneGeometry> scene;
   std::optional<direct::SceneSamples> samples;
   std::optional<direct::SplatCoverage> splat;
@@ -365,6 +368,9 @@ StatusOr<CameraPath> PlanCameraPath(const std::vector<View>& views, const std::v
     StatusOr<direct::SceneGeometry> described = direct::DescribeScene(views, depths);
     if (described.ok()) {
       scene = *described;
+      // Everything below plans in the frame the viewer will see.
+      scene->output = FrameOutputCamera(scene->output, output_size, &framed_scale);
+      scene->focal_px *= framed_scale;
       samples = direct::SceneSamples::FromDepths(views, depths);
       if (options.search.splat_stride > 0) {
         splat = direct::SplatCoverage::FromDepths(views, depths, options.search.search_scale,
@@ -421,6 +427,13 @@ StatusOr<CameraPath> PlanCameraPath(const std::vector<View>& views, const std::v
   if (!path.ok()) return path.status().WithContext("direction");
   // Timing walks the same positions in another rhythm, so everything checked above still holds.
   path->timing = options.timing;
+  // Paths planned in the framed scene have the output's size; the flat ones and a morph are cut
+  // from their view's frame here.
+  if (path->width == output_size.width && path->height == output_size.height) {
+    if (path->kind == PathKind::kNovelView && scene) path->output_scale = framed_scale;
+  } else {
+    FitPathToOutput(&*path, output_size);
+  }
   if (path->subjects.empty()) path->subjects = path->kind == PathKind::kNovelView ? with_depth : planner.subjects;
   for (const std::string& note : report.notes) path->notes.push_back(note);
   report.coverage_probes = search.calls() + verify.calls();

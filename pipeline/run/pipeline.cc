@@ -25,6 +25,19 @@ namespace px {
 
 namespace {
 
+// A morph frame (its views' size) cut to the clip's frame as FrameOutputCamera frames it: the
+// widest centred crop of the output's aspect, resized to the output.
+cv::Mat CutToFrame(const cv::Mat& image, int width, int height) {
+  if (image.cols == width && image.rows == height) return image;
+  const double scale = std::max(static_cast<double>(width) / image.cols, static_cast<double>(height) / image.rows);
+  const int crop_w = std::min(image.cols, static_cast<int>(std::lround(width / scale)));
+  const int crop_h = std::min(image.rows, static_cast<int>(std::lround(height / scale)));
+  const cv::Rect crop((image.cols - crop_w) / 2, (image.rows - crop_h) / 2, crop_w, crop_h);
+  cv::Mat out;
+  cv::resize(image(crop), out, cv::Size(width, height), 0, 0, scale < 1 ? cv::INTER_AREA : cv::INTER_LINEAR);
+  return out;
+}
+
 // Depth that the plane sweep is sure of on less than this fraction of pixels makes a poor clip.
 constexpr double kLowConfidentDepthFraction = 0.3;
 // Holes inpainted over more than this fraction of a frame, on average, show.
@@ -53,6 +66,13 @@ void LogDirection(const PipelineReport& report, std::vector<std::string>* warnin
             report.path.move, report.path.effect, report.path.NumFrames(), d.num_subjects, d.detector,
             d.coverage_probes, d.coverage_ms, report.timings.back().ms);
   log->info("direct: {}", report.path.reason);
+  if (report.path.output_scale > 1.05) {  // 5 %: below that, resampling hides it
+    char text[160];
+    std::snprintf(text, sizeof(text), "direct: the %dx%d frame is upsampled %.2fx beyond the capture's detail",
+                  report.path.width, report.path.height, report.path.output_scale);
+    log->warn("{}", text);
+    warnings->push_back(text);
+  }
   for (const std::string& note : report.path.notes) {
     if (d.fell_back) {
       log->warn("direct: {}", note);
@@ -121,7 +141,7 @@ Status RenderFrames(const std::vector<View>& views, SceneRenderer* renderer, Fra
           break;
         }
         case PathKind::kMorph:
-          bgr = report->direction.morph->FrameAt(t);
+          bgr = CutToFrame(report->direction.morph->FrameAt(t), path.width, path.height);
           break;
         case PathKind::kPanZoom2d:
           cv::warpPerspective(flat_source->image, bgr,

@@ -230,6 +230,42 @@ TEST_F(PipelineTest, ABoomerangShowsItsFramesBackwardsAndDrawsEachPlaceOnce) {
   for (int i = 10; i < 15; ++i) EXPECT_EQ(cv::norm(held.frames[i], held.frames[9], cv::NORM_INF), 0.0);
 }
 
+// A portrait clip from a landscape capture: the frames have the asked size and show what the
+// exact render of their (re-framed) viewpoints shows; a larger frame says it is upsampled.
+TEST_F(PipelineTest, ThePathIsFramedForTheOutputsSizeAndAspect) {
+  CollectingSink sink;
+  PipelineOptions options = ShortClip();
+  options.shot = MiddleRowShot();
+  options.direct.output.aspect = 9.0 / 16.0;  // at the capture's height: 136x240 from 320x240
+  StatusOr<PipelineReport> report = RunPipeline(Capture(sensor_), rig_, options, &sink);
+  ASSERT_TRUE(report.ok()) << report.status().ToString();
+  const CameraPath& path = report->path;
+  EXPECT_EQ(path.width, 136);
+  EXPECT_EQ(path.height, 240);
+  EXPECT_DOUBLE_EQ(path.output_scale, 1.0);
+  ASSERT_EQ(sink.frames.size(), 10u);
+  for (int i : {0, 5, 9}) {
+    ASSERT_EQ(sink.frames[i].size(), cv::Size(136, 240));
+    cv::Mat want, want_depth;
+    scene_.Render(path.CameraAt(path.FrameTime(i)), path.PoseAt(path.FrameTime(i)), &want, &want_depth);
+    EXPECT_GT(PsnrAwayFromSilhouettes(sink.frames[i], want, want_depth), 36.0) << "frame " << i;
+  }
+  EXPECT_TRUE(report->warnings.empty()) << report->warnings.front();
+
+  CollectingSink large;
+  options.direct.output = {640, 480, 0};
+  auto doubled = std::make_shared<direct::Shot>(*MiddleRowShot());  // focal_px is in output pixels
+  for (direct::ShotKeyframe& key : doubled->segments[0].keyframes) key.focal_px = 2 * *key.focal_px;
+  options.shot = doubled;
+  report = RunPipeline(Capture(sensor_), rig_, options, &large);
+  ASSERT_TRUE(report.ok()) << report.status().ToString();
+  EXPECT_DOUBLE_EQ(report->path.output_scale, 2.0);
+  ASSERT_EQ(large.frames.front().size(), cv::Size(640, 480));
+  bool said = false;
+  for (const std::string& warning : report->warnings) said |= warning.find("upsampled 2.00x") != std::string::npos;
+  EXPECT_TRUE(said) << "the report must say the clip is upsampled";
+}
+
 // Without a shot the taxonomy decides: no faces (no detector here), so an establishing move
 // (row 0 of table 1) through viewpoints the renderer covers.
 TEST_F(PipelineTest, ChoosesAnEstablishingMoveThroughValidViewpoints) {
