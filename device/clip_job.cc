@@ -1,8 +1,12 @@
 #include "device/clip_job.h"
 
+#include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <memory>
 #include <nlohmann/json.hpp>
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
 #include <system_error>
 
 #include "pipeline/core/durable_file.h"
@@ -24,10 +28,24 @@ double MillisecondsSince(Clock::time_point start) {
 
 // Streams rendered frames into a ClipWriter opened on the first frame (its size is the
 // pipeline's choice: the clip has the rendered frames' size), timing the encoder apart from
-// rendering.
+// rendering. On the way it keeps the poster frame and writes the small looping preview.
 class ClipSink final : public FrameSink {
  public:
-  ClipSink(fs::path path, clip::ClipOptions options) : path_(std::move(path)), options_(std::move(options)) {}
+  ClipSink(fs::path path, clip::ClipOptions options, fs::path preview_path)
+      : path_(std::move(path)), options_(std::move(options)), preview_path_(std::move(preview_path)) {}
+
+  // The poster is the move's far end (the first frame at its largest path time): the close-up
+  // of a move onto a subject, the widest parallax of an establishing move.
+  void Begin(const CameraPath& path) override {
+    double far_end = -1;
+    for (int i = 0; i < path.NumFrames(); ++i) {
+      if (path.FrameTime(i) > far_end) {
+        far_end = path.FrameTime(i);
+        poster_index_ = i;
+      }
+    }
+    preview_every_ = std::max(1, static_cast<int>(std::lround(options_.fps / kPreviewFps)));
+  }
 
   Status Consume(int index, const cv::Mat& bgr) override {
     const auto start = Clock::now();
@@ -37,6 +55,8 @@ class ClipSink final : public FrameSink {
       height_ = writer_->StoredHeight();
     }
     Status written = writer_->Write(bgr);
+    if (written.ok() && index == poster_index_) poster_ = bgr.clone();
+    if (written.ok() && index % preview_every_ == 0) written = WritePreview(bgr);
     encode_ms_ += MillisecondsSince(start);
     if (!written.ok()) return written.WithContext("frame " + std::to_string(index));
     return OkStatus();
@@ -46,6 +66,7 @@ class ClipSink final : public FrameSink {
     if (!writer_) return InternalError("the pipeline rendered no frames");
     const auto start = Clock::now();
     Status finished = writer_->Finish();
+    if (finished.ok() && preview_) finished = preview_->Finish().WithContext(preview_path_.string());
     encode_ms_ += MillisecondsSince(start);
     return finished;
   }
@@ -54,11 +75,34 @@ class ClipSink final : public FrameSink {
   int width() const { return width_; }
   int height() const { return height_; }
   double encode_ms() const { return encode_ms_; }
+  const cv::Mat& poster() const { return poster_; }
 
  private:
+  static constexpr double kPreviewFps = 10;    // a gallery's thumbnail needs no more
+  static constexpr int kPreviewLongSide = 320;  // pixels: with quality 60, well under 500 KB
+
+  Status WritePreview(const cv::Mat& bgr) {
+    const double scale = std::min(1.0, static_cast<double>(kPreviewLongSide) / std::max(bgr.cols, bgr.rows));
+    cv::Mat small;
+    cv::resize(bgr, small, cv::Size(), scale, scale, cv::INTER_AREA);
+    if (!preview_) {
+      clip::ClipOptions preview;
+      preview.format = clip::ClipFormat::kWebp;
+      preview.fps = options_.fps / preview_every_;
+      preview.webp_quality = 60;
+      PX_ASSIGN_OR_RETURN(preview_, clip::OpenClipWriter(preview_path_, small.cols, small.rows, preview));
+    }
+    return preview_->Write(small).WithContext("preview");
+  }
+
   fs::path path_;
   clip::ClipOptions options_;
+  fs::path preview_path_;
   std::unique_ptr<clip::ClipWriter> writer_;
+  std::unique_ptr<clip::ClipWriter> preview_;
+  int poster_index_ = 0;
+  int preview_every_ = 1;
+  cv::Mat poster_;
   int width_ = 0;
   int height_ = 0;
   double encode_ms_ = 0;
@@ -146,6 +190,9 @@ nlohmann::json ClipJobReportToJson(const ClipJobReport& report) {
       {"fps", report.pipeline.path.fps},
       {"duration_s", report.pipeline.path.duration_s},
       {"bytes", report.clip_bytes},
+      {"poster", report.poster_path.string()},
+      {"preview", report.preview_path.string()},
+      {"preview_bytes", report.preview_bytes},
       {"num_views", report.pipeline.num_views},
       {"mean_hole_ratio", report.pipeline.mean_hole_ratio},
       {"frame_coverage", FrameCoverageToJson(report.pipeline.frame_coverage)},
@@ -212,7 +259,11 @@ StatusOr<ClipJobReport> RunClipJob(const Recording& recording,
   report.format = std::string(clip::ClipFormatName(clip_options.format));
   const fs::path temp = TemporaryPathFor(report.clip_path);
   RemoveOnExit remove_temp(temp);
-  ClipSink sink(temp, clip_options);
+  report.poster_path = ClipPosterPathFor(report.clip_path);
+  report.preview_path = ClipPreviewPathFor(report.clip_path);
+  const fs::path preview_temp = TemporaryPathFor(report.preview_path);
+  RemoveOnExit remove_preview_temp(preview_temp);
+  ClipSink sink(temp, clip_options, preview_temp);
   StatusOr<PipelineReport> pipeline = RunPipeline(recording.frames, rig, pipeline_options, &sink, progress);
   if (!pipeline.ok()) return pipeline.status();
   report.pipeline = std::move(pipeline).value();
@@ -227,13 +278,28 @@ StatusOr<ClipJobReport> RunClipJob(const Recording& recording,
   PX_RETURN_IF_ERROR(FsyncFile(temp));
   // The last point where the job can still stop (or a crash test pause) before the clip appears.
   if (progress && !progress("encode", 1.0)) return CancelledError("clip job cancelled before the clip was put in place");
+  // Poster and preview first: a clip in place always has them beside it.
+  std::vector<uchar> poster_jpeg;
+  if (sink.poster().empty() || !cv::imencode(".jpg", sink.poster(), poster_jpeg, {cv::IMWRITE_JPEG_QUALITY, 90})) {
+    return InternalError("the clip's poster frame could not be encoded");
+  }
+  PX_RETURN_IF_ERROR(
+      WriteFileAtomically(report.poster_path, std::string(poster_jpeg.begin(), poster_jpeg.end())));
+  RemoveOnExit remove_poster(report.poster_path);
+  PX_RETURN_IF_ERROR(FsyncFile(preview_temp));
+  PX_RETURN_IF_ERROR(RenameDurably(preview_temp, report.preview_path));
+  remove_preview_temp.Release();
+  RemoveOnExit remove_preview(report.preview_path);
   PX_RETURN_IF_ERROR(PutInPlace(temp, report.clip_path));
   remove_temp.Release();
   RemoveOnExit remove_clip(report.clip_path);  // until the report is beside it
   report.clip_bytes = BytesOf(report.clip_path);
+  report.preview_bytes = BytesOf(report.preview_path);
   report.total_ms = MillisecondsSince(start);
   PX_RETURN_IF_ERROR(WriteFileAtomically(report.report_path, ClipJobReportToJson(report).dump(2) + "\n"));
   remove_clip.Release();
+  remove_poster.Release();
+  remove_preview.Release();
   log->info("clip job: wrote {} ({} {} frames {}x{}, {:.2f} MB, encode {:.0f} ms) in {:.0f} ms",
             report.clip_path.string(),
             report.format,

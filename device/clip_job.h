@@ -1,6 +1,7 @@
 // The one capture-to-clip job, shared by the daemon and the `parallax` command line: read a
 // recording, run the pipeline, stream the frames into a clip (MP4, GIF, WebP or a folder of PNG
 // frames; pipeline/clip) beside the destination, then put the clip in place atomically with its
+// poster (clips/<id>.poster.jpg), a small looping preview (clips/<id>.preview.webp) and its
 // camera path and report (clips/<id>.json) beside it. A failed or cancelled job leaves no clip
 // behind.
 #pragma once
@@ -26,6 +27,9 @@ struct ClipJobReport {
   std::filesystem::path recording_dir;
   std::filesystem::path clip_path;    // absolute
   std::filesystem::path report_path;  // absolute, the JSON beside the clip
+  std::filesystem::path poster_path;  // absolute, <id>.poster.jpg: the move's far end, full size
+  std::filesystem::path preview_path; // absolute, <id>.preview.webp: looping, 10 fps, 320 px
+  uint64_t preview_bytes = 0;
   std::string source_model;           // from the recording: "sim:sim-pop9", ...
   PipelineReport pipeline;            // views, warnings, per-stage timings (with "encode"), camera path
   int frames_written = 0;

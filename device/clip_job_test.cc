@@ -71,7 +71,8 @@ TEST_F(ClipJobTest, MakesAPlayableClipWithItsCameraPathBesideIt) {
   auto report = RunClipJob(recording, clip, SmallClipOptions());
   ASSERT_TRUE(report.ok()) << report.status().ToString();
 
-  EXPECT_EQ(ClipsFolder(), (std::vector<std::string>{"000001.json", "000001.mp4"}));
+  EXPECT_EQ(ClipsFolder(), (std::vector<std::string>{"000001.json", "000001.mp4", "000001.poster.jpg",
+                                                      "000001.preview.webp"}));
   const int want_frames = NumFrames(10, 0.5);
   EXPECT_EQ(report->frames_written, want_frames);
   EXPECT_EQ(report->pipeline.num_views, 9);
@@ -97,6 +98,23 @@ TEST_F(ClipJobTest, MakesAPlayableClipWithItsCameraPathBesideIt) {
   ASSERT_TRUE(path.ok()) << path.status().ToString();
   EXPECT_GE(path->keyframes.size(), 2u);
   EXPECT_EQ(path->fps, 10);
+
+  // The poster is the move's far end at the clip's size; the preview loops, small, at 10 fps.
+  EXPECT_EQ(j["poster"], (dir() / "clips" / "000001.poster.jpg").string());
+  const cv::Mat poster = cv::imread(j["poster"].get<std::string>());
+  ASSERT_FALSE(poster.empty());
+  EXPECT_EQ(poster.cols, report->width);
+  EXPECT_EQ(poster.rows, report->height);
+  auto preview = px::testing::ProbeAnimation(j["preview"].get<std::string>());
+  ASSERT_TRUE(preview.ok()) << preview.status().ToString();
+  EXPECT_EQ(preview->format, "webp");
+  EXPECT_EQ(preview->frames, want_frames);  // the clip is at 10 fps already
+  EXPECT_EQ(preview->plays, 0);
+  EXPECT_LE(std::max(preview->width, preview->height), 320);
+  EXPECT_LT(j["preview_bytes"].get<uint64_t>(), 500'000u);
+  // The poster is the last frame here (the move's far end), as the clip shows it.
+  // (H.264 and JPEG each change it a little: it is much nearer the last frame than the first.)
+  EXPECT_LT(cv::norm(poster, video->last_frame, cv::NORM_L1), 0.5 * cv::norm(poster, video->first_frame, cv::NORM_L1));
 }
 
 // The clip made on GL (OSMesa, llvmpipe: present on every machine this builds on), and the
@@ -162,7 +180,8 @@ TEST_F(ClipJobTest, WritesEveryClipFormat) {
     EXPECT_EQ(nlohmann::json::parse(*text)["format"], clip::ClipFormatName(format));
   }
   // Only the clips and their report: no temporaries, no older PNG folder left aside.
-  EXPECT_EQ(ClipsFolder(), (std::vector<std::string>{"000002", "000002.gif", "000002.json", "000002.webp"}));
+  EXPECT_EQ(ClipsFolder(), (std::vector<std::string>{"000002", "000002.gif", "000002.json", "000002.poster.jpg",
+                                                      "000002.preview.webp", "000002.webp"}));
 }
 
 // Photos in memory (`parallax clip PHOTOS_FOLDER`): the job runs on the recording as given and the
@@ -201,7 +220,7 @@ TEST_F(ClipJobTest, LatticeRecordingWithoutRigIsFoundBlind) {
   ASSERT_TRUE(report.ok()) << report.status().ToString();
   EXPECT_EQ(report->pipeline.calibration, "structure from motion (no rig calibration)");
   EXPECT_EQ(report->pipeline.num_views, 9);
-  EXPECT_EQ(ClipsFolder(), (std::vector<std::string>{"x.json", "x.mp4"}));
+  EXPECT_EQ(ClipsFolder(), (std::vector<std::string>{"x.json", "x.mp4", "x.poster.jpg", "x.preview.webp"}));
 }
 
 TEST_F(ClipJobTest, CancelledJobLeavesNoClipOrTemporary) {

@@ -90,4 +90,16 @@ fs::path ClipReportPathFor(const fs::path& clip_path) {
   return report;
 }
 
+fs::path ClipPosterPathFor(const fs::path& clip_path) {
+  fs::path poster = clip_path;
+  poster.replace_extension(".poster.jpg");
+  return poster;
+}
+
+fs::path ClipPreviewPathFor(const fs::path& clip_path) {
+  fs::path preview = clip_path;
+  preview.replace_extension(".preview.webp");
+  return preview;
+}
+
 }  // namespace px::device

@@ -58,5 +58,9 @@ class StorageLayout {
 
 // The report that goes beside a clip: clips/<id>.mp4 -> clips/<id>.json.
 std::filesystem::path ClipReportPathFor(const std::filesystem::path& clip_path);
+// The still and the small looping preview beside a clip: clips/<id>.poster.jpg and
+// clips/<id>.preview.webp (a gallery shows these before the clip itself).
+std::filesystem::path ClipPosterPathFor(const std::filesystem::path& clip_path);
+std::filesystem::path ClipPreviewPathFor(const std::filesystem::path& clip_path);
 
 }  // namespace px::device

@@ -33,7 +33,8 @@ uint64_t BytesUnder(const fs::path& path) {
 // What one done job holds on disk: clip, report, capture.
 uint64_t JobBytes(const StorageLayout& layout, const std::string& id) {
   const fs::path clip = layout.FindClip(id);
-  return BytesUnder(clip) + BytesUnder(ClipReportPathFor(clip)) + BytesUnder(layout.CaptureDir(id));
+  return BytesUnder(clip) + BytesUnder(ClipReportPathFor(clip)) + BytesUnder(ClipPosterPathFor(clip)) +
+         BytesUnder(ClipPreviewPathFor(clip)) + BytesUnder(layout.CaptureDir(id));
 }
 
 bool HasFiles(const StorageLayout& layout, const std::string& id) {
@@ -96,6 +97,8 @@ Status Evict(const StorageLayout& layout, JobJournal* journal, const std::string
   fs::remove_all(clip, ec);
   if (ec) return ErrnoToStatus(ec.value(), "evict", clip);
   fs::remove(ClipReportPathFor(clip), ec);
+  fs::remove(ClipPosterPathFor(clip), ec);
+  fs::remove(ClipPreviewPathFor(clip), ec);
   fs::remove_all(layout.CaptureDir(id), ec);
   if (ec) return ErrnoToStatus(ec.value(), "evict", layout.CaptureDir(id));
   PX_RETURN_IF_ERROR(FsyncDir(layout.ClipsDir()));

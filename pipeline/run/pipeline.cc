@@ -110,6 +110,7 @@ Status RenderFrames(const std::vector<View>& views, SceneRenderer* renderer, Fra
   double hole_sum = 0;
   // The sink (the encoder) works on frame i on its own thread while frame i + 1 is rendered.
   constexpr int kQueuedFrames = 2;
+  sink->Begin(path);
   OverlappedFrameSink overlapped(sink, kQueuedFrames);
   report->frame_coverage.clear();
   report->frame_coverage.reserve(num_frames);

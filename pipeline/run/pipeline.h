@@ -80,6 +80,9 @@ struct PipelineOptions {
 class FrameSink {
  public:
   virtual ~FrameSink() = default;
+  // Once, with the path about to be rendered, before the first frame (a sink may choose its
+  // poster frame from it).
+  virtual void Begin(const CameraPath& path) { (void)path; }
   virtual Status Consume(int index, const cv::Mat& bgr) = 0;
 };
 
