@@ -188,7 +188,9 @@ nlohmann::json ClipJobReportToJson(const ClipJobReport& report) {
       {"width", report.width},
       {"height", report.height},
       {"fps", report.pipeline.path.fps},
-      {"duration_s", report.pipeline.path.duration_s},
+      // What plays: the move's frames with a hold, a loop's way back or a boomerang's return.
+      {"duration_s", report.frames_written / report.pipeline.path.fps},
+      {"move_duration_s", report.pipeline.path.duration_s},
       {"bytes", report.clip_bytes},
       {"poster", report.poster_path.string()},
       {"preview", report.preview_path.string()},

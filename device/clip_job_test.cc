@@ -89,6 +89,7 @@ TEST_F(ClipJobTest, MakesAPlayableClipWithItsCameraPathBesideIt) {
   nlohmann::json j = nlohmann::json::parse(*text);
   EXPECT_EQ(j["clip"], clip.string());
   EXPECT_EQ(j["frames"], want_frames);
+  EXPECT_DOUBLE_EQ(j["duration_s"].get<double>(), want_frames / 10.0);
   EXPECT_EQ(j["source"], "sim:sim-pop9-160x120");
   EXPECT_TRUE(j["timings_ms"].contains("encode"));
   ASSERT_EQ(j["frame_coverage"].size(), static_cast<size_t>(want_frames));
