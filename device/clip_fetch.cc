@@ -105,8 +105,10 @@ StatusOr<std::string> ReadAll(int fd, uint64_t size, const std::filesystem::path
 
 }  // namespace
 
-StatusOr<nlohmann::json> FetchClipReply(const std::string& id, const std::optional<JobRecord>& record,
-                                        bool inline_bytes, const StorageLayout& layout) {
+StatusOr<nlohmann::json> FetchClipReply(const std::string& id,
+                                        const std::optional<JobRecord>& record,
+                                        bool inline_bytes,
+                                        const StorageLayout& layout) {
   if (!ParseJobId(id)) return InvalidArgumentError("job '" + id + "': not a job id");
   if (!record) return NotFoundError("job '" + id + "': no such job");
   if (record->state == JobState::kFailed) {
@@ -122,8 +124,10 @@ StatusOr<nlohmann::json> FetchClipReply(const std::string& id, const std::option
   const std::filesystem::path clip = layout.FindClip(id);
   std::error_code ec;
   if (!clip.has_extension() && std::filesystem::is_directory(clip, ec) && !std::filesystem::is_symlink(clip, ec)) {
-    return FailedPreconditionError("job " + id + ": its clip is a folder of PNG frames (clip.format png), not one "
-                                   "file; read the frames from " + clip.string());
+    return FailedPreconditionError("job " + id +
+                                   ": its clip is a folder of PNG frames (clip.format png), not one "
+                                   "file; read the frames from " +
+                                   clip.string());
   }
   uint64_t size = 0;
   StatusOr<int> opened = OpenClipInStore(layout, clip.filename().string(), &size);
@@ -140,8 +144,7 @@ StatusOr<nlohmann::json> FetchClipReply(const std::string& id, const std::option
       {"job", id},
       {"path", clip.string()},
       {"bytes", bytes->size()},
-      {"sha256",
-       replay::Sha256Hex(std::span(reinterpret_cast<const uint8_t*>(bytes->data()), bytes->size()))},
+      {"sha256", replay::Sha256Hex(std::span(reinterpret_cast<const uint8_t*>(bytes->data()), bytes->size()))},
   };
   if (inline_bytes) reply["data"] = Base64Encode(*bytes);
   return reply;

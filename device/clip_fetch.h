@@ -20,8 +20,10 @@ namespace px::device {
 // over the limit, DATA_LOSS when the journal names a clip that is not on disk, INVALID_ARGUMENT
 // for an id that is not one, PERMISSION_DENIED for a symbolic link (clips/ or the clip) or
 // anything but a regular file.
-StatusOr<nlohmann::json> FetchClipReply(const std::string& id, const std::optional<JobRecord>& record,
-                                        bool inline_bytes, const StorageLayout& layout);
+StatusOr<nlohmann::json> FetchClipReply(const std::string& id,
+                                        const std::optional<JobRecord>& record,
+                                        bool inline_bytes,
+                                        const StorageLayout& layout);
 
 // RFC 4648 base64 with padding.
 std::string Base64Encode(const std::string& bytes);

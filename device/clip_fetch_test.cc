@@ -78,7 +78,8 @@ TEST_F(ClipFetchTest, AJournalRecordNamingAnotherFileIsIgnored) {
 
 TEST_F(ClipFetchTest, ASymbolicLinkAsTheClipIsNotFollowed) {
   fs::create_symlink(secret_, layout_->ClipPath("000003"));
-  ExpectRefusedWithoutTheSecret(Fetch("000003", Done("000003")), StatusCode::kPermissionDenied,
+  ExpectRefusedWithoutTheSecret(Fetch("000003", Done("000003")),
+                                StatusCode::kPermissionDenied,
                                 "is a symbolic link; refusing to follow it out of the clip store");
   // A relative link climbing out is the same.
   fs::create_symlink("../../secret.txt", layout_->ClipPath("000004"));
@@ -91,7 +92,8 @@ TEST_F(ClipFetchTest, ASymbolicLinkAsTheClipsFolderIsNotFollowed) {
   ASSERT_TRUE(WriteFileAtomically(elsewhere / "000005.mp4", "the secret clip").ok());
   fs::remove_all(layout_->ClipsDir());
   fs::create_directory_symlink(elsewhere, layout_->ClipsDir());
-  ExpectRefusedWithoutTheSecret(Fetch("000005", Done("000005")), StatusCode::kPermissionDenied,
+  ExpectRefusedWithoutTheSecret(Fetch("000005", Done("000005")),
+                                StatusCode::kPermissionDenied,
                                 "is not a folder of the store (a symbolic link?)");
 }
 
@@ -105,8 +107,8 @@ TEST_F(ClipFetchTest, AFifoOrAFolderUnderTheClipsNameIsRefusedWithoutHanging) {
 TEST_F(ClipFetchTest, AHardLinkPlantedAsTheClipIsRefused) {
   // A hard link shares the secret's inode: no path trick to see, only its link count shows it.
   fs::create_hard_link(secret_, layout_->ClipPath("000008"));
-  ExpectRefusedWithoutTheSecret(Fetch("000008", Done("000008")), StatusCode::kPermissionDenied,
-                                "has 2 hard links; refusing to read it");
+  ExpectRefusedWithoutTheSecret(
+      Fetch("000008", Done("000008")), StatusCode::kPermissionDenied, "has 2 hard links; refusing to read it");
 }
 
 TEST_F(ClipFetchTest, JobsWithoutAClipSayWhy) {

@@ -9,9 +9,9 @@
 #include <opencv2/imgproc.hpp>
 #include <system_error>
 
-#include "pipeline/core/durable_file.h"
 #include "device/storage/job_journal.h"
 #include "device/storage/storage_layout.h"
+#include "pipeline/core/durable_file.h"
 #include "pipeline/core/log.h"
 #include "pipeline/direct/camera_path.h"
 #include "sim/replay/recording.h"
@@ -78,7 +78,7 @@ class ClipSink final : public FrameSink {
   const cv::Mat& poster() const { return poster_; }
 
  private:
-  static constexpr double kPreviewFps = 10;    // a gallery's thumbnail needs no more
+  static constexpr double kPreviewFps = 10;     // a gallery's thumbnail needs no more
   static constexpr int kPreviewLongSide = 320;  // pixels: with quality 60, well under 500 KB
 
   Status WritePreview(const cv::Mat& bgr) {
@@ -216,8 +216,11 @@ StatusOr<ClipJobReport> RunClipJob(const fs::path& recording_dir,
   fs::path dir = fs::absolute(recording_dir, ec);
   if (ec) dir = recording_dir;
   PX_ASSIGN_OR_RETURN(Recording recording, ReadRecording(dir));
-  Logger("device")->info("clip job: read recording {} ({}, {} frame(s)) in {:.0f} ms", dir.string(),
-                         recording.source.model, recording.frames.frames.size(), MillisecondsSince(read_start));
+  Logger("device")->info("clip job: read recording {} ({}, {} frame(s)) in {:.0f} ms",
+                         dir.string(),
+                         recording.source.model,
+                         recording.frames.frames.size(),
+                         MillisecondsSince(read_start));
   return RunClipJob(recording, dir, clip_path, options, progress);
 }
 
@@ -250,9 +253,9 @@ StatusOr<ClipJobReport> RunClipJob(const Recording& recording,
     }
     log->info("{}: a lattice frame without a rig calibration: its lattice is found blind ({} tiles, {})",
               report.recording_dir.string(),
-              pipeline_options.lattice.rows > 0 ? std::to_string(pipeline_options.lattice.rows) + "x" +
-                                                       std::to_string(pipeline_options.lattice.cols)
-                                                 : std::string("any number of"),
+              pipeline_options.lattice.rows > 0
+                  ? std::to_string(pipeline_options.lattice.rows) + "x" + std::to_string(pipeline_options.lattice.cols)
+                  : std::string("any number of"),
               std::string(TileOrientationName(pipeline_options.lattice.orientation)));
   }
 
@@ -279,14 +282,14 @@ StatusOr<ClipJobReport> RunClipJob(const Recording& recording,
 
   PX_RETURN_IF_ERROR(FsyncFile(temp));
   // The last point where the job can still stop (or a crash test pause) before the clip appears.
-  if (progress && !progress("encode", 1.0)) return CancelledError("clip job cancelled before the clip was put in place");
+  if (progress && !progress("encode", 1.0))
+    return CancelledError("clip job cancelled before the clip was put in place");
   // Poster and preview first: a clip in place always has them beside it.
   std::vector<uchar> poster_jpeg;
   if (sink.poster().empty() || !cv::imencode(".jpg", sink.poster(), poster_jpeg, {cv::IMWRITE_JPEG_QUALITY, 90})) {
     return InternalError("the clip's poster frame could not be encoded");
   }
-  PX_RETURN_IF_ERROR(
-      WriteFileAtomically(report.poster_path, std::string(poster_jpeg.begin(), poster_jpeg.end())));
+  PX_RETURN_IF_ERROR(WriteFileAtomically(report.poster_path, std::string(poster_jpeg.begin(), poster_jpeg.end())));
   RemoveOnExit remove_poster(report.poster_path);
   PX_RETURN_IF_ERROR(FsyncFile(preview_temp));
   PX_RETURN_IF_ERROR(RenameDurably(preview_temp, report.preview_path));

@@ -25,16 +25,16 @@ struct ClipJobOptions {
 
 struct ClipJobReport {
   std::filesystem::path recording_dir;
-  std::filesystem::path clip_path;    // absolute
-  std::filesystem::path report_path;  // absolute, the JSON beside the clip
-  std::filesystem::path poster_path;  // absolute, <id>.poster.jpg: the move's far end, full size
-  std::filesystem::path preview_path; // absolute, <id>.preview.webp: looping, 10 fps, 320 px
+  std::filesystem::path clip_path;     // absolute
+  std::filesystem::path report_path;   // absolute, the JSON beside the clip
+  std::filesystem::path poster_path;   // absolute, <id>.poster.jpg: the move's far end, full size
+  std::filesystem::path preview_path;  // absolute, <id>.preview.webp: looping, 10 fps, 320 px
   uint64_t preview_bytes = 0;
-  std::string source_model;           // from the recording: "sim:sim-pop9", ...
-  PipelineReport pipeline;            // views, warnings, per-stage timings (with "encode"), camera path
+  std::string source_model;  // from the recording: "sim:sim-pop9", ...
+  PipelineReport pipeline;   // views, warnings, per-stage timings (with "encode"), camera path
   int frames_written = 0;
   std::string format;  // "mp4", "gif", "webp" or "png"
-  int width = 0;  // stored size (MP4: even)
+  int width = 0;       // stored size (MP4: even)
   int height = 0;
   uint64_t clip_bytes = 0;
   double total_ms = 0;  // the recording in memory to the clip in place, wall clock

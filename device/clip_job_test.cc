@@ -2,6 +2,7 @@
 
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
+
 #include <nlohmann/json.hpp>
 #include <opencv2/core.hpp>
 #include <opencv2/imgcodecs.hpp>
@@ -71,8 +72,8 @@ TEST_F(ClipJobTest, MakesAPlayableClipWithItsCameraPathBesideIt) {
   auto report = RunClipJob(recording, clip, SmallClipOptions());
   ASSERT_TRUE(report.ok()) << report.status().ToString();
 
-  EXPECT_EQ(ClipsFolder(), (std::vector<std::string>{"000001.json", "000001.mp4", "000001.poster.jpg",
-                                                      "000001.preview.webp"}));
+  EXPECT_EQ(ClipsFolder(),
+            (std::vector<std::string>{"000001.json", "000001.mp4", "000001.poster.jpg", "000001.preview.webp"}));
   const int want_frames = NumFrames(10, 0.5);
   EXPECT_EQ(report->frames_written, want_frames);
   EXPECT_EQ(report->pipeline.num_views, 9);
@@ -181,8 +182,9 @@ TEST_F(ClipJobTest, WritesEveryClipFormat) {
     EXPECT_EQ(nlohmann::json::parse(*text)["format"], clip::ClipFormatName(format));
   }
   // Only the clips and their report: no temporaries, no older PNG folder left aside.
-  EXPECT_EQ(ClipsFolder(), (std::vector<std::string>{"000002", "000002.gif", "000002.json", "000002.poster.jpg",
-                                                      "000002.preview.webp", "000002.webp"}));
+  EXPECT_EQ(ClipsFolder(),
+            (std::vector<std::string>{
+                "000002", "000002.gif", "000002.json", "000002.poster.jpg", "000002.preview.webp", "000002.webp"}));
 }
 
 // Photos in memory (`parallax clip PHOTOS_FOLDER`): the job runs on the recording as given and the

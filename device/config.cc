@@ -7,11 +7,11 @@
 #include <sstream>
 
 #include "device/trigger/key_codes.h"
-#include "pipeline/direct/clip_timing.h"
 #include "pipeline/clip/clip_writer.h"
 #include "pipeline/core/durable_file.h"
 #include "pipeline/core/json_fields.h"
 #include "pipeline/core/pixel_format.h"
+#include "pipeline/direct/clip_timing.h"
 #include "pipeline/render/gl/render_backend.h"
 
 namespace px::device {
@@ -218,9 +218,8 @@ Status DaemonConfig::Validate() const {
     return InvalidArgumentError("control.socket: '" + control_socket.string() + "' is longer than 107 bytes");
   }
   if (!control_group.empty()) {
-    const bool numeric = std::all_of(control_group.begin(), control_group.end(), [](char c) {
-      return std::isdigit(static_cast<unsigned char>(c));
-    });
+    const bool numeric = std::all_of(
+        control_group.begin(), control_group.end(), [](char c) { return std::isdigit(static_cast<unsigned char>(c)); });
     const bool name = control_group.size() <= 32 && control_group.front() != '-' &&
                       std::all_of(control_group.begin(), control_group.end(), [](char c) {
                         return std::isalnum(static_cast<unsigned char>(c)) || c == '_' || c == '-' || c == '.';

@@ -32,9 +32,9 @@ struct ReplaySourceSettings {
 
 // A camera libcamera lists (drivers/libcamera).
 struct LibcameraSourceSettings {
-  std::string camera;                     // libcamera's camera id; "" = the first camera listed
-  std::string pixel_format = "RGB888";    // px pixel format name (pipeline/core/pixel_format.h)
-  int width = 0;                          // 0 = the camera's default still size
+  std::string camera;                   // libcamera's camera id; "" = the first camera listed
+  std::string pixel_format = "RGB888";  // px pixel format name (pipeline/core/pixel_format.h)
+  int width = 0;                        // 0 = the camera's default still size
   int height = 0;
   std::filesystem::path rig_calibration;  // RigCalibration JSON of the lens lattice; "" = none
 };
@@ -42,8 +42,8 @@ struct LibcameraSourceSettings {
 // A V4L2 camera node (drivers/v4l2).
 struct V4l2SourceSettings {
   std::string device = "/dev/video0";
-  std::string pixel_format = "RGB888";    // px pixel format name; the driver converts or adjusts
-  int width = 0;                          // 0 = native: the rig calibration's sensor size, else the largest offered
+  std::string pixel_format = "RGB888";  // px pixel format name; the driver converts or adjusts
+  int width = 0;                        // 0 = native: the rig calibration's sensor size, else the largest offered
   int height = 0;
   std::filesystem::path rig_calibration;  // RigCalibration JSON of the lens lattice; "" = none
   int exposure = -1;                      // V4L2_CID_EXPOSURE_ABSOLUTE (100 us units, sets manual exposure); -1 = leave
@@ -73,14 +73,14 @@ struct SourceSettings {
 
 // What the clip looks like (pipeline/direct, pipeline/clip).
 struct ClipSettings {
-  std::string move = "auto";        // camera move, see pipeline/direct/direct_options.h
-  double duration_s = 3.0;          // clip length in seconds, (0, 60]
-  double fps = 30.0;                // frames per second, (0, 240]
+  std::string move = "auto";  // camera move, see pipeline/direct/direct_options.h
+  double duration_s = 3.0;    // clip length in seconds, (0, 60]
+  double fps = 30.0;          // frames per second, (0, 240]
   // How the clip plays the move (pipeline/direct/clip_timing.h): "once" (then hold_s on the last
   // frame), "loop" (out and back, seamless when repeated) or "boomerang"; eased "smooth" or "linear".
   std::string style = "once";
   std::string ease = "smooth";
-  double hold_s = 0;                // once: seconds the last frame is held, [0, 60]
+  double hold_s = 0;  // once: seconds the last frame is held, [0, 60]
   // The clip's frame (pipeline/direct/output_frame.h): "WxH", or "" for aspect ("16:9", "9:16",
   // "1:1", "4:5", or "source") at `height` pixels (0 = the capture's).
   std::string size;
@@ -143,7 +143,7 @@ struct DaemonConfig {
   ClipSettings clip;
   RenderSettings render;  // JSON: render.backend
   TriggerSettings trigger;
-  WorkerSettings worker;  // JSON: worker.memory_limit_mb, worker.timeout_s, worker.max_crashes
+  WorkerSettings worker;            // JSON: worker.memory_limit_mb, worker.timeout_s, worker.max_crashes
   std::string log_levels = "info";  // JSON: log.levels, e.g. "info" or "info,depth=debug"
 
   // Checks ranges and names; errors name the JSON field ("clip.fps: 0 is not in (0, 240]").

@@ -104,7 +104,8 @@ TEST(DaemonConfigTest, ErrorsNameTheField) {
   EXPECT_EQ(ErrorOf(R"({"clip": {"webp_quality": 101}})"), "clip.webp_quality: 101 is not in [0, 100]");
   EXPECT_EQ(ErrorOf(R"({"clip": {"max_photo_side_px": 32}})"),
             "clip.max_photo_side_px: 32 is not in 0 (full size) or [64, 16384]");
-  EXPECT_THAT(ErrorOf(R"({"source": {"kind": "webcam"}})"), HasSubstr("source.kind: 'webcam' is not one of sim, replay"));
+  EXPECT_THAT(ErrorOf(R"({"source": {"kind": "webcam"}})"),
+              HasSubstr("source.kind: 'webcam' is not one of sim, replay"));
   EXPECT_EQ(ErrorOf(R"({"source": {"sim": {"camera": "pop4"}}})"),
             "source.sim.camera: 'pop4' is not one of pop9, integral5x4");
   EXPECT_EQ(ErrorOf(R"({"source": {"kind": "replay"}})"), "source.replay.path: empty, but source.kind is replay");
@@ -155,7 +156,8 @@ TEST(DaemonConfigTest, ReadsAndChecksTheV4l2Source) {
   EXPECT_EQ(ErrorOf(R"({"source": {"v4l2": {"pixel_format": "MJPG"}}})"),
             "source.v4l2.pixel_format: 'MJPG' is not one of RGB888, BGR888, GRAY8, YUYV, NV12, SRGGB8");
   EXPECT_EQ(ErrorOf(R"({"source": {"v4l2": {"width": 640}}})"), "source.v4l2.width, height: give both or neither");
-  EXPECT_EQ(ErrorOf(R"({"source": {"v4l2": {"exposure": -5}}})"), "source.v4l2.exposure: -5 is not in [-1, ...) (-1 = leave)");
+  EXPECT_EQ(ErrorOf(R"({"source": {"v4l2": {"exposure": -5}}})"),
+            "source.v4l2.exposure: -5 is not in [-1, ...) (-1 = leave)");
   EXPECT_EQ(ErrorOf(R"({"source": {"v4l2": {"device": ""}}})"), "source.v4l2.device: empty");
   EXPECT_THAT(ErrorOf(R"({"source": {"v4l2": {"fps": 30}}})"),
               HasSubstr("source.v4l2.fps: unknown field (known: device, pixel_format, width, height, rig_calibration, "

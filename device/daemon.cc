@@ -8,11 +8,11 @@
 #include "device/control/control_protocol.h"
 #include "device/storage/storage_quota.h"
 #include "device/test_pause.h"
-#include "pipeline/direct/direct_options.h"
-#include "pipeline/direct/shot_file.h"
 #include "pipeline/core/durable_file.h"
 #include "pipeline/core/json_fields.h"
 #include "pipeline/core/log.h"
+#include "pipeline/direct/direct_options.h"
+#include "pipeline/direct/shot_file.h"
 #include "sim/replay/recording.h"
 
 namespace px::device {
@@ -427,8 +427,8 @@ std::optional<JobRecord> Daemon::CaptureJob(const std::string& id) {
   if (bad > 0) {
     // Even with no frame as configured, the pipeline may honestly use part of one (the whole
     // tiles of a truncated frame, a frame in another format); if not, it fails naming the frame.
-    record.note = std::to_string(bad) + " of " + std::to_string(recording.frames.frames.size()) +
-                  " frames unusable" + (usable.ok() ? "" : " (" + usable.message() + ")");
+    record.note = std::to_string(bad) + " of " + std::to_string(recording.frames.frames.size()) + " frames unusable" +
+                  (usable.ok() ? "" : " (" + usable.message() + ")");
     log->warn("job {}: {}; processing what can be used", id, record.note);
   }
   record.state = JobState::kSaved;
@@ -695,8 +695,8 @@ nlohmann::json Daemon::StatusJson() const {
                  {{"job", processing_id_},
                   {"stage", processing_stage_},
                   {"progress", processing_fraction_},
-                  {"worker_pid", processing_worker_pid_ == 0 ? nlohmann::json(nullptr)
-                                                             : nlohmann::json(processing_worker_pid_)}})},
+                  {"worker_pid",
+                   processing_worker_pid_ == 0 ? nlohmann::json(nullptr) : nlohmann::json(processing_worker_pid_)}})},
       {"jobs", counts},
       {"last_job", records.empty() ? nlohmann::json(nullptr) : JobRecordToJson(records.back())},
       {"move", move_.empty() ? nlohmann::json(nullptr) : nlohmann::json(move_)},
@@ -768,9 +768,10 @@ std::string Daemon::Cancel(const std::string& id) {
   if (take_from(&capture_queue_)) {
     AnswerWaitersLocked(FailJob(*record, CancelledError("cancelled by request before the capture"), "capture"));
   } else if (take_from(&process_queue_)) {
-    AnswerWaitersLocked(FailJob(
-        *record, CancelledError("cancelled by request before processing; raw capture kept at " + record->capture_dir),
-        "processing"));
+    AnswerWaitersLocked(
+        FailJob(*record,
+                CancelledError("cancelled by request before processing; raw capture kept at " + record->capture_dir),
+                "processing"));
   } else if (id == processing_id_) {
     cancel_id_ = id;  // the progress callback stops the pipeline; ProcessJob fails the job
     Logger("device")->info("job {}: cancelling the running clip", id);

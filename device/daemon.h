@@ -171,10 +171,10 @@ class Daemon {
   std::string processing_id_;
   std::string processing_stage_;
   int processing_worker_pid_ = 0;  // the job's worker process; 0 = none (or an in-process runner)
-  std::string cancel_id_;  // the job being processed that a "cancel" asked to stop
-  std::string move_;       // from "set_move", for jobs pressed after it; "" = the config's
-  std::string shot_;       // from "set_shot" (JSON text), for jobs pressed after it; "" = none
-  nlohmann::json shot_value_;  // shot_ parsed once for status replies; null when none
+  std::string cancel_id_;          // the job being processed that a "cancel" asked to stop
+  std::string move_;               // from "set_move", for jobs pressed after it; "" = the config's
+  std::string shot_;               // from "set_shot" (JSON text), for jobs pressed after it; "" = none
+  nlohmann::json shot_value_;      // shot_ parsed once for status replies; null when none
   double processing_fraction_ = 0;
   std::string source_model_;
   bool started_ = false;

@@ -37,7 +37,7 @@ using ::testing::HasSubstr;
 // One press, what happened to it, and what the test expects.
 struct Outcome {
   std::string id;
-  nlohmann::json job;  // the journal record from "wait"
+  nlohmann::json job;     // the journal record from "wait"
   nlohmann::json status;  // "status" right after
 };
 
@@ -132,8 +132,9 @@ TEST_F(DaemonFaultsTest, LatticeCameraFaultsOneAfterAnother) {
   ExpectCaptureSaved(outcomes[0]);
   ExpectClip(outcomes[0]);
   EXPECT_THAT(job(1).value("note", ""), HasSubstr("3 views, 0.01 MB, with warnings"));
-  EXPECT_THAT(Report(outcomes[0]), AllOf(HasSubstr("is truncated (415180 of 691968 bytes)"),
-                                         HasSubstr("view 8 was lost: its tile (rows 288..407) lies past")));
+  EXPECT_THAT(Report(outcomes[0]),
+              AllOf(HasSubstr("is truncated (415180 of 691968 bytes)"),
+                    HasSubstr("view 8 was lost: its tile (rows 288..407) lies past")));
   // 2 garble the driver flagged: saved, then failed naming the damaged frame.
   ExpectCaptureSaved(outcomes[1]);
   EXPECT_EQ(job(2).value("state", ""), "failed");
@@ -153,11 +154,13 @@ TEST_F(DaemonFaultsTest, LatticeCameraFaultsOneAfterAnother) {
   EXPECT_THAT(job(5).value("error", ""), HasSubstr("wrong_format: got 320x240 BGR888, want 544x424 RGB888"));
   // 6 stall past source.timeout_ms: nothing arrived, nothing to save; the error says how long.
   EXPECT_EQ(job(6).value("state", ""), "failed");
-  EXPECT_THAT(job(6).value("error", ""), HasSubstr("DEADLINE_EXCEEDED: source sim:sim-pop9-160x120: no frame set within 500 ms"));
+  EXPECT_THAT(job(6).value("error", ""),
+              HasSubstr("DEADLINE_EXCEEDED: source sim:sim-pop9-160x120: no frame set within 500 ms"));
   EXPECT_FALSE(fs::exists(daemon_->layout().CaptureDir(outcomes[5].id)));
   // 7 the camera vanishes mid-capture.
   EXPECT_EQ(job(7).value("state", ""), "failed");
-  EXPECT_THAT(job(7).value("error", ""), HasSubstr("UNAVAILABLE: source sim:sim-pop9-160x120: camera disconnected during capture 7"));
+  EXPECT_THAT(job(7).value("error", ""),
+              HasSubstr("UNAVAILABLE: source sim:sim-pop9-160x120: camera disconnected during capture 7"));
   // 8: the camera is configured again and the next press works.
   ExpectClip(outcomes[7]);
   // The daemon stayed up and counted every job.

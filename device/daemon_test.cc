@@ -12,17 +12,17 @@
 
 #include <atomic>
 #include <future>
+#include <map>
 #include <opencv2/imgcodecs.hpp>
+#include <span>
 
+#include "device/clip_fetch.h"
 #include "device/control/control_client.h"
 #include "device/control/control_protocol.h"
 #include "pipeline/core/durable_file.h"
-#include "tests/testing/temp_dir.h"
 #include "sim/replay/recording.h"
 #include "sim/replay/sha256.h"
-#include "device/clip_fetch.h"
-#include <map>
-#include <span>
+#include "tests/testing/temp_dir.h"
 
 namespace px::device {
 namespace {
@@ -509,7 +509,8 @@ TEST_F(DaemonTest, FetchGivesPathSizeChecksumAndInlineBytes) {
   ASSERT_EQ(fetched["ok"], true) << fetched.dump();
   EXPECT_EQ(fetched["path"], clip.string());
   EXPECT_EQ(fetched["bytes"], bytes.size());
-  EXPECT_EQ(fetched["sha256"], replay::Sha256Hex(std::span(reinterpret_cast<const uint8_t*>(bytes.data()), bytes.size())));
+  EXPECT_EQ(fetched["sha256"],
+            replay::Sha256Hex(std::span(reinterpret_cast<const uint8_t*>(bytes.data()), bytes.size())));
   EXPECT_FALSE(fetched.contains("data"));
 
   nlohmann::json with_data = Call(R"({"cmd":"fetch","job":")" + id + R"(","inline":true})");
@@ -551,7 +552,8 @@ TEST_F(DaemonTest, FetchOfAJobWithoutClipSaysWhy) {
   ASSERT_EQ(Call(R"({"cmd":"wait","job":")" + id + R"("})")["job"]["state"], "failed");
   nlohmann::json fetched = Call(R"({"cmd":"fetch","job":")" + id + R"("})");
   EXPECT_EQ(fetched["code"], "FAILED_PRECONDITION");
-  EXPECT_THAT(fetched["error"].get<std::string>(), HasSubstr("failed, it has no clip: DATA_LOSS: depth: no plane found"));
+  EXPECT_THAT(fetched["error"].get<std::string>(),
+              HasSubstr("failed, it has no clip: DATA_LOSS: depth: no plane found"));
 }
 
 TEST_F(DaemonTest, SetMoveAppliesToJobsPressedAfterIt) {
@@ -565,8 +567,9 @@ TEST_F(DaemonTest, SetMoveAppliesToJobsPressedAfterIt) {
   const std::string before = Call(R"({"cmd":"capture"})")["job"];
   nlohmann::json bad = Call(R"({"cmd":"set_move","move":"barrel_roll"})");
   EXPECT_EQ(bad["code"], "INVALID_ARGUMENT");
-  EXPECT_THAT(bad["error"].get<std::string>(),
-              HasSubstr("unknown move \"barrel_roll\", want one of auto, dolly_zoom, morph, pan_zoom_2d, establishing_dolly"));
+  EXPECT_THAT(
+      bad["error"].get<std::string>(),
+      HasSubstr("unknown move \"barrel_roll\", want one of auto, dolly_zoom, morph, pan_zoom_2d, establishing_dolly"));
   EXPECT_EQ(Call(R"({"cmd":"status"})")["move"], nullptr);
   nlohmann::json set = Call(R"({"cmd":"set_move","move":"establishing_dolly"})");
   EXPECT_EQ(set["ok"], true);
@@ -590,9 +593,9 @@ TEST_F(DaemonTest, SetShotAppliesToJobsPressedAfterItAndErrorsNameTheField) {
   });
   const std::string before = Call(R"({"cmd":"capture"})")["job"];
   // A bad shot is refused, naming the field and the value, and changes nothing.
-  nlohmann::json bad = Call(
-      R"({"cmd":"set_shot","shot":{"segments":[{"keyframes":[{"t":0,"position_m":[0,0,0],"look_at_m":[0,0,1],)"
-      R"("focal_px":"wide"},{"t":1,"position_m":[0.02,0,0],"look_at_m":[0,0,1]}]}]}})");
+  nlohmann::json bad =
+      Call(R"({"cmd":"set_shot","shot":{"segments":[{"keyframes":[{"t":0,"position_m":[0,0,0],"look_at_m":[0,0,1],)"
+           R"("focal_px":"wide"},{"t":1,"position_m":[0.02,0,0],"look_at_m":[0,0,1]}]}]}})");
   EXPECT_EQ(bad["code"], "INVALID_ARGUMENT");
   EXPECT_THAT(bad["error"].get<std::string>(), HasSubstr("shot.segments[0].keyframes[0].focal_px"));
   nlohmann::json not_object = Call(R"({"cmd":"set_shot","shot":"dolly.json"})");
@@ -603,10 +606,9 @@ TEST_F(DaemonTest, SetShotAppliesToJobsPressedAfterItAndErrorsNameTheField) {
   EXPECT_THAT(unknown_move["error"].get<std::string>(), HasSubstr("barrel_roll"));
   EXPECT_EQ(Call(R"({"cmd":"status"})")["shot"], nullptr);
 
-  const std::string shot_text =
-      R"({"duration_s":2,"segments":[{"move":"dolly_in","effect":"none"},{"keyframes":[)"
-      R"({"t":0,"position_m":[0,0,0],"look_at_m":[0,0,1.5],"focal_scale":1},)"
-      R"({"t":1,"position_m":[0.02,0,-0.05],"look_at_m":[0,0,1.5],"focal_scale":1.2}]}]})";
+  const std::string shot_text = R"({"duration_s":2,"segments":[{"move":"dolly_in","effect":"none"},{"keyframes":[)"
+                                R"({"t":0,"position_m":[0,0,0],"look_at_m":[0,0,1.5],"focal_scale":1},)"
+                                R"({"t":1,"position_m":[0.02,0,-0.05],"look_at_m":[0,0,1.5],"focal_scale":1.2}]}]})";
   nlohmann::json set = Call(R"({"cmd":"set_shot","shot":)" + shot_text + "}");
   EXPECT_EQ(set["ok"], true) << set.dump();
   EXPECT_EQ(set["segments"], 2);
@@ -656,7 +658,8 @@ TEST_F(DaemonTest, CancelStopsAQueuedJobOrTheRunningClipAndKeepsTheCapture) {
   EXPECT_EQ(Call(R"({"cmd":"cancel","job":")" + running + R"("})")["was"], "processing");
   job = Call(R"({"cmd":"wait","job":")" + running + R"("})")["job"];
   EXPECT_EQ(job["state"], "failed");
-  EXPECT_THAT(job["error"].get<std::string>(), HasSubstr("CANCELLED: cancelled by request during render; raw capture kept"));
+  EXPECT_THAT(job["error"].get<std::string>(),
+              HasSubstr("CANCELLED: cancelled by request during render; raw capture kept"));
   EXPECT_TRUE(ReadRecording(daemon->layout().CaptureDir(running)).ok());
   EXPECT_FALSE(fs::exists(daemon->layout().ClipPath(running)));
 

@@ -8,9 +8,9 @@
 namespace px::device {
 
 StatusOr<std::shared_ptr<const direct::FaceDetector>> LoadFaceDetector(const std::filesystem::path& dir) {
-  const std::vector<std::pair<std::string, bool>> wanted = {
-      {"haarcascade_frontalface_default", false}, {"haarcascade_frontalface_alt2", false},
-      {"haarcascade_profileface", true}};
+  const std::vector<std::pair<std::string, bool>> wanted = {{"haarcascade_frontalface_default", false},
+                                                            {"haarcascade_frontalface_alt2", false},
+                                                            {"haarcascade_profileface", true}};
   std::vector<direct::CascadeText> cascades;
   for (const auto& [name, profile] : wanted) {
     const std::filesystem::path file = dir / (name + ".xml");

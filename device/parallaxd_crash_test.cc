@@ -8,10 +8,9 @@
 //   - the interrupted job is resumed and finishes (done), or, when its capture was never saved,
 //     is failed with the reason;
 //   - the restarted daemon answers status and the next press makes a clip.
-#include <signal.h>
-
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
+#include <signal.h>
 
 #include <fstream>
 #include <nlohmann/json.hpp>
@@ -42,8 +41,13 @@ struct Phase {
 
 // In a job's order (test_pause.h).
 constexpr Phase kPhases[] = {
-    {"capture", false}, {"writing_capture", false}, {"saved", true},        {"depth", true},
-    {"render", true},   {"encode", true},           {"clip_written", true},
+    {"capture", false},
+    {"writing_capture", false},
+    {"saved", true},
+    {"depth", true},
+    {"render", true},
+    {"encode", true},
+    {"clip_written", true},
 };
 
 class ParallaxdCrashTest : public px::testing::TempDirTest {
@@ -76,7 +80,8 @@ class ParallaxdCrashTest : public px::testing::TempDirTest {
     return process.ok() ? std::move(process).value() : nullptr;
   }
 
-  static nlohmann::json Call(ControlClient& client, const std::string& request,
+  static nlohmann::json Call(ControlClient& client,
+                             const std::string& request,
                              std::chrono::milliseconds timeout = 10s) {
     auto reply = client.Call(request, timeout);
     EXPECT_TRUE(reply.ok()) << request << ": " << reply.status().ToString();
@@ -139,8 +144,9 @@ class ParallaxdCrashTest : public px::testing::TempDirTest {
     } else {
       EXPECT_EQ(job.value("state", ""), "failed") << when << ": " << job.dump();
       // Killed before the recording was written, or while it was (the unfinished one is removed).
-      EXPECT_THAT(job.value("error", ""), ::testing::AnyOf(HasSubstr("the daemon stopped before the capture was saved"),
-                                                          HasSubstr("the daemon stopped while the capture was being written")))
+      EXPECT_THAT(job.value("error", ""),
+                  ::testing::AnyOf(HasSubstr("the daemon stopped before the capture was saved"),
+                                   HasSubstr("the daemon stopped while the capture was being written")))
           << when;
       EXPECT_FALSE(fs::exists(layout_->ClipPath(id))) << when;
     }
@@ -221,8 +227,12 @@ TEST_P(KillAtPhase, CaptureSurvivesJobResumesAndNextPressWorks) {
   RestartAndCheck(id, phase.saved, phase.name);
 }
 
-INSTANTIATE_TEST_SUITE_P(EveryPhase, KillAtPhase, ::testing::ValuesIn(kPhases),
-                         [](const ::testing::TestParamInfo<Phase>& param_info) { return std::string(param_info.param.name); });
+INSTANTIATE_TEST_SUITE_P(EveryPhase,
+                         KillAtPhase,
+                         ::testing::ValuesIn(kPhases),
+                         [](const ::testing::TestParamInfo<Phase>& param_info) {
+                           return std::string(param_info.param.name);
+                         });
 
 TEST_F(ParallaxdCrashTest, KillAtARandomMoment) {
   // A fresh seed each run (printed, and settable to repeat one): over many CI runs the kill
@@ -282,7 +292,9 @@ TEST_P(WorkerKilled, TheJobIsRetriedThenFailedWithItsCaptureKeptAndTheDaemonStay
   ASSERT_TRUE(daemon->KillHard().ok());
 }
 
-INSTANTIATE_TEST_SUITE_P(BySignal, WorkerKilled, ::testing::Values(SIGSEGV, SIGKILL),
+INSTANTIATE_TEST_SUITE_P(BySignal,
+                         WorkerKilled,
+                         ::testing::Values(SIGSEGV, SIGKILL),
                          [](const ::testing::TestParamInfo<int>& param_info) {
                            return std::string(param_info.param == SIGSEGV ? "SIGSEGV" : "SIGKILL");
                          });

@@ -9,8 +9,8 @@
 #include <cstdlib>
 #include <iostream>
 #include <mutex>
-#include <string>
 #include <nlohmann/json.hpp>
+#include <string>
 #include <thread>
 
 #include "device/config.h"

@@ -40,7 +40,9 @@ StatusOr<SimCameraSpec> SimCameraFromSettings(const SimSourceSettings& settings)
 }
 
 // One frame of `width` x `height` in the named pixel format; errors name `field`.
-static StatusOr<SourceConfig> WantedSingleFrame(const std::string& field, const std::string& pixel_format, int width,
+static StatusOr<SourceConfig> WantedSingleFrame(const std::string& field,
+                                                const std::string& pixel_format,
+                                                int width,
                                                 int height) {
   std::optional<PixelFormat> format = ParsePixelFormat(pixel_format);
   if (!format) return InvalidArgumentError(field + ": '" + pixel_format + "' is not a known pixel format");
@@ -81,8 +83,10 @@ static StatusOr<OpenedSource> OpenBareSource(const SourceSettings& settings) {
     if (!source.ok()) return source.status().WithContext("source.libcamera.rig_calibration");
     opened.source = std::move(source).value();
     PX_ASSIGN_OR_RETURN(opened.wanted,
-                        WantedSingleFrame("source.libcamera.pixel_format", settings.libcamera.pixel_format,
-                                          settings.libcamera.width, settings.libcamera.height));
+                        WantedSingleFrame("source.libcamera.pixel_format",
+                                          settings.libcamera.pixel_format,
+                                          settings.libcamera.width,
+                                          settings.libcamera.height));
     return opened;
   }
   if (settings.kind == "v4l2") {
@@ -94,8 +98,10 @@ static StatusOr<OpenedSource> OpenBareSource(const SourceSettings& settings) {
     auto source = OpenV4l2Source(options);
     if (!source.ok()) return source.status().WithContext("source.v4l2");
     opened.source = std::move(source).value();
-    PX_ASSIGN_OR_RETURN(opened.wanted, WantedSingleFrame("source.v4l2.pixel_format", settings.v4l2.pixel_format,
-                                                         settings.v4l2.width, settings.v4l2.height));
+    PX_ASSIGN_OR_RETURN(
+        opened.wanted,
+        WantedSingleFrame(
+            "source.v4l2.pixel_format", settings.v4l2.pixel_format, settings.v4l2.width, settings.v4l2.height));
     return opened;
   }
   if (settings.kind == "ptp") {

@@ -93,8 +93,17 @@ Status RunCalibrate(const CalibrateArgs& args) {
   std::printf("tile  boards  board RMS px  pose boards  pose RMS px   fx       fy       cx      cy      k1       k2\n");
   for (const TileCalibrationFigures& t : result.report.tiles) {
     const CameraModel& c = result.rig.lenses[t.view].camera;
-    std::printf("%4d  %6d  %12.3f  %11d  %11.3f  %7.2f  %7.2f  %6.2f  %6.2f  %7.4f  %7.4f\n", t.view, t.boards_found,
-                t.rms_px, t.shared_with_reference, t.pose_rms_px, c.fx, c.fy, c.cx, c.cy, c.distortion[0],
+    std::printf("%4d  %6d  %12.3f  %11d  %11.3f  %7.2f  %7.2f  %6.2f  %6.2f  %7.4f  %7.4f\n",
+                t.view,
+                t.boards_found,
+                t.rms_px,
+                t.shared_with_reference,
+                t.pose_rms_px,
+                c.fx,
+                c.fy,
+                c.cx,
+                c.cy,
+                c.distortion[0],
                 c.distortion[1]);
   }
   for (const std::string& warning : result.report.warnings) log->warn("{}", warning);
@@ -113,7 +122,8 @@ void AddCalibrateCommand(CLI::App& app) {
       "calibrate",
       "Factory rig calibration: from captures of a checkerboard seen through every lens, find the lattice, "
       "calibrate each tile's intrinsics and distortion and its pose in the rig, and write the rig calibration JSON");
-  cmd->add_option("captures", args->captures,
+  cmd->add_option("captures",
+                  args->captures,
                   "Board captures: recording folders or raw sensor images (PNG/JPEG; EXIF orientation ignored), "
                   "at least 3, the board at varied poses and fully inside every tile")
       ->required();
@@ -123,10 +133,13 @@ void AddCalibrateCommand(CLI::App& app) {
       ->capture_default_str();
   cmd->add_option("--square-mm", args->square_mm, "Side of one board square in mm (sets the rig's scale)")
       ->capture_default_str();
-  cmd->add_option("--prior", args->prior, "A rig calibration JSON whose lattice the captures should show "
-                                          "(searched near; otherwise the lattice is found on the first capture)");
+  cmd->add_option("--prior",
+                  args->prior,
+                  "A rig calibration JSON whose lattice the captures should show "
+                  "(searched near; otherwise the lattice is found on the first capture)");
   cmd->add_option("--name", args->name, "rig_name written into the JSON")->capture_default_str();
-  cmd->add_option("--orientation", args->orientation,
+  cmd->add_option("--orientation",
+                  args->orientation,
                   "How tiles lie on the sensor when no prior says: upright, rotated180, mirrored_x, mirrored_y")
       ->capture_default_str();
   cmd->add_flag("--fit-k3", args->fit_k3, "Also fit the sixth-order radial term k3");

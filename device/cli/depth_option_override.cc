@@ -11,12 +11,16 @@ Status ApplyDepthOptionOverride(const std::string& text, DepthOptions* options) 
   const std::string name = text.substr(0, eq), value = text.substr(eq + 1);
   char* end = nullptr;
   const double number = std::strtod(value.c_str(), &end);
-  if (end == value.c_str() || *end != '\0') return InvalidArgumentError("--option " + name + ": '" + value + "' is not a number");
+  if (end == value.c_str() || *end != '\0')
+    return InvalidArgumentError("--option " + name + ": '" + value + "' is not a number");
   MatchingOptions& m = options->matching;
   const std::pair<const char*, double*> doubles[] = {
-      {"working_scale", &options->working_scale}, {"matching.plane_step_px", &m.plane_step_px},
-      {"matching.cost_filter_eps", &m.cost_filter_eps}, {"matching.min_texture_stddev", &m.min_texture_stddev},
-      {"matching.sgm_step_penalty", &m.sgm_step_penalty}, {"matching.sgm_jump_penalty", &m.sgm_jump_penalty},
+      {"working_scale", &options->working_scale},
+      {"matching.plane_step_px", &m.plane_step_px},
+      {"matching.cost_filter_eps", &m.cost_filter_eps},
+      {"matching.min_texture_stddev", &m.min_texture_stddev},
+      {"matching.sgm_step_penalty", &m.sgm_step_penalty},
+      {"matching.sgm_jump_penalty", &m.sgm_jump_penalty},
       {"segments.compactness", &options->segments.compactness},
       {"segments.inlier_px", &options->segments.inlier_px},
       {"segments.coplanar_keep_fraction", &options->segments.coplanar_keep_fraction},
@@ -31,10 +35,13 @@ Status ApplyDepthOptionOverride(const std::string& text, DepthOptions* options) 
       {"segments.slanted_min_slope_px", &options->segments.slanted_min_slope_px},
       {"segments.slanted_max_change_px", &options->segments.slanted_max_change_px}};
   const std::pair<const char*, int*> ints[] = {
-      {"matching.num_planes", &m.num_planes}, {"matching.max_planes", &m.max_planes},
-      {"matching.num_neighbors", &m.num_neighbors}, {"matching.window_radius_px", &m.window_radius_px},
+      {"matching.num_planes", &m.num_planes},
+      {"matching.max_planes", &m.max_planes},
+      {"matching.num_neighbors", &m.num_neighbors},
+      {"matching.window_radius_px", &m.window_radius_px},
       {"matching.cost_filter_radius_px", &m.cost_filter_radius_px},
-      {"matching.sgm_paths", &m.sgm_paths}, {"matching.spread_neighbors", &m.spread_neighbors},
+      {"matching.sgm_paths", &m.sgm_paths},
+      {"matching.spread_neighbors", &m.spread_neighbors},
       {"segments.region_size_px", &options->segments.region_size_px},
       {"segments.refine_iterations", &options->segments.refine_iterations},
       {"segments.refine_random_trials", &options->segments.refine_random_trials},

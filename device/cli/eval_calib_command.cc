@@ -2,9 +2,8 @@
 
 #include <cstdio>
 #include <memory>
-#include <string>
-
 #include <nlohmann/json.hpp>
+#include <string>
 
 #include "device/cli/run_or_fail.h"
 #include "eval/calib/calib_eval.h"
@@ -15,11 +14,11 @@ namespace px::cli {
 namespace {
 
 struct EvalCalibArgs {
-  std::string data;       // a data folder; default ../shared/data
+  std::string data;  // a data folder; default ../shared/data
   bool json = false;
-  bool no_sim = false;    // skip the simulated rigs
-  bool no_data = false;   // skip the data folders
-  uint64_t seed = 3;      // lens perturbation seed of the simulated rigs
+  bool no_sim = false;   // skip the simulated rigs
+  bool no_data = false;  // skip the data folders
+  uint64_t seed = 3;     // lens perturbation seed of the simulated rigs
 };
 
 nlohmann::json ToJson(const eval::CalibEvalRow& row) {
@@ -43,10 +42,18 @@ nlohmann::json ToJson(const eval::CalibEvalRow& row) {
 }
 
 void PrintTable(const std::vector<eval::CalibEvalRow>& rows) {
-  std::printf("%-40s %-26s %-6s %5s %9s %9s %8s %7s %8s %9s\n", "set", "method", "ref", "views", "rot max",
-              "rot mean", "centre", "focal", "RMS px", "time ms");
-  std::printf("%-40s %-26s %-6s %5s %9s %9s %8s %7s %8s %9s\n", "", "", "", "", "deg", "deg", "xbase", "%", "",
-              "");
+  std::printf("%-40s %-26s %-6s %5s %9s %9s %8s %7s %8s %9s\n",
+              "set",
+              "method",
+              "ref",
+              "views",
+              "rot max",
+              "rot mean",
+              "centre",
+              "focal",
+              "RMS px",
+              "time ms");
+  std::printf("%-40s %-26s %-6s %5s %9s %9s %8s %7s %8s %9s\n", "", "", "", "", "deg", "deg", "xbase", "%", "", "");
   for (const eval::CalibEvalRow& row : rows) {
     char views[16];
     std::snprintf(views, sizeof(views), "%d/%d", row.views_registered, row.views_total);
@@ -54,12 +61,29 @@ void PrintTable(const std::vector<eval::CalibEvalRow>& rows) {
       // A self-calibrated focal length without rotation between the views is no measurement.
       char focal[16];
       std::snprintf(focal, sizeof(focal), row.focal_observable ? "%.2f" : "n/o", row.focal_max_percent);
-      std::printf("%-40s %-26s %-6s %5s %9.3f %9.3f %8.3f %7s %8.3f %9.0f\n", row.set.c_str(), row.method.c_str(),
-                  row.reference.c_str(), views, row.rotation_max_deg, row.rotation_mean_deg, row.centre_max_relative,
-                  focal, row.rms_px, row.time_ms);
+      std::printf("%-40s %-26s %-6s %5s %9.3f %9.3f %8.3f %7s %8.3f %9.0f\n",
+                  row.set.c_str(),
+                  row.method.c_str(),
+                  row.reference.c_str(),
+                  views,
+                  row.rotation_max_deg,
+                  row.rotation_mean_deg,
+                  row.centre_max_relative,
+                  focal,
+                  row.rms_px,
+                  row.time_ms);
     } else {
-      std::printf("%-40s %-26s %-6s %5s %9s %9s %8s %7s %8.3f %9.0f\n", row.set.c_str(), row.method.c_str(),
-                  row.reference.c_str(), views, "-", "-", "-", "-", row.rms_px, row.time_ms);
+      std::printf("%-40s %-26s %-6s %5s %9s %9s %8s %7s %8.3f %9.0f\n",
+                  row.set.c_str(),
+                  row.method.c_str(),
+                  row.reference.c_str(),
+                  views,
+                  "-",
+                  "-",
+                  "-",
+                  "-",
+                  row.rms_px,
+                  row.time_ms);
     }
   }
   for (const eval::CalibEvalRow& row : rows) {
@@ -72,7 +96,7 @@ Status RunEvalCalib(const EvalCalibArgs& args) {
   std::vector<eval::CalibEvalRow> rows;
   if (!args.no_sim) {
     const std::pair<const char*, SimCameraSpec> rigs[] = {{"sim 3x3 (Pop9) perturbed", SimCameraSpec::Pop9()},
-                                                           {"sim 5x4 perturbed", SimCameraSpec::Integral5x4()}};
+                                                          {"sim 5x4 perturbed", SimCameraSpec::Integral5x4()}};
     for (const auto& [name, spec] : rigs) {
       const std::string set = std::string(name) + " seed " + std::to_string(args.seed);
       progress(set + ": rendering and refining");
@@ -110,7 +134,8 @@ void AddEvalCalibCommand(CLI::App& eval) {
       "reprojection RMS (px), views registered and time, on simulated 3x3 and 5x4 rigs with perturbed lenses "
       "(factory vs refined) and on the data sets (HCI central 3x3, Middlebury templeSparseRing, LLFF fern, "
       "hand-held photo folders) by structure from motion; poses compared after a similarity alignment");
-  calib->add_option("--data", args->data,
+  calib->add_option("--data",
+                    args->data,
                     "Data folder: one set (HCI, LLFF, Middlebury multi-view, or a folder of photos) or a folder of "
                     "sets (default: ../shared/data)");
   calib->add_flag("--json", args->json, "Print the figures as JSON (machine-readable)");

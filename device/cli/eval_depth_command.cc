@@ -2,13 +2,12 @@
 
 #include <cstdio>
 #include <cstdlib>
-#include <utility>
-#include <vector>
 #include <memory>
+#include <nlohmann/json.hpp>
 #include <sstream>
 #include <string>
-
-#include <nlohmann/json.hpp>
+#include <utility>
+#include <vector>
 
 #include "device/cli/depth_option_override.h"
 #include "device/cli/machine_info.h"
@@ -80,16 +79,20 @@ void PrintSet(const eval::DepthSetResult& set) {
   std::printf("\n%s  (%s)\n", set.name.c_str(), set.detail.c_str());
   switch (set.kind) {
     case eval::DepthSetKind::kLightField:
-      std::printf("  %-12s %10s %10s %10s %8s %8s\n", "method", "BadPix.07", "BadPix.03", "MSEx100", "wall s",
-                  "cpu s");
+      std::printf("  %-12s %10s %10s %10s %8s %8s\n", "method", "BadPix.07", "BadPix.03", "MSEx100", "wall s", "cpu s");
       break;
     case eval::DepthSetKind::kStereoPair:
-      std::printf("  %-12s %10s %10s %10s %8s %8s\n", "method", "bad-1.0 %", "bad-2.0 %", "avg px", "wall s",
-                  "cpu s");
+      std::printf("  %-12s %10s %10s %10s %8s %8s\n", "method", "bad-1.0 %", "bad-2.0 %", "avg px", "wall s", "cpu s");
       break;
     case eval::DepthSetKind::kSimulated:
-      std::printf("  %-12s %10s %10s %10s %10s %8s %8s\n", "method", "med rel %", ">5% px %", "edge med %",
-                  "edge >5% %", "wall s", "cpu s");
+      std::printf("  %-12s %10s %10s %10s %10s %8s %8s\n",
+                  "method",
+                  "med rel %",
+                  ">5% px %",
+                  "edge med %",
+                  "edge >5% %",
+                  "wall s",
+                  "cpu s");
       break;
   }
   for (const eval::DepthMethodRun& run : set.runs) {
@@ -99,17 +102,32 @@ void PrintSet(const eval::DepthSetResult& set) {
     }
     switch (set.kind) {
       case eval::DepthSetKind::kLightField:
-        std::printf("  %-12s %10.2f %10.2f %10.3f %8.2f %8.2f", run.method.c_str(), run.hci.bad_pix_007,
-                    run.hci.bad_pix_003, run.hci.mse_x100, run.seconds, run.cpu_seconds);
+        std::printf("  %-12s %10.2f %10.2f %10.3f %8.2f %8.2f",
+                    run.method.c_str(),
+                    run.hci.bad_pix_007,
+                    run.hci.bad_pix_003,
+                    run.hci.mse_x100,
+                    run.seconds,
+                    run.cpu_seconds);
         break;
       case eval::DepthSetKind::kStereoPair:
-        std::printf("  %-12s %10.2f %10.2f %10.3f %8.2f %8.2f", run.method.c_str(), run.stereo.bad_1, run.stereo.bad_2,
-                    run.stereo.avg_error, run.seconds, run.cpu_seconds);
+        std::printf("  %-12s %10.2f %10.2f %10.3f %8.2f %8.2f",
+                    run.method.c_str(),
+                    run.stereo.bad_1,
+                    run.stereo.bad_2,
+                    run.stereo.avg_error,
+                    run.seconds,
+                    run.cpu_seconds);
         break;
       case eval::DepthSetKind::kSimulated:
-        std::printf("  %-12s %10.2f %10.2f %10.2f %10.2f %8.2f %8.2f", run.method.c_str(),
-                    100 * run.depth.median_relative, run.depth.bad_5_percent, 100 * run.depth.edge_median_relative,
-                    run.depth.edge_bad_5_percent, run.seconds, run.cpu_seconds);
+        std::printf("  %-12s %10.2f %10.2f %10.2f %10.2f %8.2f %8.2f",
+                    run.method.c_str(),
+                    100 * run.depth.median_relative,
+                    run.depth.bad_5_percent,
+                    100 * run.depth.edge_median_relative,
+                    run.depth.edge_bad_5_percent,
+                    run.seconds,
+                    run.cpu_seconds);
         break;
     }
     std::printf("%s%s\n", run.note.empty() ? "" : "  ", run.note.c_str());
@@ -147,13 +165,18 @@ Status RunEvalDepth(const EvalDepthArgs& args) {
     }
     const nlohmann::json out{{"sets", sets},
                              {"peak_rss_mib", PeakRssMiB()},
-                             {"machine", {{"cpu", machine.cpu_model}, {"cores", machine.cores},
-                                          {"memory_gib", machine.memory_gib}, {"commit", machine.commit}}}};
+                             {"machine",
+                              {{"cpu", machine.cpu_model},
+                               {"cores", machine.cores},
+                               {"memory_gib", machine.memory_gib},
+                               {"commit", machine.commit}}}};
     std::printf("%s\n", out.dump(2).c_str());
     return OkStatus();
   }
-  std::printf("depth against ground truth; machine: %s, %d cores, commit %s\n", machine.cpu_model.c_str(),
-              machine.cores, machine.commit.c_str());
+  std::printf("depth against ground truth; machine: %s, %d cores, commit %s\n",
+              machine.cpu_model.c_str(),
+              machine.cores,
+              machine.commit.c_str());
   for (const eval::DepthSetResult& set : results) PrintSet(set);
   std::printf("\npeak RSS %.0f MiB\n", PeakRssMiB());
   return OkStatus();
@@ -168,21 +191,25 @@ void AddEvalDepthCommand(CLI::App& eval) {
       "Depth against ground truth: ours, the first plane sweep and OpenCV's StereoSGBM side by side on the HCI light "
       "field (3x3 and 9x9; BadPix, MSE), Middlebury and ETH3D pairs (bad-1, bad-2, average error) and simulated "
       "3x3 / 5x4 lattices (relative depth error, overall and near depth edges)");
-  depth->add_option("--data", args->data,
+  depth->add_option("--data",
+                    args->data,
                     "A dataset folder (HCI light field, Middlebury or ETH3D pair) or a folder of them "
                     "(default: ../shared/data, or $PX_DATA_DIR)");
   depth->add_option("--sets", args->sets, "Only sets whose name contains this (e.g. 'hci', 'cones', 'sim/')");
   depth->add_option("--methods", args->methods, "Comma-separated subset of ours, sweep, sgbm")->capture_default_str();
   depth->add_flag("--no-sim", args->no_sim, "Leave out the simulated lattices");
   depth->add_option("--threads", args->threads, "Worker threads (0 = all cores)")->capture_default_str();
-  depth->add_option("--working-scale", args->working_scale,
-                    "Override our matching resolution, a fraction of the view size in (0, 1] (0 = per set)")
+  depth
+      ->add_option("--working-scale",
+                   args->working_scale,
+                   "Override our matching resolution, a fraction of the view size in (0, 1] (0 = per set)")
       ->capture_default_str();
-  depth->add_option("--option", args->overrides,
+  depth->add_option("--option",
+                    args->overrides,
                     "Override one of our depth options, name=value as in pipeline/depth/depth_options.h "
                     "(repeatable), e.g. --option matching.plane_step_px=0.5");
-  depth->add_option("--dump", args->dump,
-                    "Write each method's estimate, the truth and an error picture per set into this folder");
+  depth->add_option(
+      "--dump", args->dump, "Write each method's estimate, the truth and an error picture per set into this folder");
   depth->add_flag("--json", args->json, "Print the figures as JSON (machine-readable)");
   depth->callback(RunOrFail("eval", [args] { return RunEvalDepth(*args); }));
 }

@@ -3,16 +3,15 @@
 #include <cstdio>
 #include <filesystem>
 #include <memory>
+#include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
 
-#include <nlohmann/json.hpp>
-
 #include "device/cli/consistent_blend_flags.h"
-#include "device/cli/texture_stretch_flags.h"
 #include "device/cli/depth_option_override.h"
 #include "device/cli/machine_info.h"
 #include "device/cli/run_or_fail.h"
+#include "device/cli/texture_stretch_flags.h"
 #include "device/face_cascades.h"
 #include "eval/real/leave_one_out.h"
 #include "eval/real/path_eval.h"
@@ -85,22 +84,32 @@ nlohmann::json OutcomeJson(const SetOutcome& o) {
     j["leave_one_out"] = {{"posed", o.loo->num_posed},
                           {"calibration", o.loo->calibration},
                           {"cases", cases},
-                          {"mean", {{"ours", ScoresJson(eval::Means(*o.loo).ours)},
-                                    {"nearest", ScoresJson(eval::Means(*o.loo).nearest)},
-                                    {"plane", ScoresJson(eval::Means(*o.loo).plane)},
-                                    {"invented", eval::Means(*o.loo).invented}}},
+                          {"mean",
+                           {{"ours", ScoresJson(eval::Means(*o.loo).ours)},
+                            {"nearest", ScoresJson(eval::Means(*o.loo).nearest)},
+                            {"plane", ScoresJson(eval::Means(*o.loo).plane)},
+                            {"invented", eval::Means(*o.loo).invented}}},
                           {"notes", o.loo->notes}};
   } else if (!o.loo_skipped.empty()) {
     j["leave_one_out"] = {{"skipped", o.loo_skipped}};
   }
   if (o.path) {
     const eval::PathResult& p = *o.path;
-    j["path"] = {{"mode", p.mode},      {"move", p.move},       {"reason", p.reason},
-                 {"frames", p.frames},  {"width", p.width},     {"height", p.height},
-                 {"torn", p.torn},      {"torn_max", p.torn_max}, {"double_image", p.double_image},
-                 {"double_image_max", p.double_image_max},      {"flicker", p.flicker},
-                 {"flicker_max", p.flicker_max},                {"holes", p.holes},
-                 {"holes_max", p.holes_max},                    {"seconds", p.seconds},
+    j["path"] = {{"mode", p.mode},
+                 {"move", p.move},
+                 {"reason", p.reason},
+                 {"frames", p.frames},
+                 {"width", p.width},
+                 {"height", p.height},
+                 {"torn", p.torn},
+                 {"torn_max", p.torn_max},
+                 {"double_image", p.double_image},
+                 {"double_image_max", p.double_image_max},
+                 {"flicker", p.flicker},
+                 {"flicker_max", p.flicker_max},
+                 {"holes", p.holes},
+                 {"holes_max", p.holes_max},
+                 {"seconds", p.seconds},
                  {"warnings", p.warnings}};
   } else if (!o.path_skipped.empty()) {
     j["path"] = {{"skipped", o.path_skipped}};
@@ -110,8 +119,14 @@ nlohmann::json OutcomeJson(const SetOutcome& o) {
 
 void PrintOutcomes(const std::vector<SetOutcome>& outcomes) {
   std::printf("\nleave-one-out novel views (PSNR dB / SSIM; edge: PSNR within 3 px of our render's depth edges)\n");
-  std::printf("%-52s %5s %5s  %-21s %-21s %-21s %8s\n", "set", "views", "held", "ours dB/SSIM/edge",
-              "nearest dB/SSIM/edge", "plane dB/SSIM/edge", "invented");
+  std::printf("%-52s %5s %5s  %-21s %-21s %-21s %8s\n",
+              "set",
+              "views",
+              "held",
+              "ours dB/SSIM/edge",
+              "nearest dB/SSIM/edge",
+              "plane dB/SSIM/edge",
+              "invented");
   for (const SetOutcome& o : outcomes) {
     if (!o.loo) {
       if (!o.loo_skipped.empty()) std::printf("%-52s skipped: %s\n", o.name.c_str(), o.loo_skipped.c_str());
@@ -120,13 +135,32 @@ void PrintOutcomes(const std::vector<SetOutcome>& outcomes) {
     const eval::LeaveOneOutMeans m = eval::Means(*o.loo);
     const eval::ImageScores &ours = m.ours, &nearest = m.nearest, &plane = m.plane;
     const double invented = m.invented;
-    std::printf("%-52s %5d %5zu  %6.2f %.3f %6.2f   %6.2f %.3f %6.2f   %6.2f %.3f %6.2f   %7.2f%%\n", o.name.c_str(),
-                o.views, o.loo->cases.size(), ours.psnr_db, ours.ssim, ours.psnr_edges_db, nearest.psnr_db,
-                nearest.ssim, nearest.psnr_edges_db, plane.psnr_db, plane.ssim, plane.psnr_edges_db, 100 * invented);
+    std::printf("%-52s %5d %5zu  %6.2f %.3f %6.2f   %6.2f %.3f %6.2f   %6.2f %.3f %6.2f   %7.2f%%\n",
+                o.name.c_str(),
+                o.views,
+                o.loo->cases.size(),
+                ours.psnr_db,
+                ours.ssim,
+                ours.psnr_edges_db,
+                nearest.psnr_db,
+                nearest.ssim,
+                nearest.psnr_edges_db,
+                plane.psnr_db,
+                plane.ssim,
+                plane.psnr_edges_db,
+                100 * invented);
   }
   std::printf("\nthe automatic clip (means over its frames, worst frame in brackets)\n");
-  std::printf("%-52s %-9s %-20s %-9s %-17s %-17s %-17s %-15s %6s\n", "set", "mode", "move", "size", "torn %",
-              "double %", "flicker %", "holes %", "s");
+  std::printf("%-52s %-9s %-20s %-9s %-17s %-17s %-17s %-15s %6s\n",
+              "set",
+              "mode",
+              "move",
+              "size",
+              "torn %",
+              "double %",
+              "flicker %",
+              "holes %",
+              "s");
   for (const SetOutcome& o : outcomes) {
     if (!o.path) {
       if (!o.path_skipped.empty()) std::printf("%-52s failed: %s\n", o.name.c_str(), o.path_skipped.c_str());
@@ -134,22 +168,36 @@ void PrintOutcomes(const std::vector<SetOutcome>& outcomes) {
     }
     const eval::PathResult& p = *o.path;
     const std::string size = std::to_string(p.width) + "x" + std::to_string(p.height);
-    std::printf("%-52s %-9s %-20s %-9s %6.3f (%6.3f) %6.3f (%6.3f) %6.3f (%6.3f) %5.2f (%5.2f) %6.1f\n", o.name.c_str(),
-                p.mode.c_str(), p.move.c_str(), size.c_str(), 100 * p.torn, 100 * p.torn_max, 100 * p.double_image,
-                100 * p.double_image_max, 100 * p.flicker, 100 * p.flicker_max, 100 * p.holes, 100 * p.holes_max,
+    std::printf("%-52s %-9s %-20s %-9s %6.3f (%6.3f) %6.3f (%6.3f) %6.3f (%6.3f) %5.2f (%5.2f) %6.1f\n",
+                o.name.c_str(),
+                p.mode.c_str(),
+                p.move.c_str(),
+                size.c_str(),
+                100 * p.torn,
+                100 * p.torn_max,
+                100 * p.double_image,
+                100 * p.double_image_max,
+                100 * p.flicker,
+                100 * p.flicker_max,
+                100 * p.holes,
+                100 * p.holes_max,
                 p.seconds);
   }
-  std::printf("\ntorn: thin far gaps (<= 3 px) in a near surface that the sources show unbroken; double: drawn from a "
-              "view a more heavily weighted one contradicts, or blended from views whose colours disagree beyond "
-              "noise; flicker: changes of over 40 levels between frames once the camera's motion is taken out\n");
+  std::printf(
+      "\ntorn: thin far gaps (<= 3 px) in a near surface that the sources show unbroken; double: drawn from a "
+      "view a more heavily weighted one contradicts, or blended from views whose colours disagree beyond "
+      "noise; flicker: changes of over 40 levels between frames once the camera's motion is taken out\n");
 }
 
 // The figures as the README's tables (Markdown), with the machine and commit that made them.
 void PrintMarkdown(const std::vector<SetOutcome>& outcomes, const MachineInfo& machine) {
-  std::printf("Leave-one-out novel views: each held-out photo rendered from the others at the pose the product's "
-              "own calibration gave it, mean PSNR in dB (SSIM) over the held-out views; edge: PSNR within 3 px of "
-              "depth edges. Made by `build/parallax eval real --markdown` on %s (%d cores), commit %s.\n\n",
-              machine.cpu_model.c_str(), machine.cores, machine.commit.c_str());
+  std::printf(
+      "Leave-one-out novel views: each held-out photo rendered from the others at the pose the product's "
+      "own calibration gave it, mean PSNR in dB (SSIM) over the held-out views; edge: PSNR within 3 px of "
+      "depth edges. Made by `build/parallax eval real --markdown` on %s (%d cores), commit %s.\n\n",
+      machine.cpu_model.c_str(),
+      machine.cores,
+      machine.commit.c_str());
   std::printf("| set | views | held out | ours | ours, edges | nearest view | one plane | invented |\n");
   std::printf("|---|---:|---:|---:|---:|---:|---:|---:|\n");
   for (const SetOutcome& o : outcomes) {
@@ -160,9 +208,18 @@ void PrintMarkdown(const std::vector<SetOutcome>& outcomes, const MachineInfo& m
     const eval::LeaveOneOutMeans m = eval::Means(*o.loo);
     const eval::ImageScores &ours = m.ours, &nearest = m.nearest, &plane = m.plane;
     const double invented = m.invented;
-    std::printf("| %s | %d | %zu | %.2f (%.3f) | %.2f | %.2f (%.3f) | %.2f (%.3f) | %.2f %% |\n", o.name.c_str(), o.views,
-                o.loo->cases.size(), ours.psnr_db, ours.ssim, ours.psnr_edges_db, nearest.psnr_db, nearest.ssim,
-                plane.psnr_db, plane.ssim, 100 * invented);
+    std::printf("| %s | %d | %zu | %.2f (%.3f) | %.2f | %.2f (%.3f) | %.2f (%.3f) | %.2f %% |\n",
+                o.name.c_str(),
+                o.views,
+                o.loo->cases.size(),
+                ours.psnr_db,
+                ours.ssim,
+                ours.psnr_edges_db,
+                nearest.psnr_db,
+                nearest.ssim,
+                plane.psnr_db,
+                plane.ssim,
+                100 * invented);
   }
   std::printf("\nThe automatic clip, means over its frames (worst frame):\n\n");
   std::printf("| set | made as | move | torn %% | double images %% | flicker %% | holes %% |\n");
@@ -173,9 +230,18 @@ void PrintMarkdown(const std::vector<SetOutcome>& outcomes, const MachineInfo& m
       continue;
     }
     const eval::PathResult& p = *o.path;
-    std::printf("| %s | %s | %s | %.3f (%.3f) | %.3f (%.3f) | %.3f (%.3f) | %.2f (%.2f) |\n", o.name.c_str(),
-                p.mode.c_str(), p.move.c_str(), 100 * p.torn, 100 * p.torn_max, 100 * p.double_image,
-                100 * p.double_image_max, 100 * p.flicker, 100 * p.flicker_max, 100 * p.holes, 100 * p.holes_max);
+    std::printf("| %s | %s | %s | %.3f (%.3f) | %.3f (%.3f) | %.3f (%.3f) | %.2f (%.2f) |\n",
+                o.name.c_str(),
+                p.mode.c_str(),
+                p.move.c_str(),
+                100 * p.torn,
+                100 * p.torn_max,
+                100 * p.double_image,
+                100 * p.double_image_max,
+                100 * p.flicker,
+                100 * p.flicker_max,
+                100 * p.holes,
+                100 * p.holes_max);
   }
 }
 
@@ -237,8 +303,8 @@ Status RunEvalReal(const EvalRealArgs& args) {
   for (const fs::path& set_path : paths) {
     SetOutcome outcome;
     outcome.name = SetName(set_path);
-    StatusOr<eval::RealSet> set =
-        eval::LoadRealSet(set_path, outcome.name, args.lattice.empty() ? eval::KnownLatticeSize(set_path) : args.lattice);
+    StatusOr<eval::RealSet> set = eval::LoadRealSet(
+        set_path, outcome.name, args.lattice.empty() ? eval::KnownLatticeSize(set_path) : args.lattice);
     if (!set.ok()) {
       outcome.loo_skipped = outcome.path_skipped = set.status().message();
       outcomes.push_back(outcome);
@@ -273,13 +339,15 @@ Status RunEvalReal(const EvalRealArgs& args) {
   } else if (args.json) {
     nlohmann::json sets = nlohmann::json::array();
     for (const SetOutcome& o : outcomes) sets.push_back(OutcomeJson(o));
-    const nlohmann::json result{{"sets", sets},
-                                {"missing", missing},
-                                {"machine", {{"cpu", machine.cpu_model}, {"cores", machine.cores},
-                                             {"commit", machine.commit}}}};
+    const nlohmann::json result{
+        {"sets", sets},
+        {"missing", missing},
+        {"machine", {{"cpu", machine.cpu_model}, {"cores", machine.cores}, {"commit", machine.commit}}}};
     std::printf("%s\n", result.dump(2).c_str());
   } else {
-    std::printf("real captures: machine %s, %d cores, commit %s\n", machine.cpu_model.c_str(), machine.cores,
+    std::printf("real captures: machine %s, %d cores, commit %s\n",
+                machine.cpu_model.c_str(),
+                machine.cores,
                 machine.commit.c_str());
     PrintOutcomes(outcomes);
     for (const std::string& m : missing) std::printf("note: %s is absent: skipped\n", m.c_str());
@@ -297,27 +365,33 @@ void AddEvalRealCommand(CLI::App& eval) {
       "The product on real captures, where the photos are the truth: each held-out view rendered from the others at "
       "the pose the product's own calibration gave it (LLFF's protocol) against the nearest view and a one-plane "
       "warp of it; and the automatic clip measured along its path (torn pixels, double images, flicker, holes)");
-  real->add_option("--data", args->data,
+  real->add_option("--data",
+                   args->data,
                    "Real sets to score instead of the standard ones under ../shared/data (repeatable): a folder of "
                    "photos, an LLFF folder (poses_bounds.npy), an HCI light-field folder (parameters.cfg), an MPO "
                    "file, an animated GIF or WebP, or one photo of a lattice of views");
-  real->add_option("--lattice", args->lattice,
+  real->add_option("--lattice",
+                   args->lattice,
                    "The size of the lattice in the photos given with --data (auto: found blind; RxC, e.g. 1x3); by "
                    "default auto, or what the standard set is known to hold");
   real->add_option("--part", args->parts, "What to run (repeatable): loo (leave-one-out), path (the automatic clip)")
       ->capture_default_str();
-  real->add_option("--dump", args->dump_dir,
+  real->add_option("--dump",
+                   args->dump_dir,
                    "Folder for the pictures: per held-out view the photo, our render, both baselines and their "
                    "error maps; per set the clip's contact sheet and its torn, double-image and flicker maps");
-  real->add_option("--max-photo-side", args->max_photo_side_px,
+  real->add_option("--max-photo-side",
+                   args->max_photo_side_px,
                    "Photos are processed at this longer side, as `parallax clip` does (0 = full size)")
       ->capture_default_str();
   real->add_option("--duration", args->duration_s, "The automatic clip's length, seconds")->capture_default_str();
   real->add_option("--fps", args->fps, "The automatic clip's frame rate")->capture_default_str();
   real->add_flag("--no-faces", args->no_faces, "No face detection for the automatic clip");
-  real->add_flag("--no-photometric", args->no_photometric,
+  real->add_flag("--no-photometric",
+                 args->no_photometric,
                  "Leave each view's exposure, colour and vignetting as shot (no equalisation to the centre view)");
-  real->add_option("--option", args->depth_overrides,
+  real->add_option("--option",
+                   args->depth_overrides,
                    "Override one of the depth stage's options, name=value as in pipeline/depth/depth_options.h "
                    "(repeatable)");
   AddConsistentBlendFlags(*real, &args->consistent_blend);

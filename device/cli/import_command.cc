@@ -32,9 +32,12 @@ Status RunImportLattice(const ImportArgs& args) {
   for (const std::string& warning : warnings) log->warn("{}", warning);
   PX_RETURN_IF_ERROR(WriteRecording(args.output, recording));
   const Frame& frame = recording.frames.frames[0];
-  log->info("wrote recording {}: a lattice frame of {}x{} ({}), no rig calibration: split blind when processed",
-            args.output, frame.image.width, frame.image.height,
-            hint.rows > 0 ? std::to_string(hint.rows) + "x" + std::to_string(hint.cols) + " tiles" : "lattice found blind");
+  log->info(
+      "wrote recording {}: a lattice frame of {}x{} ({}), no rig calibration: split blind when processed",
+      args.output,
+      frame.image.width,
+      frame.image.height,
+      hint.rows > 0 ? std::to_string(hint.rows) + "x" + std::to_string(hint.cols) + " tiles" : "lattice found blind");
   std::printf("%s\n", args.output.c_str());
   return OkStatus();
 }
@@ -49,14 +52,19 @@ Status RunImport(const ImportArgs& args) {
   for (const std::string& warning : warnings) log->warn("{}", warning);
   for (size_t i = 0; i < recording.frames.frames.size(); ++i) {
     const Frame& frame = recording.frames.frames[i];
-    log->info("view {}: {}x{}, focal {}", i, frame.image.width, frame.image.height,
+    log->info("view {}: {}x{}, focal {}",
+              i,
+              frame.image.width,
+              frame.image.height,
               frame.focal_length_px > 0 ? std::to_string(static_cast<int>(frame.focal_length_px + 0.5)) + " px (" +
                                               frame.focal_length_source + ")"
                                         : std::string("unknown (self-calibrated)"));
   }
   PX_RETURN_IF_ERROR(WriteRecording(args.output, recording));
-  log->info("wrote recording {}: an image set of {} views from {} file(s)", args.output,
-            recording.frames.frames.size(), files.size());
+  log->info("wrote recording {}: an image set of {} views from {} file(s)",
+            args.output,
+            recording.frames.frames.size(),
+            files.size());
   std::printf("%s\n", args.output.c_str());
   return OkStatus();
 }
@@ -66,15 +74,19 @@ Status RunImport(const ImportArgs& args) {
 void AddImportCommand(CLI::App& app) {
   auto args = std::make_shared<ImportArgs>();
   CLI::App* command = app.add_subcommand(
-      "import", "Make a recording of photos taken by hand from a few places (JPEG, PNG; the EXIF focal length is kept), "
-                "a 3D camera's MPO file (each image a view) or a wigglegram's animated GIF or WebP (each frame a "
-                "view, repeated frames left out), for `parallax clip`");
-  command->add_option("photos", args->inputs,
-                      "Photos, MPO files, animations, or folders of them (sorted by name); at least 2 views in all")
+      "import",
+      "Make a recording of photos taken by hand from a few places (JPEG, PNG; the EXIF focal length is kept), "
+      "a 3D camera's MPO file (each image a view) or a wigglegram's animated GIF or WebP (each frame a "
+      "view, repeated frames left out), for `parallax clip`");
+  command
+      ->add_option("photos",
+                   args->inputs,
+                   "Photos, MPO files, animations, or folders of them (sorted by name); at least 2 views in all")
       ->required();
   command->add_option("-o,--output", args->output, "Recording folder to create (must not exist or be empty)")
       ->required();
-  command->add_option("--lattice", args->lattice,
+  command->add_option("--lattice",
+                      args->lattice,
                       "The one photo holds a lattice of views (a film scan of a Nishika, Nimslo, ActionSampler or "
                       "Pop9 frame, a multi-lens or wiggle lens's frame, a side-by-side stereo JPEG): auto (found "
                       "blind) or RxC, e.g. 1x4; posed later by structure from motion");

@@ -6,10 +6,10 @@
 namespace px::cli {
 
 struct MachineInfo {
-  std::string cpu_model;   // from /proc/cpuinfo
-  int cores = 0;           // online CPUs
-  double memory_gib = 0;   // physical memory
-  std::string commit;      // git commit the binary was configured from ("unknown" outside git)
+  std::string cpu_model;  // from /proc/cpuinfo
+  int cores = 0;          // online CPUs
+  double memory_gib = 0;  // physical memory
+  std::string commit;     // git commit the binary was configured from ("unknown" outside git)
 };
 
 MachineInfo ReadMachineInfo();

@@ -21,8 +21,13 @@ void ProgressBar::Update(const std::string& stage, double fraction) {
   last_percent_ = percent;
   constexpr int kWidth = 30;
   const int filled = percent * kWidth / 100;
-  std::fprintf(stderr, "%s%-8s [%s%s] %3d%%", interactive ? "\r" : "", stage.c_str(),
-               std::string(filled, '#').c_str(), std::string(kWidth - filled, ' ').c_str(), percent);
+  std::fprintf(stderr,
+               "%s%-8s [%s%s] %3d%%",
+               interactive ? "\r" : "",
+               stage.c_str(),
+               std::string(filled, '#').c_str(),
+               std::string(kWidth - filled, ' ').c_str(),
+               percent);
   if (interactive) {
     open_line_ = true;
   } else {

@@ -4,10 +4,9 @@
 #include <filesystem>
 #include <fstream>
 #include <memory>
-#include <vector>
-
 #include <nlohmann/json.hpp>
 #include <opencv2/imgcodecs.hpp>
+#include <vector>
 
 #include "device/cli/run_or_fail.h"
 #include "device/cli/scene_path.h"
@@ -37,7 +36,7 @@ struct SimArgs {
   std::vector<int> tile_size;  // {width, height}; empty = the preset's
   std::string output;
   bool ground_truth = false;
-  int board_captures = 0;  // > 0: render this many checkerboard captures instead of the scene
+  int board_captures = 0;            // > 0: render this many checkerboard captures instead of the scene
   uint64_t perturb_lenses_seed = 0;  // 0 = lenses as calibrated
 };
 
@@ -102,8 +101,11 @@ Status WriteBoardCaptures(const SimCameraSpec& spec, const SimArgs& args) {
   std::ofstream rig(dir / "ground_truth_rig.json");
   rig << RigCalibrationToJsonText(spec.Calibration()) << "\n";
   std::ofstream poses_out(dir / "board_poses.json");
-  poses_out << nlohmann::json{{"inner_cols", board.inner_cols}, {"inner_rows", board.inner_rows},
-                              {"square_m", board.square_m}, {"captures", pose_json}}.dump(2)
+  poses_out << nlohmann::json{{"inner_cols", board.inner_cols},
+                              {"inner_rows", board.inner_rows},
+                              {"square_m", board.square_m},
+                              {"captures", pose_json}}
+                   .dump(2)
             << "\n";
   if (!rig || !poses_out) return InternalError("cannot write the ground truth in " + dir.string());
   std::printf("%s\n", std::filesystem::absolute(dir).c_str());
@@ -146,8 +148,7 @@ Status RunSim(const SimArgs& args) {
   SourceConfig granted;
   PX_ASSIGN_OR_RETURN(ConfigureResult configured, source->Configure(wanted, &granted));
   (void)configured;
-  log->info("rendering {} through {} ({})", options.scene_file.string(), options.camera.name,
-            DescribeConfig(granted));
+  log->info("rendering {} through {} ({})", options.scene_file.string(), options.camera.name, DescribeConfig(granted));
   PX_ASSIGN_OR_RETURN(FrameSet frames, source->Next(std::chrono::milliseconds(600000)));
 
   Recording recording;
@@ -168,8 +169,8 @@ Status RunSim(const SimArgs& args) {
 void AddSimCommand(CLI::App& app) {
   auto args = std::make_shared<SimArgs>();
   CLI::App* sim = app.add_subcommand("sim", "Render a synthetic capture of a scene to a recording");
-  sim->add_option("--scene", args->scene,
-                  "Scene name in sim/scenes (still_life, one_face, two_faces) or a scene JSON path")
+  sim->add_option(
+         "--scene", args->scene, "Scene name in sim/scenes (still_life, one_face, two_faces) or a scene JSON path")
       ->capture_default_str();
   sim->add_option("--camera", args->camera, "Camera preset: pop9 (3x3, 640x480 tiles) or integral5x4 (5x4, 320x240)")
       ->capture_default_str();
@@ -180,7 +181,9 @@ void AddSimCommand(CLI::App& app) {
   sim->add_option("--vignetting", args->vignetting, "Corner fall-off, 0..1 (default: the preset's)");
   sim->add_option("--exposure-spread", args->exposure_spread, "Per-lens gain spread, 0..0.5 (default: the preset's)");
   sim->add_option("--k1", args->k1, "Radial distortion k1 of every lens")->capture_default_str();
-  sim->add_option("--baseline-mm", args->baseline_mm, "Distance between neighbouring lens centres in mm "
+  sim->add_option("--baseline-mm",
+                  args->baseline_mm,
+                  "Distance between neighbouring lens centres in mm "
                   "(default: the preset's, 25 for pop9, 12 for integral5x4)");
   sim->add_option("--focal-px", args->focal_px, "Focal length in tile pixels (default: the preset's)");
   sim->add_option("--tile", args->tile_size, "Tile size in pixels: --tile 640 480 (default: the preset's)")
@@ -188,22 +191,26 @@ void AddSimCommand(CLI::App& app) {
   sim->add_option("--supersampling", args->supersampling, "Rays per pixel side, 1..8 (default: the preset's)");
   const LensPerturbation magnitudes;
   char perturb_help[400];
-  std::snprintf(perturb_help, sizeof(perturb_help),
+  std::snprintf(perturb_help,
+                sizeof(perturb_help),
                 "Render through lenses that moved off their calibration, drawn from this seed (0 = none); the "
                 "recording keeps the factory calibration, --ground-truth has the true lenses. Per lens, uniform: "
                 "focal +-%g %%, principal point +-%g px, rotation +-%g deg about each axis, centre +-%g mm along "
                 "each axis",
-                100 * magnitudes.focal_relative, magnitudes.principal_point_px, magnitudes.rotation_deg,
+                100 * magnitudes.focal_relative,
+                magnitudes.principal_point_px,
+                magnitudes.rotation_deg,
                 1000 * magnitudes.centre_m);
   sim->add_option("--perturb-lenses", args->perturb_lenses_seed, perturb_help)->capture_default_str();
-  sim->add_flag("--ground-truth", args->ground_truth,
+  sim->add_flag("--ground-truth",
+                args->ground_truth,
                 "Also write ground_truth/: clean views, depth (16-bit PNG, mm), cameras and poses");
-  sim->add_option("--board", args->board_captures,
+  sim->add_option("--board",
+                  args->board_captures,
                   "Render N captures of a 7x5 (inner corners) x 20 mm checkerboard at varied poses instead of the "
                   "scene: capture_NN.png sensor frames, ground_truth_rig.json and board_poses.json in --output "
                   "(for `parallax calibrate`)");
-  sim->add_option("-o,--output", args->output, "Recording folder to create (must not exist or be empty)")
-      ->required();
+  sim->add_option("-o,--output", args->output, "Recording folder to create (must not exist or be empty)")->required();
   sim->callback(RunOrFail("sim", [args] { return RunSim(*args); }));
 }
 

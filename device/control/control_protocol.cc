@@ -119,8 +119,7 @@ std::string ControlErrorReply(const Status& status) {
     message.resize(kMaxControlErrorBytes);
     message += "... (" + std::to_string(full) + " bytes)";
   }
-  nlohmann::json reply = {
-      {"ok", false}, {"error", message}, {"code", std::string(StatusCodeName(status.code()))}};
+  nlohmann::json reply = {{"ok", false}, {"error", message}, {"code", std::string(StatusCodeName(status.code()))}};
   // Replace invalid UTF-8 (a garbled request echoed in the message) instead of throwing.
   return reply.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
 }

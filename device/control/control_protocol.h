@@ -29,11 +29,11 @@ std::string_view ControlCommandName(ControlCommand command);
 
 struct ControlRequest {
   ControlCommand command = ControlCommand::kStatus;
-  std::string job;     // kWait, kFetch, kCancel: the job
-  bool drain = false;  // kQuit: finish every queued job first
+  std::string job;            // kWait, kFetch, kCancel: the job
+  bool drain = false;         // kQuit: finish every queued job first
   bool inline_bytes = false;  // kFetch: the clip's bytes in the reply, base64 ("inline")
-  std::string move;    // kSetMove: the camera move (validated by the daemon against pipeline/direct)
-  std::string shot;    // kSetShot: the shot as JSON text (validated by the daemon); "" = none (null)
+  std::string move;           // kSetMove: the camera move (validated by the daemon against pipeline/direct)
+  std::string shot;           // kSetShot: the shot as JSON text (validated by the daemon); "" = none (null)
 };
 
 // The longest request line accepted; longer lines are answered with an error and dropped.

@@ -63,9 +63,15 @@ TEST(ControlProtocolTest, ErrorsSayWhatIsWrong) {
 }
 
 TEST(ControlProtocolTest, JobIdsAreDigitsOnlySoNoPathTrickReachesAFile) {
-  for (const std::string& trick : {std::string("../000001"), std::string("/etc/passwd"), std::string("000001/../../x"),
-                                   std::string(".."), std::string(""), std::string("000001.mp4"),
-                                   std::string("0000001\0", 8), std::string(" 000001"), std::string("-1"),
+  for (const std::string& trick : {std::string("../000001"),
+                                   std::string("/etc/passwd"),
+                                   std::string("000001/../../x"),
+                                   std::string(".."),
+                                   std::string(""),
+                                   std::string("000001.mp4"),
+                                   std::string("0000001\0", 8),
+                                   std::string(" 000001"),
+                                   std::string("-1"),
                                    std::string("1234567890123456789")}) {
     for (const char* cmd : {"wait", "fetch", "cancel"}) {
       const nlohmann::json request = {{"cmd", cmd}, {"job", trick}};

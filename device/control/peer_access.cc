@@ -13,8 +13,8 @@ namespace px::device {
 namespace {
 
 std::string Who(const PeerCredentials& peer) {
-  return "pid " + std::to_string(peer.pid) + " (uid " + std::to_string(peer.uid) + ", gid " +
-         std::to_string(peer.gid) + ")";
+  return "pid " + std::to_string(peer.pid) + " (uid " + std::to_string(peer.uid) + ", gid " + std::to_string(peer.gid) +
+         ")";
 }
 
 std::string Allowed(const ControlAccess& access) {

@@ -6,6 +6,7 @@
 // limits (connections, unread replies) hold.
 #include "device/control/peer_access.h"
 
+#include <gmock/gmock.h>
 #include <grp.h>
 #include <gtest/gtest.h>
 #include <sys/socket.h>
@@ -16,7 +17,6 @@
 
 #include <atomic>
 #include <cstring>
-#include <gmock/gmock.h>
 #include <thread>
 
 #include "device/control/control_client.h"
@@ -41,10 +41,9 @@ TEST(PeerAccessTest, OwnerAndRootAlwaysGroupOnlyWhenConfigured) {
   EXPECT_TRUE(CheckPeer({1, 0, 0, {}}, owner_only).ok());
   const Status stranger = CheckPeer({4242, 1001, 300, {300}}, owner_only);
   EXPECT_EQ(stranger.code(), StatusCode::kPermissionDenied);
-  EXPECT_EQ(stranger.message(),
-            "pid 4242 (uid 1001, gid 300) may not use the control socket: only uid 1000, root");
-  EXPECT_TRUE(CheckPeer({1, 1001, 300, {}}, with_group).ok());        // primary group
-  EXPECT_TRUE(CheckPeer({1, 1001, 100, {27, 300}}, with_group).ok()); // supplementary group
+  EXPECT_EQ(stranger.message(), "pid 4242 (uid 1001, gid 300) may not use the control socket: only uid 1000, root");
+  EXPECT_TRUE(CheckPeer({1, 1001, 300, {}}, with_group).ok());         // primary group
+  EXPECT_TRUE(CheckPeer({1, 1001, 100, {27, 300}}, with_group).ok());  // supplementary group
   EXPECT_THAT(CheckPeer({1, 1001, 100, {27}}, with_group).message(), HasSubstr("only uid 1000, root and group 300"));
 }
 

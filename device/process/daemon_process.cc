@@ -132,8 +132,8 @@ Status DaemonProcess::WaitForLog(const std::string& text, std::chrono::milliseco
   const auto end = Clock::now() + timeout;
   while (Log().find(text) == std::string::npos) {
     if (!running()) {
-      return UnavailableError("parallaxd exited (" + std::to_string(*exit_code_) + ") before logging '" + text +
-                              "'" + LogTail());
+      return UnavailableError("parallaxd exited (" + std::to_string(*exit_code_) + ") before logging '" + text + "'" +
+                              LogTail());
     }
     if (Clock::now() >= end) {
       return DeadlineExceededError("parallaxd did not log '" + text + "' within " + std::to_string(timeout.count()) +

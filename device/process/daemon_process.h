@@ -20,8 +20,8 @@
 namespace px::device {
 
 struct DaemonProcessOptions {
-  std::filesystem::path binary;    // the parallaxd executable
-  std::vector<std::string> args;   // after argv[0]
+  std::filesystem::path binary;   // the parallaxd executable
+  std::vector<std::string> args;  // after argv[0]
   // Set in the child (value) or removed from it (nullopt); everything else is inherited.
   std::vector<std::pair<std::string, std::optional<std::string>>> env;
   std::filesystem::path log_path;  // stdout and stderr, appended

@@ -19,9 +19,10 @@ int main(int argc, char** argv) {
   options.parallaxd = ec ? fs::path("parallaxd") : self.parent_path() / "parallaxd";
   options.work_dir = fs::temp_directory_path() / ("parallaxd-soak-" + std::to_string(::getpid()));
   bool keep = false;
-  CLI::App app{"parallaxd_soak: presses the button N times on the simulated camera through the real parallaxd and "
-               "its control socket; prints presses handled, clips made, captures lost (must be 0) and the daemon's "
-               "RSS at the start and the end (must stay flat)"};
+  CLI::App app{
+      "parallaxd_soak: presses the button N times on the simulated camera through the real parallaxd and "
+      "its control socket; prints presses handled, clips made, captures lost (must be 0) and the daemon's "
+      "RSS at the start and the end (must stay flat)"};
   app.add_option("--presses", options.presses, "button presses, [1, 1000000]")->capture_default_str();
   app.add_option("--parallaxd", options.parallaxd, "the daemon executable")->capture_default_str();
   app.add_option("--work-dir", options.work_dir, "config, storage, socket and the daemon's log")->capture_default_str();

@@ -104,7 +104,11 @@ StatusOr<SoakReport> RunSoak(const SoakOptions& options) {
   PX_ASSIGN_OR_RETURN(std::unique_ptr<DaemonProcess> daemon, DaemonProcess::Start(process_options));
   PX_ASSIGN_OR_RETURN(std::unique_ptr<ControlClient> client, daemon->Connect(socket, 60s));
   log->info("soak: parallaxd pid {} up; {} presses, {}x{} tiles, {}-frame clips, quota {} MB",
-            daemon->pid(), options.presses, options.tile_width, options.tile_height, options.clip_frames,
+            daemon->pid(),
+            options.presses,
+            options.tile_width,
+            options.tile_height,
+            options.clip_frames,
             options.quota_mb);
 
   SoakReport report;
@@ -146,7 +150,10 @@ StatusOr<SoakReport> RunSoak(const SoakOptions& options) {
     }
     if (press == (options.presses + 1) / 2) report.rss_half_bytes = report.rss_end_bytes;
     if (options.progress_every > 0 && press % options.progress_every == 0) {
-      log->info("soak: {} presses, {} clips, {} lost, RSS {:.1f} MB", press, report.clips, report.lost,
+      log->info("soak: {} presses, {} clips, {} lost, RSS {:.1f} MB",
+                press,
+                report.clips,
+                report.lost,
                 report.rss_end_bytes / 1e6);
     }
   }

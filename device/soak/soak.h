@@ -29,19 +29,19 @@ struct SoakOptions {
 };
 
 struct SoakReport {
-  int presses = 0;           // presses sent
-  int handled = 0;           // acknowledged with a job id
-  int clips = 0;             // jobs that ended done
-  int lost = 0;              // acknowledged presses that did not end in a clip
+  int presses = 0;                    // presses sent
+  int handled = 0;                    // acknowledged with a job id
+  int clips = 0;                      // jobs that ended done
+  int lost = 0;                       // acknowledged presses that did not end in a clip
   std::vector<std::string> failures;  // "000042: <error>", the first 10
-  uint64_t rss_start_bytes = 0;  // after the first clip (libraries and caches loaded)
-  uint64_t rss_half_bytes = 0;   // when half the presses were made (the warm-up is over by then)
-  uint64_t rss_end_bytes = 0;    // after the last clip
-  uint64_t rss_peak_bytes = 0;   // the largest sample (one after every finished job)
-  uint64_t store_bytes = 0;      // under the storage root at the end
-  int evicted = 0;               // clips the quota evicted
+  uint64_t rss_start_bytes = 0;       // after the first clip (libraries and caches loaded)
+  uint64_t rss_half_bytes = 0;        // when half the presses were made (the warm-up is over by then)
+  uint64_t rss_end_bytes = 0;         // after the last clip
+  uint64_t rss_peak_bytes = 0;        // the largest sample (one after every finished job)
+  uint64_t store_bytes = 0;           // under the storage root at the end
+  int evicted = 0;                    // clips the quota evicted
   double seconds = 0;
-  int daemon_exit_code = -1;     // after {"cmd":"quit"}
+  int daemon_exit_code = -1;  // after {"cmd":"quit"}
 
   // RSS growth from start to end, in MB (10^6 bytes; negative when it shrank).
   double RssGrowthMb() const { return (static_cast<double>(rss_end_bytes) - rss_start_bytes) / 1e6; }

@@ -6,12 +6,12 @@
 //   <root>/jobs/<id>.json   the journal: one record per job (job_journal.h)
 #pragma once
 
+#include <sys/types.h>
+
 #include <cstdint>
 #include <filesystem>
 #include <optional>
 #include <string>
-
-#include <sys/types.h>
 
 #include "pipeline/core/status.h"
 

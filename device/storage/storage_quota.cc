@@ -20,7 +20,8 @@ uint64_t BytesUnder(const fs::path& path) {
   if (fs::is_regular_file(path, ec)) return fs::file_size(path, ec);
   uint64_t total = 0;
   for (fs::recursive_directory_iterator it(path, fs::directory_options::skip_permission_denied, ec), end;
-       !ec && it != end; it.increment(ec)) {
+       !ec && it != end;
+       it.increment(ec)) {
     std::error_code size_ec;
     if (it->is_regular_file(size_ec)) {
       const uint64_t size = it->file_size(size_ec);
@@ -76,17 +77,20 @@ std::string Mb(uint64_t bytes) {
 }
 
 // The refusal for the usage left after evicting `evictable` bytes; OK when a capture fits.
-Status Shortfall(const StorageLayout& layout, const StorageOptions& options, const StorageUsage& usage,
-                 uint64_t evictable, size_t kept_jobs) {
+Status Shortfall(const StorageLayout& layout,
+                 const StorageOptions& options,
+                 const StorageUsage& usage,
+                 uint64_t evictable,
+                 size_t kept_jobs) {
   if (usage.free_bytes + evictable < options.min_free_bytes) {
     return DiskFullError(layout.root(), usage.free_bytes, options.min_free_bytes);
   }
   if (options.quota_bytes > 0 && usage.used_bytes - evictable + usage.next_job_bytes > options.quota_bytes) {
-    return ResourceExhaustedError("storage quota: " + Mb(usage.used_bytes) + " used of " + Mb(options.quota_bytes) +
-                                  " under " + layout.root().string() + ", the next job needs about " +
-                                  Mb(usage.next_job_bytes) + "; nothing left to evict (" +
-                                  std::to_string(kept_jobs) +
-                                  " job(s) kept: unprocessed or failed captures and the newest clip are never evicted)");
+    return ResourceExhaustedError(
+        "storage quota: " + Mb(usage.used_bytes) + " used of " + Mb(options.quota_bytes) + " under " +
+        layout.root().string() + ", the next job needs about " + Mb(usage.next_job_bytes) +
+        "; nothing left to evict (" + std::to_string(kept_jobs) +
+        " job(s) kept: unprocessed or failed captures and the newest clip are never evicted)");
   }
   return OkStatus();
 }
@@ -113,7 +117,8 @@ Status Evict(const StorageLayout& layout, JobJournal* journal, const std::string
 
 }  // namespace
 
-StatusOr<StorageUsage> MeasureStorage(const StorageLayout& layout, const StorageOptions& options,
+StatusOr<StorageUsage> MeasureStorage(const StorageLayout& layout,
+                                      const StorageOptions& options,
                                       const JobJournal& journal) {
   StorageUsage usage;
   PX_ASSIGN_OR_RETURN(usage.free_bytes, FreeBytes(layout.root()));
@@ -141,7 +146,8 @@ nlohmann::json StorageUsageToJson(const StorageUsage& usage, const StorageOption
           {"reason", usage.reason}};
 }
 
-StatusOr<std::vector<std::string>> MakeRoomForCapture(const StorageLayout& layout, const StorageOptions& options,
+StatusOr<std::vector<std::string>> MakeRoomForCapture(const StorageLayout& layout,
+                                                      const StorageOptions& options,
                                                       JobJournal* journal) {
   std::vector<std::string> evicted;
   const std::vector<std::string> candidates = Evictable(layout, *journal);

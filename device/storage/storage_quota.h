@@ -23,13 +23,14 @@ struct StorageUsage {
   uint64_t free_bytes = 0;       // free on its file system (statvfs f_bavail)
   uint64_t evictable_bytes = 0;  // what evicting every evictable job would free
   uint64_t next_job_bytes = 0;   // estimate: the newest capture with its clip (0 before the first)
-  bool full = false;    // a capture would be refused even after evicting everything evictable
-  std::string reason;   // why, when full: the same message the press fails with
-  Status shortfall;     // that refusal as a status (RESOURCE_EXHAUSTED), OK when a capture fits
+  bool full = false;             // a capture would be refused even after evicting everything evictable
+  std::string reason;            // why, when full: the same message the press fails with
+  Status shortfall;              // that refusal as a status (RESOURCE_EXHAUSTED), OK when a capture fits
 };
 
 // Walks the root. Errors name the folder.
-StatusOr<StorageUsage> MeasureStorage(const StorageLayout& layout, const StorageOptions& options,
+StatusOr<StorageUsage> MeasureStorage(const StorageLayout& layout,
+                                      const StorageOptions& options,
                                       const JobJournal& journal);
 
 // {"used_mb":..,"free_mb":..,"quota_mb":..,"min_free_mb":..,"evictable_mb":..,"full":false,"reason":""}
@@ -41,7 +42,8 @@ nlohmann::json StorageUsageToJson(const StorageUsage& usage, const StorageOption
 // Returns the ids evicted. RESOURCE_EXHAUSTED when that is impossible: the disk-full message
 // ("disk full: 12 MB free under /r, need 200 MB") or "storage quota: 480 MB used of 500 MB under
 // /r, the next job needs about 30 MB; nothing left to evict (...)".
-StatusOr<std::vector<std::string>> MakeRoomForCapture(const StorageLayout& layout, const StorageOptions& options,
+StatusOr<std::vector<std::string>> MakeRoomForCapture(const StorageLayout& layout,
+                                                      const StorageOptions& options,
                                                       JobJournal* journal);
 
 }  // namespace px::device

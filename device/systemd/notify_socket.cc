@@ -31,7 +31,8 @@ StatusOr<std::unique_ptr<NotifySocket>> NotifySocket::Open(std::string_view addr
   const std::string what = "NOTIFY_SOCKET '" + std::string(address) + "'";
   if (address.empty()) return InvalidArgumentError(what + ": empty");
   if (address[0] != '/' && address[0] != '@') {
-    return InvalidArgumentError(what + ": not an absolute path or an abstract '@' name (other families are not supported)");
+    return InvalidArgumentError(what +
+                                ": not an absolute path or an abstract '@' name (other families are not supported)");
   }
   if (address.size() < 2) return InvalidArgumentError(what + ": no name");
   sockaddr_un probe;
@@ -52,8 +53,12 @@ Status NotifySocket::Send(std::string_view message) {
   const socklen_t length = FillAddress(address_, &address);
   ssize_t n;
   do {
-    n = ::sendto(fd_, message.data(), message.size(), MSG_NOSIGNAL | MSG_DONTWAIT,
-                 reinterpret_cast<const sockaddr*>(&address), length);
+    n = ::sendto(fd_,
+                 message.data(),
+                 message.size(),
+                 MSG_NOSIGNAL | MSG_DONTWAIT,
+                 reinterpret_cast<const sockaddr*>(&address),
+                 length);
   } while (n < 0 && errno == EINTR);
   if (n < 0) return UnavailableError("NOTIFY_SOCKET '" + address_ + "': send: " + std::strerror(errno));
   if (static_cast<size_t>(n) != message.size()) {

@@ -2,11 +2,10 @@
 // datagram socket this test binds, WATCHDOG_USEC asks for pings. Checks READY=1, STATUS on every
 // state change of a real press (simulated camera, real pipeline, small sizes), periodic
 // WATCHDOG=1 at about half the interval, and STOPPING=1 on SIGTERM with a clean exit.
+#include <gtest/gtest.h>
 #include <signal.h>
 #include <sys/wait.h>
 #include <unistd.h>
-
-#include <gtest/gtest.h>
 
 #include <algorithm>
 #include <vector>
@@ -33,7 +32,8 @@ int WaitExit(pid_t pid, std::chrono::milliseconds timeout) {
   const auto end = Clock::now() + timeout;
   while (Clock::now() < end) {
     int status = 0;
-    if (::waitpid(pid, &status, WNOHANG) == pid) return WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
+    if (::waitpid(pid, &status, WNOHANG) == pid)
+      return WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
     std::this_thread::sleep_for(20ms);
   }
   ::kill(pid, SIGKILL);
@@ -47,12 +47,16 @@ TEST(ParallaxdNotify, ReadyStatusWatchdogAndStopping) {
   testing::NotifyReceiver receiver(notify);
   ASSERT_TRUE(receiver.bound());
   const fs::path config = dir.path() / "parallaxd.json";
-  ASSERT_TRUE(WriteFileAtomically(config, R"({
-    "storage": {"root": ")" + (dir.path() / "store").string() + R"(", "min_free_mb": 0},
-    "control": {"socket": ")" + (dir.path() / "ctl.sock").string() + R"("},
+  ASSERT_TRUE(WriteFileAtomically(config,
+                                  R"({
+    "storage": {"root": ")" + (dir.path() / "store").string() +
+                                      R"(", "min_free_mb": 0},
+    "control": {"socket": ")" + (dir.path() / "ctl.sock").string() +
+                                      R"("},
     "source": {"sim": {"tile_width": 160}},
     "clip": {"duration_s": 0.5, "fps": 10}
-  })").ok());
+  })")
+                  .ok());
   const fs::path log = dir.path() / "parallaxd.log";
 
   const pid_t pid = ::fork();

@@ -22,7 +22,7 @@ std::optional<int64_t> ParsePositive(std::string_view text) {
 }  // namespace
 
 StatusOr<std::optional<std::chrono::microseconds>> WatchdogIntervalFromEnvironment(const char* watchdog_usec,
-                                                                                      const char* watchdog_pid) {
+                                                                                   const char* watchdog_pid) {
   if (watchdog_usec == nullptr || *watchdog_usec == '\0') return std::optional<std::chrono::microseconds>();
   if (watchdog_pid != nullptr && *watchdog_pid != '\0') {
     std::optional<int64_t> pid = ParsePositive(watchdog_pid);

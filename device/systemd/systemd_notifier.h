@@ -18,7 +18,7 @@ namespace px::device {
 // The watchdog interval systemd asks for: $WATCHDOG_USEC, when $WATCHDOG_PID is unset or names
 // this process. nullopt without a watchdog; INVALID_ARGUMENT for a malformed value.
 StatusOr<std::optional<std::chrono::microseconds>> WatchdogIntervalFromEnvironment(const char* watchdog_usec,
-                                                                                      const char* watchdog_pid);
+                                                                                   const char* watchdog_pid);
 
 class SystemdNotifier {
  public:

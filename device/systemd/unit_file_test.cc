@@ -79,7 +79,8 @@ TEST(UnitFile, SystemdAnalyzeVerifyAcceptsIt) {
   EXPECT_EQ(run.output.find("parallaxd.service"), std::string::npos) << run.output;
 
   // The check can fail: a bad value in a copy is reported.
-  ShellRun bad = Verify(analyze, std::regex_replace(Unit(), std::regex("WatchdogSec=30"), "WatchdogSec=thirty"), dir.path());
+  ShellRun bad =
+      Verify(analyze, std::regex_replace(Unit(), std::regex("WatchdogSec=30"), "WatchdogSec=thirty"), dir.path());
   EXPECT_NE(bad.output.find("parallaxd.service"), std::string::npos) << bad.output;
 }
 

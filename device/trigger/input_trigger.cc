@@ -85,10 +85,8 @@ void InputTrigger::TryOpen(TimePoint now) {
 }
 
 void InputTrigger::Disconnect(const std::string& why, TimePoint now) {
-  Logger("trigger")->warn("trigger device {} went away ({}); reopening every {} ms",
-                          options_.device.string(),
-                          why,
-                          options_.retry.count());
+  Logger("trigger")->warn(
+      "trigger device {} went away ({}); reopening every {} ms", options_.device.string(), why, options_.retry.count());
   ::close(fd_);
   fd_ = -1;
   pending_.clear();
@@ -141,9 +139,8 @@ bool InputTrigger::HandleEvent(const input_event& event) {
   if (last_press_us_ && t_us >= *last_press_us_ &&
       t_us - *last_press_us_ < std::chrono::duration_cast<std::chrono::microseconds>(options_.debounce).count()) {
     stats_.bounces++;
-    Logger("trigger")->debug("press {} us after the last one ignored (debounce {} ms)",
-                             t_us - *last_press_us_,
-                             options_.debounce.count());
+    Logger("trigger")->debug(
+        "press {} us after the last one ignored (debounce {} ms)", t_us - *last_press_us_, options_.debounce.count());
     return false;
   }
   last_press_us_ = t_us;

@@ -39,11 +39,11 @@ class InputTrigger final : public LoopInput {
   int Service(TimePoint now, short revents) override;
 
   struct Stats {
-    int presses = 0;     // accepted
-    int bounces = 0;     // presses dropped by the debounce
-    int repeats = 0;     // autorepeat events ignored
-    int opens = 0;       // successful opens (1 + reconnects)
-    int disconnects = 0; // times the device went away
+    int presses = 0;      // accepted
+    int bounces = 0;      // presses dropped by the debounce
+    int repeats = 0;      // autorepeat events ignored
+    int opens = 0;        // successful opens (1 + reconnects)
+    int disconnects = 0;  // times the device went away
   };
   const Stats& stats() const { return stats_; }
   bool connected() const { return fd_ >= 0; }
@@ -56,9 +56,9 @@ class InputTrigger final : public LoopInput {
 
   InputTriggerOptions options_;
   int fd_ = -1;
-  TimePoint next_open_{};       // when to try opening again while fd_ < 0
-  std::string last_open_error_; // to log a failing open once, not every retry
-  std::string pending_;         // bytes of a partly read event
+  TimePoint next_open_{};        // when to try opening again while fd_ < 0
+  std::string last_open_error_;  // to log a failing open once, not every retry
+  std::string pending_;          // bytes of a partly read event
   std::optional<int64_t> last_press_us_;
   Stats stats_;
 };

@@ -1,9 +1,8 @@
 // The trigger inside the real daemon: input_event records written into a FIFO that stands in for
 // /dev/input/event0 become jobs through the daemon's poll loop, next to presses on the control
 // socket, and the daemon stays up while the device vanishes and comes back.
-#include <sys/stat.h>
-
 #include <gtest/gtest.h>
+#include <sys/stat.h>
 
 #include <thread>
 
@@ -120,10 +119,8 @@ TEST_F(InputTriggerDaemonTest, ExactlyThePressesBecomeJobsLikeSocketCaptures) {
   ASSERT_EQ(reply["ok"], true) << reply.dump();
   ExpectJobs(2);
   // Two separate presses: two jobs.
-  ASSERT_TRUE(writer.Write(Concat({Key(KEY_CAMERA, 1, 3000),
-                                   Key(KEY_CAMERA, 0, 3080),
-                                   Key(KEY_CAMERA, 1, 3400),
-                                   Key(KEY_CAMERA, 0, 3480)})));
+  ASSERT_TRUE(writer.Write(Concat(
+      {Key(KEY_CAMERA, 1, 3000), Key(KEY_CAMERA, 0, 3080), Key(KEY_CAMERA, 1, 3400), Key(KEY_CAMERA, 0, 3480)})));
   ExpectJobs(4);
   daemon_->WaitUntilIdle();
   nlohmann::json jobs = daemon_->ListJson()["jobs"];
@@ -140,11 +137,11 @@ TEST_F(InputTriggerDaemonTest, TheDaemonOutlivesTheDeviceAndTakesItBack) {
     ASSERT_TRUE(writer.ok());
     ASSERT_TRUE(writer.Write(Key(KEY_CAMERA, 1, 1000)));
     ExpectJobs(1);
-  }  // the device vanishes (end of file)
-  fs::remove(fifo_);  // and its node with it
-  std::this_thread::sleep_for(200ms);  // several failed reopens
+  }                                                    // the device vanishes (end of file)
+  fs::remove(fifo_);                                   // and its node with it
+  std::this_thread::sleep_for(200ms);                  // several failed reopens
   EXPECT_EQ(Call(R"({"cmd":"status"})")["ok"], true);  // still serving
-  ASSERT_EQ(::mkfifo(fifo_.c_str(), 0600), 0);  // plugged in again
+  ASSERT_EQ(::mkfifo(fifo_.c_str(), 0600), 0);         // plugged in again
   EventWriter writer(EventWriter::OpenWhenRead(fifo_, 5000ms));
   ASSERT_TRUE(writer.ok()) << "the daemon did not reopen the trigger device";
   ASSERT_TRUE(writer.Write(Key(KEY_CAMERA, 1, 60000)));

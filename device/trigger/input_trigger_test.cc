@@ -2,10 +2,9 @@
 // loop's calls (Service) made by hand so every step is deterministic.
 #include "device/trigger/input_trigger.h"
 
+#include <gtest/gtest.h>
 #include <poll.h>
 #include <sys/stat.h>
-
-#include <gtest/gtest.h>
 
 #include "device/trigger/input_trigger_test_util.h"
 #include "tests/testing/temp_dir.h"
@@ -84,7 +83,7 @@ TEST_F(InputTriggerTest, ContactBounceWithinTheDebounceIsOnePress) {
                             Key(KEY_CAMERA, 0, 5090),
                             Key(KEY_CAMERA, 1, 5300),
                             Key(KEY_CAMERA, 0, 5320),
-                            Key(KEY_CAMERA, 1, 5349),    // 49 ms after the last press: bounce
+                            Key(KEY_CAMERA, 1, 5349),  // 49 ms after the last press: bounce
                             Key(KEY_CAMERA, 0, 5349),
                             Key(KEY_CAMERA, 1, 5350)})),  // 50 ms: a press
             3);

@@ -49,9 +49,7 @@ class EventWriter {
   bool Write(const std::vector<input_event>& events) {
     return WriteBytes(reinterpret_cast<const char*>(events.data()), events.size() * sizeof(input_event));
   }
-  bool WriteBytes(const char* data, size_t size) {
-    return ::write(fd_, data, size) == static_cast<ssize_t>(size);
-  }
+  bool WriteBytes(const char* data, size_t size) { return ::write(fd_, data, size) == static_cast<ssize_t>(size); }
   void Close() {
     if (fd_ >= 0) ::close(fd_);
     fd_ = -1;

@@ -58,7 +58,7 @@ StatusOr<JobOutcome> RunRequest(const WorkerRequest& request) {
 int RunJobWorker(pid_t parent) {
   // Die with the daemon: a worker must never outlive it and write a clip nobody journals.
   ::prctl(PR_SET_PDEATHSIG, SIGKILL);
-  if (::getppid() != parent) return 2;  // the daemon died before the line above took effect
+  if (::getppid() != parent) return 2;               // the daemon died before the line above took effect
   std::ofstream("/proc/self/oom_score_adj") << 500;  // best effort: under pressure, the job goes first
   struct sigaction term {};
   term.sa_handler = OnTerm;
@@ -66,9 +66,9 @@ int RunJobWorker(pid_t parent) {
 
   std::string text((std::istreambuf_iterator<char>(std::cin)), std::istreambuf_iterator<char>());
   nlohmann::json j = nlohmann::json::parse(text, nullptr, /*allow_exceptions=*/false);
-  StatusOr<WorkerRequest> request =
-      j.is_discarded() ? StatusOr<WorkerRequest>(InvalidArgumentError("worker request: not JSON"))
-                       : WorkerRequestFromJson(j);
+  StatusOr<WorkerRequest> request = j.is_discarded()
+                                        ? StatusOr<WorkerRequest>(InvalidArgumentError("worker request: not JSON"))
+                                        : WorkerRequestFromJson(j);
   if (!request.ok()) {
     std::cerr << "parallaxd --job-worker: " << request.status().ToString() << "\n";
     return 2;

@@ -129,8 +129,8 @@ class WorkerSupervisor {
     if (context_.worker) context_.worker(pid_);
     Logger("device")->info("job {}: worker {} started", context_.job_id, pid_);
 
-    WorkerRequest request{context_.job_id, context_.capture_dir, context_.clip_path, context_.move, context_.shot,
-                          options_.config};
+    WorkerRequest request{
+        context_.job_id, context_.capture_dir, context_.clip_path, context_.move, context_.shot, options_.config};
     // A worker that dies before reading its request shows as its exit status below.
     (void)WriteToPipe(request_write.get(), WorkerRequestToJson(request).dump() + "\n");
     request_write.Close();
@@ -227,9 +227,8 @@ class WorkerSupervisor {
   StatusOr<JobOutcome> Outcome(int wait_status) const {
     switch (kill_reason_) {
       case KillReason::kCancel:
-        return CancelledError("the worker did not stop within " +
-                              std::to_string(options_.cancel_grace.count() / 1000) + " s of being asked " + During() +
-                              "; killed");
+        return CancelledError("the worker did not stop within " + std::to_string(options_.cancel_grace.count() / 1000) +
+                              " s of being asked " + During() + "; killed");
       case KillReason::kMemory:
         return AbortedError("the worker used " + MegaBytes(resident_) + ", over its limit of " +
                             MegaBytes(options_.memory_limit_bytes) + " (worker.memory_limit_mb), " + During() +
@@ -245,8 +244,7 @@ class WorkerSupervisor {
     }
     if (result_) return *result_;
     const int code = WIFEXITED(wait_status) ? WEXITSTATUS(wait_status) : -1;
-    return AbortedError("the worker exited with code " + std::to_string(code) + " " + During() +
-                        " without a result");
+    return AbortedError("the worker exited with code " + std::to_string(code) + " " + During() + " without a result");
   }
 
   const WorkerRunnerOptions& options_;

@@ -17,10 +17,10 @@
 namespace px::device {
 
 struct WorkerRunnerOptions {
-  std::filesystem::path binary;  // an executable that serves --job-worker (parallaxd)
-  nlohmann::json config;         // the daemon's effective config, handed to each worker
-  uint64_t memory_limit_bytes = 0;      // resident memory at which the worker is killed; 0 = none
-  std::chrono::seconds timeout{900};    // one job, start to result
+  std::filesystem::path binary;       // an executable that serves --job-worker (parallaxd)
+  nlohmann::json config;              // the daemon's effective config, handed to each worker
+  uint64_t memory_limit_bytes = 0;    // resident memory at which the worker is killed; 0 = none
+  std::chrono::seconds timeout{900};  // one job, start to result
   // After asking a worker to stop, how long it has to return CANCELLED before it is killed.
   std::chrono::milliseconds cancel_grace{10000};
 };

@@ -2,9 +2,9 @@
 // in the process shares one, started on first use and stopped when the last lease goes.
 #pragma once
 
-#include <memory>
-
 #include <libcamera/camera_manager.h>
+
+#include <memory>
 
 #include "pipeline/core/status.h"
 

@@ -18,7 +18,8 @@ namespace px::libcamera_driver {
 
 constexpr uint32_t Fourcc(char a, char b, char c, char d) {
   return static_cast<uint32_t>(static_cast<uint8_t>(a)) | (static_cast<uint32_t>(static_cast<uint8_t>(b)) << 8) |
-         (static_cast<uint32_t>(static_cast<uint8_t>(c)) << 16) | (static_cast<uint32_t>(static_cast<uint8_t>(d)) << 24);
+         (static_cast<uint32_t>(static_cast<uint8_t>(c)) << 16) |
+         (static_cast<uint32_t>(static_cast<uint8_t>(d)) << 24);
 }
 
 constexpr uint32_t kFourccRgb888 = Fourcc('R', 'G', '2', '4');  // libcamera RGB888: bytes B, G, R

@@ -1,7 +1,6 @@
 #include "drivers/libcamera/libcamera_formats.h"
 
 #include <gtest/gtest.h>
-
 #include <libcamera/formats.h>
 
 namespace px::libcamera_driver {

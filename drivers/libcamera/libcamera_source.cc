@@ -1,12 +1,5 @@
 #include "drivers/libcamera/libcamera_source.h"
 
-#include <algorithm>
-#include <condition_variable>
-#include <cstring>
-#include <deque>
-#include <map>
-#include <mutex>
-
 #include <libcamera/camera.h>
 #include <libcamera/camera_manager.h>
 #include <libcamera/formats.h>
@@ -14,6 +7,13 @@
 #include <libcamera/framebuffer_allocator.h>
 #include <libcamera/request.h>
 #include <libcamera/stream.h>
+
+#include <algorithm>
+#include <condition_variable>
+#include <cstring>
+#include <deque>
+#include <map>
+#include <mutex>
 
 #include "drivers/libcamera/camera_manager_lease.h"
 #include "drivers/libcamera/libcamera_formats.h"
@@ -188,11 +188,9 @@ StatusOr<ConfigureResult> LibcameraSource::Configure(const SourceConfig& wanted,
   started_ = true;
   configured_ = true;
   *granted = result;
-  Logger("libcamera")->info("{}: configured {} (stride {}, {} buffer(s))",
-                            What(),
-                            stream_config.toString(),
-                            stride_,
-                            requests_.size());
+  Logger("libcamera")
+      ->info(
+          "{}: configured {} (stride {}, {} buffer(s))", What(), stream_config.toString(), stride_, requests_.size());
   return adjusted ? ConfigureResult::kAdjusted : ConfigureResult::kValid;
 }
 
@@ -277,10 +275,11 @@ Frame LibcameraSource::ToFrame(libcamera::Request* request) {
   frame.sequence = metadata.sequence;
   frame.timestamp_ns = static_cast<int64_t>(metadata.timestamp);
   if (metadata.status != libcamera::FrameMetadata::FrameSuccess) {
-    frame.status = metadata.status == libcamera::FrameMetadata::FrameCancelled ? FrameStatus::kDropped
-                                                                              : FrameStatus::kCorrupt;
-    frame.status_detail = What() + ": frame " + std::to_string(metadata.sequence) +
-                          (metadata.status == libcamera::FrameMetadata::FrameCancelled ? " cancelled" : " has an error");
+    frame.status =
+        metadata.status == libcamera::FrameMetadata::FrameCancelled ? FrameStatus::kDropped : FrameStatus::kCorrupt;
+    frame.status_detail =
+        What() + ": frame " + std::to_string(metadata.sequence) +
+        (metadata.status == libcamera::FrameMetadata::FrameCancelled ? " cancelled" : " has an error");
     return frame;
   }
   const std::vector<MappedPlane>& mapped = mappings_.at(buffer);

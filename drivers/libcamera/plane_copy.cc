@@ -26,8 +26,8 @@ StatusOr<std::vector<PackedPlane>> PackedPlanes(PixelFormat format, int width, i
 
 StatusOr<RawImage> CopyPlanes(PixelFormat format, int width, int height, const std::vector<PlaneView>& planes) {
   PX_ASSIGN_OR_RETURN(std::vector<PackedPlane> layout, PackedPlanes(format, width, height));
-  const std::string what = std::string(PixelFormatName(format)) + " " + std::to_string(width) + "x" +
-                           std::to_string(height);
+  const std::string what =
+      std::string(PixelFormatName(format)) + " " + std::to_string(width) + "x" + std::to_string(height);
   std::vector<PlaneView> sources = planes;
   if (layout.size() == 2 && sources.size() == 1) {
     // One buffer holding both planes: UV follows Y's rows at the same stride.
@@ -63,9 +63,9 @@ StatusOr<RawImage> CopyPlanes(PixelFormat format, int width, int height, const s
     // The last row need not carry padding.
     const size_t need = stride * static_cast<size_t>(p.rows - 1) + p.row_bytes;
     if (src.data == nullptr || src.bytes < need) {
-      return DataLossError(what + ": plane " + std::to_string(i) + " has " + std::to_string(src.bytes) +
-                           " bytes, " + std::to_string(p.rows) + " rows of " + std::to_string(p.row_bytes) +
-                           " bytes at stride " + std::to_string(stride) + " need " + std::to_string(need));
+      return DataLossError(what + ": plane " + std::to_string(i) + " has " + std::to_string(src.bytes) + " bytes, " +
+                           std::to_string(p.rows) + " rows of " + std::to_string(p.row_bytes) + " bytes at stride " +
+                           std::to_string(stride) + " need " + std::to_string(need));
     }
     if (stride == p.row_bytes) {
       std::memcpy(out, src.data, need);

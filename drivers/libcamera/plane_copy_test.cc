@@ -2,10 +2,9 @@
 // out: both are fds mapped at an offset) and checks the packed result byte for byte.
 #include "drivers/libcamera/plane_copy.h"
 
+#include <gtest/gtest.h>
 #include <sys/mman.h>
 #include <unistd.h>
-
-#include <gtest/gtest.h>
 
 #include "drivers/libcamera/mapped_plane.h"
 
@@ -32,7 +31,8 @@ std::vector<uint8_t> Pad(const std::vector<uint8_t>& packed, size_t row_bytes, s
   const size_t rows = packed.size() / row_bytes;
   std::vector<uint8_t> out(lead, 0xAA);
   for (size_t r = 0; r < rows; ++r) {
-    out.insert(out.end(), packed.begin() + static_cast<long>(r * row_bytes),
+    out.insert(out.end(),
+               packed.begin() + static_cast<long>(r * row_bytes),
                packed.begin() + static_cast<long>((r + 1) * row_bytes));
     out.insert(out.end(), stride - row_bytes, 0xEE);
   }
@@ -85,7 +85,9 @@ TEST(PlaneCopy, Nv12AsTwoPlanesOfOneFd) {
   auto y_map = MappedPlane::Map(memfd.fd(), 0, stride * height);
   auto uv_map = MappedPlane::Map(memfd.fd(), uv_offset, stride * height / 2);
   ASSERT_TRUE(y_map.ok() && uv_map.ok());
-  auto image = CopyPlanes(PixelFormat::kNv12, width, height,
+  auto image = CopyPlanes(PixelFormat::kNv12,
+                          width,
+                          height,
                           {{y_map->data(), y_map->length(), stride}, {uv_map->data(), uv_map->length(), stride}});
   ASSERT_TRUE(image.ok()) << image.status().ToString();
   std::vector<uint8_t> want = y;

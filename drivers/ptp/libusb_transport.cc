@@ -18,8 +18,13 @@ constexpr uint8_t kStillImageProtocol = 1;
 
 std::string DeviceLabel(libusb_device* device, const libusb_device_descriptor& descriptor) {
   char text[64];
-  std::snprintf(text, sizeof(text), "usb %03d/%03d (%04x:%04x)", libusb_get_bus_number(device),
-                libusb_get_device_address(device), descriptor.idVendor, descriptor.idProduct);
+  std::snprintf(text,
+                sizeof(text),
+                "usb %03d/%03d (%04x:%04x)",
+                libusb_get_bus_number(device),
+                libusb_get_device_address(device),
+                descriptor.idVendor,
+                descriptor.idProduct);
   return text;
 }
 
@@ -38,21 +43,27 @@ std::string WhyBusy() {
 
 std::string WhyAccess() {
   return "the USB device node is not writable by this user (run as root or install a udev rule giving access, "
-         "e.g. libgphoto2's 'camera' rules), or " + WhyBusy();
+         "e.g. libgphoto2's 'camera' rules), or " +
+         WhyBusy();
 }
 
 Status UsbStatus(int error, const std::string& where) {
   const std::string name = libusb_error_name(error);
   switch (error) {
-    case LIBUSB_ERROR_TIMEOUT: return DeadlineExceededError(where + ": timed out (" + name + ")");
+    case LIBUSB_ERROR_TIMEOUT:
+      return DeadlineExceededError(where + ": timed out (" + name + ")");
     case LIBUSB_ERROR_NO_DEVICE:
       return UnavailableError(where + ": the camera has been disconnected (" + name + ")");
-    case LIBUSB_ERROR_BUSY: return FailedPreconditionError(where + ": " + name + ": " + WhyBusy());
-    case LIBUSB_ERROR_ACCESS: return FailedPreconditionError(where + ": " + name + ": " + WhyAccess());
+    case LIBUSB_ERROR_BUSY:
+      return FailedPreconditionError(where + ": " + name + ": " + WhyBusy());
+    case LIBUSB_ERROR_ACCESS:
+      return FailedPreconditionError(where + ": " + name + ": " + WhyAccess());
     case LIBUSB_ERROR_OVERFLOW:
       return DataLossError(where + ": the camera sent more than was asked for (" + name + ")");
-    case LIBUSB_ERROR_PIPE: return DataLossError(where + ": the endpoint stalled (" + name + ")");
-    default: return InternalError(where + ": " + name);
+    case LIBUSB_ERROR_PIPE:
+      return DataLossError(where + ": the endpoint stalled (" + name + ")");
+    default:
+      return InternalError(where + ": " + name);
   }
 }
 
@@ -109,8 +120,8 @@ unsigned int TimeoutMs(milliseconds timeout) {
 
 class LibusbTransport final : public PtpTransport {
  public:
-  LibusbTransport(libusb_context* context, libusb_device_handle* handle, Endpoints endpoints, std::string name,
-                  bool reattach)
+  LibusbTransport(
+      libusb_context* context, libusb_device_handle* handle, Endpoints endpoints, std::string name, bool reattach)
       : context_(context), handle_(handle), endpoints_(endpoints), name_(std::move(name)), reattach_(reattach) {}
 
   ~LibusbTransport() override {
@@ -125,8 +136,12 @@ class LibusbTransport final : public PtpTransport {
 
   Status BulkOut(std::span<const uint8_t> bytes, milliseconds timeout) override {
     int sent = 0;
-    const int r = libusb_bulk_transfer(handle_, endpoints_.bulk_out, const_cast<uint8_t*>(bytes.data()),
-                                       static_cast<int>(bytes.size()), &sent, TimeoutMs(timeout));
+    const int r = libusb_bulk_transfer(handle_,
+                                       endpoints_.bulk_out,
+                                       const_cast<uint8_t*>(bytes.data()),
+                                       static_cast<int>(bytes.size()),
+                                       &sent,
+                                       TimeoutMs(timeout));
     if (r != 0) return UsbStatus(r, name_ + " bulk-out");
     if (static_cast<size_t>(sent) != bytes.size()) {
       return DataLossError(name_ + " bulk-out: sent " + std::to_string(sent) + " of " + std::to_string(bytes.size()) +
@@ -146,8 +161,8 @@ class LibusbTransport final : public PtpTransport {
  private:
   using TransferFn = int (*)(libusb_device_handle*, unsigned char, unsigned char*, int, int*, unsigned int);
 
-  StatusOr<std::vector<uint8_t>> In(uint8_t endpoint, size_t max_bytes, milliseconds timeout, const char* pipe,
-                                    TransferFn transfer) {
+  StatusOr<std::vector<uint8_t>> In(
+      uint8_t endpoint, size_t max_bytes, milliseconds timeout, const char* pipe, TransferFn transfer) {
     std::vector<uint8_t> bytes(max_bytes);
     int got = 0;
     const int r = transfer(handle_, endpoint, bytes.data(), static_cast<int>(bytes.size()), &got, TimeoutMs(timeout));
@@ -242,8 +257,12 @@ StatusOr<std::unique_ptr<PtpTransport>> OpenLibusbTransport(const LibusbTranspor
   if (int r = libusb_claim_interface(handle, endpoints.interface_number); r != 0) {
     return fail(r, "claiming");
   }
-  Logger("ptp")->info("{}: claimed interface {} (bulk in 0x{:02x}, out 0x{:02x}, interrupt 0x{:02x})", name,
-                      endpoints.interface_number, endpoints.bulk_in, endpoints.bulk_out, endpoints.interrupt_in);
+  Logger("ptp")->info("{}: claimed interface {} (bulk in 0x{:02x}, out 0x{:02x}, interrupt 0x{:02x})",
+                      name,
+                      endpoints.interface_number,
+                      endpoints.bulk_in,
+                      endpoints.bulk_out,
+                      endpoints.interrupt_in);
   return std::unique_ptr<PtpTransport>(std::make_unique<LibusbTransport>(context, handle, endpoints, name, reattach));
 }
 

@@ -6,10 +6,14 @@ namespace px::ptp {
 
 std::string ContainerTypeName(ContainerType type) {
   switch (type) {
-    case ContainerType::kCommand: return "command";
-    case ContainerType::kData: return "data";
-    case ContainerType::kResponse: return "response";
-    case ContainerType::kEvent: return "event";
+    case ContainerType::kCommand:
+      return "command";
+    case ContainerType::kData:
+      return "data";
+    case ContainerType::kResponse:
+      return "response";
+    case ContainerType::kEvent:
+      return "event";
   }
   return "type " + std::to_string(static_cast<int>(type));
 }
@@ -22,11 +26,12 @@ StatusOr<std::vector<uint8_t>> EncodeContainer(const Container& container) {
                                 std::to_string(container.params.size()));
   }
   if (!is_data && !container.payload.empty()) {
-    return InvalidArgumentError("PTP " + ContainerTypeName(container.type) + " container: payload bytes are only for data containers");
+    return InvalidArgumentError("PTP " + ContainerTypeName(container.type) +
+                                " container: payload bytes are only for data containers");
   }
   if (container.params.size() > max_params) {
-    return InvalidArgumentError("PTP " + ContainerTypeName(container.type) + " container: " +
-                                std::to_string(container.params.size()) + " parameters, at most " +
+    return InvalidArgumentError("PTP " + ContainerTypeName(container.type) +
+                                " container: " + std::to_string(container.params.size()) + " parameters, at most " +
                                 std::to_string(max_params));
   }
   const size_t length = kContainerHeaderBytes + 4 * container.params.size() + container.payload.size();

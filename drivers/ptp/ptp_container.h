@@ -30,8 +30,8 @@ struct Container {
   ContainerType type = ContainerType::kCommand;
   uint16_t code = 0;
   uint32_t transaction_id = 0;
-  std::vector<uint32_t> params;   // command, response, event
-  std::vector<uint8_t> payload;   // data
+  std::vector<uint32_t> params;  // command, response, event
+  std::vector<uint8_t> payload;  // data
 
   friend bool operator==(const Container&, const Container&) = default;
 };

@@ -36,14 +36,20 @@ Status SessionOptions::Validate() const {
 StatusCode ResponseStatusCode(uint16_t response_code) {
   switch (response_code) {
     case rc::kDeviceBusy:
-    case rc::kStoreNotAvailable: return StatusCode::kUnavailable;
-    case rc::kStoreFull: return StatusCode::kResourceExhausted;
-    case rc::kOperationNotSupported: return StatusCode::kUnimplemented;
-    case rc::kInvalidObjectHandle: return StatusCode::kNotFound;
+    case rc::kStoreNotAvailable:
+      return StatusCode::kUnavailable;
+    case rc::kStoreFull:
+      return StatusCode::kResourceExhausted;
+    case rc::kOperationNotSupported:
+      return StatusCode::kUnimplemented;
+    case rc::kInvalidObjectHandle:
+      return StatusCode::kNotFound;
     case rc::kParameterNotSupported:
     case rc::kInvalidParameter:
-    case rc::kInvalidStorageId: return StatusCode::kInvalidArgument;
-    default: return StatusCode::kFailedPrecondition;
+    case rc::kInvalidStorageId:
+      return StatusCode::kInvalidArgument;
+    default:
+      return StatusCode::kFailedPrecondition;
   }
 }
 
@@ -102,7 +108,8 @@ StatusOr<std::vector<uint8_t>> PtpSession::ReadContainerBytes(const std::string&
   return bytes;
 }
 
-StatusOr<PtpSession::Result> PtpSession::TransactOnce(uint16_t operation, const std::vector<uint32_t>& params,
+StatusOr<PtpSession::Result> PtpSession::TransactOnce(uint16_t operation,
+                                                      const std::vector<uint32_t>& params,
                                                       bool data_in) {
   const std::string where = Where(operation);
   if (device_gone_) return UnavailableError(where + ": the camera has been disconnected");

@@ -37,8 +37,8 @@ class PtpSession {
 
   struct Result {
     Container response;
-    std::vector<uint8_t> data;   // the data-in phase's payload, if there was one
-    int data_transfers = 0;      // bulk-in transfers the data phase took
+    std::vector<uint8_t> data;  // the data-in phase's payload, if there was one
+    int data_transfers = 0;     // bulk-in transfers the data phase took
   };
 
   // One transaction. `data_in`: the operation has a data-in phase. Retries DeviceBusy.

@@ -2,9 +2,8 @@
 
 #include <algorithm>
 #include <cstdio>
-#include <optional>
-
 #include <opencv2/imgproc.hpp>
+#include <optional>
 
 #include "pipeline/core/exif.h"
 #include "pipeline/core/image_file.h"
@@ -42,9 +41,9 @@ class PtpSource final : public FrameSource {
 
   SourceDescription Describe() const override {
     SourceDescription description;
-    description.model = "ptp:" + (device_info_ ? device_info_->manufacturer + " " + device_info_->model + " (" +
-                                                     device_name_ + ")"
-                                               : options_.label);
+    description.model =
+        "ptp:" + (device_info_ ? device_info_->manufacturer + " " + device_info_->model + " (" + device_name_ + ")"
+                               : options_.label);
     description.kind = FrameSetKind::kImageSet;
     description.rig = std::nullopt;  // hand-held: the poses are unknown until the pipeline solves them
     return description;
@@ -129,8 +128,7 @@ class PtpSource final : public FrameSource {
     for (uint16_t needed : {op::kOpenSession, op::kInitiateCapture, op::kGetObjectInfo, op::kGetObject}) {
       if (!info.SupportsOperation(needed)) {
         return UnimplementedError("ptp camera " + info.manufacturer + " " + info.model + " (" + device_name_ +
-                                  ") does not support " + OperationName(needed) +
-                                  ", which remote capture needs");
+                                  ") does not support " + OperationName(needed) + ", which remote capture needs");
       }
     }
     PX_RETURN_IF_ERROR(session->OpenSession());
@@ -143,15 +141,20 @@ class PtpSource final : public FrameSource {
         native_width_ = size->first;
         native_height_ = size->second;
       } else {
-        Logger("ptp")->warn("{}: ImageSize unreadable ({}); frames take whatever size the camera sends", device_name_,
+        Logger("ptp")->warn("{}: ImageSize unreadable ({}); frames take whatever size the camera sends",
+                            device_name_,
                             size_text.ok() ? "'" + *size_text + "'" : size_text.status().ToString());
       }
     }
     supports_capture_complete_ =
         std::find(info.events_supported.begin(), info.events_supported.end(), ev::kCaptureComplete) !=
         info.events_supported.end();
-    Logger("ptp")->info("{}: {} {} connected, image size {}x{}", device_name_, info.manufacturer, info.model,
-                        native_width_, native_height_);
+    Logger("ptp")->info("{}: {} {} connected, image size {}x{}",
+                        device_name_,
+                        info.manufacturer,
+                        info.model,
+                        native_width_,
+                        native_height_);
     device_info_ = std::move(info);
     session_ = std::move(session);
     return OkStatus();
@@ -174,8 +177,8 @@ class PtpSource final : public FrameSource {
         return complete.status().WithContext(what);
       }
       if (complete.ok() && !complete->params.empty() && complete->params[0] != transaction) {
-        Logger("ptp")->debug("{}: CaptureComplete for transaction {}, want {}", device_name_, complete->params[0],
-                             transaction);
+        Logger("ptp")->debug(
+            "{}: CaptureComplete for transaction {}, want {}", device_name_, complete->params[0], transaction);
       }
     }
     PX_ASSIGN_OR_RETURN(ObjectInfo info, session_->GetObjectInfo(handle));
@@ -186,12 +189,12 @@ class PtpSource final : public FrameSource {
         Logger("ptp")->warn("{}: {}", device_name_, deleted.ToString());
       }
     }
-    const std::string object = "object " + std::to_string(handle) + " (" + info.filename + ", " +
-                               std::to_string(jpeg.size()) + " bytes)";
+    const std::string object =
+        "object " + std::to_string(handle) + " (" + info.filename + ", " + std::to_string(jpeg.size()) + " bytes)";
     if (info.object_compressed_size != 0 && info.object_compressed_size != jpeg.size()) {
       frame->status = FrameStatus::kCorrupt;
-      frame->status_detail = what + ": " + object + ": ObjectInfo announced " +
-                             std::to_string(info.object_compressed_size) + " bytes";
+      frame->status_detail =
+          what + ": " + object + ": ObjectInfo announced " + std::to_string(info.object_compressed_size) + " bytes";
       return OkStatus();
     }
     // The camera's bytes are not trusted: the size their header claims is checked before decoding.
@@ -208,7 +211,10 @@ class PtpSource final : public FrameSource {
     if (StatusOr<ExifInfo> exif = ParseJpegExif(jpeg); exif.ok()) {
       frame->focal_length_px = exif->FocalPx(bgr.cols, bgr.rows, &frame->focal_length_source);
     } else {
-      Logger("ptp")->warn("{}: {}: {}: {}; its focal length will be self-calibrated", device_name_, what, object,
+      Logger("ptp")->warn("{}: {}: {}: {}; its focal length will be self-calibrated",
+                          device_name_,
+                          what,
+                          object,
                           exif.status().ToString());
     }
     if (granted_.pixel_format == PixelFormat::kRgb888) cv::cvtColor(bgr, bgr, cv::COLOR_BGR2RGB);

@@ -28,8 +28,8 @@ inline constexpr int kPtpMaxShots = 15;
 struct PtpSourceOptions {
   // Opens the camera (a fresh transport each time Configure connects after Stop or a loss).
   std::function<StatusOr<std::unique_ptr<ptp::PtpTransport>>()> open_transport;
-  std::string label = "camera";                    // names the camera before it is connected
-  std::chrono::milliseconds shot_timeout{10000};   // InitiateCapture to ObjectAdded, (0, 600000]
+  std::string label = "camera";                   // names the camera before it is connected
+  std::chrono::milliseconds shot_timeout{10000};  // InitiateCapture to ObjectAdded, (0, 600000]
   ptp::SessionOptions session;
   bool delete_after_download = true;  // DeleteObject after GetObject, so the card does not fill
   Clock* clock = nullptr;             // frame timestamps; nullptr = a SteadyClock

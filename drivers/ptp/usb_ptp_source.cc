@@ -21,9 +21,9 @@ StatusOr<std::unique_ptr<FrameSource>> OpenUsbPtpSource(const UsbPtpSourceOption
   PX_ASSIGN_OR_RETURN(usb.vendor_id, ParseUsbId(options.vendor_id, "vendor_id"));
   PX_ASSIGN_OR_RETURN(usb.product_id, ParseUsbId(options.product_id, "product_id"));
   PtpSourceOptions source;
-  source.label = options.vendor_id.empty() ? "usb (first PTP camera)"
-                                           : "usb " + options.vendor_id + ":" +
-                                                 (options.product_id.empty() ? "*" : options.product_id);
+  source.label = options.vendor_id.empty()
+                     ? "usb (first PTP camera)"
+                     : "usb " + options.vendor_id + ":" + (options.product_id.empty() ? "*" : options.product_id);
   source.shot_timeout = options.shot_timeout;
   source.open_transport = [usb] { return ptp::OpenLibusbTransport(usb); };
   return MakePtpSource(std::move(source));

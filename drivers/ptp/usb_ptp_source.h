@@ -12,8 +12,8 @@
 namespace px {
 
 struct UsbPtpSourceOptions {
-  std::string vendor_id;   // 4 hex digits ("04a9"); "" = any vendor (the first PTP camera)
-  std::string product_id;  // 4 hex digits; "" = any product
+  std::string vendor_id;                          // 4 hex digits ("04a9"); "" = any vendor (the first PTP camera)
+  std::string product_id;                         // 4 hex digits; "" = any product
   std::chrono::milliseconds shot_timeout{10000};  // InitiateCapture until ObjectAdded
 };
 

@@ -28,8 +28,8 @@ Status CheckFrameSet(const SourceConfig& granted, FrameSet* frames) {
       continue;
     }
     const RawImage& image = frame.image;
-    const bool size_ok = (granted.width == 0 || image.width == granted.width) &&
-                         (granted.height == 0 || image.height == granted.height);
+    const bool size_ok =
+        (granted.width == 0 || image.width == granted.width) && (granted.height == 0 || image.height == granted.height);
     if (image.format != granted.pixel_format || !size_ok) {
       frame.status = FrameStatus::kWrongFormat;
       frame.status_detail = "got " + std::to_string(image.width) + "x" + std::to_string(image.height) + " " +

@@ -14,9 +14,9 @@ namespace px {
 
 struct SourceConfig {
   PixelFormat pixel_format = PixelFormat::kBgr888;
-  int width = 0;    // sensor frame (lattice) or per-image (image set) size; 0 = the source's native size
+  int width = 0;  // sensor frame (lattice) or per-image (image set) size; 0 = the source's native size
   int height = 0;
-  int shots = 1;    // images per frame set for image-set sources (hand-held: 2..15); 1 for a lattice sensor
+  int shots = 1;  // images per frame set for image-set sources (hand-held: 2..15); 1 for a lattice sensor
 
   friend bool operator==(const SourceConfig&, const SourceConfig&) = default;
 };
@@ -24,9 +24,9 @@ struct SourceConfig {
 std::string DescribeConfig(const SourceConfig& config);  // "SRGGB8 1944x1464 x1"
 
 struct SourceDescription {
-  std::string model;                 // "sim:pop9", "replay:/path", "v4l2:/dev/video0"
+  std::string model;  // "sim:pop9", "replay:/path", "v4l2:/dev/video0"
   FrameSetKind kind = FrameSetKind::kLatticeFrame;
-  std::optional<RigCalibration> rig; // the factory calibration, when the source knows it
+  std::optional<RigCalibration> rig;  // the factory calibration, when the source knows it
   // A lattice frame without a rig calibration: what is known of its lattice (a lattice photo's
   // upright tiles, the count the user gave), for finding it blind.
   std::optional<LatticeHint> lattice;

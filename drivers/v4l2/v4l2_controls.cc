@@ -95,16 +95,16 @@ Status Set(int fd, const std::string& device, ControlState* state, int32_t value
 
 void NoteAbsent(const std::string& device, ControlState* state, int32_t wanted) {
   state->note = "absent: " + state->name + " " + std::to_string(wanted) + " not applied";
-  Logger("v4l2")->warn("v4l2:{}: no {} control ({}); {} {} not applied", device, state->name, CidName(state->id),
-                       state->name, wanted);
+  Logger("v4l2")->warn(
+      "v4l2:{}: no {} control ({}); {} {} not applied", device, state->name, CidName(state->id), state->name, wanted);
 }
 
 }  // namespace
 
 std::string ControlState::ToString() const {
   if (!present) return name + ": " + (note.empty() ? "absent" : note);
-  std::string text = name + "=" + std::to_string(value) + " [" + std::to_string(minimum) + ", " +
-                     std::to_string(maximum) + "]";
+  std::string text =
+      name + "=" + std::to_string(value) + " [" + std::to_string(minimum) + ", " + std::to_string(maximum) + "]";
   if (!note.empty()) text += " (" + note + ")";
   return text;
 }
@@ -133,7 +133,8 @@ StatusOr<std::vector<ControlState>> ApplyControls(int fd, const std::string& dev
   if (settings.exposure) want_auto = false;
   if (want_auto) {
     if (!auto_exposure.present) {
-      if (settings.auto_exposure) NoteAbsent(device, &auto_exposure, *want_auto ? V4L2_EXPOSURE_AUTO : V4L2_EXPOSURE_MANUAL);
+      if (settings.auto_exposure)
+        NoteAbsent(device, &auto_exposure, *want_auto ? V4L2_EXPOSURE_AUTO : V4L2_EXPOSURE_MANUAL);
     } else if (!*want_auto) {
       PX_RETURN_IF_ERROR(Set(fd, device, &auto_exposure, V4L2_EXPOSURE_MANUAL));
     } else {

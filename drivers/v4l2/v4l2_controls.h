@@ -26,8 +26,8 @@ struct ControlState {
   bool present = false;  // false: the device has no such control (or it is disabled)
   bool read_only = false;
   int32_t minimum = 0, maximum = 0, step = 0, default_value = 0;
-  int32_t value = 0;     // read back with G_CTRL
-  std::string note;      // "set to 300", "absent: exposure 300 not applied", "inactive"
+  int32_t value = 0;  // read back with G_CTRL
+  std::string note;   // "set to 300", "absent: exposure 300 not applied", "inactive"
 
   std::string ToString() const;  // "exposure=300 [1, 5000] (set to 300)", "gain: absent"
 };

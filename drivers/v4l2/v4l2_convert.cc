@@ -3,16 +3,14 @@
 #include <linux/videodev2.h>
 
 #include <cstring>
-
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
 #include "drivers/v4l2/v4l2_formats.h"
+#include "pipeline/core/size_text.h"
 
 namespace px::v4l2 {
 namespace {
-
-std::string SizeText(int width, int height) { return std::to_string(width) + "x" + std::to_string(height); }
 
 // Bytes of pixel data in one row of the first plane.
 size_t RowBytes(uint32_t fourcc, int width) {
@@ -99,8 +97,9 @@ Converted ConvertBuffer(const uint8_t* data, size_t bytes_used, const BufferLayo
   }
   const size_t needed = MinimumFrameBytes(layout);
   if (bytes_used < needed) {
-    result.problem = "short buffer: " + std::to_string(bytes_used) + " bytes, a " + SizeText(layout.width, layout.height) +
-                     " " + FourccName(layout.fourcc) + " frame needs " + std::to_string(needed);
+    result.problem = "short buffer: " + std::to_string(bytes_used) + " bytes, a " +
+                     SizeText(layout.width, layout.height) + " " + FourccName(layout.fourcc) + " frame needs " +
+                     std::to_string(needed);
     return result;
   }
   const size_t row_bytes = RowBytes(layout.fourcc, layout.width);

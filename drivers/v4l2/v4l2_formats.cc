@@ -6,6 +6,7 @@
 #include <cctype>
 
 #include "drivers/v4l2/v4l2_io.h"
+#include "pipeline/core/size_text.h"
 
 namespace px::v4l2 {
 namespace {
@@ -16,12 +17,13 @@ struct FourccMapping {
 };
 
 constexpr FourccMapping kMappings[] = {
-    {PixelFormat::kRgb888, V4L2_PIX_FMT_RGB24},  {PixelFormat::kBgr888, V4L2_PIX_FMT_BGR24},
-    {PixelFormat::kGray8, V4L2_PIX_FMT_GREY},    {PixelFormat::kYuyv, V4L2_PIX_FMT_YUYV},
-    {PixelFormat::kNv12, V4L2_PIX_FMT_NV12},     {PixelFormat::kBayerRggb8, V4L2_PIX_FMT_SRGGB8},
+    {PixelFormat::kRgb888, V4L2_PIX_FMT_RGB24},
+    {PixelFormat::kBgr888, V4L2_PIX_FMT_BGR24},
+    {PixelFormat::kGray8, V4L2_PIX_FMT_GREY},
+    {PixelFormat::kYuyv, V4L2_PIX_FMT_YUYV},
+    {PixelFormat::kNv12, V4L2_PIX_FMT_NV12},
+    {PixelFormat::kBayerRggb8, V4L2_PIX_FMT_SRGGB8},
 };
-
-std::string SizeText(const FrameSize& size) { return std::to_string(size.width) + "x" + std::to_string(size.height); }
 
 // Fills the sizes of one format; devices that cannot enumerate sizes are left without.
 Status EnumerateSizes(int fd, const std::string& device, DeviceFormat* format) {
@@ -88,10 +90,10 @@ std::string DriverFourccList() {
 std::string DeviceFormat::ToString() const {
   std::string text = FourccName(fourcc);
   if (!sizes.empty()) {
-    for (size_t i = 0; i < sizes.size(); ++i) text += (i == 0 ? " " : ",") + SizeText(sizes[i]);
+    for (size_t i = 0; i < sizes.size(); ++i) text += (i == 0 ? " " : ",") + SizeText(sizes[i].width, sizes[i].height);
   } else if (min_size && max_size) {
-    text += " " + SizeText(*min_size) + ".." + SizeText(*max_size) + "/" + std::to_string(step_width) + "x" +
-            std::to_string(step_height);
+    text += " " + SizeText(min_size->width, min_size->height) + ".." + SizeText(max_size->width, max_size->height) +
+            "/" + std::to_string(step_width) + "x" + std::to_string(step_height);
   } else {
     text += " (sizes not listed)";
   }

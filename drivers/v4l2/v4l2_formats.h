@@ -32,9 +32,9 @@ struct FrameSize {
 // One VIDIOC_ENUM_FMT entry with its VIDIOC_ENUM_FRAMESIZES answer.
 struct DeviceFormat {
   uint32_t fourcc = 0;
-  std::string description;       // the driver's text, e.g. "YUYV 4:2:2"
-  bool compressed = false;       // V4L2_FMT_FLAG_COMPRESSED
-  std::vector<FrameSize> sizes;  // discrete sizes, largest first; empty when stepwise or not enumerable
+  std::string description;                      // the driver's text, e.g. "YUYV 4:2:2"
+  bool compressed = false;                      // V4L2_FMT_FLAG_COMPRESSED
+  std::vector<FrameSize> sizes;                 // discrete sizes, largest first; empty when stepwise or not enumerable
   std::optional<FrameSize> min_size, max_size;  // stepwise or continuous ranges
   int step_width = 0, step_height = 0;
 

@@ -12,14 +12,13 @@
 #include "pipeline/core/durable_file.h"
 #include "pipeline/core/log.h"
 #include "pipeline/core/rig_calibration_json.h"
+#include "pipeline/core/size_text.h"
 
 namespace px {
 namespace {
 
 using std::chrono::milliseconds;
 using std::chrono::steady_clock;
-
-std::string SizeText(int width, int height) { return std::to_string(width) + "x" + std::to_string(height); }
 
 bool IsRgbOrBgr(PixelFormat format) { return format == PixelFormat::kRgb888 || format == PixelFormat::kBgr888; }
 
@@ -104,12 +103,16 @@ StatusOr<V4l2Source::Plan> V4l2Source::ChoosePlan(PixelFormat wanted,
                                                   const std::vector<v4l2::DeviceFormat>& formats) const {
   std::vector<Plan> candidates = {{v4l2::FourccFor(wanted), wanted}};
   if (IsRgbOrBgr(wanted)) {
-    candidates.push_back({v4l2::FourccFor(wanted == PixelFormat::kRgb888 ? PixelFormat::kBgr888 : PixelFormat::kRgb888),
-                          wanted});
+    candidates.push_back(
+        {v4l2::FourccFor(wanted == PixelFormat::kRgb888 ? PixelFormat::kBgr888 : PixelFormat::kRgb888), wanted});
     candidates.push_back({V4L2_PIX_FMT_MJPEG, wanted});
   }
-  for (PixelFormat fallback : {PixelFormat::kBgr888, PixelFormat::kRgb888, PixelFormat::kYuyv, PixelFormat::kNv12,
-                               PixelFormat::kBayerRggb8, PixelFormat::kGray8}) {
+  for (PixelFormat fallback : {PixelFormat::kBgr888,
+                               PixelFormat::kRgb888,
+                               PixelFormat::kYuyv,
+                               PixelFormat::kNv12,
+                               PixelFormat::kBayerRggb8,
+                               PixelFormat::kGray8}) {
     candidates.push_back({v4l2::FourccFor(fallback), fallback});
   }
   candidates.push_back({V4L2_PIX_FMT_MJPEG, PixelFormat::kBgr888});
@@ -127,7 +130,8 @@ StatusOr<V4l2Source::Plan> V4l2Source::ChoosePlan(PixelFormat wanted,
     try_format.fmt.pix.pixelformat = plan.fourcc;
     try_format.fmt.pix.field = V4L2_FIELD_NONE;
     if (v4l2::Ioctl(fd_.get(), VIDIOC_TRY_FMT, &try_format) != 0) {
-      if (errno != ENOTTY) return v4l2::ErrnoStatus(options_.device, "VIDIOC_TRY_FMT " + v4l2::FourccName(plan.fourcc), errno);
+      if (errno != ENOTTY)
+        return v4l2::ErrnoStatus(options_.device, "VIDIOC_TRY_FMT " + v4l2::FourccName(plan.fourcc), errno);
       return plan;  // TRY_FMT is optional; S_FMT will tell
     }
     if (try_format.fmt.pix.pixelformat == plan.fourcc) return plan;
@@ -164,8 +168,9 @@ Status V4l2Source::SetFormat(const Plan& plan, v4l2::FrameSize size) {
   format.fmt.pix.pixelformat = plan.fourcc;
   format.fmt.pix.field = V4L2_FIELD_NONE;
   if (v4l2::Ioctl(fd_.get(), VIDIOC_S_FMT, &format) != 0) {
-    return v4l2::ErrnoStatus(options_.device, "VIDIOC_S_FMT " + v4l2::FourccName(plan.fourcc) + " " +
-                                                  SizeText(size.width, size.height), errno);
+    return v4l2::ErrnoStatus(options_.device,
+                             "VIDIOC_S_FMT " + v4l2::FourccName(plan.fourcc) + " " + SizeText(size.width, size.height),
+                             errno);
   }
   const v4l2_pix_format& pix = format.fmt.pix;
   output_format_ = plan.output;
@@ -300,9 +305,16 @@ StatusOr<ConfigureResult> V4l2Source::Configure(const SourceConfig& wanted, Sour
                         (wanted.height > 0 && wanted.height != layout_.height) || wanted.shots != 1;
   std::string control_text;
   for (const auto& control : controls_) control_text += ", " + control.ToString();
-  Logger("v4l2")->info("{} ({}, {}): streaming {} {} (stride {}) as {}, {} buffers{}{}", model_, info_.name,
-                       info_.driver, v4l2::FourccName(layout_.fourcc), SizeText(layout_.width, layout_.height),
-                       layout_.bytes_per_line, PixelFormatName(output_format_), buffers_.size(), control_text,
+  Logger("v4l2")->info("{} ({}, {}): streaming {} {} (stride {}) as {}, {} buffers{}{}",
+                       model_,
+                       info_.name,
+                       info_.driver,
+                       v4l2::FourccName(layout_.fourcc),
+                       SizeText(layout_.width, layout_.height),
+                       layout_.bytes_per_line,
+                       PixelFormatName(output_format_),
+                       buffers_.size(),
+                       control_text,
                        adjusted ? "; adjusted from " + DescribeConfig(wanted) : "");
   return adjusted ? ConfigureResult::kAdjusted : ConfigureResult::kValid;
 }
@@ -337,8 +349,8 @@ Frame V4l2Source::ToFrame(const v4l2_buffer& buffer) {
   frame.image.height = layout_.height;
   if (buffer.index >= buffers_.size()) {
     frame.status = FrameStatus::kCorrupt;
-    frame.status_detail = "the driver returned buffer " + std::to_string(buffer.index) + " of " +
-                          std::to_string(buffers_.size());
+    frame.status_detail =
+        "the driver returned buffer " + std::to_string(buffer.index) + " of " + std::to_string(buffers_.size());
     return frame;
   }
   if (buffer.flags & V4L2_BUF_FLAG_ERROR) {
@@ -361,7 +373,8 @@ Frame V4l2Source::ToFrame(const v4l2_buffer& buffer) {
 
 StatusOr<FrameSet> V4l2Source::Next(milliseconds timeout) {
   if (!vanished_.ok()) return vanished_;
-  if (!configured_) return FailedPreconditionError(model_ + ": not configured (call Configure first, again after Stop)");
+  if (!configured_)
+    return FailedPreconditionError(model_ + ": not configured (call Configure first, again after Stop)");
   PX_RETURN_IF_ERROR(DropStaleFrames());
 
   const auto deadline = steady_clock::now() + timeout;

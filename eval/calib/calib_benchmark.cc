@@ -66,9 +66,13 @@ void BM_HandHeldSfm(benchmark::State& state, const char* set) {
   state.counters["images"] = static_cast<double>(input.size());
 }
 BENCHMARK_CAPTURE(BM_HandHeldSfm, frenchpress_4views, "kpankov_frenchpress_4views")
-    ->Unit(benchmark::kMillisecond)->UseRealTime()->Iterations(2);
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime()
+    ->Iterations(2);
 BENCHMARK_CAPTURE(BM_HandHeldSfm, office_4views, "kpankov_office_4views")
-    ->Unit(benchmark::kMillisecond)->UseRealTime()->Iterations(2);
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime()
+    ->Iterations(2);
 
 }  // namespace
 }  // namespace px::eval

@@ -24,8 +24,10 @@ double MsSince(Clock::time_point start) {
 }
 
 // Fills the error figures of `row` from estimated and reference poses (and focal lengths).
-Status SetErrors(const std::vector<Rigid3>& estimated, const std::vector<Rigid3>& reference,
-                 const std::vector<double>& estimated_focal, const std::vector<double>& reference_focal,
+Status SetErrors(const std::vector<Rigid3>& estimated,
+                 const std::vector<Rigid3>& reference,
+                 const std::vector<double>& estimated_focal,
+                 const std::vector<double>& reference_focal,
                  CalibEvalRow* row) {
   if (estimated.size() < 2) return OkStatus();
   PX_ASSIGN_OR_RETURN(PoseErrors errors, ComparePoses(estimated, reference, estimated_focal, reference_focal));
@@ -104,28 +106,42 @@ StatusOr<std::vector<CalibEvalRow>> EvalOneFolder(const fs::path& dir, const Eva
     // loader's reference, which derives them from the same file.
     say("central 3x3, focal and lens shifts from parameters.cfg");
     PX_ASSIGN_OR_RETURN(CalibEvalRow metadata_row,
-                        EvalStructureFromMotion(name + " 3x3", "sfm, intrinsics from metadata",
-                                                HciMetadataImages(field, grid), PosesOf(grid), FocalsOf(grid), "exact",
+                        EvalStructureFromMotion(name + " 3x3",
+                                                "sfm, intrinsics from metadata",
+                                                HciMetadataImages(field, grid),
+                                                PosesOf(grid),
+                                                FocalsOf(grid),
+                                                "exact",
                                                 ExactIntrinsicsSfm()));
     rows.push_back(metadata_row);
     say("central 3x3, self-calibrated");
-    PX_ASSIGN_OR_RETURN(CalibEvalRow row, EvalStructureFromMotion(name + " 3x3", "sfm, self-calibrated",
-                                                                  ImagesOf(grid, false), PosesOf(grid), FocalsOf(grid),
-                                                                  "exact"));
+    PX_ASSIGN_OR_RETURN(
+        CalibEvalRow row,
+        EvalStructureFromMotion(
+            name + " 3x3", "sfm, self-calibrated", ImagesOf(grid, false), PosesOf(grid), FocalsOf(grid), "exact"));
     rows.push_back(row);
   } else if (Exists(dir / "poses_bounds.npy")) {
     say("images_8, self-calibrated");
     PX_ASSIGN_OR_RETURN(LlffScene scene, LoadLlffScene(dir));
-    PX_ASSIGN_OR_RETURN(CalibEvalRow row, EvalStructureFromMotion(name, "sfm, self-calibrated",
-                                                                  ImagesOf(scene.views, false), PosesOf(scene.views),
-                                                                  FocalsOf(scene.views), "COLMAP"));
+    PX_ASSIGN_OR_RETURN(CalibEvalRow row,
+                        EvalStructureFromMotion(name,
+                                                "sfm, self-calibrated",
+                                                ImagesOf(scene.views, false),
+                                                PosesOf(scene.views),
+                                                FocalsOf(scene.views),
+                                                "COLMAP"));
     rows.push_back(row);
   } else if (HasParFile(dir)) {
     say("ring, intrinsics known");
     PX_ASSIGN_OR_RETURN(std::vector<View> views, LoadMiddleburyMview(dir));
-    PX_ASSIGN_OR_RETURN(CalibEvalRow row, EvalStructureFromMotion(name, "sfm, intrinsics known", ImagesOf(views, true),
-                                                                  PosesOf(views), FocalsOf(views), "exact",
-                                                                  ExactIntrinsicsSfm()));
+    PX_ASSIGN_OR_RETURN(CalibEvalRow row,
+                        EvalStructureFromMotion(name,
+                                                "sfm, intrinsics known",
+                                                ImagesOf(views, true),
+                                                PosesOf(views),
+                                                FocalsOf(views),
+                                                "exact",
+                                                ExactIntrinsicsSfm()));
     rows.push_back(row);
   } else {
     StatusOr<std::vector<FolderImage>> images = LoadImageFolder(dir);
@@ -142,9 +158,10 @@ StatusOr<std::vector<CalibEvalRow>> EvalOneFolder(const fs::path& dir, const Eva
       sfm_images.push_back(sfm_image);
     }
     say(focal_source.empty() ? "hand-held, self-calibrated" : "hand-held, focal from " + focal_source);
-    PX_ASSIGN_OR_RETURN(CalibEvalRow row,
-                        EvalStructureFromMotion(name, focal_source.empty() ? "sfm, self-calibrated" : "sfm, EXIF focal",
-                                                sfm_images, {}, {}, "none"));
+    PX_ASSIGN_OR_RETURN(
+        CalibEvalRow row,
+        EvalStructureFromMotion(
+            name, focal_source.empty() ? "sfm, self-calibrated" : "sfm, EXIF focal", sfm_images, {}, {}, "none"));
     rows.push_back(row);
   }
   return rows;
@@ -170,7 +187,8 @@ calib::SfmOptions ExactIntrinsicsSfm() {
   return options;
 }
 
-StatusOr<std::vector<CalibEvalRow>> EvalSimulatedRig(const std::string& name, const SimCameraSpec& spec,
+StatusOr<std::vector<CalibEvalRow>> EvalSimulatedRig(const std::string& name,
+                                                     const SimCameraSpec& spec,
                                                      uint64_t perturb_seed) {
   PX_ASSIGN_OR_RETURN(LatticeShot shot, CaptureLatticeShot(RealisticSpec(spec, perturb_seed), "still_life"));
   const Clock::time_point start = Clock::now();
@@ -195,7 +213,8 @@ StatusOr<std::vector<CalibEvalRow>> EvalSimulatedRig(const std::string& name, co
   return rows;
 }
 
-StatusOr<CalibEvalRow> EvalStructureFromMotion(const std::string& name, const std::string& method,
+StatusOr<CalibEvalRow> EvalStructureFromMotion(const std::string& name,
+                                               const std::string& method,
                                                const std::vector<calib::SfmImage>& images,
                                                const std::vector<Rigid3>& reference,
                                                const std::vector<double>& reference_focal_px,
@@ -260,7 +279,8 @@ StatusOr<std::vector<CalibEvalRow>> EvalDataFolder(const fs::path& dir, const Ev
     rows.insert(rows.end(), sub_rows->begin(), sub_rows->end());
   }
   if (rows.empty()) {
-    return NotFoundError(dir.string() + ": no data set in a known layout (HCI parameters.cfg, LLFF poses_bounds.npy, "
+    return NotFoundError(dir.string() +
+                         ": no data set in a known layout (HCI parameters.cfg, LLFF poses_bounds.npy, "
                          "Middlebury *_par.txt, or a folder of photos)");
   }
   return rows;

@@ -3,14 +3,14 @@
 // cameras. Skips (naming the folder) without ../shared/data.
 #include "eval/calib/calib_eval.h"
 
-#include <cstdio>
-
 #include <gtest/gtest.h>
 
-#include "pipeline/core/exif.h"
+#include <cstdio>
+
 #include "eval/datasets/hci_light_field.h"
 #include "eval/datasets/image_folder.h"
 #include "eval/datasets/middlebury_mview.h"
+#include "pipeline/core/exif.h"
 #include "sim/synthetic/data_paths.h"
 
 namespace px::eval {
@@ -38,7 +38,11 @@ TEST(ImageFolderTest, ReadsHandHeldFocalLengthsFromExif) {
   ASSERT_TRUE(images.ok()) << images.status().ToString();
   ASSERT_EQ(images->size(), 4u);
   for (const FolderImage& image : *images) {
-    std::printf("%s: %dx%d, focal %.1f px (%s)\n", image.name.c_str(), image.bgr.cols, image.bgr.rows, image.focal_px,
+    std::printf("%s: %dx%d, focal %.1f px (%s)\n",
+                image.name.c_str(),
+                image.bgr.cols,
+                image.bgr.rows,
+                image.focal_px,
                 image.focal_source.c_str());
     // A phone camera: between half and one and a half times the longer side.
     EXPECT_EQ(image.focal_source, "EXIF 35 mm equivalent focal length");
@@ -79,13 +83,24 @@ TEST(CalibEvalTest, HciCentreGridWithMetadataIntrinsicsMeetsTheRotationAndFocalG
     poses.push_back(view.cam_from_world);
     focals.push_back(view.camera.fx);
   }
-  StatusOr<CalibEvalRow> row = EvalStructureFromMotion("hci 3x3", "sfm, intrinsics from metadata",
-                                                       HciMetadataImages(*field, grid), poses, focals, "exact",
+  StatusOr<CalibEvalRow> row = EvalStructureFromMotion("hci 3x3",
+                                                       "sfm, intrinsics from metadata",
+                                                       HciMetadataImages(*field, grid),
+                                                       poses,
+                                                       focals,
+                                                       "exact",
                                                        ExactIntrinsicsSfm());
   ASSERT_TRUE(row.ok()) << row.status().ToString();
-  std::printf("%s: %d/%d, rotation %.3f deg, centre %.3f, focal %.3f %%, RMS %.3f px, %.0f ms %s\n", row->set.c_str(),
-              row->views_registered, row->views_total, row->rotation_max_deg, row->centre_max_relative,
-              row->focal_max_percent, row->rms_px, row->time_ms, row->note.c_str());
+  std::printf("%s: %d/%d, rotation %.3f deg, centre %.3f, focal %.3f %%, RMS %.3f px, %.0f ms %s\n",
+              row->set.c_str(),
+              row->views_registered,
+              row->views_total,
+              row->rotation_max_deg,
+              row->centre_max_relative,
+              row->focal_max_percent,
+              row->rms_px,
+              row->time_ms,
+              row->note.c_str());
   EXPECT_EQ(row->views_registered, 9);
   ASSERT_TRUE(row->has_reference);
   EXPECT_TRUE(row->focal_observable);

@@ -1,11 +1,10 @@
 #include "eval/calib/pose_alignment.h"
 
+#include <Eigen/SVD>
 #include <algorithm>
 #include <cmath>
 #include <limits>
 #include <string>
-
-#include <Eigen/SVD>
 
 namespace px::eval {
 namespace {
@@ -74,7 +73,8 @@ Similarity AlignPoses(const std::vector<Rigid3>& estimated, const std::vector<Ri
   return s;
 }
 
-StatusOr<PoseErrors> ComparePoses(const std::vector<Rigid3>& estimated, const std::vector<Rigid3>& reference,
+StatusOr<PoseErrors> ComparePoses(const std::vector<Rigid3>& estimated,
+                                  const std::vector<Rigid3>& reference,
                                   const std::vector<double>& estimated_focal_px,
                                   const std::vector<double>& reference_focal_px) {
   if (estimated.size() != reference.size() || estimated.empty()) {

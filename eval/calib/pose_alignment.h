@@ -9,9 +9,8 @@
 // radians, a degree for half a millimetre on a 3x3 rig of 25 mm.
 #pragma once
 
-#include <vector>
-
 #include <Eigen/Core>
+#include <vector>
 
 #include "pipeline/core/rig_calibration.h"
 #include "pipeline/core/rigid3.h"
@@ -28,9 +27,9 @@ struct Similarity {
 };
 
 struct PoseErrors {
-  Similarity alignment;               // estimate -> reference
-  double reference_baseline = 0;      // median distance from each reference camera to its nearest
-  std::vector<double> rotation_deg;   // per view, after alignment
+  Similarity alignment;                 // estimate -> reference
+  double reference_baseline = 0;        // median distance from each reference camera to its nearest
+  std::vector<double> rotation_deg;     // per view, after alignment
   std::vector<double> centre_relative;  // per view: centre distance after alignment / baseline
   std::vector<double> focal_relative;   // per view: |f_est / f_ref - 1| (empty without focals)
 

@@ -29,8 +29,8 @@ SimCameraSpec HalfSize(SimCameraSpec spec) {
 StatusOr<LatticeShot> CaptureLatticeShot(const SimCameraSpec& spec, const std::string& scene, uint64_t seed) {
   SyntheticSourceOptions options;
   options.camera = spec;
-  options.scene_file = scene.find('/') != std::string::npos ? std::filesystem::path(scene)
-                                                            : sim::ScenesDir() / (scene + ".json");
+  options.scene_file =
+      scene.find('/') != std::string::npos ? std::filesystem::path(scene) : sim::ScenesDir() / (scene + ".json");
   options.seed = seed;
   PX_ASSIGN_OR_RETURN(auto source, MakeSyntheticSource(options));
   SourceConfig wanted, granted;

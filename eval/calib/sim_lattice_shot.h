@@ -4,10 +4,9 @@
 #pragma once
 
 #include <filesystem>
+#include <opencv2/core.hpp>
 #include <string>
 #include <vector>
-
-#include <opencv2/core.hpp>
 
 #include "pipeline/core/rig_calibration.h"
 #include "sim/synthetic/sim_camera.h"
@@ -15,7 +14,7 @@
 namespace px::eval {
 
 struct LatticeShot {
-  cv::Mat sensor;               // the raw sensor frame (BGR) the tiles were cut from
+  cv::Mat sensor;              // the raw sensor frame (BGR) the tiles were cut from
   std::vector<cv::Mat> tiles;  // upright, as the lenses saw them (noise, vignetting, gains)
   RigCalibration factory;      // what the recording carries
   RigCalibration truth;        // what the views were rendered through

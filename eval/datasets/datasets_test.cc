@@ -4,7 +4,6 @@
 #include <gtest/gtest.h>
 
 #include <fstream>
-
 #include <opencv2/imgproc.hpp>
 
 #include "eval/datasets/hci_light_field.h"
@@ -18,9 +17,11 @@ namespace fs = std::filesystem;
 
 fs::path DataDir(const std::string& name) { return px::sim::SharedDataDir() / name; }
 
-#define SKIP_WITHOUT(dir)                                                                                   \
-  if (!fs::exists(dir)) GTEST_SKIP() << (dir).string() << " is absent (the shared datasets sit beside the " \
-                                                          "repository as ../shared/data; set PX_DATA_DIR)"
+#define SKIP_WITHOUT(dir)                                           \
+  if (!fs::exists(dir))                                             \
+  GTEST_SKIP() << (dir).string()                                    \
+               << " is absent (the shared datasets sit beside the " \
+                  "repository as ../shared/data; set PX_DATA_DIR)"
 
 // Mean absolute grey difference between a and b over the interior.
 double MeanAbsDiff(const cv::Mat& a, const cv::Mat& b) {

@@ -47,7 +47,8 @@ StatusOr<std::vector<LabelledFaceImage>> ParseDlibFaceBoxes(const std::string& x
   size_t at = 0;
   while ((at = xml.find('<', at)) != std::string::npos) {
     const size_t end = xml.find('>', at);
-    if (end == std::string::npos) return InvalidArgumentError("dlib face XML: unterminated tag at byte " + std::to_string(at));
+    if (end == std::string::npos)
+      return InvalidArgumentError("dlib face XML: unterminated tag at byte " + std::to_string(at));
     const std::string tag = xml.substr(at, end - at + 1);
     at = end + 1;
     if (tag.rfind("<image", 0) == 0 && (tag.size() > 6 && (tag[6] == ' ' || tag[6] == '>'))) {

@@ -5,20 +5,19 @@
 #pragma once
 
 #include <filesystem>
+#include <opencv2/core.hpp>
 #include <string>
 #include <vector>
-
-#include <opencv2/core.hpp>
 
 #include "pipeline/core/status.h"
 
 namespace px::eval {
 
 struct LabelledFaceImage {
-  std::string file;                  // relative to the XML's folder
-  int width = 0, height = 0;         // as the XML states them (0 when absent)
-  std::vector<cv::Rect2d> faces;     // pixels: x = left, y = top
-  std::vector<cv::Rect2d> ignored;   // boxes marked ignore='1'
+  std::string file;                 // relative to the XML's folder
+  int width = 0, height = 0;        // as the XML states them (0 when absent)
+  std::vector<cv::Rect2d> faces;    // pixels: x = left, y = top
+  std::vector<cv::Rect2d> ignored;  // boxes marked ignore='1'
 };
 
 // Parses the XML text; fails naming the element and attribute that is missing or not a number.

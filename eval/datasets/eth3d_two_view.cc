@@ -5,10 +5,9 @@
 #include <fstream>
 #include <limits>
 #include <map>
+#include <opencv2/imgcodecs.hpp>
 #include <sstream>
 #include <string>
-
-#include <opencv2/imgcodecs.hpp>
 
 #include "eval/datasets/pfm.h"
 
@@ -31,7 +30,8 @@ StatusOr<std::map<std::string, std::string>> ReadCalib(const fs::path& path) {
   return values;
 }
 
-StatusOr<double> CalibNumber(const std::map<std::string, std::string>& calib, const std::string& key,
+StatusOr<double> CalibNumber(const std::map<std::string, std::string>& calib,
+                             const std::string& key,
                              const fs::path& file) {
   const auto it = calib.find(key);
   if (it == calib.end()) return DataLossError(file.string() + ": missing key " + key);
@@ -44,16 +44,22 @@ StatusOr<double> CalibNumber(const std::map<std::string, std::string>& calib, co
 }
 
 // cam0=[fx 0 cx; 0 fy cy; 0 0 1] -> fx, cx, cy.
-Status ParseCameraMatrix(const std::map<std::string, std::string>& calib, const std::string& key, const fs::path& file,
-                         double* fx, double* cx, double* cy) {
+Status ParseCameraMatrix(const std::map<std::string, std::string>& calib,
+                         const std::string& key,
+                         const fs::path& file,
+                         double* fx,
+                         double* cx,
+                         double* cy) {
   const auto it = calib.find(key);
   if (it == calib.end()) return DataLossError(file.string() + ": missing key " + key);
   std::string text = it->second;
-  std::replace_if(text.begin(), text.end(), [](char c) { return c == '[' || c == ']' || c == ';'; }, ' ');
+  std::replace_if(
+      text.begin(), text.end(), [](char c) { return c == '[' || c == ']' || c == ';'; }, ' ');
   std::istringstream in(text);
   double m[9];
   for (double& value : m) {
-    if (!(in >> value)) return DataLossError(file.string() + ": " + key + " = '" + it->second + "' is not a 3x3 matrix");
+    if (!(in >> value))
+      return DataLossError(file.string() + ": " + key + " = '" + it->second + "' is not a 3x3 matrix");
   }
   *fx = m[0];
   *cx = m[2];
@@ -97,8 +103,8 @@ StatusOr<StereoPair> LoadEth3dPair(const fs::path& dir) {
   for (float& d : cv::Mat_<float>(gt)) {
     if (!std::isfinite(d) || d <= 0) d = std::numeric_limits<float>::quiet_NaN();
   }
-  StereoPair pair = MakeRectifiedPair("eth3d/" + dir.filename().string(), left, right, fx0, cx0, cy0,
-                                      baseline_mm / 1000.0);
+  StereoPair pair =
+      MakeRectifiedPair("eth3d/" + dir.filename().string(), left, right, fx0, cx0, cy0, baseline_mm / 1000.0);
   pair.gt_disparity = gt;
   pair.min_disparity = 0.5;
   pair.max_disparity = std::min(ndisp, 64.0);

@@ -2,7 +2,6 @@
 
 #include <fstream>
 #include <map>
-
 #include <opencv2/imgcodecs.hpp>
 
 #include "eval/datasets/pfm.h"

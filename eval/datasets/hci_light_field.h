@@ -10,10 +10,9 @@
 #pragma once
 
 #include <filesystem>
+#include <opencv2/core.hpp>
 #include <string>
 #include <vector>
-
-#include <opencv2/core.hpp>
 
 #include "pipeline/core/status.h"
 #include "pipeline/core/view.h"
@@ -21,18 +20,18 @@
 namespace px::eval {
 
 struct HciLightField {
-  std::string scene;         // "antinous"
-  int rows = 0;              // grid size (9 x 9)
+  std::string scene;  // "antinous"
+  int rows = 0;       // grid size (9 x 9)
   int cols = 0;
   double focal_px = 0;
-  double baseline_m = 0;     // between adjacent grid cameras
+  double baseline_m = 0;  // between adjacent grid cameras
   double focus_distance_m = 0;
-  double offset_px = 0;      // disparity of infinity is -offset_px
-  double disp_min = 0;       // the scene's disparity range (cfg disp_min / disp_max)
+  double offset_px = 0;  // disparity of infinity is -offset_px
+  double disp_min = 0;   // the scene's disparity range (cfg disp_min / disp_max)
   double disp_max = 0;
   // Row-major (index r * cols + c, row 0 = top), id = index, world = the centre camera's frame.
   std::vector<View> views;
-  cv::Mat gt_disparity;      // CV_32F of the centre view; empty when the set has none
+  cv::Mat gt_disparity;  // CV_32F of the centre view; empty when the set has none
 
   int CentreIndex() const { return (rows / 2) * cols + cols / 2; }
   // The camera of view `index` as parameters.cfg gives it: focal length from focal_length_mm and

@@ -4,19 +4,18 @@
 #pragma once
 
 #include <filesystem>
+#include <opencv2/core.hpp>
 #include <string>
 #include <vector>
-
-#include <opencv2/core.hpp>
 
 #include "pipeline/core/status.h"
 
 namespace px::eval {
 
 struct FolderImage {
-  std::string name;        // file name
-  cv::Mat bgr;             // upright, scaled
-  double focal_px = 0;     // for bgr's size; 0 = unknown
+  std::string name;          // file name
+  cv::Mat bgr;               // upright, scaled
+  double focal_px = 0;       // for bgr's size; 0 = unknown
   std::string focal_source;  // which EXIF tags gave it ("" when unknown)
 };
 

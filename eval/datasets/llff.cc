@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <fstream>
-
 #include <opencv2/imgcodecs.hpp>
 
 #include "eval/datasets/npy.h"
@@ -36,7 +35,8 @@ StatusOr<ColmapCamera> ReadFirstColmapCamera(const fs::path& path) {
   camera.model = model;
   // COLMAP model ids: 0 SIMPLE_PINHOLE (f cx cy), 1 PINHOLE (fx fy cx cy), 2 SIMPLE_RADIAL (f cx cy k).
   const int num_params = model == 0 ? 3 : model == 1 ? 4 : model == 2 ? 4 : -1;
-  if (num_params < 0) return InvalidArgumentError(path.string() + ": camera model " + std::to_string(model) + " is not supported");
+  if (num_params < 0)
+    return InvalidArgumentError(path.string() + ": camera model " + std::to_string(model) + " is not supported");
   camera.params.resize(num_params);
   in.read(reinterpret_cast<char*>(camera.params.data()), num_params * sizeof(double));
   if (!in) return DataLossError(path.string() + ": truncated");
@@ -58,8 +58,8 @@ StatusOr<LlffScene> LoadLlffScene(const fs::path& dir, const std::string& images
   }
   std::sort(files.begin(), files.end());
   if (files.size() != n) {
-    return DataLossError((dir / images).string() + ": " + std::to_string(files.size()) + " images, poses_bounds.npy has " +
-                         std::to_string(n) + " rows");
+    return DataLossError((dir / images).string() + ": " + std::to_string(files.size()) +
+                         " images, poses_bounds.npy has " + std::to_string(n) + " rows");
   }
   std::optional<ColmapCamera> colmap;
   if (fs::exists(dir / "sparse/0/cameras.bin")) {

@@ -20,7 +20,7 @@ struct LlffScene {
   std::vector<View> views;
   std::vector<double> near_depth;  // poses_bounds near / far bounds per view, world units
   std::vector<double> far_depth;
-  double downscale = 1;            // full-resolution width / image width (8 for images_8)
+  double downscale = 1;  // full-resolution width / image width (8 for images_8)
 };
 
 // `images` picks the image folder ("images_8"). Errors name the file and the field.

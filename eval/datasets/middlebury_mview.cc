@@ -1,9 +1,8 @@
 #include "eval/datasets/middlebury_mview.h"
 
 #include <fstream>
-#include <sstream>
-
 #include <opencv2/imgcodecs.hpp>
+#include <sstream>
 
 namespace px::eval {
 

@@ -4,8 +4,13 @@
 
 namespace px::eval {
 
-StereoPair MakeRectifiedPair(std::string name, const cv::Mat& left_bgr, const cv::Mat& right_bgr, double focal_px,
-                             double cx, double cy, double baseline_m) {
+StereoPair MakeRectifiedPair(std::string name,
+                             const cv::Mat& left_bgr,
+                             const cv::Mat& right_bgr,
+                             double focal_px,
+                             double cx,
+                             double cy,
+                             double baseline_m) {
   StereoPair pair;
   pair.name = std::move(name);
   pair.focal_px = focal_px;

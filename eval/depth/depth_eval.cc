@@ -2,12 +2,11 @@
 
 #include <algorithm>
 #include <chrono>
-#include <ctime>
 #include <cmath>
+#include <ctime>
 #include <limits>
-#include <sstream>
-
 #include <opencv2/core/utility.hpp>
+#include <sstream>
 
 #include "eval/datasets/eth3d_two_view.h"
 #include "eval/datasets/hci_light_field.h"
@@ -31,9 +30,7 @@ namespace {
 namespace fs = std::filesystem;
 using Clock = std::chrono::steady_clock;
 
-double SecondsSince(Clock::time_point start) {
-  return std::chrono::duration<double>(Clock::now() - start).count();
-}
+double SecondsSince(Clock::time_point start) { return std::chrono::duration<double>(Clock::now() - start).count(); }
 
 double ProcessCpuSeconds() {
   timespec ts{};
@@ -55,8 +52,13 @@ class MethodTimer {
   double cpu_;
 };
 
-void Dump(const DepthEvalOptions& options, const std::string& set, const std::string& method, const cv::Mat& estimate,
-          const cv::Mat& truth, double good, double bad) {
+void Dump(const DepthEvalOptions& options,
+          const std::string& set,
+          const std::string& method,
+          const cv::Mat& estimate,
+          const cv::Mat& truth,
+          double good,
+          double bad) {
   if (options.dump_dir.empty()) return;
   const Status status = WriteDepthImages(options.dump_dir, FileStem(set + "_" + method), estimate, truth, good, bad);
   if (!status.ok()) Logger("eval")->warn("{}", status.ToString());
@@ -77,7 +79,7 @@ cv::Mat InverseDepth(const cv::Mat& depth_m) {
 // depth (metres).
 struct MultiViewSet {
   std::vector<View> views;
-  std::vector<int> scored;          // indices into views
+  std::vector<int> scored;  // indices into views
   // Views our method computes, the scored ones first (it checks them against each other, as the
   // product computes every view); empty: the scored ones.
   std::vector<int> computed;
@@ -119,8 +121,9 @@ StatusOr<std::vector<cv::Mat>> RunOurs(const MultiViewSet& set, const DepthOptio
   DepthOptions options = base;
   options.min_depth_m = set.min_depth_m;
   options.max_depth_m = set.max_depth_m;
-  PX_ASSIGN_OR_RETURN(DepthStageResult result, ComputeLayeredDepthForViews(
-                                                    set.views, set.computed.empty() ? set.scored : set.computed, options));
+  PX_ASSIGN_OR_RETURN(
+      DepthStageResult result,
+      ComputeLayeredDepthForViews(set.views, set.computed.empty() ? set.scored : set.computed, options));
   std::vector<cv::Mat> depths;
   for (size_t i = 0; i < set.scored.size(); ++i) depths.push_back(result.maps[i].depth_m);
   return depths;
@@ -142,7 +145,9 @@ StatusOr<std::vector<cv::Mat>> RunPlaneSweep(const MultiViewSet& set, const Dept
   return depths;
 }
 
-DepthMethodRun TimeMultiView(const std::string& name, const MultiViewSet& set, const MultiViewMethod& method,
+DepthMethodRun TimeMultiView(const std::string& name,
+                             const MultiViewSet& set,
+                             const MultiViewMethod& method,
                              const std::function<void(const std::vector<cv::Mat>&, DepthMethodRun*)>& score) {
   DepthMethodRun run;
   run.method = name;
@@ -163,12 +168,13 @@ DepthMethodRun TimeMultiView(const std::string& name, const MultiViewSet& set, c
 namespace {
 
 // Our depth stage and the first plane sweep on a set, each as options ask.
-void AddMultiViewRuns(const MultiViewSet& set, const DepthEvalOptions& options,
+void AddMultiViewRuns(const MultiViewSet& set,
+                      const DepthEvalOptions& options,
                       const std::function<void(const std::vector<cv::Mat>&, DepthMethodRun*)>& score,
                       DepthSetResult* result) {
   if (options.run_ours) {
-    result->runs.push_back(
-        TimeMultiView("ours", set, [&](const MultiViewSet& s) { return RunOurs(s, options.ours); }, score));
+    result->runs.push_back(TimeMultiView(
+        "ours", set, [&](const MultiViewSet& s) { return RunOurs(s, options.ours); }, score));
   }
   if (options.run_plane_sweep) {
     result->runs.push_back(TimeMultiView(
@@ -404,7 +410,8 @@ bool Matches(const std::string& name, const std::string& filter) {
 StatusOr<std::vector<DepthSetResult>> RunDepthEval(const DepthEvalOptions& options) {
   PX_RETURN_IF_ERROR(options.ours.Validate());
   const fs::path root = options.data_dir.empty() ? sim::SharedDataDir() : options.data_dir;
-  if (!options.data_dir.empty() && !fs::exists(root)) return NotFoundError("eval depth: --data " + root.string() + " does not exist");
+  if (!options.data_dir.empty() && !fs::exists(root))
+    return NotFoundError("eval depth: --data " + root.string() + " does not exist");
   int previous_threads = cv::getNumThreads();
   if (options.num_threads > 0) cv::setNumThreads(options.num_threads);
 
@@ -419,7 +426,8 @@ StatusOr<std::vector<DepthSetResult>> RunDepthEval(const DepthEvalOptions& optio
       case FolderKind::kLightField:
         for (int radius : {1, 4}) {
           const int side = 2 * radius + 1;
-          const std::string name = "hci/" + dir.filename().string() + " " + std::to_string(side) + "x" + std::to_string(side);
+          const std::string name =
+              "hci/" + dir.filename().string() + " " + std::to_string(side) + "x" + std::to_string(side);
           jobs.push_back({name, [dir, radius, &options]() -> StatusOr<DepthSetResult> {
                             PX_ASSIGN_OR_RETURN(HciLightField lf, LoadHciLightField(dir));
                             if (lf.gt_disparity.empty()) {

@@ -26,18 +26,18 @@ enum class DepthSetKind { kLightField, kStereoPair, kSimulated };
 struct DepthMethodRun {
   std::string method;  // "ours", "plane sweep", "sgbm"
   bool ok = false;
-  std::string error;   // when !ok: why the method produced nothing
-  double seconds = 0;  // wall time of the method on the set (all the views it computed)
-  double cpu_seconds = 0;  // CPU time of the whole process meanwhile (all threads): on a shared
-                           // machine, cpu_seconds / cores is what idle cores would have taken
-  std::string note;    // e.g. which pair SGBM used and how dense it was before filling
-  HciMetrics hci;              // kLightField
-  StereoMetrics stereo;        // kStereoPair
-  DepthErrorMetrics depth;     // kSimulated
+  std::string error;        // when !ok: why the method produced nothing
+  double seconds = 0;       // wall time of the method on the set (all the views it computed)
+  double cpu_seconds = 0;   // CPU time of the whole process meanwhile (all threads): on a shared
+                            // machine, cpu_seconds / cores is what idle cores would have taken
+  std::string note;         // e.g. which pair SGBM used and how dense it was before filling
+  HciMetrics hci;           // kLightField
+  StereoMetrics stereo;     // kStereoPair
+  DepthErrorMetrics depth;  // kSimulated
 };
 
 struct DepthSetResult {
-  std::string name;    // "hci/antinous 3x3", "middlebury_2003_quarter/cones", "sim/pop9 still_life"
+  std::string name;  // "hci/antinous 3x3", "middlebury_2003_quarter/cones", "sim/pop9 still_life"
   DepthSetKind kind = DepthSetKind::kStereoPair;
   std::string detail;  // views, size, what is scored
   std::vector<DepthMethodRun> runs;
@@ -47,17 +47,17 @@ struct DepthEvalOptions {
   // Where to look for sets: a set folder itself, or a folder whose sub-folders (two levels) hold
   // sets. Empty: px::sim::SharedDataDir(). A missing folder leaves only the simulated sets.
   std::filesystem::path data_dir;
-  std::string set_filter;          // only sets whose name contains this; empty = all
-  bool simulated = true;           // include the simulated lattices
+  std::string set_filter;  // only sets whose name contains this; empty = all
+  bool simulated = true;   // include the simulated lattices
   bool run_ours = true;
   bool run_plane_sweep = true;
   bool run_sgbm = true;
-  DepthOptions ours;               // depth range is set per set; the rest is used as is, except:
+  DepthOptions ours;  // depth range is set per set; the rest is used as is, except:
   // Light fields (disparities of a few pixels between neighbours) get matching at full
-  // resolution, plane steps of 0.2 px and 16 spread neighbours (see LightFieldDepthOptions, pipeline/depth/depth_options.h), unless
-  // this is false (the caller set its own options).
+  // resolution, plane steps of 0.2 px and 16 spread neighbours (see LightFieldDepthOptions,
+  // pipeline/depth/depth_options.h), unless this is false (the caller set its own options).
   bool light_field_defaults = true;
-  int num_threads = 0;             // 0 = OpenCV's default
+  int num_threads = 0;  // 0 = OpenCV's default
   // When set, each method's estimate, the truth and an error picture per set go here
   // (depth_images.h): disparity for light fields and pairs, inverse depth for simulated sets.
   std::filesystem::path dump_dir;

@@ -1,13 +1,14 @@
 // Our depth stage on real benchmark data: the HCI antinous light field's central 3x3 views,
 // cropped to the middle 192x192 to keep the test quick, scored with the benchmark's BadPix 0.07.
 // Skips without ../shared/data.
-#include <cstdio>
-#include <vector>
+#include "eval/depth/depth_eval.h"
 
 #include <gtest/gtest.h>
 
+#include <cstdio>
+#include <vector>
+
 #include "eval/datasets/hci_light_field.h"
-#include "eval/depth/depth_eval.h"
 #include "eval/depth/depth_metrics.h"
 #include "pipeline/depth/depth_stage.h"
 #include "sim/synthetic/data_paths.h"
@@ -45,7 +46,9 @@ TEST(DepthEvalHciTest, CentralThreeByThreeCropBadPix007) {
   }
   const HciMetrics metrics = EvaluateHciDisparity(disparity, lf->gt_disparity(crop).clone());
   std::printf("HCI antinous 3x3, 192x192 crop: BadPix.07 %.2f %%, BadPix.03 %.2f %%, MSE x 100 %.3f\n",
-              metrics.bad_pix_007, metrics.bad_pix_003, metrics.mse_x100);
+              metrics.bad_pix_007,
+              metrics.bad_pix_003,
+              metrics.mse_x100);
   // About 16 % on this crop with the light-field options (the whole view scores under 15 %; the
   // naive plane sweep 37.6 %): the bound leaves a few points for platform differences in the
   // SLIC segmentation.

@@ -1,7 +1,6 @@
 #include "eval/depth/depth_images.h"
 
 #include <cmath>
-
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
@@ -39,8 +38,12 @@ std::string FileStem(const std::string& name) {
   return stem;
 }
 
-Status WriteDepthImages(const fs::path& dir, const std::string& stem, const cv::Mat& estimate, const cv::Mat& truth,
-                        double good, double bad) {
+Status WriteDepthImages(const fs::path& dir,
+                        const std::string& stem,
+                        const cv::Mat& estimate,
+                        const cv::Mat& truth,
+                        double good,
+                        double bad) {
   std::error_code error;
   fs::create_directories(dir, error);
   if (error) return UnavailableError(dir.string() + ": cannot create (" + error.message() + ")");
@@ -54,7 +57,7 @@ Status WriteDepthImages(const fs::path& dir, const std::string& stem, const cv::
       const float t = truth.at<float>(y, x), e = estimate.at<float>(y, x);
       if (!std::isfinite(t)) continue;
       const double diff = std::isfinite(e) ? std::abs(e - t) : 1e9;
-      errors.at<cv::Vec3b>(y, x) = diff <= good ? cv::Vec3b(128, 128, 128)
+      errors.at<cv::Vec3b>(y, x) = diff <= good  ? cv::Vec3b(128, 128, 128)
                                    : diff <= bad ? cv::Vec3b(0, 220, 255)
                                                  : cv::Vec3b(0, 0, 255);
     }

@@ -2,23 +2,16 @@
 
 #include <algorithm>
 #include <cmath>
+#include <opencv2/imgproc.hpp>
 #include <vector>
 
-#include <opencv2/imgproc.hpp>
-
 #include "pipeline/core/check.h"
+#include "pipeline/core/order_statistics.h"
 
 namespace px::eval {
 namespace {
 
 double Percent(int64_t part, int64_t whole) { return whole > 0 ? 100.0 * part / whole : 0.0; }
-
-double Median(std::vector<float>* values) {
-  if (values->empty()) return 0;
-  const auto middle = values->begin() + values->size() / 2;
-  std::nth_element(values->begin(), middle, values->end());
-  return *middle;
-}
 
 }  // namespace
 
@@ -91,8 +84,8 @@ cv::Mat DepthEdgeMask(const cv::Mat& gt_depth_m, int radius_px) {
     }
   }
   if (radius_px > 0) {
-    cv::dilate(edges, edges,
-               cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(2 * radius_px + 1, 2 * radius_px + 1)));
+    cv::dilate(
+        edges, edges, cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(2 * radius_px + 1, 2 * radius_px + 1)));
   }
   return edges;
 }
@@ -121,8 +114,8 @@ DepthErrorMetrics EvaluateDepth(const cv::Mat& depth_m, const cv::Mat& gt_depth_
   metrics.edge_pixels = static_cast<int64_t>(near_edges.size());
   metrics.bad_5_percent = Percent(bad, metrics.pixels);
   metrics.edge_bad_5_percent = Percent(edge_bad, metrics.edge_pixels);
-  metrics.median_relative = Median(&all);
-  metrics.edge_median_relative = Median(&near_edges);
+  metrics.median_relative = Median(std::move(all));
+  metrics.edge_median_relative = Median(std::move(near_edges));
   return metrics;
 }
 

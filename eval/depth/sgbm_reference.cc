@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
-
 #include <opencv2/calib3d.hpp>
 
 namespace px::eval {
@@ -24,8 +23,8 @@ void FillRowsFromBackground(cv::Mat* disparity) {
       while (x < disparity->cols && !std::isfinite(d[x])) ++x;
       const float left = start > 0 ? d[start - 1] : std::numeric_limits<float>::quiet_NaN();
       const float right = x < disparity->cols ? d[x] : std::numeric_limits<float>::quiet_NaN();
-      float fill = std::isfinite(left) && std::isfinite(right) ? std::min(left, right)
-                                                               : (std::isfinite(left) ? left : right);
+      float fill =
+          std::isfinite(left) && std::isfinite(right) ? std::min(left, right) : (std::isfinite(left) ? left : right);
       for (int i = start; i < x; ++i) d[i] = fill;
     }
   }
@@ -38,10 +37,16 @@ SgbmResult RunSgbm(const cv::Mat& left, const cv::Mat& right, double min_dispari
   const int count = std::max(16, (static_cast<int>(std::ceil(max_disparity - min_d)) + 1 + 15) / 16 * 16);
   constexpr int kBlock = 5;  // OpenCV's stereo_match sample: 3..11 odd; P1, P2 as it sets them
   const int channels = left.channels();
-  cv::Ptr<cv::StereoSGBM> sgbm = cv::StereoSGBM::create(min_d, count, kBlock, 8 * channels * kBlock * kBlock,
-                                                        32 * channels * kBlock * kBlock, /*disp12MaxDiff=*/1,
-                                                        /*preFilterCap=*/63, /*uniquenessRatio=*/10,
-                                                        /*speckleWindowSize=*/100, /*speckleRange=*/32,
+  cv::Ptr<cv::StereoSGBM> sgbm = cv::StereoSGBM::create(min_d,
+                                                        count,
+                                                        kBlock,
+                                                        8 * channels * kBlock * kBlock,
+                                                        32 * channels * kBlock * kBlock,
+                                                        /*disp12MaxDiff=*/1,
+                                                        /*preFilterCap=*/63,
+                                                        /*uniquenessRatio=*/10,
+                                                        /*speckleWindowSize=*/100,
+                                                        /*speckleRange=*/32,
                                                         cv::StereoSGBM::MODE_HH);
   cv::Mat fixed;
   sgbm->compute(left, right, fixed);  // CV_16S, 4 fractional bits; (min_d - 1) * 16 where invalid
@@ -62,7 +67,9 @@ SgbmResult RunSgbm(const cv::Mat& left, const cv::Mat& right, double min_dispari
   return result;
 }
 
-SgbmResult RunSgbmRightReference(const cv::Mat& left, const cv::Mat& right, double min_disparity,
+SgbmResult RunSgbmRightReference(const cv::Mat& left,
+                                 const cv::Mat& right,
+                                 double min_disparity,
                                  double max_disparity) {
   // Mirroring both images turns the right view into a left view of the mirrored pair.
   cv::Mat left_mirrored, right_mirrored;

@@ -10,7 +10,7 @@
 namespace px::eval {
 
 struct SgbmResult {
-  cv::Mat disparity;       // CV_32F of the left image's size: x_right = x_left - d
+  cv::Mat disparity;          // CV_32F of the left image's size: x_right = x_left - d
   double valid_fraction = 0;  // of pixels SGBM itself gave a disparity (before filling)
 };
 

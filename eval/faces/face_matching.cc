@@ -14,7 +14,9 @@ void FaceMatch::Add(const FaceMatch& other) {
   matched_iou.insert(matched_iou.end(), other.matched_iou.begin(), other.matched_iou.end());
 }
 
-FaceMatch MatchFaces(const std::vector<cv::Rect2d>& truth, const std::vector<cv::Rect2d>& detections, double min_iou,
+FaceMatch MatchFaces(const std::vector<cv::Rect2d>& truth,
+                     const std::vector<cv::Rect2d>& detections,
+                     double min_iou,
                      const std::vector<cv::Rect2d>& ignored) {
   std::vector<std::tuple<double, size_t, size_t>> pairs;  // (IoU, truth, detection)
   for (size_t t = 0; t < truth.size(); ++t) {
@@ -34,9 +36,10 @@ FaceMatch MatchFaces(const std::vector<cv::Rect2d>& truth, const std::vector<cv:
     match.matched_iou.push_back(iou);
   }
   for (size_t d = 0; d < detections.size(); ++d) {
-    const bool on_ignored = !detection_used[d] && std::any_of(ignored.begin(), ignored.end(), [&](const cv::Rect2d& box) {
-      return direct::BoxIou(box, detections[d]) >= min_iou;
-    });
+    const bool on_ignored =
+        !detection_used[d] && std::any_of(ignored.begin(), ignored.end(), [&](const cv::Rect2d& box) {
+          return direct::BoxIou(box, detections[d]) >= min_iou;
+        });
     if (!on_ignored) match.detections += 1;
   }
   return match;

@@ -4,15 +4,14 @@
 // no face but overlaps an `ignored` box by the threshold is neither a hit nor a false face.
 #pragma once
 
-#include <vector>
-
 #include <opencv2/core.hpp>
+#include <vector>
 
 namespace px::eval {
 
 struct FaceMatch {
-  int truth = 0;            // ground-truth faces
-  int detections = 0;       // detections counted (those on ignored boxes left out)
+  int truth = 0;       // ground-truth faces
+  int detections = 0;  // detections counted (those on ignored boxes left out)
   int true_positives = 0;
   std::vector<double> matched_iou;  // IoU of each true positive
 
@@ -24,7 +23,9 @@ struct FaceMatch {
   void Add(const FaceMatch& other);
 };
 
-FaceMatch MatchFaces(const std::vector<cv::Rect2d>& truth, const std::vector<cv::Rect2d>& detections,
-                     double min_iou = 0.5, const std::vector<cv::Rect2d>& ignored = {});
+FaceMatch MatchFaces(const std::vector<cv::Rect2d>& truth,
+                     const std::vector<cv::Rect2d>& detections,
+                     double min_iou = 0.5,
+                     const std::vector<cv::Rect2d>& ignored = {});
 
 }  // namespace px::eval

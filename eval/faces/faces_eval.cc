@@ -1,7 +1,6 @@
 #include "eval/faces/faces_eval.h"
 
 #include <chrono>
-
 #include <opencv2/imgcodecs.hpp>
 
 #include "eval/datasets/dlib_face_boxes.h"

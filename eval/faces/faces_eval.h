@@ -5,10 +5,9 @@
 
 #include <filesystem>
 #include <functional>
+#include <opencv2/core.hpp>
 #include <string>
 #include <vector>
-
-#include <opencv2/core.hpp>
 
 #include "eval/faces/face_matching.h"
 #include "pipeline/core/status.h"
@@ -18,9 +17,9 @@
 namespace px::eval {
 
 struct FacesEvalOptions {
-  std::filesystem::path data_dir;    // ../shared/data (holds faces_dlib_pascalvoc/); empty: SharedDataDir()
-  FaceDetectionOptions detection;    // default: what the pipeline uses
-  double min_iou = 0.5;              // a detection is a hit at IoU >= this, (0, 1]
+  std::filesystem::path data_dir;  // ../shared/data (holds faces_dlib_pascalvoc/); empty: SharedDataDir()
+  FaceDetectionOptions detection;  // default: what the pipeline uses
+  double min_iou = 0.5;            // a detection is a hit at IoU >= this, (0, 1]
   std::function<void(const std::string& image, double fraction)> progress;  // may be empty
 
   Status Validate() const;

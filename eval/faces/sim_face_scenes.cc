@@ -22,7 +22,8 @@ struct FaceScene {
 }  // namespace
 
 StatusOr<std::vector<FaceImageResult>> RunSimFaceScenes(const direct::FaceDetector& detector,
-                                                        const FaceDetectionOptions& detection, double min_iou) {
+                                                        const FaceDetectionOptions& detection,
+                                                        double min_iou) {
   const std::vector<FaceScene> scenes = {{"one_face", {"face"}}, {"two_faces", {"near_face", "far_face"}}};
   const SimCameraSpec spec = SimCameraSpec::Pop9();
   const RigCalibration rig = spec.Calibration();

@@ -15,6 +15,7 @@ namespace px::eval {
 // One FaceImageResult per scene ("sim/two_faces"). Fails naming the scene that does not load or
 // whose face textures fell back to procedural ones (../shared/data absent).
 StatusOr<std::vector<FaceImageResult>> RunSimFaceScenes(const direct::FaceDetector& detector,
-                                                        const FaceDetectionOptions& detection, double min_iou = 0.5);
+                                                        const FaceDetectionOptions& detection,
+                                                        double min_iou = 0.5);
 
 }  // namespace px::eval

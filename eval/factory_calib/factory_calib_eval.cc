@@ -1,17 +1,17 @@
 #include "eval/factory_calib/factory_calib_eval.h"
 
+#include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
-
-#include <Eigen/Geometry>
 
 #include "pipeline/lattice/lattice_detector.h"
 #include "pipeline/lattice/split_lattice.h"
 
 namespace px::eval {
 
-StatusOr<RigCalibrationError> CompareRigCalibrations(const RigCalibration& truth, const RigCalibration& found,
+StatusOr<RigCalibrationError> CompareRigCalibrations(const RigCalibration& truth,
+                                                     const RigCalibration& found,
                                                      double baseline_m) {
   if (truth.NumViews() != found.NumViews()) {
     return InvalidArgumentError("rig comparison: " + std::to_string(found.NumViews()) + " lenses against " +
@@ -28,8 +28,10 @@ StatusOr<RigCalibrationError> CompareRigCalibrations(const RigCalibration& truth
     }
     e.focal_pct = std::max({e.focal_pct, 100 * std::abs(f.fx / t.fx - 1), 100 * std::abs(f.fy / t.fy - 1)});
     e.principal_point_px = std::max(e.principal_point_px, std::hypot(f.cx - t.cx, f.cy - t.cy));
-    for (const Eigen::Vector2d& corner : {Eigen::Vector2d(0, 0), Eigen::Vector2d(t.width - 1, 0),
-                                         Eigen::Vector2d(0, t.height - 1), Eigen::Vector2d(t.width - 1, t.height - 1)}) {
+    for (const Eigen::Vector2d& corner : {Eigen::Vector2d(0, 0),
+                                          Eigen::Vector2d(t.width - 1, 0),
+                                          Eigen::Vector2d(0, t.height - 1),
+                                          Eigen::Vector2d(t.width - 1, t.height - 1)}) {
       Eigen::Vector2d through_found;
       if (f.Project(t.Unproject(corner), &through_found)) {
         e.corner_reprojection_px = std::max(e.corner_reprojection_px, (through_found - corner).norm());
@@ -38,8 +40,7 @@ StatusOr<RigCalibrationError> CompareRigCalibrations(const RigCalibration& truth
     const Rigid3& pt = truth.lenses[v].cam_from_rig;
     const Rigid3& pf = found.lenses[v].cam_from_rig;
     e.rotation_deg = std::max(e.rotation_deg, pt.rotation.angularDistance(pf.rotation) * 180.0 / M_PI);
-    e.centre_of_baseline =
-        std::max(e.centre_of_baseline, (CameraCentre(pt) - CameraCentre(pf)).norm() / baseline_m);
+    e.centre_of_baseline = std::max(e.centre_of_baseline, (CameraCentre(pt) - CameraCentre(pf)).norm() / baseline_m);
   }
   return e;
 }
@@ -72,8 +73,9 @@ std::vector<FactoryCalibCase> StandardFactoryCalibCases(double scale) {
 }
 
 StatusOr<FactoryCalibRow> EvaluateFactoryCalibration(const FactoryCalibCase& c) {
-  PX_ASSIGN_OR_RETURN(std::vector<sim::BoardCapture> captures,
-                      sim::RenderBoardCaptures(c.spec, c.board, sim::BoardPoses(c.board, c.spec, c.captures, c.seed), c.seed));
+  PX_ASSIGN_OR_RETURN(
+      std::vector<sim::BoardCapture> captures,
+      sim::RenderBoardCaptures(c.spec, c.board, sim::BoardPoses(c.board, c.spec, c.captures, c.seed), c.seed));
   FactoryCalibRow row;
   row.name = c.name;
   std::vector<std::vector<cv::Mat>> tiles_by_capture;
@@ -98,11 +100,17 @@ StatusOr<FactoryCalibRow> EvaluateFactoryCalibration(const FactoryCalibCase& c) 
 
 std::string FormatFactoryCalibRow(const FactoryCalibRow& row) {
   char text[512];
-  std::snprintf(text, sizeof(text),
+  std::snprintf(text,
+                sizeof(text),
                 "%s: focal error %.3f %%, principal point %.2f px, corner reprojection %.2f px, rotation %.4f deg, "
                 "centre %.2f %% of the baseline; %s; lattice %.0f ms\n",
-                row.name.c_str(), row.error.focal_pct, row.error.principal_point_px, row.error.corner_reprojection_px,
-                row.error.rotation_deg, 100 * row.error.centre_of_baseline, row.result.report.Summary().c_str(),
+                row.name.c_str(),
+                row.error.focal_pct,
+                row.error.principal_point_px,
+                row.error.corner_reprojection_px,
+                row.error.rotation_deg,
+                100 * row.error.centre_of_baseline,
+                row.result.report.Summary().c_str(),
                 row.lattice_ms);
   return text;
 }

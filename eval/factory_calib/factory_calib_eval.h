@@ -17,15 +17,16 @@ namespace px::eval {
 
 // Largest errors over the lenses.
 struct RigCalibrationError {
-  double focal_pct = 0;              // |f - f_true| / f_true, fx and fy
-  double principal_point_px = 0;     // |(cx, cy) - truth|
-  double corner_reprojection_px = 0; // a tile corner's true pixel, through the found model (all intrinsics)
-  double rotation_deg = 0;           // angle of cam_from_rig against the truth's
-  double centre_of_baseline = 0;     // lens-centre error / baseline_m
+  double focal_pct = 0;               // |f - f_true| / f_true, fx and fy
+  double principal_point_px = 0;      // |(cx, cy) - truth|
+  double corner_reprojection_px = 0;  // a tile corner's true pixel, through the found model (all intrinsics)
+  double rotation_deg = 0;            // angle of cam_from_rig against the truth's
+  double centre_of_baseline = 0;      // lens-centre error / baseline_m
 };
 
 // INVALID_ARGUMENT when the rigs differ in lens count or image size.
-StatusOr<RigCalibrationError> CompareRigCalibrations(const RigCalibration& truth, const RigCalibration& found,
+StatusOr<RigCalibrationError> CompareRigCalibrations(const RigCalibration& truth,
+                                                     const RigCalibration& found,
                                                      double baseline_m);
 
 struct FactoryCalibCase {

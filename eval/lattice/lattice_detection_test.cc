@@ -125,7 +125,8 @@ TEST(LatticeDetectionTest, WrongFrameTypeIsAnInvalidArgument) {
 
 TEST(LatticeDetectionTest, RealActionSamplerScanIsA2x2WithUprightSplit) {
   StatusOr<cv::Mat> frame = LoadActionSamplerFrame(sim::SharedDataDir());
-  if (!frame.ok()) GTEST_SKIP() << "needs ../shared/data/lattice_frames/actionsampler_2x2_face: " << frame.status().message();
+  if (!frame.ok())
+    GTEST_SKIP() << "needs ../shared/data/lattice_frames/actionsampler_2x2_face: " << frame.status().message();
   ASSERT_EQ(frame->cols, 1536);  // raw pixels, not EXIF-rotated (same size either way for 180)
   StatusOr<LatticeDetection> detection = DetectLattice(*frame, LatticeOptions());
   ASSERT_TRUE(detection.ok()) << detection.status().message();
@@ -139,8 +140,14 @@ TEST(LatticeDetectionTest, RealActionSamplerScanIsA2x2WithUprightSplit) {
   }
   std::printf("ActionSampler: %s\n", detection->report.Summary().c_str());
   for (const Tile& t : detection->layout.tiles) {
-    std::printf("  tile (%d,%d): %dx%d at (%d,%d), %.2f deg\n", t.row, t.col, t.rect.width, t.rect.height, t.rect.x,
-                t.rect.y, t.rotation_deg);
+    std::printf("  tile (%d,%d): %dx%d at (%d,%d), %.2f deg\n",
+                t.row,
+                t.col,
+                t.rect.width,
+                t.rect.height,
+                t.rect.x,
+                t.rect.y,
+                t.rotation_deg);
   }
 }
 

@@ -5,10 +5,9 @@
 #pragma once
 
 #include <filesystem>
+#include <opencv2/core.hpp>
 #include <string>
 #include <vector>
-
-#include <opencv2/core.hpp>
 
 #include "pipeline/core/lattice_layout.h"
 #include "pipeline/core/status.h"
@@ -49,11 +48,11 @@ struct LatticeEvalRow {
   std::string error;  // why not, when !found
   int rows = 0;
   int cols = 0;
-  bool has_truth = false;    // simulated cases: layout_error is set
+  bool has_truth = false;  // simulated cases: layout_error is set
   LayoutError layout_error;
   double confidence = 0;
   double max_prior_shift_px = 0;
-  double ms = 0;  // detection time (the render is not counted)
+  double ms = 0;        // detection time (the render is not counted)
   std::string summary;  // LatticeReport::Summary()
 };
 

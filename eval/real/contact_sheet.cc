@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <cctype>
-
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
@@ -41,8 +40,14 @@ cv::Mat ContactSheet(const std::vector<LabelledImage>& cells, int columns, int c
       cv::resize(bgr, scaled, cv::Size(cell_width, std::max(1, height)), 0, 0, cv::INTER_AREA);
       scaled.copyTo(sheet(cv::Rect(x, y, scaled.cols, scaled.rows)));
     }
-    cv::putText(sheet, cells[i].label, cv::Point(x + 2, y + cell_height + kLabelHeightPx - 7),
-                cv::FONT_HERSHEY_SIMPLEX, 0.5, cv::Scalar(235, 235, 235), 1, cv::LINE_AA);
+    cv::putText(sheet,
+                cells[i].label,
+                cv::Point(x + 2, y + cell_height + kLabelHeightPx - 7),
+                cv::FONT_HERSHEY_SIMPLEX,
+                0.5,
+                cv::Scalar(235, 235, 235),
+                1,
+                cv::LINE_AA);
   }
   return sheet;
 }

@@ -1,13 +1,12 @@
 #include "eval/real/leave_one_out.h"
 
+#include <Eigen/Dense>
 #include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <limits>
 #include <memory>
 #include <numeric>
-
-#include <Eigen/Dense>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
@@ -92,8 +91,7 @@ cv::Mat WarpByPlane(const View& from, const Eigen::Vector3d& inverse_depth_plane
   // On the plane, n^T X = 1 in `from`'s camera frame with n = K^T p.
   const Eigen::Vector3d n = from.camera.K().transpose() * inverse_depth_plane;
   const Rigid3 to_from_from = to.cam_from_world * from.cam_from_world.Inverse();
-  const Eigen::Matrix3d h = to.camera.K() *
-                            (to_from_from.RotationMatrix() + to_from_from.translation * n.transpose()) *
+  const Eigen::Matrix3d h = to.camera.K() * (to_from_from.RotationMatrix() + to_from_from.translation * n.transpose()) *
                             from.camera.K().inverse();
   cv::Matx33d homography;
   for (int r = 0; r < 3; ++r) {
@@ -118,8 +116,13 @@ cv::Mat ErrorImage(const cv::Mat& image, const cv::Mat& photo) {
   return error;
 }
 
-Status DumpCase(const LeaveOneOutOptions& options, const std::string& set, const LeaveOneOutCase& c,
-                const cv::Mat& photo, const cv::Mat& ours, const cv::Mat& nearest, const cv::Mat& plane,
+Status DumpCase(const LeaveOneOutOptions& options,
+                const std::string& set,
+                const LeaveOneOutCase& c,
+                const cv::Mat& photo,
+                const cv::Mat& ours,
+                const cv::Mat& nearest,
+                const cv::Mat& plane,
                 const cv::Mat& edge_band) {
   char psnr[3][64];
   std::snprintf(psnr[0], sizeof(psnr[0]), "ours %.2f dB", c.ours.psnr_db);
@@ -127,10 +130,14 @@ Status DumpCase(const LeaveOneOutOptions& options, const std::string& set, const
   std::snprintf(psnr[2], sizeof(psnr[2]), "plane %.2f dB", c.plane.psnr_db);
   cv::Mat band;
   cv::cvtColor(edge_band, band, cv::COLOR_GRAY2BGR);
-  const std::vector<LabelledImage> cells = {
-      {photo, "photo " + c.view_name}, {ours, psnr[0]}, {nearest, psnr[1]}, {plane, psnr[2]},
-      {band, "edge band"}, {ErrorImage(ours, photo), "ours error x4"}, {ErrorImage(nearest, photo), "nearest error x4"},
-      {ErrorImage(plane, photo), "plane error x4"}};
+  const std::vector<LabelledImage> cells = {{photo, "photo " + c.view_name},
+                                            {ours, psnr[0]},
+                                            {nearest, psnr[1]},
+                                            {plane, psnr[2]},
+                                            {band, "edge band"},
+                                            {ErrorImage(ours, photo), "ours error x4"},
+                                            {ErrorImage(nearest, photo), "nearest error x4"},
+                                            {ErrorImage(plane, photo), "plane error x4"}};
   const cv::Mat sheet = ContactSheet(cells, 4, 480);
   const std::filesystem::path file =
       options.dump_dir / (SafeFileName(set) + "_loo_view" + std::to_string(c.view) + ".png");
@@ -173,13 +180,19 @@ StatusOr<LeaveOneOutResult> EvaluateLeaveOneOut(const RealSet& set, const LeaveO
                                    " views; leaving one out needs at least 3");
   }
   // The product's working size and calibration, all views together.
-  const std::optional<WorkingImageSet> working = ImageSetAtWorkingSize(options.max_side_px, set.capture, RigCalibration{});
+  const std::optional<WorkingImageSet> working =
+      ImageSetAtWorkingSize(options.max_side_px, set.capture, RigCalibration{});
   const FrameSet& capture = working ? working->capture : set.capture;
   Progress(options, set.name + ": structure from motion on " + std::to_string(result.num_views) + " views");
   std::vector<std::string> warnings;
   std::vector<StageTiming> timings;
-  StatusOr<CalibratedViews> calibrated = CalibrateCapture(capture, RigCalibration{}, CalibOptions{},
-                                                          calib::RigRefinementOptions{}, options.sfm, &warnings, &timings,
+  StatusOr<CalibratedViews> calibrated = CalibrateCapture(capture,
+                                                          RigCalibration{},
+                                                          CalibOptions{},
+                                                          calib::RigRefinementOptions{},
+                                                          options.sfm,
+                                                          &warnings,
+                                                          &timings,
                                                           set.lattice);
   if (!calibrated.ok()) {
     return FailedPreconditionError(set.name + ": not posed (" + calibrated.status().message() + ")");
@@ -203,11 +216,12 @@ StatusOr<LeaveOneOutResult> EvaluateLeaveOneOut(const RealSet& set, const LeaveO
                                    std::to_string(result.num_views) + " views posed; leaving one out needs 3");
   }
   for (const std::string& warning : warnings) result.notes.push_back(warning);
-  const DepthOptions depth_options = options.depth.WithDefaultDepthRange(calibrated->depth_min_m, calibrated->depth_max_m);
+  const DepthOptions depth_options =
+      options.depth.WithDefaultDepthRange(calibrated->depth_min_m, calibrated->depth_max_m);
 
   for (int held : held_out) {
     const auto target = std::find_if(views.begin(), views.end(), [&](const View& v) { return v.id.value == held; });
-    const std::string view_name = lattice_photo                                      ? "tile " + std::to_string(held)
+    const std::string view_name = lattice_photo                                    ? "tile " + std::to_string(held)
                                   : held < static_cast<int>(set.view_names.size()) ? set.view_names[held]
                                                                                    : "";
     if (target == views.end()) {
@@ -222,8 +236,9 @@ StatusOr<LeaveOneOutResult> EvaluateLeaveOneOut(const RealSet& set, const LeaveO
     c.view = held;
     c.view_name = view_name;
     c.num_sources = static_cast<int>(sources.size());
-    Progress(options, set.name + ": view " + std::to_string(held) + " held out: depth for " +
-                          std::to_string(sources.size()) + " views");
+    Progress(options,
+             set.name + ": view " + std::to_string(held) + " held out: depth for " + std::to_string(sources.size()) +
+                 " views");
     Clock::time_point start = Clock::now();
     PX_ASSIGN_OR_RETURN(DepthStageResult depth, ComputeLayeredDepth(sources, depth_options));
     c.depth_ms = MsSince(start);

@@ -26,15 +26,15 @@ struct ImageScores {
 };
 
 struct LeaveOneOutCase {
-  int view = 0;               // the frame held out
+  int view = 0;  // the frame held out
   std::string view_name;
   int num_sources = 0;
-  int nearest_view = -1;      // the nearest other view by camera centre: the baselines' source
+  int nearest_view = -1;  // the nearest other view by camera centre: the baselines' source
   ImageScores ours;
-  ImageScores nearest;        // the nearest view unwarped
-  ImageScores plane;          // the nearest view warped by its best-fit plane
-  double invented = 0;        // share of our pixels that no source covered (inpainted)
-  double edge_band = 0;       // share of the frame in the edge band
+  ImageScores nearest;   // the nearest view unwarped
+  ImageScores plane;     // the nearest view warped by its best-fit plane
+  double invented = 0;   // share of our pixels that no source covered (inpainted)
+  double edge_band = 0;  // share of the frame in the edge band
   double depth_ms = 0;
   double render_ms = 0;
 };
@@ -43,20 +43,20 @@ struct LeaveOneOutResult {
   std::string set;
   int num_views = 0;
   int num_posed = 0;
-  std::string calibration;    // the calibration's summary line
+  std::string calibration;  // the calibration's summary line
   std::vector<LeaveOneOutCase> cases;
   std::vector<std::string> notes;  // views that were not posed, held-out views not scored, and why
 };
 
 struct LeaveOneOutOptions {
-  DepthOptions depth;         // depth range 0: the calibration's
+  DepthOptions depth;  // depth range 0: the calibration's
   RenderOptions render;
   calib::SfmOptions sfm;
   // The views (the held-out one included, as the product would have it) equalised to the centre
   // view's exposure, colour and vignetting before depth and scoring, as the product does.
   calib::PhotometricOptions photometric;
-  int max_side_px = 1200;     // photos are processed at this longer side, as the product does
-  int edge_band_px = 3;       // the edge band's half-width
+  int max_side_px = 1200;  // photos are processed at this longer side, as the product does
+  int edge_band_px = 3;    // the edge band's half-width
   // When not empty: per case, the photo, ours, both baselines and their error maps as one PNG.
   std::filesystem::path dump_dir;
   std::function<void(const std::string&)> progress;  // a line as each step starts (may be empty)

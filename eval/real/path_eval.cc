@@ -4,10 +4,9 @@
 #include <chrono>
 #include <cstdio>
 #include <map>
-#include <set>
-
-#include <opencv2/imgproc.hpp>
 #include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
+#include <set>
 
 #include "eval/real/contact_sheet.h"
 #include "eval/real/path_measures.h"
@@ -22,7 +21,8 @@ std::set<int> SheetFrames(int num_frames, int count) {
   if (num_frames <= 0) return frames;
   count = std::max(1, std::min(count, num_frames));
   for (int i = 0; i < count; ++i) {
-    frames.insert(count == 1 ? 0 : static_cast<int>(std::lround(static_cast<double>(i) * (num_frames - 1) / (count - 1))));
+    frames.insert(count == 1 ? 0
+                             : static_cast<int>(std::lround(static_cast<double>(i) * (num_frames - 1) / (count - 1))));
   }
   return frames;
 }
@@ -45,7 +45,8 @@ class PathWatcher final : public PipelineObserver, public FrameSink {
     cv::Mat double_map;
     figures.double_image = std::max(0.0, DoubleImageFraction(frame.double_image, keep_maps ? &double_map : nullptr));
     if (!previous_bgr_.empty()) {
-      figures.flicker = FlickerFraction(previous_bgr_, previous_camera_, frame, camera, 40, keep_maps ? &flicker_map : nullptr);
+      figures.flicker =
+          FlickerFraction(previous_bgr_, previous_camera_, frame, camera, 40, keep_maps ? &flicker_map : nullptr);
     }
     figures.holes = frame.holes.hole_ratio;
     figures_.push_back(figures);
@@ -53,8 +54,8 @@ class PathWatcher final : public PipelineObserver, public FrameSink {
     previous_camera_ = camera;
     ++novel_frames_;
     if (keep_maps) {
-      maps_[index] = {torn_map, double_map,
-                      flicker_map.empty() ? cv::Mat::zeros(frame.bgr.size(), CV_8U) : flicker_map};
+      maps_[index] = {
+          torn_map, double_map, flicker_map.empty() ? cv::Mat::zeros(frame.bgr.size(), CV_8U) : flicker_map};
     }
   }
 
@@ -106,7 +107,8 @@ cv::Mat DepthPicture(const DepthMap& depth) {
   for (int y = 0; y < levels.rows; ++y) {
     for (int x = 0; x < levels.cols; ++x) {
       const float z = depth.depth_m.at<float>(y, x);
-      if (z > 0) levels.at<uint8_t>(y, x) = cv::saturate_cast<uint8_t>(255.0f * (1.0f / z - lo) / std::max(hi - lo, 1e-9f));
+      if (z > 0)
+        levels.at<uint8_t>(y, x) = cv::saturate_cast<uint8_t>(255.0f * (1.0f / z - lo) / std::max(hi - lo, 1e-9f));
     }
   }
   cv::applyColorMap(levels, picture, cv::COLORMAP_TURBO);
@@ -125,8 +127,7 @@ cv::Mat Overlay(const cv::Mat& frame, const cv::Mat& mask, const cv::Scalar& col
   return shown;
 }
 
-Status DumpSheets(const PathEvalOptions& options, const std::string& set, const PathWatcher& watcher,
-                  int num_frames) {
+Status DumpSheets(const PathEvalOptions& options, const std::string& set, const PathWatcher& watcher, int num_frames) {
   const std::set<int> chosen = SheetFrames(num_frames, options.sheet_frames);
   std::vector<LabelledImage> frames, maps;
   for (const auto& [index, bgr] : watcher.frames()) {
@@ -134,8 +135,13 @@ Status DumpSheets(const PathEvalOptions& options, const std::string& set, const 
     char label[96];
     if (index < static_cast<int>(watcher.figures().size())) {
       const auto& f = watcher.figures()[index];
-      std::snprintf(label, sizeof(label), "frame %d  torn %.2f%% double %.2f%% holes %.1f%%", index, 100 * f.torn,
-                    100 * f.double_image, 100 * f.holes);
+      std::snprintf(label,
+                    sizeof(label),
+                    "frame %d  torn %.2f%% double %.2f%% holes %.1f%%",
+                    index,
+                    100 * f.torn,
+                    100 * f.double_image,
+                    100 * f.holes);
     } else {
       std::snprintf(label, sizeof(label), "frame %d", index);
     }
@@ -157,7 +163,8 @@ Status DumpSheets(const PathEvalOptions& options, const std::string& set, const 
     depth_cells.push_back({DepthPicture(watcher.depth()[i]), name + " depth (dark: unconfident)"});
   }
   if (!depth_cells.empty()) {
-    PX_RETURN_IF_ERROR(WritePng(options.dump_dir / (SafeFileName(set) + "_depth.png"), ContactSheet(depth_cells, 4, 400)));
+    PX_RETURN_IF_ERROR(
+        WritePng(options.dump_dir / (SafeFileName(set) + "_depth.png"), ContactSheet(depth_cells, 4, 400)));
   }
   // The first, middle and last frames at full size, to look at closely.
   for (const auto& [index, bgr] : watcher.frames()) {

@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
-
 #include <opencv2/imgproc.hpp>
 
 #include "eval/render/image_metrics.h"
@@ -22,8 +21,12 @@ Eigen::Vector3d WorldPoint(const VirtualCamera& camera, double x, double y, doub
 // `shown` (BGR): true when at least one does, seeing it at the point's depth in a colour more
 // than `levels` from `shown`, and none sees past it or sees `shown` itself there (a real gap that
 // the source's depth smooths over still shows the far colour in its image).
-bool SourcesShowSurface(const Eigen::Vector3d& point, const cv::Vec3b& shown, const std::vector<const View*>& sources,
-                        const std::vector<const DepthMap*>& depths, double far_fraction, int levels) {
+bool SourcesShowSurface(const Eigen::Vector3d& point,
+                        const cv::Vec3b& shown,
+                        const std::vector<const View*>& sources,
+                        const std::vector<const DepthMap*>& depths,
+                        double far_fraction,
+                        int levels) {
   int surface = 0;
   for (size_t i = 0; i < sources.size(); ++i) {
     const Eigen::Vector3d in_source = sources[i]->cam_from_world * point;
@@ -38,7 +41,7 @@ bool SourcesShowSurface(const Eigen::Vector3d& point, const cv::Vec3b& shown, co
     const double seen = map.at<float>(v, u);
     if (!(seen > 0)) continue;
     if (seen > (1 + far_fraction) * in_source.z()) return false;  // this source sees through: a real gap
-    if (seen < (1 - far_fraction) * in_source.z()) continue;       // hidden there: no say
+    if (seen < (1 - far_fraction) * in_source.z()) continue;      // hidden there: no say
     const cv::Vec3b colour = sources[i]->image.at<cv::Vec3b>(v, u);
     int apart = 0;
     for (int c = 0; c < 3; ++c) apart = std::max(apart, std::abs(colour[c] - shown[c]));
@@ -50,8 +53,12 @@ bool SourcesShowSurface(const Eigen::Vector3d& point, const cv::Vec3b& shown, co
 
 }  // namespace
 
-double TornFraction(const FrameRender& frame, const VirtualCamera& camera, const std::vector<View>& views,
-                    const std::vector<DepthMap>& depth, const TearOptions& options, cv::Mat* map) {
+double TornFraction(const FrameRender& frame,
+                    const VirtualCamera& camera,
+                    const std::vector<View>& views,
+                    const std::vector<DepthMap>& depth,
+                    const TearOptions& options,
+                    cv::Mat* map) {
   const cv::Mat& z = frame.depth_m;
   cv::Mat torn = cv::Mat::zeros(z.size(), CV_8U);
   std::vector<const View*> sources;
@@ -91,8 +98,12 @@ double TornFraction(const FrameRender& frame, const VirtualCamera& camera, const
               if (std::abs(za - zb) > f * std::min(za, zb)) continue;  // not one surface
               // The near surface across the gap, linear between its sides.
               const double across = za + (zb - za) * static_cast<double>(a) / (a + b);
-              is_torn = SourcesShowSurface(WorldPoint(camera, x, y, across), frame.bgr.at<cv::Vec3b>(y, x), sources,
-                                           source_depths, f, options.colour_levels);
+              is_torn = SourcesShowSurface(WorldPoint(camera, x, y, across),
+                                           frame.bgr.at<cv::Vec3b>(y, x),
+                                           sources,
+                                           source_depths,
+                                           f,
+                                           options.colour_levels);
             }
           }
           if (is_torn) break;
@@ -105,8 +116,12 @@ double TornFraction(const FrameRender& frame, const VirtualCamera& camera, const
   return static_cast<double>(cv::countNonZero(torn)) / static_cast<double>(torn.total());
 }
 
-double FlickerFraction(const cv::Mat& previous_bgr, const VirtualCamera& previous_camera, const FrameRender& current,
-                       const VirtualCamera& camera, int threshold, cv::Mat* map) {
+double FlickerFraction(const cv::Mat& previous_bgr,
+                       const VirtualCamera& previous_camera,
+                       const FrameRender& current,
+                       const VirtualCamera& camera,
+                       int threshold,
+                       cv::Mat* map) {
   const cv::Mat& z = current.depth_m;
   cv::Mat map_x(z.size(), CV_32F, cv::Scalar(-1)), map_y(z.size(), CV_32F, cv::Scalar(-1));
   cv::Mat inside = cv::Mat::zeros(z.size(), CV_8U);
@@ -117,7 +132,8 @@ double FlickerFraction(const cv::Mat& previous_bgr, const VirtualCamera& previou
       const Eigen::Vector3d in_previous = previous_camera.cam_from_world * WorldPoint(camera, x, y, depth);
       Eigen::Vector2d pixel;
       if (!(in_previous.z() > 0) || !previous_camera.camera.Project(in_previous, &pixel)) continue;
-      if (pixel.x() < 0 || pixel.y() < 0 || pixel.x() > previous_bgr.cols - 1 || pixel.y() > previous_bgr.rows - 1) continue;
+      if (pixel.x() < 0 || pixel.y() < 0 || pixel.x() > previous_bgr.cols - 1 || pixel.y() > previous_bgr.rows - 1)
+        continue;
       map_x.at<float>(y, x) = static_cast<float>(pixel.x());
       map_y.at<float>(y, x) = static_cast<float>(pixel.y());
       inside.at<uint8_t>(y, x) = 255;

@@ -1,6 +1,6 @@
-#include <filesystem>
-
 #include <gtest/gtest.h>
+
+#include <filesystem>
 #include <opencv2/imgproc.hpp>
 
 #include "eval/real/contact_sheet.h"
@@ -38,7 +38,7 @@ TEST(ContactSheetTest, TilesCellsRowByRowWithLabels) {
   // Two columns of 100 px, two rows of 50 px cells with their label strips.
   EXPECT_EQ(sheet.cols, 4 + 2 * 104);
   EXPECT_GT(sheet.rows, 2 * 50);
-  EXPECT_EQ(sheet.at<cv::Vec3b>(10, 10), cv::Vec3b(0, 0, 255));     // the first cell
+  EXPECT_EQ(sheet.at<cv::Vec3b>(10, 10), cv::Vec3b(0, 0, 255));       // the first cell
   EXPECT_EQ(sheet.at<cv::Vec3b>(10, 118), cv::Vec3b(128, 128, 128));  // the second, grey made BGR
   EXPECT_TRUE(ContactSheet({}, 2, 100).empty());
 }

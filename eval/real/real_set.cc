@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <cctype>
-
 #include <opencv2/imgcodecs.hpp>
 
 #include "eval/datasets/hci_light_field.h"
@@ -19,8 +18,8 @@ namespace fs = std::filesystem;
 constexpr int kMaxViewsHeldOutEach = 9;
 constexpr int kHoldOutEvery = 8;
 
-Status AddFrame(const cv::Mat& bgr, double focal_px, const std::string& focal_source, const std::string& name,
-                RealSet* set) {
+Status AddFrame(
+    const cv::Mat& bgr, double focal_px, const std::string& focal_source, const std::string& name, RealSet* set) {
   Frame frame;
   PX_ASSIGN_OR_RETURN(frame.image, FromBgr(bgr, PixelFormat::kRgb888));
   frame.sequence = set->capture.frames.size();
@@ -62,8 +61,8 @@ Status LoadLlffPhotos(const fs::path& path, RealSet* set) {
     if (!(full_width > 0 && full_focal > 0)) {
       return DataLossError((path / "poses_bounds.npy").string() + ": row 0 has no (H, W, f)");
     }
-    PX_RETURN_IF_ERROR(AddFrame(bgr, full_focal * bgr.cols / full_width, "LLFF poses_bounds.npy focal length",
-                                file.filename().string(), set));
+    PX_RETURN_IF_ERROR(AddFrame(
+        bgr, full_focal * bgr.cols / full_width, "LLFF poses_bounds.npy focal length", file.filename().string(), set));
   }
   return OkStatus();
 }

@@ -17,17 +17,17 @@
 #include <vector>
 
 #include "pipeline/core/frame_set.h"
-#include "pipeline/lattice/lattice_options.h"
 #include "pipeline/core/status.h"
+#include "pipeline/lattice/lattice_options.h"
 
 namespace px::eval {
 
 struct RealSet {
-  std::string name;            // "handheld/kpankov_office_4views": the path under the data folder
+  std::string name;  // "handheld/kpankov_office_4views": the path under the data folder
   std::filesystem::path path;
-  std::string layout;          // "photo folder", "LLFF", "HCI light field", "lattice photo", ...
-  FrameSet capture;            // kImageSet, frame i = view i; or kLatticeFrame, one photo
-  LatticeOptions lattice;      // a lattice photo's: finding its lattice blind (tiles upright)
+  std::string layout;                   // "photo folder", "LLFF", "HCI light field", "lattice photo", ...
+  FrameSet capture;                     // kImageSet, frame i = view i; or kLatticeFrame, one photo
+  LatticeOptions lattice;               // a lattice photo's: finding its lattice blind (tiles upright)
   std::vector<std::string> view_names;  // a file name per frame
   // The views held out in turn: every view of a set of up to 9; in larger sets every 8th
   // (LLFF's protocol: 0, 8, 16, ...), each still left out alone. Empty for a lattice photo, whose
@@ -43,7 +43,8 @@ std::vector<std::filesystem::path> StandardRealSets(const std::filesystem::path&
 // Reads the set at `path` by its layout; `name` labels it; `lattice` ("auto" or "RxC") is the
 // size of a lattice photo's lattice. Errors name the file and the reason: no such path, no
 // images, an image that cannot be decoded.
-StatusOr<RealSet> LoadRealSet(const std::filesystem::path& path, const std::string& name,
+StatusOr<RealSet> LoadRealSet(const std::filesystem::path& path,
+                              const std::string& name,
                               const std::string& lattice = "auto");
 
 // The lattice size a standard set's photo is known to hold ("auto" for the rest): the wiggle

@@ -47,8 +47,10 @@ CameraKeyframe Keyframe(const RecordedEnd& end, double t, double scale) {
   CameraKeyframe key;
   key.t = t;
   key.centre_in_world = Eigen::Vector3d(end.centre_in_world_m[0], end.centre_in_world_m[1], end.centre_in_world_m[2]);
-  key.cam_from_world_rotation = Eigen::Quaterniond(end.cam_from_world_wxyz[0], end.cam_from_world_wxyz[1],
-                                                   end.cam_from_world_wxyz[2], end.cam_from_world_wxyz[3])
+  key.cam_from_world_rotation = Eigen::Quaterniond(end.cam_from_world_wxyz[0],
+                                                   end.cam_from_world_wxyz[1],
+                                                   end.cam_from_world_wxyz[2],
+                                                   end.cam_from_world_wxyz[3])
                                     .normalized();
   key.focal_px = end.focal_px * scale;
   return key;
@@ -63,8 +65,8 @@ std::vector<std::string> CloseUpScenes() {
 }
 
 StatusOr<CameraPath> RecordedDollyIn(const std::string& scene, const CameraModel& source_camera, double scale) {
-  const auto move = std::find_if(kDollyIns.begin(), kDollyIns.end(),
-                                 [&](const RecordedMove& m) { return scene == m.scene; });
+  const auto move =
+      std::find_if(kDollyIns.begin(), kDollyIns.end(), [&](const RecordedMove& m) { return scene == m.scene; });
   if (move == kDollyIns.end()) {
     return InvalidArgumentError("eval render: no recorded dolly in for scene '" + scene + "' (close-ups exist for " +
                                 "one_face and two_faces)");
@@ -101,8 +103,9 @@ StatusOr<std::vector<RenderEvalCase>> EvaluateSimulatedCloseUps(const std::files
     Viewpoint viewpoint;
     viewpoint.name = name;
     viewpoint.camera = path.FrameAt(t);
-    PX_ASSIGN_OR_RETURN(viewpoint.truth, sim::RenderView(lattice.scene, viewpoint.camera.camera,
-                                                         viewpoint.camera.cam_from_world, truth_options));
+    PX_ASSIGN_OR_RETURN(
+        viewpoint.truth,
+        sim::RenderView(lattice.scene, viewpoint.camera.camera, viewpoint.camera.cam_from_world, truth_options));
     viewpoints.push_back(std::move(viewpoint));
   }
   std::vector<RenderEvalCase> cases;
@@ -112,9 +115,14 @@ StatusOr<std::vector<RenderEvalCase>> EvaluateSimulatedCloseUps(const std::files
     for (const Viewpoint& viewpoint : viewpoints) {
       Progress(options, dataset + ": " + viewpoint.name);
       PX_ASSIGN_OR_RETURN(RenderEvalCase result,
-                          RenderCase(*renderer, viewpoint.camera.camera, viewpoint.camera.cam_from_world,
-                                     viewpoint.truth.bgr, viewpoint.truth.depth_m,
-                                     static_cast<int>(lattice.views.size()), options, {dataset, viewpoint.name, source}));
+                          RenderCase(*renderer,
+                                     viewpoint.camera.camera,
+                                     viewpoint.camera.cam_from_world,
+                                     viewpoint.truth.bgr,
+                                     viewpoint.truth.depth_m,
+                                     static_cast<int>(lattice.views.size()),
+                                     options,
+                                     {dataset, viewpoint.name, source}));
       cases.push_back(result);
     }
   }

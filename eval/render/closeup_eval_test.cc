@@ -1,9 +1,9 @@
 #include "eval/render/closeup_eval.h"
 
+#include <gtest/gtest.h>
+
 #include <cstdio>
 #include <string>
-
-#include <gtest/gtest.h>
 
 #include "sim/synthetic/data_paths.h"
 
@@ -28,8 +28,13 @@ TEST(CloseUpEvalTest, OneFaceAtQuarterSizeWithExactDepth) {
   EXPECT_EQ((*cases)[0].viewpoint, "dolly in, halfway");
   EXPECT_EQ((*cases)[1].viewpoint, "dolly in, close-up end");
   for (const RenderEvalCase& c : *cases) {
-    std::printf("%s, %s: %dx%d PSNR %.2f dB cracks %.3f %%\n", c.dataset.c_str(), c.viewpoint.c_str(), c.width,
-                c.height, c.psnr_db, 100 * c.crack_fraction);
+    std::printf("%s, %s: %dx%d PSNR %.2f dB cracks %.3f %%\n",
+                c.dataset.c_str(),
+                c.viewpoint.c_str(),
+                c.width,
+                c.height,
+                c.psnr_db,
+                100 * c.crack_fraction);
     EXPECT_EQ(c.dataset, "sim one_face 3x3 close-up");
     EXPECT_EQ(c.width, 160);
     // Measured 35.5 and 29.7 dB (the end magnifies the sources about 3.4 times), cracks 0.03 %.
@@ -52,10 +57,12 @@ TEST(CloseUpEvalTest, SeamSkirtsCloseCracksOfTheDepthStage) {
   options.depth_stage.segments.coplanar_keep_fraction = 0;
   StatusOr<std::vector<RenderEvalCase>> with = EvaluateSimulatedCloseUps(sim::ScenesDir() / "one_face.json", options);
   options.render.seam_skirts.max_step = 0;
-  StatusOr<std::vector<RenderEvalCase>> without = EvaluateSimulatedCloseUps(sim::ScenesDir() / "one_face.json", options);
+  StatusOr<std::vector<RenderEvalCase>> without =
+      EvaluateSimulatedCloseUps(sim::ScenesDir() / "one_face.json", options);
   ASSERT_TRUE(with.ok()) << with.status().ToString();
   ASSERT_TRUE(without.ok()) << without.status().ToString();
-  std::printf("one_face close-ups, depth stage: cracks %.3f %% with skirts, %.3f %% without\n", 100 * MeanCracks(*with),
+  std::printf("one_face close-ups, depth stage: cracks %.3f %% with skirts, %.3f %% without\n",
+              100 * MeanCracks(*with),
               100 * MeanCracks(*without));
   EXPECT_LT(MeanCracks(*with), 0.75 * MeanCracks(*without));
 }
@@ -67,15 +74,18 @@ TEST(CloseUpEvalTest, CoplanarGroupsSharpenTheCloseUpEnd) {
   RenderEvalOptions options;
   options.sim_scale = 0.5;
   options.depths = {EvalDepth::kDepthStage};
-  StatusOr<std::vector<RenderEvalCase>> grouped = EvaluateSimulatedCloseUps(sim::ScenesDir() / "one_face.json", options);
+  StatusOr<std::vector<RenderEvalCase>> grouped =
+      EvaluateSimulatedCloseUps(sim::ScenesDir() / "one_face.json", options);
   options.depth_stage.segments.coplanar_keep_fraction = 0;
   StatusOr<std::vector<RenderEvalCase>> alone = EvaluateSimulatedCloseUps(sim::ScenesDir() / "one_face.json", options);
   ASSERT_TRUE(grouped.ok()) << grouped.status().ToString();
   ASSERT_TRUE(alone.ok()) << alone.status().ToString();
   ASSERT_EQ(grouped->size(), alone->size());
   for (size_t i = 0; i < grouped->size(); ++i) {
-    std::printf("%s: %.2f dB with coplanar groups, %.2f dB without\n", (*grouped)[i].viewpoint.c_str(),
-                (*grouped)[i].psnr_db, (*alone)[i].psnr_db);
+    std::printf("%s: %.2f dB with coplanar groups, %.2f dB without\n",
+                (*grouped)[i].viewpoint.c_str(),
+                (*grouped)[i].psnr_db,
+                (*alone)[i].psnr_db);
   }
   EXPECT_GT(grouped->back().psnr_db, alone->back().psnr_db + 1.0) << "the close-up end";
 }

@@ -8,9 +8,8 @@
 
 #include <chrono>
 #include <memory>
-#include <optional>
-
 #include <opencv2/core/utility.hpp>
+#include <optional>
 
 #include "eval/render/closeup_eval.h"
 #include "eval/render/render_eval_steps.h"
@@ -58,7 +57,8 @@ void BM_CloseUpFrame(benchmark::State& state) {
   }
   const auto start = std::chrono::steady_clock::now();
   auto renderer = CpuSceneRenderer::Create(shot->lattice.views, shot->layers, options);
-  state.counters["create_ms"] = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+  state.counters["create_ms"] =
+      std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
   if (!renderer.ok()) {
     state.SkipWithError(renderer.status().ToString().c_str());
     return;
@@ -73,8 +73,8 @@ void BM_CloseUpFrame(benchmark::State& state) {
     }
     fragments += (*renderer)->last_frame().fragments;
   }
-  state.counters["fragments_per_pixel"] =
-      static_cast<double>(fragments) / (static_cast<double>(state.iterations()) * camera.camera.width * camera.camera.height);
+  state.counters["fragments_per_pixel"] = static_cast<double>(fragments) / (static_cast<double>(state.iterations()) *
+                                                                            camera.camera.width * camera.camera.height);
   state.counters["segments"] = (*renderer)->last_frame().segments_drawn;
   cv::setNumThreads(-1);
 }

@@ -10,8 +10,10 @@ bool HasTruth(float z) { return std::isfinite(z) && z > 0; }
 
 }  // namespace
 
-CrackReport MeasureCracks(const cv::Mat& rendered_depth_m, const cv::Mat& true_depth_m,
-                          const CrackMeasureOptions& options, cv::Mat* cracks) {
+CrackReport MeasureCracks(const cv::Mat& rendered_depth_m,
+                          const cv::Mat& true_depth_m,
+                          const CrackMeasureOptions& options,
+                          cv::Mat* cracks) {
   CV_Assert(rendered_depth_m.type() == CV_32F && true_depth_m.type() == CV_32F &&
             rendered_depth_m.size() == true_depth_m.size());
   const int width = true_depth_m.cols, height = true_depth_m.rows;

@@ -26,7 +26,9 @@ struct CrackReport {
 // `rendered_depth_m` and `true_depth_m`: CV_32F of one size, z in metres; pixels with no true
 // depth (0, or not finite) count neither as cracks nor as near sides. Returns the cracks and,
 // when `cracks` is not null, a CV_8U map of them (255).
-CrackReport MeasureCracks(const cv::Mat& rendered_depth_m, const cv::Mat& true_depth_m,
-                          const CrackMeasureOptions& options = {}, cv::Mat* cracks = nullptr);
+CrackReport MeasureCracks(const cv::Mat& rendered_depth_m,
+                          const cv::Mat& true_depth_m,
+                          const CrackMeasureOptions& options = {},
+                          cv::Mat* cracks = nullptr);
 
 }  // namespace px::eval

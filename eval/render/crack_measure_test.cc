@@ -15,9 +15,9 @@ cv::Mat CardOverWall() {
 TEST(CrackMeasureTest, ThinLinesOfTheWallInsideTheCardAreCracks) {
   const cv::Mat truth = CardOverWall();
   cv::Mat rendered = truth.clone();
-  rendered.col(20).setTo(3.0f);                          // 1 px vertical crack: 40 px
-  rendered(cv::Rect(30, 10, 3, 1)).setTo(2.0f);          // part of a row, 3 px wide, mixed depth: 3 px
-  rendered(cv::Rect(36, 20, 2, 1)).setTo(3.0f);          // 2 px wide: 2 px
+  rendered.col(20).setTo(3.0f);                  // 1 px vertical crack: 40 px
+  rendered(cv::Rect(30, 10, 3, 1)).setTo(2.0f);  // part of a row, 3 px wide, mixed depth: 3 px
+  rendered(cv::Rect(36, 20, 2, 1)).setTo(3.0f);  // 2 px wide: 2 px
   cv::Mat map;
   const CrackReport report = MeasureCracks(rendered, truth, {}, &map);
   EXPECT_EQ(report.crack_pixels, 45);
@@ -32,7 +32,7 @@ TEST(CrackMeasureTest, WideHolesRealGapsAndSmallDepthErrorsAreNotCracks) {
   rendered(cv::Rect(20, 0, 6, 40)).setTo(3.0f);  // 6 px wide: a hole, not a crack
   rendered.col(40).setTo(1.05f);                 // 5 % behind: a depth error, not the wall
   cv::Mat gap_truth = truth.clone();
-  gap_truth.col(45).setTo(3.0f);                 // the scene has a 1 px gap there: rendered right
+  gap_truth.col(45).setTo(3.0f);  // the scene has a 1 px gap there: rendered right
   rendered.col(45).setTo(3.0f);
   EXPECT_EQ(MeasureCracks(rendered, gap_truth).crack_pixels, 0);
 }

@@ -1,13 +1,12 @@
 #include "eval/render/handheld_eval.h"
 
+#include <Eigen/Geometry>
 #include <cmath>
 #include <cstdio>
 #include <map>
 #include <memory>
-#include <string>
-
-#include <Eigen/Geometry>
 #include <opencv2/core.hpp>
+#include <string>
 
 #include "eval/calib/pose_alignment.h"
 #include "eval/render/render_eval_steps.h"
@@ -19,12 +18,13 @@
 namespace px::eval {
 namespace {
 
-constexpr double kFocalPx = 560;  // at 640x480
+constexpr double kFocalPx = 560;     // at 640x480
 constexpr double kNoiseSigma = 2.0;  // 8-bit levels, as sim_calib's hand-held sets
 
 Eigen::Quaterniond Turn(double x_deg, double y_deg, double z_deg) {
   const double r = M_PI / 180;
-  return Eigen::AngleAxisd(x_deg * r, Eigen::Vector3d::UnitX()) * Eigen::AngleAxisd(y_deg * r, Eigen::Vector3d::UnitY()) *
+  return Eigen::AngleAxisd(x_deg * r, Eigen::Vector3d::UnitX()) *
+         Eigen::AngleAxisd(y_deg * r, Eigen::Vector3d::UnitY()) *
          Eigen::AngleAxisd(z_deg * r, Eigen::Vector3d::UnitZ());
 }
 
@@ -76,12 +76,13 @@ Rigid3 PoseOf(const Place& place) {
 // `scenes[i]` is the scene photo i saw (the shots, then the held-out viewpoints; one scene for all
 // when the subject keeps still).
 StatusOr<std::vector<RenderEvalCase>> EvaluateShots(const std::vector<const sim::Scene*>& scenes,
-                                                    const std::string& dataset, bool exif,
+                                                    const std::string& dataset,
+                                                    bool exif,
                                                     const RenderEvalOptions& options) {
   const auto scene_of = [&](size_t place) -> const sim::Scene& { return *scenes[std::min(place, scenes.size() - 1)]; };
   const double s = options.sim_scale;
-  const CameraModel camera = CameraModel::Pinhole(static_cast<int>(std::lround(640 * s)),
-                                                  static_cast<int>(std::lround(480 * s)), kFocalPx * s);
+  const CameraModel camera = CameraModel::Pinhole(
+      static_cast<int>(std::lround(640 * s)), static_cast<int>(std::lround(480 * s)), kFocalPx * s);
 
   // The shots, as the camera delivers them (noise, the focal length as EXIF gives it).
   constexpr size_t kSources = std::size(kShots);
@@ -114,8 +115,13 @@ StatusOr<std::vector<RenderEvalCase>> EvaluateShots(const std::vector<const sim:
   std::vector<std::string> warnings;
   std::vector<StageTiming> timings;
   PX_ASSIGN_OR_RETURN(CalibratedViews calibrated,
-                      CalibrateCapture(capture, RigCalibration{}, CalibOptions{}, calib::RigRefinementOptions{},
-                                       calib::SfmOptions{}, &warnings, &timings));
+                      CalibrateCapture(capture,
+                                       RigCalibration{},
+                                       CalibOptions{},
+                                       calib::RigRefinementOptions{},
+                                       calib::SfmOptions{},
+                                       &warnings,
+                                       &timings));
   std::vector<Rigid3> estimated, reference;
   std::vector<double> estimated_focal, reference_focal;
   for (const View& view : calibrated.views) {
@@ -127,10 +133,15 @@ StatusOr<std::vector<RenderEvalCase>> EvaluateShots(const std::vector<const sim:
   PX_ASSIGN_OR_RETURN(PoseErrors pose_errors, ComparePoses(estimated, reference, estimated_focal, reference_focal));
   const Similarity& align = pose_errors.alignment;
   char posed[200];
-  std::snprintf(posed, sizeof(posed), "%s: %zu of %zu photos posed; after alignment, rotation within %.3f deg, "
-                "centres within %.1f %% of the 8 cm baseline, focal within %.2f %%", dataset.c_str(),
-                calibrated.views.size(), places.size(),
-                PoseErrors::Max(pose_errors.rotation_deg), 100 * PoseErrors::Max(pose_errors.centre_relative),
+  std::snprintf(posed,
+                sizeof(posed),
+                "%s: %zu of %zu photos posed; after alignment, rotation within %.3f deg, "
+                "centres within %.1f %% of the 8 cm baseline, focal within %.2f %%",
+                dataset.c_str(),
+                calibrated.views.size(),
+                places.size(),
+                PoseErrors::Max(pose_errors.rotation_deg),
+                100 * PoseErrors::Max(pose_errors.centre_relative),
                 100 * PoseErrors::Max(pose_errors.focal_relative));
   Progress(options, posed);
 
@@ -152,8 +163,10 @@ StatusOr<std::vector<RenderEvalCase>> EvaluateShots(const std::vector<const sim:
   // Exact depth in the reconstruction's units (depth scales by 1 / s).
   std::vector<DepthMap> exact;
   for (const View& view : sources) {
-    PX_ASSIGN_OR_RETURN(sim::RenderedView truth, sim::RenderView(scene_of(static_cast<size_t>(view.id.value)), camera,
-                                                                 true_poses[static_cast<size_t>(view.id.value)]));
+    PX_ASSIGN_OR_RETURN(
+        sim::RenderedView truth,
+        sim::RenderView(
+            scene_of(static_cast<size_t>(view.id.value)), camera, true_poses[static_cast<size_t>(view.id.value)]));
     DepthMap map;
     map.id = view.id;
     map.depth_m = truth.depth_m / align.scale;
@@ -177,8 +190,13 @@ StatusOr<std::vector<RenderEvalCase>> EvaluateShots(const std::vector<const sim:
                           sim::RenderView(scene_of(kSources + k), camera, PoseOf(viewpoint.place)));
       const cv::Mat truth_depth = truth.depth_m / align.scale;
       PX_ASSIGN_OR_RETURN(RenderEvalCase result,
-                          RenderCase(*renderer, posed_view->second->camera, posed_view->second->cam_from_world,
-                                     truth.bgr, truth_depth, static_cast<int>(sources.size()), options,
+                          RenderCase(*renderer,
+                                     posed_view->second->camera,
+                                     posed_view->second->cam_from_world,
+                                     truth.bgr,
+                                     truth_depth,
+                                     static_cast<int>(sources.size()),
+                                     options,
                                      {dataset, viewpoint.name, source}));
       cases.push_back(result);
     }
@@ -194,7 +212,8 @@ StatusOr<std::vector<RenderEvalCase>> EvaluateSimulatedHandheld(const std::files
   PX_ASSIGN_OR_RETURN(sim::Scene scene, sim::LoadScene(scene_file));
   const std::string dataset = "sim " + scene_file.stem().string() + " hand-held";
   PX_ASSIGN_OR_RETURN(std::vector<RenderEvalCase> cases, EvaluateShots({&scene}, dataset, true, options));
-  PX_ASSIGN_OR_RETURN(std::vector<RenderEvalCase> without, EvaluateShots({&scene}, dataset + " no EXIF", false, options));
+  PX_ASSIGN_OR_RETURN(std::vector<RenderEvalCase> without,
+                      EvaluateShots({&scene}, dataset + " no EXIF", false, options));
   cases.insert(cases.end(), without.begin(), without.end());
   return cases;
 }
@@ -214,7 +233,8 @@ StatusOr<std::vector<RenderEvalCase>> EvaluateSimulatedHandheldMotion(const std:
   for (const Viewpoint& viewpoint : kViewpoints) {
     size_t nearest = 0;
     for (size_t i = 1; i < std::size(kShots); ++i) {
-      if ((kShots[i].centre - viewpoint.place.centre).norm() < (kShots[nearest].centre - viewpoint.place.centre).norm()) {
+      if ((kShots[i].centre - viewpoint.place.centre).norm() <
+          (kShots[nearest].centre - viewpoint.place.centre).norm()) {
         nearest = i;
       }
     }

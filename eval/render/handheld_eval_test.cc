@@ -1,9 +1,9 @@
 #include "eval/render/handheld_eval.h"
 
+#include <gtest/gtest.h>
+
 #include <cstdio>
 #include <string>
-
-#include <gtest/gtest.h>
 
 #include "sim/synthetic/data_paths.h"
 
@@ -19,12 +19,20 @@ TEST(HandheldEvalTest, StillLifeAtHalfSize) {
   RenderEvalOptions options;
   options.sim_scale = 0.5;
   options.depths = {EvalDepth::kDepthStage, EvalDepth::kTruth};
-  StatusOr<std::vector<RenderEvalCase>> cases = EvaluateSimulatedHandheld(sim::ScenesDir() / "still_life.json", options);
+  StatusOr<std::vector<RenderEvalCase>> cases =
+      EvaluateSimulatedHandheld(sim::ScenesDir() / "still_life.json", options);
   ASSERT_TRUE(cases.ok()) << cases.status().ToString();
   ASSERT_EQ(cases->size(), 12u);  // 3 viewpoints x 2 depth sources, with and without EXIF
   for (const RenderEvalCase& c : *cases) {
-    std::printf("%s, %s, %s: %dx%d PSNR %.2f dB, SSIM %.4f, holes %.2f %%\n", c.dataset.c_str(), c.viewpoint.c_str(),
-                std::string(EvalDepthName(c.depth)).c_str(), c.width, c.height, c.psnr_db, c.ssim, 100 * c.hole_ratio);
+    std::printf("%s, %s, %s: %dx%d PSNR %.2f dB, SSIM %.4f, holes %.2f %%\n",
+                c.dataset.c_str(),
+                c.viewpoint.c_str(),
+                std::string(EvalDepthName(c.depth)).c_str(),
+                c.width,
+                c.height,
+                c.psnr_db,
+                c.ssim,
+                100 * c.hole_ratio);
     EXPECT_TRUE(c.dataset == "sim still_life hand-held" || c.dataset == "sim still_life hand-held no EXIF")
         << c.dataset;
     EXPECT_EQ(c.width, 320);
@@ -44,16 +52,21 @@ TEST(HandheldEvalTest, AFaceTurningBetweenShotsIsDrawnOnce) {
   options.depths = {EvalDepth::kDepthStage};
   RenderEvalOptions plain = options;
   plain.render.consistent_blend.enabled = false;
-  StatusOr<std::vector<RenderEvalCase>> before = EvaluateSimulatedHandheldMotion(sim::ScenesDir() / "one_face.json", plain);
-  StatusOr<std::vector<RenderEvalCase>> after = EvaluateSimulatedHandheldMotion(sim::ScenesDir() / "one_face.json", options);
+  StatusOr<std::vector<RenderEvalCase>> before =
+      EvaluateSimulatedHandheldMotion(sim::ScenesDir() / "one_face.json", plain);
+  StatusOr<std::vector<RenderEvalCase>> after =
+      EvaluateSimulatedHandheldMotion(sim::ScenesDir() / "one_face.json", options);
   ASSERT_TRUE(before.ok()) << before.status().ToString();
   ASSERT_TRUE(after.ok()) << after.status().ToString();
   ASSERT_EQ(before->size(), 3u);
   ASSERT_EQ(after->size(), 3u);
   double psnr_before = 0, psnr_after = 0, double_before = 0, double_after = 0;
   for (size_t i = 0; i < 3; ++i) {
-    std::printf("%s: PSNR %.2f -> %.2f dB, double images %.3f %% -> %.3f %%\n", (*after)[i].viewpoint.c_str(),
-                (*before)[i].psnr_db, (*after)[i].psnr_db, 100 * (*before)[i].double_image_fraction,
+    std::printf("%s: PSNR %.2f -> %.2f dB, double images %.3f %% -> %.3f %%\n",
+                (*after)[i].viewpoint.c_str(),
+                (*before)[i].psnr_db,
+                (*after)[i].psnr_db,
+                100 * (*before)[i].double_image_fraction,
                 100 * (*after)[i].double_image_fraction);
     psnr_before += (*before)[i].psnr_db / 3;
     psnr_after += (*after)[i].psnr_db / 3;

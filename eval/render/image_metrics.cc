@@ -2,9 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
-#include <vector>
-
 #include <opencv2/imgproc.hpp>
+#include <vector>
 
 #include "pipeline/core/check.h"
 
@@ -56,7 +55,8 @@ cv::Mat DepthEdgeBand(const cv::Mat& depth_m, int radius_px, double jump) {
 }
 
 double TemporalPsnr(const std::vector<cv::Mat>& renders, const std::vector<cv::Mat>& truths) {
-  PX_CHECK(renders.size() == truths.size() && renders.size() >= 2) << "TemporalPsnr needs as many truths as renders, >= 2";
+  PX_CHECK(renders.size() == truths.size() && renders.size() >= 2)
+      << "TemporalPsnr needs as many truths as renders, >= 2";
   // (R[k+1] - R[k]) - (T[k+1] - T[k]) = E[k+1] - E[k], E = R - T each frame's signed error.
   std::vector<cv::Mat> errors;
   for (size_t k = 0; k < renders.size(); ++k) {

@@ -3,9 +3,8 @@
 // whole image or the pixels of a mask.
 #pragma once
 
-#include <vector>
-
 #include <opencv2/core.hpp>
+#include <vector>
 
 namespace px::eval {
 

@@ -1,10 +1,10 @@
 #include "eval/render/image_metrics.h"
 
-#include <cmath>
-#include <vector>
-
 #include <gtest/gtest.h>
+
+#include <cmath>
 #include <opencv2/imgproc.hpp>
+#include <vector>
 
 namespace px::eval {
 namespace {
@@ -44,7 +44,7 @@ TEST(ImageMetricsTest, TemporalPsnrCountsOnlyErrorsThatComeAndGo) {
   }
   EXPECT_EQ(TemporalPsnr(truths, truths), 99.0);
   EXPECT_EQ(TemporalPsnr(brighter, truths), 99.0);  // the blurred texture stays far from 255
-  EXPECT_LT(Psnr(brighter[0], truths[0]), 35.0);     // while each frame is off
+  EXPECT_LT(Psnr(brighter[0], truths[0]), 35.0);    // while each frame is off
   // Frame 2 of 5 brighter by 10: its two changes are off by 10 on every pixel; 2 of 4 pairs.
   std::vector<cv::Mat> flicker = truths;  // headers: their pixels are the truths'
   cv::Mat off;

@@ -12,10 +12,15 @@ namespace {
 
 // Per-frame figures averaged over a sequence (PSNRs in dB, as the other groups' means).
 RenderEvalCase MeanOverFrames(const std::vector<RenderEvalCase>& frames) {
-  double RenderEvalCase::*const fields[] = {
-      &RenderEvalCase::psnr_db,      &RenderEvalCase::ssim,       &RenderEvalCase::psnr_covered_edges_db,
-      &RenderEvalCase::psnr_covered_flat_db, &RenderEvalCase::psnr_holes_db, &RenderEvalCase::hole_ratio,
-      &RenderEvalCase::hole_score,   &RenderEvalCase::crack_fraction, &RenderEvalCase::render_ms};
+  double RenderEvalCase::*const fields[] = {&RenderEvalCase::psnr_db,
+                                            &RenderEvalCase::ssim,
+                                            &RenderEvalCase::psnr_covered_edges_db,
+                                            &RenderEvalCase::psnr_covered_flat_db,
+                                            &RenderEvalCase::psnr_holes_db,
+                                            &RenderEvalCase::hole_ratio,
+                                            &RenderEvalCase::hole_score,
+                                            &RenderEvalCase::crack_fraction,
+                                            &RenderEvalCase::render_ms};
   RenderEvalCase mean = frames.front();
   for (double RenderEvalCase::*field : fields) {
     mean.*field = 0;
@@ -58,9 +63,15 @@ StatusOr<std::vector<RenderEvalCase>> EvaluateSimulatedPan(const std::filesystem
     std::vector<cv::Mat> renders(poses.size());
     for (size_t k = 0; k < poses.size(); ++k) {
       PX_ASSIGN_OR_RETURN(RenderEvalCase frame,
-                          RenderAndScore(*renderer, camera, poses[k], truths[k].bgr, truths[k].depth_m,
-                                         static_cast<int>(lattice.views.size()), options,
-                                         DumpName(dataset, viewpoint + " " + std::to_string(k), source), &renders[k]));
+                          RenderAndScore(*renderer,
+                                         camera,
+                                         poses[k],
+                                         truths[k].bgr,
+                                         truths[k].depth_m,
+                                         static_cast<int>(lattice.views.size()),
+                                         options,
+                                         DumpName(dataset, viewpoint + " " + std::to_string(k), source),
+                                         &renders[k]));
       frames.push_back(frame);
     }
     RenderEvalCase result = MeanOverFrames(frames);

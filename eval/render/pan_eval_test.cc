@@ -1,9 +1,9 @@
 #include "eval/render/pan_eval.h"
 
+#include <gtest/gtest.h>
+
 #include <cstdio>
 #include <string>
-
-#include <gtest/gtest.h>
 
 #include "sim/synthetic/data_paths.h"
 
@@ -21,8 +21,13 @@ TEST(PanEvalTest, StillLifeAtQuarterSizeWithExactDepth) {
   ASSERT_TRUE(cases.ok()) << cases.status().ToString();
   ASSERT_EQ(cases->size(), 1u);
   const RenderEvalCase& c = cases->front();
-  std::printf("%s, %s: %dx%d PSNR %.2f dB (mean of frames), temporal %.2f dB\n", c.dataset.c_str(),
-              c.viewpoint.c_str(), c.width, c.height, c.psnr_db, c.temporal_psnr_db);
+  std::printf("%s, %s: %dx%d PSNR %.2f dB (mean of frames), temporal %.2f dB\n",
+              c.dataset.c_str(),
+              c.viewpoint.c_str(),
+              c.width,
+              c.height,
+              c.psnr_db,
+              c.temporal_psnr_db);
   EXPECT_EQ(c.dataset, "sim still_life 3x3 pan");
   EXPECT_EQ(c.viewpoint, "on the lattice plane, 16 frames");
   EXPECT_EQ(c.width, 160);

@@ -10,15 +10,14 @@
 // PX_CLIP_FORMAT=<mp4|png|...> writes another format, PX_CLIP_KEEP=<path> keeps the clip there
 // (without it the clip goes to a temporary file, then away); clip_mb is its size.
 #include <benchmark/benchmark.h>
+#include <sys/resource.h>
+#include <unistd.h>
 
 #include <chrono>
 #include <cstdlib>
 #include <filesystem>
 #include <memory>
 #include <string>
-
-#include <sys/resource.h>
-#include <unistd.h>
 
 #include "pipeline/clip/clip_writer.h"
 #include "pipeline/core/stage_clock.h"
@@ -59,8 +58,8 @@ StatusOr<clip::ClipOptions> ClipOptionsFromEnvironment() {
 }
 std::filesystem::path ClipPathFromEnvironment(const clip::ClipOptions& options) {
   if (const char* keep = std::getenv("PX_CLIP_KEEP")) return keep;
-  return std::filesystem::temp_directory_path() /
-         ("px_render_clip_benchmark_" + std::to_string(getpid()) + std::string(clip::ClipFormatExtension(options.format)));
+  return std::filesystem::temp_directory_path() / ("px_render_clip_benchmark_" + std::to_string(getpid()) +
+                                                   std::string(clip::ClipFormatExtension(options.format)));
 }
 
 // Bytes under `path` (a file, or a folder of frames).
@@ -106,8 +105,7 @@ void BM_RenderAndEncodeClip(benchmark::State& state) {
       const double t = frame / (kFrames - 1.0);
       VirtualCamera camera;
       camera.camera = shot.camera;
-      camera.cam_from_world =
-          Rigid3(Eigen::Quaterniond::Identity(), -Eigen::Vector3d(-0.025 + 0.05 * t, 0.004, 0.02));
+      camera.cam_from_world = Rigid3(Eigen::Quaterniond::Identity(), -Eigen::Vector3d(-0.025 + 0.05 * t, 0.004, 0.02));
       const Clock::time_point start = Clock::now();
       auto result = (*renderer)->Render(camera);
       render_s += SecondsSince(start);

@@ -1,14 +1,13 @@
 #include "eval/render/render_eval.h"
 
 #include <algorithm>
-#include <chrono>
 #include <cctype>
+#include <chrono>
 #include <cmath>
 #include <memory>
-#include <sstream>
-
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
+#include <sstream>
 
 #include "eval/datasets/hci_light_field.h"
 #include "eval/datasets/llff.h"
@@ -35,13 +34,14 @@ namespace {
 using Clock = std::chrono::steady_clock;
 
 StatusOr<std::vector<LayeredDepthView>> LayersFromDepthMaps(const std::vector<View>& views,
-                                                             const std::vector<DepthMap>& depths,
-                                                             const RenderEvalOptions& options) {
+                                                            const std::vector<DepthMap>& depths,
+                                                            const RenderEvalOptions& options) {
   std::vector<LayeredDepthView> layers;
   layers.reserve(views.size());
   for (size_t i = 0; i < views.size(); ++i) {
     StatusOr<LayeredDepthView> layered = LayeredDepthFromDepthMap(views[i], depths[i], options.layered);
-    if (!layered.ok()) return layered.status().WithContext("layered depth of view " + std::to_string(views[i].id.value));
+    if (!layered.ok())
+      return layered.status().WithContext("layered depth of view " + std::to_string(views[i].id.value));
     layers.push_back(std::move(layered).value());
   }
   return layers;
@@ -49,8 +49,10 @@ StatusOr<std::vector<LayeredDepthView>> LayersFromDepthMaps(const std::vector<Vi
 
 }  // namespace
 
-StatusOr<std::unique_ptr<CpuSceneRenderer>> MakeRenderer(const std::vector<View>& views, EvalDepth source,
-                                                         double min_depth_m, double max_depth_m,
+StatusOr<std::unique_ptr<CpuSceneRenderer>> MakeRenderer(const std::vector<View>& views,
+                                                         EvalDepth source,
+                                                         double min_depth_m,
+                                                         double max_depth_m,
                                                          const std::vector<DepthMap>* exact_depths,
                                                          const RenderEvalOptions& options) {
   std::vector<LayeredDepthView> layers;
@@ -87,7 +89,6 @@ std::vector<EvalDepth> DepthSources(const RenderEvalOptions& options, bool has_e
   return sources;
 }
 
-
 std::string DumpName(const std::string& dataset, const std::string& viewpoint, EvalDepth depth) {
   std::string name = dataset + " " + viewpoint + " " + std::string(EvalDepthName(depth));
   for (char& ch : name) {
@@ -96,11 +97,22 @@ std::string DumpName(const std::string& dataset, const std::string& viewpoint, E
   return name;
 }
 
-StatusOr<RenderEvalCase> RenderCase(CpuSceneRenderer& renderer, const CameraModel& camera, const Rigid3& pose,
-                                    const cv::Mat& truth, const cv::Mat& truth_depth_m, int num_sources,
-                                    const RenderEvalOptions& options, const CaseLabel& label) {
+StatusOr<RenderEvalCase> RenderCase(CpuSceneRenderer& renderer,
+                                    const CameraModel& camera,
+                                    const Rigid3& pose,
+                                    const cv::Mat& truth,
+                                    const cv::Mat& truth_depth_m,
+                                    int num_sources,
+                                    const RenderEvalOptions& options,
+                                    const CaseLabel& label) {
   PX_ASSIGN_OR_RETURN(RenderEvalCase result,
-                      RenderAndScore(renderer, camera, pose, truth, truth_depth_m, num_sources, options,
+                      RenderAndScore(renderer,
+                                     camera,
+                                     pose,
+                                     truth,
+                                     truth_depth_m,
+                                     num_sources,
+                                     options,
                                      DumpName(label.dataset, label.viewpoint, label.depth)));
   result.dataset = label.dataset;
   result.viewpoint = label.viewpoint;
@@ -108,9 +120,14 @@ StatusOr<RenderEvalCase> RenderCase(CpuSceneRenderer& renderer, const CameraMode
   return result;
 }
 
-StatusOr<RenderEvalCase> RenderAndScore(CpuSceneRenderer& renderer, const CameraModel& camera, const Rigid3& pose,
-                                        const cv::Mat& truth, const cv::Mat& truth_depth_m, int num_sources,
-                                        const RenderEvalOptions& options, const std::string& dump_name,
+StatusOr<RenderEvalCase> RenderAndScore(CpuSceneRenderer& renderer,
+                                        const CameraModel& camera,
+                                        const Rigid3& pose,
+                                        const cv::Mat& truth,
+                                        const cv::Mat& truth_depth_m,
+                                        int num_sources,
+                                        const RenderEvalOptions& options,
+                                        const std::string& dump_name,
                                         cv::Mat* render) {
   VirtualCamera virtual_camera;
   virtual_camera.camera = camera;
@@ -134,7 +151,8 @@ StatusOr<RenderEvalCase> RenderAndScore(CpuSceneRenderer& renderer, const Camera
   result.hole_score = frame.holes.hole_score;
   result.double_image_fraction = DoubleImageFraction(frame.double_image);
   cv::Mat cracks;
-  if (!truth_depth_m.empty()) result.crack_fraction = MeasureCracks(frame.depth_m, truth_depth_m, {}, &cracks).crack_fraction;
+  if (!truth_depth_m.empty())
+    result.crack_fraction = MeasureCracks(frame.depth_m, truth_depth_m, {}, &cracks).crack_fraction;
   if (!options.dump_dir.empty()) {
     std::error_code error;
     std::filesystem::create_directories(options.dump_dir, error);
@@ -152,20 +170,23 @@ StatusOr<RenderEvalCase> RenderAndScore(CpuSceneRenderer& renderer, const Camera
   return result;
 }
 
-StatusOr<std::unique_ptr<CpuSceneRenderer>> MakeSimLatticeRenderer(const SimLattice& lattice, EvalDepth source,
+StatusOr<std::unique_ptr<CpuSceneRenderer>> MakeSimLatticeRenderer(const SimLattice& lattice,
+                                                                   EvalDepth source,
                                                                    const std::string& dataset,
                                                                    const RenderEvalOptions& options) {
-  Progress(options, dataset + ": " + std::string(EvalDepthName(source)) + " depth for " +
-                        std::to_string(lattice.views.size()) + " views");
-  return MakeRenderer(lattice.views, source, lattice.spec.depth_min_m, lattice.spec.depth_max_m, &lattice.depths,
-                      options);
+  Progress(options,
+           dataset + ": " + std::string(EvalDepthName(source)) + " depth for " + std::to_string(lattice.views.size()) +
+               " views");
+  return MakeRenderer(
+      lattice.views, source, lattice.spec.depth_min_m, lattice.spec.depth_max_m, &lattice.depths, options);
 }
 
 Rigid3 PoseAt(const Eigen::Vector3d& centre_in_world, const Eigen::Quaterniond& cam_from_world_rotation) {
   return Rigid3(cam_from_world_rotation, -(cam_from_world_rotation * centre_in_world));
 }
 
-StatusOr<SimLattice> RenderSimLattice(const std::filesystem::path& scene_file, const SimCameraSpec& lattice,
+StatusOr<SimLattice> RenderSimLattice(const std::filesystem::path& scene_file,
+                                      const SimCameraSpec& lattice,
                                       const RenderEvalOptions& options) {
   SimLattice out;
   PX_ASSIGN_OR_RETURN(out.scene, sim::LoadScene(scene_file));
@@ -274,8 +295,14 @@ StatusOr<std::vector<RenderEvalCase>> EvaluateSimulatedScene(const std::filesyst
       Progress(options, dataset + ": " + viewpoints[i].name);
       const Rigid3 pose = PoseAt(viewpoints[i].centre, viewpoints[i].rotation);
       PX_ASSIGN_OR_RETURN(RenderEvalCase result,
-                          RenderCase(*renderer, camera, pose, truth_images[i], truth_depths[i],
-                                     static_cast<int>(views.size()), options, {dataset, viewpoints[i].name, source}));
+                          RenderCase(*renderer,
+                                     camera,
+                                     pose,
+                                     truth_images[i],
+                                     truth_depths[i],
+                                     static_cast<int>(views.size()),
+                                     options,
+                                     {dataset, viewpoints[i].name, source}));
       cases.push_back(result);
     }
   }
@@ -306,14 +333,21 @@ StatusOr<std::vector<RenderEvalCase>> EvaluateHciCentreView(const std::filesyste
   std::vector<RenderEvalCase> cases;
   for (const auto& [name, sources] : sets) {
     for (EvalDepth source : DepthSources(options, false)) {
-      Progress(options, dataset + ": " + std::string(EvalDepthName(source)) + " depth for " +
-                            std::to_string(sources.size()) + " views");
+      Progress(options,
+               dataset + ": " + std::string(EvalDepthName(source)) + " depth for " + std::to_string(sources.size()) +
+                   " views");
       PX_ASSIGN_OR_RETURN(std::unique_ptr<CpuSceneRenderer> renderer,
                           MakeRenderer(sources, source, min_depth_m, max_depth_m, nullptr, options));
       Progress(options, dataset + ": " + name);
       PX_ASSIGN_OR_RETURN(RenderEvalCase result,
-                          RenderCase(*renderer, centre.camera, centre.cam_from_world, centre.image, truth_depth,
-                                     static_cast<int>(sources.size()), options, {dataset, name, source}));
+                          RenderCase(*renderer,
+                                     centre.camera,
+                                     centre.cam_from_world,
+                                     centre.image,
+                                     truth_depth,
+                                     static_cast<int>(sources.size()),
+                                     options,
+                                     {dataset, name, source}));
       cases.push_back(result);
     }
   }
@@ -350,16 +384,23 @@ StatusOr<std::vector<RenderEvalCase>> EvaluateLlffHeldOut(const std::filesystem:
   }
   std::vector<RenderEvalCase> cases;
   for (EvalDepth source : DepthSources(options, false)) {
-    Progress(options, dataset + ": " + std::string(EvalDepthName(source)) + " depth for " +
-                          std::to_string(sources.size()) + " views");
+    Progress(options,
+             dataset + ": " + std::string(EvalDepthName(source)) + " depth for " + std::to_string(sources.size()) +
+                 " views");
     PX_ASSIGN_OR_RETURN(std::unique_ptr<CpuSceneRenderer> renderer,
                         MakeRenderer(sources, source, 0.8 * near, 1.2 * far, nullptr, options));
     for (const View& view : held_out) {
       const std::string name = "view " + std::to_string(view.id.value) + " held out";
       Progress(options, dataset + ": " + name);
       PX_ASSIGN_OR_RETURN(RenderEvalCase result,
-                          RenderCase(*renderer, view.camera, view.cam_from_world, view.image, cv::Mat(),
-                                     static_cast<int>(sources.size()), options, {dataset, name, source}));
+                          RenderCase(*renderer,
+                                     view.camera,
+                                     view.cam_from_world,
+                                     view.image,
+                                     cv::Mat(),
+                                     static_cast<int>(sources.size()),
+                                     options,
+                                     {dataset, name, source}));
       cases.push_back(result);
     }
   }

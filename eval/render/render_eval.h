@@ -32,7 +32,7 @@ enum class EvalDepth {
   kTruth,       // the simulator's exact depth through LayeredDepthFromDepthMap (sim scenes only)
   kPlaneSweep,  // ComputePlaneSweepDepth + LayeredDepthFromDepthMap (the evaluation's former depth)
 };
-std::string_view EvalDepthName(EvalDepth depth);  // "depth stage", "exact", "plane sweep"
+std::string_view EvalDepthName(EvalDepth depth);            // "depth stage", "exact", "plane sweep"
 StatusOr<EvalDepth> ParseEvalDepth(std::string_view name);  // also "stage", "truth", "sweep"
 
 struct RenderEvalCase {
@@ -40,7 +40,7 @@ struct RenderEvalCase {
   std::string viewpoint;  // "between lenses", "centre from 3x3 ring", "view 8 held out"
   int width = 0;
   int height = 0;
-  int num_sources = 0;    // input views given to the renderer
+  int num_sources = 0;  // input views given to the renderer
   EvalDepth depth = EvalDepth::kDepthStage;
   double psnr_db = 0;
   double ssim = 0;
@@ -57,7 +57,7 @@ struct RenderEvalCase {
   double crack_fraction = -1;
   // Double images (FrameRender::double_image in regions, image_metrics.h); -1 where not measured.
   double double_image_fraction = -1;
-  double render_ms = 0;   // one frame, after a warm-up frame
+  double render_ms = 0;  // one frame, after a warm-up frame
   // Sequences only (pan_eval.h; the fields above are then means over the frames): TemporalPsnr of
   // the frames against their truths (image_metrics.h). -1 for a single frame.
   double temporal_psnr_db = -1;

@@ -1,10 +1,10 @@
 #include "eval/render/render_eval.h"
 
+#include <gtest/gtest.h>
+
 #include <cstdio>
 #include <filesystem>
 #include <string>
-
-#include <gtest/gtest.h>
 
 #include "sim/synthetic/data_paths.h"
 
@@ -22,8 +22,14 @@ TEST(RenderEvalTest, SimulatedSceneAtQuarterSizeWithExactDepth) {
   ASSERT_TRUE(cases.ok()) << cases.status().ToString();
   ASSERT_EQ(cases->size(), 4u);
   for (const RenderEvalCase& c : *cases) {
-    std::printf("%s, %s: %dx%d PSNR %.2f dB SSIM %.4f holes %.4f\n", c.dataset.c_str(), c.viewpoint.c_str(), c.width,
-                c.height, c.psnr_db, c.ssim, c.hole_ratio);
+    std::printf("%s, %s: %dx%d PSNR %.2f dB SSIM %.4f holes %.4f\n",
+                c.dataset.c_str(),
+                c.viewpoint.c_str(),
+                c.width,
+                c.height,
+                c.psnr_db,
+                c.ssim,
+                c.hole_ratio);
     EXPECT_EQ(c.depth, EvalDepth::kTruth);
     EXPECT_EQ(c.width, 160);
     EXPECT_EQ(c.num_sources, 9);
@@ -46,8 +52,14 @@ TEST(RenderEvalTest, SimulatedSceneAtQuarterSizeWithTheDepthStage) {
   ASSERT_EQ(cases->size(), 4u);
   for (const RenderEvalCase& c : *cases) {
     std::printf("%s, %s, %s depth: PSNR %.2f dB (covered: %.2f at edges, %.2f flat) SSIM %.4f holes %.4f\n",
-                c.dataset.c_str(), c.viewpoint.c_str(), std::string(EvalDepthName(c.depth)).c_str(), c.psnr_db,
-                c.psnr_covered_edges_db, c.psnr_covered_flat_db, c.ssim, c.hole_ratio);
+                c.dataset.c_str(),
+                c.viewpoint.c_str(),
+                std::string(EvalDepthName(c.depth)).c_str(),
+                c.psnr_db,
+                c.psnr_covered_edges_db,
+                c.psnr_covered_flat_db,
+                c.ssim,
+                c.hole_ratio);
     EXPECT_EQ(c.depth, EvalDepth::kDepthStage);
     // Measured 32.4 to 34.4 dB (exact depth: 32.6 to 35.1); the bound is the exact-depth test's.
     EXPECT_GT(c.psnr_db, 28.0) << c.viewpoint;

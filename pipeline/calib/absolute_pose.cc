@@ -2,7 +2,6 @@
 
 #include <cmath>
 #include <memory>
-
 #include <opengv/absolute_pose/CentralAbsoluteAdapter.hpp>
 #include <opengv/sac_problems/absolute_pose/AbsolutePoseSacProblem.hpp>
 
@@ -19,20 +18,21 @@ constexpr int kMinCorrespondences = 6;
 
 AbsolutePoseResult EstimateAbsolutePose(const std::vector<Eigen::Vector3d>& rays,
                                         const std::vector<Eigen::Vector3d>& points_in_world,
-                                        AbsolutePoseSolver solver, const RansacOptions& options) {
+                                        AbsolutePoseSolver solver,
+                                        const RansacOptions& options) {
   AbsolutePoseResult result;
   if (Status valid = options.Validate(); !valid.ok()) {
     result.failure = valid.message();
     return result;
   }
   if (rays.size() != points_in_world.size()) {
-    result.failure = "got " + std::to_string(rays.size()) + " rays and " + std::to_string(points_in_world.size()) +
-                     " points";
+    result.failure =
+        "got " + std::to_string(rays.size()) + " rays and " + std::to_string(points_in_world.size()) + " points";
     return result;
   }
   if (rays.size() < kMinCorrespondences) {
-    result.failure = std::to_string(rays.size()) + " 2D-3D correspondences, need at least " +
-                     std::to_string(kMinCorrespondences);
+    result.failure =
+        std::to_string(rays.size()) + " 2D-3D correspondences, need at least " + std::to_string(kMinCorrespondences);
     return result;
   }
   opengv::bearingVectors_t bearings;
@@ -43,7 +43,8 @@ AbsolutePoseResult EstimateAbsolutePose(const std::vector<Eigen::Vector3d>& rays
   }
   opengv::absolute_pose::CentralAbsoluteAdapter adapter(bearings, points);
   auto problem = std::make_shared<AbsolutePoseSacProblem>(
-      adapter, solver == AbsolutePoseSolver::kP3p ? AbsolutePoseSacProblem::KNEIP : AbsolutePoseSacProblem::EPNP,
+      adapter,
+      solver == AbsolutePoseSolver::kP3p ? AbsolutePoseSacProblem::KNEIP : AbsolutePoseSacProblem::EPNP,
       /*randomSeed=*/false);
   // OpenGV scores a correspondence by 1 - cos of the angle between its ray and the reprojection.
   const double threshold = 1.0 - std::cos(options.MaxErrorRad());

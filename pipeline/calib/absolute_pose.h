@@ -2,10 +2,9 @@
 // or EPnP in RANSAC, then nonlinear refinement on the inliers).
 #pragma once
 
+#include <Eigen/Core>
 #include <string>
 #include <vector>
-
-#include <Eigen/Core>
 
 #include "pipeline/calib/ransac_options.h"
 #include "pipeline/core/rigid3.h"
@@ -19,7 +18,7 @@ enum class AbsolutePoseSolver {
 
 struct AbsolutePoseResult {
   bool success = false;
-  std::string failure;       // why not, when !success
+  std::string failure;  // why not, when !success
   Rigid3 cam_from_world;
   std::vector<int> inliers;  // indices into the correspondences
 };
@@ -27,6 +26,7 @@ struct AbsolutePoseResult {
 // rays[i] (camera frame, any positive length) sees points_in_world[i]. Needs at least 6.
 AbsolutePoseResult EstimateAbsolutePose(const std::vector<Eigen::Vector3d>& rays,
                                         const std::vector<Eigen::Vector3d>& points_in_world,
-                                        AbsolutePoseSolver solver, const RansacOptions& options);
+                                        AbsolutePoseSolver solver,
+                                        const RansacOptions& options);
 
 }  // namespace px::calib

@@ -1,8 +1,8 @@
 #include "pipeline/calib/absolute_pose.h"
 
-#include <cstdio>
-
 #include <gtest/gtest.h>
+
+#include <cstdio>
 
 #include "pipeline/calib/geometry_test_util.h"
 
@@ -36,14 +36,18 @@ TEST_P(AbsolutePoseSolverTest, RecoversKnownPoseWithOutliers) {
   int wrong = 0;
   for (int i : result.inliers) wrong += outlier[i] ? 1 : 0;
   std::printf("absolute pose: %zu inliers (%d outliers), rotation error %.4f deg, centre error %.2f mm\n",
-              result.inliers.size(), wrong, rotation_error, 1000 * centre_error);
+              result.inliers.size(),
+              wrong,
+              rotation_error,
+              1000 * centre_error);
   EXPECT_LT(rotation_error, 0.05);
   EXPECT_LT(centre_error, 0.005);
   EXPECT_GT(result.inliers.size(), 90u);
   EXPECT_LE(wrong, 2);
 }
 
-INSTANTIATE_TEST_SUITE_P(Solvers, AbsolutePoseSolverTest,
+INSTANTIATE_TEST_SUITE_P(Solvers,
+                         AbsolutePoseSolverTest,
                          ::testing::Values(AbsolutePoseSolver::kP3p, AbsolutePoseSolver::kEpnp));
 
 TEST(AbsolutePoseTest, TooFewCorrespondencesFailWithAReason) {

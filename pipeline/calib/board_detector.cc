@@ -1,18 +1,20 @@
 #include "pipeline/calib/board_detector.h"
 
 #include <algorithm>
-#include <sstream>
-
 #include <opencv2/calib3d.hpp>
 #include <opencv2/imgproc.hpp>
+#include <sstream>
 
 namespace px {
 
 Status CalibrationBoard::Validate() const {
   std::ostringstream error;
-  if (inner_cols < 3 || inner_cols > 50) error << "inner_cols " << inner_cols << " is outside [3, 50]";
-  else if (inner_rows < 3 || inner_rows > 50) error << "inner_rows " << inner_rows << " is outside [3, 50]";
-  else if (!(square_m > 0 && square_m <= 1)) error << "square_m " << square_m << " is outside (0, 1]";
+  if (inner_cols < 3 || inner_cols > 50)
+    error << "inner_cols " << inner_cols << " is outside [3, 50]";
+  else if (inner_rows < 3 || inner_rows > 50)
+    error << "inner_rows " << inner_rows << " is outside [3, 50]";
+  else if (!(square_m > 0 && square_m <= 1))
+    error << "square_m " << square_m << " is outside (0, 1]";
   if (error.str().empty()) return OkStatus();
   return InvalidArgumentError("calibration board: " + error.str());
 }

@@ -1,9 +1,8 @@
 // Finds a printed checkerboard in one upright tile image (factory calibration, rig_calibrator.h).
 #pragma once
 
-#include <vector>
-
 #include <opencv2/core.hpp>
+#include <vector>
 
 #include "pipeline/core/status.h"
 

@@ -1,14 +1,14 @@
 #include "pipeline/calib/bundle_adjustment.h"
 
+#include <ceres/ceres.h>
+#include <ceres/rotation.h>
+
 #include <array>
 #include <chrono>
 #include <cmath>
 #include <limits>
 #include <map>
 #include <memory>
-
-#include <ceres/ceres.h>
-#include <ceres/rotation.h>
 
 #include "pipeline/core/stage_clock.h"
 
@@ -23,8 +23,12 @@ constexpr int kFocal = 0, kCx = 1, kCy = 2, kK1 = 3, kK2 = 4;
 // model; p1, p2, k3 and the aspect ratio are held constant.
 struct ReprojectionCost {
   ReprojectionCost(const Eigen::Vector2d& observed, const CameraModel& camera)
-      : u(observed.x()), v(observed.y()), aspect(camera.fy / camera.fx), p1(camera.distortion[2]),
-        p2(camera.distortion[3]), k3(camera.distortion[4]) {}
+      : u(observed.x()),
+        v(observed.y()),
+        aspect(camera.fy / camera.fx),
+        p1(camera.distortion[2]),
+        p2(camera.distortion[3]),
+        k3(camera.distortion[4]) {}
 
   template <typename T>
   bool operator()(const T* rotation, const T* centre, const T* intrinsics, const T* point, T* residual) const {
@@ -46,7 +50,8 @@ struct ReprojectionCost {
 
 struct PosePriorCost {
   PosePriorCost(const Rigid3& prior, double rotation_sigma_rad, double centre_sigma_m)
-      : centre(CameraCentre(prior)), rotation_weight(rotation_sigma_rad > 0 ? 1.0 / rotation_sigma_rad : 0.0),
+      : centre(CameraCentre(prior)),
+        rotation_weight(rotation_sigma_rad > 0 ? 1.0 / rotation_sigma_rad : 0.0),
         centre_weight(centre_sigma_m > 0 ? 1.0 / centre_sigma_m : 0.0) {
     // Ceres quaternions are (w, x, y, z); store the prior's conjugate.
     inverse[0] = prior.rotation.w();
@@ -76,7 +81,9 @@ struct PosePriorCost {
 
 struct IntrinsicsPriorCost {
   IntrinsicsPriorCost(const BaPrior& prior)
-      : focal(prior.focal_px), cx(prior.cx), cy(prior.cy),
+      : focal(prior.focal_px),
+        cx(prior.cx),
+        cy(prior.cy),
         focal_weight(prior.focal_sigma_relative > 0 && prior.focal_px > 0
                          ? 1.0 / (prior.focal_sigma_relative * prior.focal_px)
                          : 0.0),
@@ -111,8 +118,8 @@ struct CameraBlocks {
 };
 
 bool SameIntrinsics(const CameraModel& a, const CameraModel& b) {
-  return a.width == b.width && a.height == b.height && a.fx == b.fx && a.fy == b.fy && a.cx == b.cx &&
-         a.cy == b.cy && a.distortion == b.distortion;
+  return a.width == b.width && a.height == b.height && a.fx == b.fx && a.fy == b.fy && a.cx == b.cx && a.cy == b.cy &&
+         a.distortion == b.distortion;
 }
 
 }  // namespace
@@ -163,7 +170,8 @@ double ReprojectionRms(const BaProblem& problem) {
   return count > 0 ? std::sqrt(sum / count) : 0.0;
 }
 
-StatusOr<BundleAdjustmentReport> BundleAdjust(BaProblem* problem, const std::vector<BaPrior>& priors,
+StatusOr<BundleAdjustmentReport> BundleAdjust(BaProblem* problem,
+                                              const std::vector<BaPrior>& priors,
                                               const BundleAdjustmentOptions& options) {
   const auto start = std::chrono::steady_clock::now();
   PX_RETURN_IF_ERROR(options.Validate());
@@ -227,8 +235,12 @@ StatusOr<BundleAdjustmentReport> BundleAdjust(BaProblem* problem, const std::vec
   for (const BaObservation& o : problem->observations) {
     auto* cost = new ceres::AutoDiffCostFunction<ReprojectionCost, 2, 4, 3, kIntrinsicsSize, 3>(
         new ReprojectionCost(o.pixel, problem->cameras[block_owner[block_of_camera[o.camera]]].camera));
-    ceres_problem.AddResidualBlock(cost, &loss, blocks[o.camera].rotation, blocks[o.camera].centre,
-                                   intrinsics[block_of_camera[o.camera]].data(), problem->points[o.point].data());
+    ceres_problem.AddResidualBlock(cost,
+                                   &loss,
+                                   blocks[o.camera].rotation,
+                                   blocks[o.camera].centre,
+                                   intrinsics[block_of_camera[o.camera]].data(),
+                                   problem->points[o.point].data());
   }
   for (const BaPrior& prior : priors) {
     if (prior.camera < 0 || prior.camera >= num_cameras) {
@@ -240,12 +252,15 @@ StatusOr<BundleAdjustmentReport> BundleAdjust(BaProblem* problem, const std::vec
       ceres_problem.AddResidualBlock(
           new ceres::AutoDiffCostFunction<PosePriorCost, 6, 4, 3>(
               new PosePriorCost(prior.cam_from_world, prior.rotation_sigma_deg * M_PI / 180.0, prior.centre_sigma_m)),
-          nullptr, camera.rotation, camera.centre);
+          nullptr,
+          camera.rotation,
+          camera.centre);
     }
     if (prior.focal_sigma_relative > 0 || prior.principal_point_sigma_px > 0) {
       ceres_problem.AddResidualBlock(
           new ceres::AutoDiffCostFunction<IntrinsicsPriorCost, 3, kIntrinsicsSize>(new IntrinsicsPriorCost(prior)),
-          nullptr, intrinsics[block_of_camera[prior.camera]].data());
+          nullptr,
+          intrinsics[block_of_camera[prior.camera]].data());
     }
   }
   const bool anchored = options.scale_anchor_a >= 0 && options.scale_anchor_b >= 0 &&
@@ -256,8 +271,10 @@ StatusOr<BundleAdjustmentReport> BundleAdjust(BaProblem* problem, const std::vec
     const double distance = (a - b).norm();
     if (distance > 0) {
       ceres_problem.AddResidualBlock(
-          new ceres::AutoDiffCostFunction<DistanceCost, 1, 3, 3>(new DistanceCost(distance, 1e6 / distance)), nullptr,
-          blocks[options.scale_anchor_a].centre, blocks[options.scale_anchor_b].centre);
+          new ceres::AutoDiffCostFunction<DistanceCost, 1, 3, 3>(new DistanceCost(distance, 1e6 / distance)),
+          nullptr,
+          blocks[options.scale_anchor_a].centre,
+          blocks[options.scale_anchor_b].centre);
     }
   }
 
@@ -308,8 +325,8 @@ StatusOr<BundleAdjustmentReport> BundleAdjust(BaProblem* problem, const std::vec
   if (ceres_problem.NumResidualBlocks() > 0) ceres::Solve(solver_options, &ceres_problem, &summary);
 
   for (int c = 0; c < num_cameras; ++c) {
-    const Eigen::Quaterniond q(blocks[c].rotation[0], blocks[c].rotation[1], blocks[c].rotation[2],
-                               blocks[c].rotation[3]);
+    const Eigen::Quaterniond q(
+        blocks[c].rotation[0], blocks[c].rotation[1], blocks[c].rotation[2], blocks[c].rotation[3]);
     const Eigen::Vector3d centre(blocks[c].centre);
     BaCamera& camera = problem->cameras[c];
     if (!camera.pose_fixed) camera.cam_from_world = Rigid3(q, -(q.normalized() * centre));

@@ -1,8 +1,8 @@
 #include "pipeline/calib/bundle_adjustment.h"
 
-#include <cstdio>
-
 #include <gtest/gtest.h>
+
+#include <cstdio>
 
 #include "pipeline/calib/geometry_test_util.h"
 #include "pipeline/calib/triangulation.h"
@@ -17,8 +17,10 @@ constexpr double kNoisePx = 0.2;
 
 // Observations of `points` by `truth` cameras (with noise), on a problem whose cameras start
 // from `start` and whose points are triangulated from the start cameras.
-BaProblem MakeProblem(const std::vector<BaCamera>& truth, const std::vector<BaCamera>& start,
-                      const std::vector<Eigen::Vector3d>& points, cv::RNG& rng) {
+BaProblem MakeProblem(const std::vector<BaCamera>& truth,
+                      const std::vector<BaCamera>& start,
+                      const std::vector<Eigen::Vector3d>& points,
+                      cv::RNG& rng) {
   BaProblem problem;
   problem.cameras = start;
   for (const Eigen::Vector3d& point : points) {
@@ -103,13 +105,22 @@ TEST(BundleAdjustmentTest, RecoversPerturbedLensesFromTheFactoryPrior) {
     max_rotation = std::max(max_rotation, RotationErrorDeg(relative, true_relative));
     factory_rotation = std::max(factory_rotation, RotationErrorDeg(factory_relative, true_relative));
     const double true_ratio = truth[i].camera.fx / truth[0].camera.fx;
-    max_focal = std::max(max_focal, std::abs(problem.cameras[i].camera.fx / problem.cameras[0].camera.fx / true_ratio - 1));
+    max_focal =
+        std::max(max_focal, std::abs(problem.cameras[i].camera.fx / problem.cameras[0].camera.fx / true_ratio - 1));
     factory_focal = std::max(factory_focal, std::abs(1.0 / true_ratio - 1));
   }
-  std::printf("rig BA: %d observations, RMS %.3f -> %.3f px in %d iterations (%.0f ms); relative rotation error "
-              "%.4f deg (factory %.3f), relative focal error %.3f %% (factory %.2f %%)\n",
-              report->num_observations, report->initial_rms_px, report->final_rms_px, report->iterations, report->ms,
-              max_rotation, factory_rotation, 100 * max_focal, 100 * factory_focal);
+  std::printf(
+      "rig BA: %d observations, RMS %.3f -> %.3f px in %d iterations (%.0f ms); relative rotation error "
+      "%.4f deg (factory %.3f), relative focal error %.3f %% (factory %.2f %%)\n",
+      report->num_observations,
+      report->initial_rms_px,
+      report->final_rms_px,
+      report->iterations,
+      report->ms,
+      max_rotation,
+      factory_rotation,
+      100 * max_focal,
+      100 * factory_focal);
   EXPECT_GT(factory_rotation, 0.2);  // the perturbation matters
   // A principal-point shift and a small rotation move the image alike, except for second-order
   // terms across the field (about 1 px at the edge for 0.3 degrees): they separate only that
@@ -145,7 +156,9 @@ TEST(BundleAdjustmentTest, SharedFocalOfConvergingViewsIsSelfCalibrated) {
   ASSERT_TRUE(report.ok()) << report.status().ToString();
   const double focal_error = std::abs(problem.cameras[3].camera.fx / 700.0 - 1);
   std::printf("self-calibration: focal %.1f px (truth 700, start 640), RMS %.3f -> %.3f px\n",
-              problem.cameras[3].camera.fx, report->initial_rms_px, report->final_rms_px);
+              problem.cameras[3].camera.fx,
+              report->initial_rms_px,
+              report->final_rms_px);
   EXPECT_EQ(problem.cameras[0].camera.fx, problem.cameras[4].camera.fx);  // one shared block
   EXPECT_LT(focal_error, 0.01);
   EXPECT_LT(report->final_rms_px, 1.5 * kNoisePx);

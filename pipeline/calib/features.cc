@@ -3,11 +3,10 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
-#include <string>
-
 #include <opencv2/core/utility.hpp>
 #include <opencv2/features2d.hpp>
 #include <opencv2/imgproc.hpp>
+#include <string>
 
 namespace px::calib {
 namespace {
@@ -95,7 +94,8 @@ StatusOr<Features> DetectFeatures(const cv::Mat& image, const FeatureOptions& op
     features.scales_px.push_back(static_cast<float>(keypoint.size / scale));
   }
   if (features.descriptors.empty()) {
-    features.descriptors = cv::Mat(0, options.detector == FeatureOptions::Detector::kSift ? 128 : 32,
+    features.descriptors = cv::Mat(0,
+                                   options.detector == FeatureOptions::Detector::kSift ? 128 : 32,
                                    options.detector == FeatureOptions::Detector::kSift ? CV_32F : CV_8U);
   }
   return features;

@@ -3,11 +3,10 @@
 // image is large, with keypoints returned in the input image's pixels.
 #pragma once
 
-#include <string>
-#include <vector>
-
 #include <Eigen/Core>
 #include <opencv2/core.hpp>
+#include <string>
+#include <vector>
 
 #include "pipeline/core/status.h"
 
@@ -31,11 +30,11 @@ struct FeatureOptions {
 };
 
 struct Features {
-  int image_width = 0;   // the input image's size
+  int image_width = 0;  // the input image's size
   int image_height = 0;
   std::vector<Eigen::Vector2d> keypoints_px;  // input-image pixels (pixel centres at integers)
   std::vector<float> scales_px;               // keypoint diameter in input-image pixels
-  cv::Mat descriptors;  // one row per keypoint: CV_32F x 128 (RootSIFT) or CV_8U x 32 (ORB)
+  cv::Mat descriptors;                        // one row per keypoint: CV_32F x 128 (RootSIFT) or CV_8U x 32 (ORB)
 
   int size() const { return static_cast<int>(keypoints_px.size()); }
   bool binary() const { return descriptors.type() == CV_8U; }

@@ -1,22 +1,22 @@
 #include "pipeline/calib/incremental_sfm.h"
 
+#include <Eigen/SVD>
 #include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <limits>
 #include <map>
-#include <optional>
-
-#include <Eigen/SVD>
 #include <opencv2/calib3d.hpp>
 #include <opencv2/core/utility.hpp>
+#include <optional>
 
 #include "pipeline/calib/absolute_pose.h"
 #include "pipeline/calib/bundle_adjustment.h"
 #include "pipeline/calib/relative_pose.h"
 #include "pipeline/calib/tracks.h"
 #include "pipeline/calib/triangulation.h"
+#include "pipeline/core/order_statistics.h"
 #include "pipeline/core/stage_clock.h"
 
 namespace px::calib {
@@ -38,13 +38,6 @@ constexpr double kMinRotationForParallelRestartDeg = 0.25;
 // means a plane or a scene at infinity (pure noise gives ~1.3).
 constexpr double kPlanarHomographyRatio = 3.0;
 
-double Percentile(std::vector<double> values, double fraction) {
-  if (values.empty()) return 0;
-  const size_t k = std::min(values.size() - 1, static_cast<size_t>(fraction * values.size()));
-  std::nth_element(values.begin(), values.begin() + k, values.end());
-  return values[k];
-}
-
 template <typename... Args>
 std::string Printf(const char* format, Args... args) {
   char text[400];
@@ -53,16 +46,16 @@ std::string Printf(const char* format, Args... args) {
 }
 
 bool SameIntrinsics(const CameraModel& a, const CameraModel& b) {
-  return a.width == b.width && a.height == b.height && a.fx == b.fx && a.fy == b.fy && a.cx == b.cx &&
-         a.cy == b.cy && a.distortion == b.distortion;
+  return a.width == b.width && a.height == b.height && a.fx == b.fx && a.fy == b.fy && a.cx == b.cx && a.cy == b.cy &&
+         a.distortion == b.distortion;
 }
 
 struct ImageState {
   Features features;
-  CameraModel camera;          // current intrinsics (input-image pixels)
+  CameraModel camera;  // current intrinsics (input-image pixels)
   bool known_intrinsics = false;
-  int group = -1;              // shared intrinsics block, -1 = own
-  double pixel_scale = 1;      // input-image pixels per feature-image pixel (>= 1)
+  int group = -1;          // shared intrinsics block, -1 = own
+  double pixel_scale = 1;  // input-image pixels per feature-image pixel (>= 1)
   bool registered = false;
   Rigid3 cam_from_world;
   std::vector<int> track_of_feature;
@@ -72,8 +65,11 @@ struct ImageState {
 class Reconstruction {
  public:
   Reconstruction(std::vector<ImageState> images, std::vector<Track> tracks, const SfmOptions& options)
-      : images_(std::move(images)), tracks_(std::move(tracks)), options_(options),
-        point_of_track_(tracks_.size(), -1), rejected_(tracks_.size()) {
+      : images_(std::move(images)),
+        tracks_(std::move(tracks)),
+        options_(options),
+        point_of_track_(tracks_.size(), -1),
+        rejected_(tracks_.size()) {
     for (size_t t = 0; t < tracks_.size(); ++t) {
       rejected_[t].assign(tracks_[t].observations.size(), 0);
       for (const TrackObservation& o : tracks_[t].observations) {
@@ -155,7 +151,9 @@ class Reconstruction {
   }
 
   // 2D-3D correspondences of an unregistered image: rays and points of its tracks with points.
-  void Correspondences(int image, std::vector<Eigen::Vector3d>* rays, std::vector<Eigen::Vector3d>* points,
+  void Correspondences(int image,
+                       std::vector<Eigen::Vector3d>* rays,
+                       std::vector<Eigen::Vector3d>* points,
                        std::vector<std::pair<int, int>>* track_and_index) const {
     for (size_t t = 0; t < tracks_.size(); ++t) {
       if (point_of_track_[t] < 0) continue;
@@ -173,8 +171,8 @@ class Reconstruction {
 
   // Bundle adjustment of every registered image and every point. `anchor` is held (the gauge)
   // and its distance to `second` fixes the scale.
-  StatusOr<BundleAdjustmentReport> Adjust(int anchor, int second, bool refine_focal, bool refine_radial,
-                                          int max_iterations) {
+  StatusOr<BundleAdjustmentReport> Adjust(
+      int anchor, int second, bool refine_focal, bool refine_radial, int max_iterations) {
     BaProblem problem;
     std::vector<int> camera_of_image(images_.size(), -1);
     std::vector<int> image_of_camera;
@@ -316,8 +314,10 @@ class Reconstruction {
 };
 
 // Fundamental-matrix verification of a pair's matches (any focal length).
-std::vector<FeatureMatch> VerifyWithFundamental(const Features& a, const Features& b,
-                                                const std::vector<FeatureMatch>& matches, double threshold_px) {
+std::vector<FeatureMatch> VerifyWithFundamental(const Features& a,
+                                                const Features& b,
+                                                const std::vector<FeatureMatch>& matches,
+                                                double threshold_px) {
   std::vector<FeatureMatch> verified;
   if (matches.size() < 8) return verified;
   std::vector<cv::Point2d> pa, pb;
@@ -341,7 +341,9 @@ struct PairGeometry {
 };
 
 // Five-point pose of a verified pair with the images' current intrinsics.
-PairGeometry PairPose(const std::vector<ImageState>& images, const PairMatches& pair, int index,
+PairGeometry PairPose(const std::vector<ImageState>& images,
+                      const PairMatches& pair,
+                      int index,
                       const SfmOptions& options) {
   PairGeometry geometry;
   geometry.pair = index;
@@ -363,7 +365,8 @@ PairGeometry PairPose(const std::vector<ImageState>& images, const PairMatches& 
 
 // Starts a reconstruction from a pair: first image at the origin, second at b_from_a (unit
 // baseline), points triangulated, two-view adjustment with the focal length held.
-StatusOr<BundleAdjustmentReport> InitialisePair(Reconstruction* reconstruction, const PairMatches& pair,
+StatusOr<BundleAdjustmentReport> InitialisePair(Reconstruction* reconstruction,
+                                                const PairMatches& pair,
                                                 const RelativePoseResult& pose) {
   std::vector<ImageState>& images = reconstruction->images();
   images[pair.view_a].registered = true;
@@ -441,8 +444,10 @@ Status RegisterAndAdjust(Reconstruction* reconstruction_ptr, int anchor, int sec
 // The initial pair's pose if the cameras are parallel (rotation identity): the translation
 // direction that best satisfies x_b . (t x x_a) = 0 over the five-point inliers, of the sign
 // whose two-view adjustment fits better; the pair initialised from it, or nothing if it fails.
-std::optional<Reconstruction> ParallelStart(const std::vector<ImageState>& images, const std::vector<Track>& tracks,
-                                            const PairMatches& pair, const RelativePoseResult& pose,
+std::optional<Reconstruction> ParallelStart(const std::vector<ImageState>& images,
+                                            const std::vector<Track>& tracks,
+                                            const PairMatches& pair,
+                                            const RelativePoseResult& pose,
                                             const SfmOptions& options) {
   Eigen::MatrixXd constraints(pose.inliers.size(), 3);
   for (size_t k = 0; k < pose.inliers.size(); ++k) {
@@ -518,8 +523,9 @@ StatusOr<SfmResult> RunIncrementalSfm(const std::vector<SfmImage>& input, const 
     const int larger = std::max(input[i].image.cols, input[i].image.rows);
     image.pixel_scale = std::max(1.0, static_cast<double>(larger) / options.features.max_image_dim_px);
     image.known_intrinsics = input[i].intrinsics.fx != 0;
-    image.camera = image.known_intrinsics ? input[i].intrinsics
-                                          : CameraModel::Pinhole(input[i].image.cols, input[i].image.rows, 1.2 * larger);
+    image.camera = image.known_intrinsics
+                       ? input[i].intrinsics
+                       : CameraModel::Pinhole(input[i].image.cols, input[i].image.rows, 1.2 * larger);
     any_unknown |= !image.known_intrinsics;
     result.views[i].features = image.features.size();
     if (image.features.size() < kMinFeatures) {
@@ -581,8 +587,8 @@ StatusOr<SfmResult> RunIncrementalSfm(const std::vector<SfmImage>& input, const 
     if (best < options.min_pair_matches) {
       const std::string exposure = DescribeExposureProblem(MeasureExposure(input[i].image));
       images[i].note = "matches no other image (at most " + std::to_string(best) + " verified matches, need " +
-                       std::to_string(options.min_pair_matches) + "): " +
-                       (exposure.empty() ? "a different scene?" : "the image is " + exposure);
+                       std::to_string(options.min_pair_matches) +
+                       "): " + (exposure.empty() ? "a different scene?" : "the image is " + exposure);
     }
   }
   std::vector<int> feature_counts;
@@ -615,9 +621,8 @@ StatusOr<SfmResult> RunIncrementalSfm(const std::vector<SfmImage>& input, const 
     double best_rms = std::numeric_limits<double>::infinity();
     double best_ratio = 1.2;
     for (int k = 0; k < options.focal_sweep_steps; ++k) {
-      const double ratio = options.focal_sweep_min *
-                           std::pow(options.focal_sweep_max / options.focal_sweep_min,
-                                    static_cast<double>(k) / (options.focal_sweep_steps - 1));
+      const double ratio = options.focal_sweep_min * std::pow(options.focal_sweep_max / options.focal_sweep_min,
+                                                              static_cast<double>(k) / (options.focal_sweep_steps - 1));
       std::vector<ImageState> trial = images;
       for (int i = 0; i < n; ++i) {
         if (trial[i].known_intrinsics) continue;
@@ -630,9 +635,8 @@ StatusOr<SfmResult> RunIncrementalSfm(const std::vector<SfmImage>& input, const 
         StatusOr<BundleAdjustmentReport> adjusted = InitialisePair(&two_view, *sweep_pair, geometry.pose);
         if (adjusted.ok()) rms = adjusted->final_rms_px;
       }
-      report.focal_sweep.emplace_back(ratio * std::max(images[sweep_pair->view_a].camera.width,
-                                                       images[sweep_pair->view_a].camera.height),
-                                      rms);
+      report.focal_sweep.emplace_back(
+          ratio * std::max(images[sweep_pair->view_a].camera.width, images[sweep_pair->view_a].camera.height), rms);
       if (rms < best_rms) {
         best_rms = rms;
         best_ratio = ratio;
@@ -660,7 +664,8 @@ StatusOr<SfmResult> RunIncrementalSfm(const std::vector<SfmImage>& input, const 
   const PairGeometry* most_parallax = nullptr;
   for (const PairGeometry& candidate : candidates) {
     if (!candidate.pose.success) continue;
-    if (most_parallax == nullptr || candidate.parallax_ratio > most_parallax->parallax_ratio) most_parallax = &candidate;
+    if (most_parallax == nullptr || candidate.parallax_ratio > most_parallax->parallax_ratio)
+      most_parallax = &candidate;
     if (candidate.parallax_ratio < options.min_parallax_ratio) continue;
     const double score = static_cast<double>(candidate.pose.inliers.size()) *
                          std::min(1.0, candidate.pose.median_parallax_px / options.target_parallax_px);
@@ -673,12 +678,15 @@ StatusOr<SfmResult> RunIncrementalSfm(const std::vector<SfmImage>& input, const 
     note_images();
     if (most_parallax == nullptr) return fail("no pair of images has a consistent relative pose");
     const PairMatches& pair = usable_pairs[most_parallax->pair];
-    return fail(Printf("no parallax: the camera only rotated, or the scene is too far for the baseline (best pair, "
-                       "images %.0f and %.0f: parallax %.2f px, %.1f times the matching noise; need %.1f). Depth "
-                       "cannot be recovered; move the camera sideways between shots",
-                       static_cast<double>(pair.view_a), static_cast<double>(pair.view_b),
-                       most_parallax->pose.median_parallax_px,
-                       most_parallax->parallax_ratio, options.min_parallax_ratio));
+    return fail(
+        Printf("no parallax: the camera only rotated, or the scene is too far for the baseline (best pair, "
+               "images %.0f and %.0f: parallax %.2f px, %.1f times the matching noise; need %.1f). Depth "
+               "cannot be recovered; move the camera sideways between shots",
+               static_cast<double>(pair.view_a),
+               static_cast<double>(pair.view_b),
+               most_parallax->pose.median_parallax_px,
+               most_parallax->parallax_ratio,
+               options.min_parallax_ratio));
   }
   const PairMatches& initial_pair = usable_pairs[initial->pair];
   report.initial_image_a = initial_pair.view_a;
@@ -703,17 +711,18 @@ StatusOr<SfmResult> RunIncrementalSfm(const std::vector<SfmImage>& input, const 
   const double max_rotation_deg = reconstruction.MaxRotationDeg();
   if (max_rotation_deg >= kMinRotationForParallelRestartDeg &&
       max_rotation_deg < options.parallel_restart_max_rotation_deg) {
-    std::optional<Reconstruction> parallel =
-        ParallelStart(images, tracks, initial_pair, initial->pose, options);
+    std::optional<Reconstruction> parallel = ParallelStart(images, tracks, initial_pair, initial->pose, options);
     if (parallel) {
       PX_RETURN_IF_ERROR(RegisterAndAdjust(&*parallel, anchor, second, options));
       int count = 0, parallel_count = 0;
       const double rms = reconstruction.Rms(&count), parallel_rms = parallel->Rms(&parallel_count);
       if (parallel->NumRegistered() >= reconstruction.NumRegistered() && parallel_count >= 0.95 * count &&
           parallel_rms < 0.97 * rms) {
-        report.warnings.push_back(Printf("rebuilt from a translation-only initial pair (parallel cameras): RMS %.3f px "
-                                         "instead of %.3f px",
-                                         parallel_rms, rms));
+        report.warnings.push_back(
+            Printf("rebuilt from a translation-only initial pair (parallel cameras): RMS %.3f px "
+                   "instead of %.3f px",
+                   parallel_rms,
+                   rms));
         reconstruction = std::move(*parallel);
       }
     }
@@ -784,32 +793,40 @@ StatusOr<SfmResult> RunIncrementalSfm(const std::vector<SfmImage>& input, const 
       }
     }
     if (best_focal == first || best_focal == last) {
-      report.warnings.push_back(Printf("self-calibrated focal length: the sweep's best (%.0f px) is at the end of "
-                                       "its range [%.0f, %.0f] px, no minimum; started from a normal lens (%.1f times "
-                                       "the longer side) and adjusted with every view, it may still be poorly "
-                                       "determined",
-                                       best_focal, first, last, kNormalLensRatio));
+      report.warnings.push_back(
+          Printf("self-calibrated focal length: the sweep's best (%.0f px) is at the end of "
+                 "its range [%.0f, %.0f] px, no minimum; started from a normal lens (%.1f times "
+                 "the longer side) and adjusted with every view, it may still be poorly "
+                 "determined",
+                 best_focal,
+                 first,
+                 last,
+                 kNormalLensRatio));
     }
   }
   report.max_view_rotation_deg = reconstruction.MaxRotationDeg();
   if (!refine_focal) {
-    report.warnings.push_back(Printf("focal length held at the metadata's: the views are not rotated (at most %.2f deg "
-                                     "between any two), so the images cannot refine it",
-                                     report.max_view_rotation_deg));
+    report.warnings.push_back(
+        Printf("focal length held at the metadata's: the views are not rotated (at most %.2f deg "
+               "between any two), so the images cannot refine it",
+               report.max_view_rotation_deg));
   }
   if (self > 0 && report.max_view_rotation_deg < options.min_rotation_for_focal_deg) {
     report.focal_observable = false;
-    report.warnings.push_back(Printf("self-calibrated focal length is unobservable: the views are translated without "
-                                     "rotation (at most %.2f deg between any two, need %.1f), so focal length and "
-                                     "depth scale are one ambiguity; give the focal length from metadata (EXIF, a "
-                                     "lens configuration) to measure depth",
-                                     report.max_view_rotation_deg, options.min_rotation_for_focal_deg));
+    report.warnings.push_back(
+        Printf("self-calibrated focal length is unobservable: the views are translated without "
+               "rotation (at most %.2f deg between any two, need %.1f), so focal length and "
+               "depth scale are one ambiguity; give the focal length from metadata (EXIF, a "
+               "lens configuration) to measure depth",
+               report.max_view_rotation_deg,
+               options.min_rotation_for_focal_deg));
   }
   if (report.initial_homography_ratio < kPlanarHomographyRatio) {
-    report.warnings.push_back(Printf("the initial pair sees a plane or a distant scene (one homography explains its "
-                                     "matches to %.1f times their noise): poses hold, but a self-calibrated focal "
-                                     "length is unreliable",
-                                     report.initial_homography_ratio));
+    report.warnings.push_back(
+        Printf("the initial pair sees a plane or a distant scene (one homography explains its "
+               "matches to %.1f times their noise): poses hold, but a self-calibrated focal "
+               "length is unreliable",
+               report.initial_homography_ratio));
   }
   if (report.num_registered < 2) return fail("fewer than two images registered");
   report.success = true;

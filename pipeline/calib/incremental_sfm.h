@@ -7,11 +7,10 @@
 // whose views show no parallax (a pure rotation) fails with a message saying so.
 #pragma once
 
-#include <string>
-#include <vector>
-
 #include <Eigen/Core>
 #include <opencv2/core.hpp>
+#include <string>
+#include <vector>
 
 #include "pipeline/calib/sfm_options.h"
 #include "pipeline/core/camera_model.h"
@@ -31,12 +30,12 @@ struct SfmImage {
 
 struct SfmView {
   bool registered = false;
-  std::string note;        // why not registered ("" when registered)
-  CameraModel camera;      // refined intrinsics, for the input image's size
-  Rigid3 cam_from_world;   // world: the first registered image's camera, scaled (see options)
+  std::string note;       // why not registered ("" when registered)
+  CameraModel camera;     // refined intrinsics, for the input image's size
+  Rigid3 cam_from_world;  // world: the first registered image's camera, scaled (see options)
   int features = 0;
-  int observations = 0;    // of points in the final reconstruction
-  double depth_near = 0;   // 2nd and 98th percentile depth of its points (scene units)
+  int observations = 0;   // of points in the final reconstruction
+  double depth_near = 0;  // 2nd and 98th percentile depth of its points (scene units)
   double depth_far = 0;
 };
 
@@ -49,24 +48,24 @@ struct SfmPair {
 
 struct SfmReport {
   bool success = false;
-  std::string failure;                 // why no reconstruction ("" on success)
-  std::vector<std::string> warnings;   // degraded parts (unregistered images, weak focal, planar)
+  std::string failure;                // why no reconstruction ("" on success)
+  std::vector<std::string> warnings;  // degraded parts (unregistered images, weak focal, planar)
   int num_images = 0;
   int num_registered = 0;
   int num_points = 0;
   int num_observations = 0;
-  double rms_px = 0;                   // final reprojection RMS, input-image pixels
+  double rms_px = 0;  // final reprojection RMS, input-image pixels
   int initial_image_a = -1;
   int initial_image_b = -1;
-  double initial_parallax_px = 0;      // rotation-compensated, median, of the initial pair
-  double initial_parallax_ratio = 0;   // the same over the pair's epipolar noise
+  double initial_parallax_px = 0;       // rotation-compensated, median, of the initial pair
+  double initial_parallax_ratio = 0;    // the same over the pair's epipolar noise
   double initial_homography_ratio = 0;  // its homography residual over its noise (~1.3 planar)
-  std::string focal_source;            // "metadata", "self-calibrated", or a mix
+  std::string focal_source;             // "metadata", "self-calibrated", or a mix
   // Largest rotation between two registered views, degrees. A self-calibrated focal length
   // needs rotation: views that are only translated (a grid of parallel cameras) see the same
   // images for any focal length with the depths rescaled, so it is then flagged unobservable.
   double max_view_rotation_deg = 0;
-  bool focal_observable = true;        // false: self-calibrated and max_view_rotation_deg too small
+  bool focal_observable = true;                        // false: self-calibrated and max_view_rotation_deg too small
   std::vector<std::pair<double, double>> focal_sweep;  // (focal px, two-view RMS px) when swept
   std::vector<SfmPair> pairs;
   double features_ms = 0;
@@ -76,8 +75,8 @@ struct SfmReport {
 };
 
 struct SfmResult {
-  std::vector<SfmView> views;              // one per input image
-  std::vector<Eigen::Vector3d> points;     // world frame
+  std::vector<SfmView> views;           // one per input image
+  std::vector<Eigen::Vector3d> points;  // world frame
   SfmReport report;
 };
 

@@ -1,10 +1,9 @@
 #include "pipeline/calib/make_views.h"
 
 #include <chrono>
+#include <opencv2/imgproc.hpp>
 #include <sstream>
 #include <string>
-
-#include <opencv2/imgproc.hpp>
 
 #include "pipeline/core/log.h"
 #include "pipeline/core/stage_clock.h"
@@ -16,8 +15,12 @@ std::string ViewName(ViewId id) { return "view " + std::to_string(id.value); }
 
 }  // namespace
 
-StatusOr<View> MakeView(ViewId id, const cv::Mat& image, const CameraModel& camera, const Rigid3& cam_from_world,
-                        const CalibOptions& options, UndistortCache* cache) {
+StatusOr<View> MakeView(ViewId id,
+                        const cv::Mat& image,
+                        const CameraModel& camera,
+                        const Rigid3& cam_from_world,
+                        const CalibOptions& options,
+                        UndistortCache* cache) {
   PX_RETURN_IF_ERROR(options.Validate());
   PX_RETURN_IF_ERROR(camera.Validate().WithContext(ViewName(id)));
   if (image.empty()) return InvalidArgumentError(ViewName(id) + ": image is empty");
@@ -55,8 +58,10 @@ StatusOr<View> MakeView(ViewId id, const cv::Mat& image, const CameraModel& came
   return view;
 }
 
-StatusOr<std::vector<View>> MakeViews(const std::vector<cv::Mat>& upright_tiles, const RigCalibration& rig,
-                                      const CalibOptions& options, UndistortCache* cache) {
+StatusOr<std::vector<View>> MakeViews(const std::vector<cv::Mat>& upright_tiles,
+                                      const RigCalibration& rig,
+                                      const CalibOptions& options,
+                                      UndistortCache* cache) {
   const auto start = std::chrono::steady_clock::now();
   PX_RETURN_IF_ERROR(options.Validate());
   PX_RETURN_IF_ERROR(rig.Validate());
@@ -71,13 +76,17 @@ StatusOr<std::vector<View>> MakeViews(const std::vector<cv::Mat>& upright_tiles,
   int num_undistorted = 0;
   for (int i = 0; i < rig.NumViews(); ++i) {
     const LensCalibration& lens = rig.lenses[i];
-    PX_ASSIGN_OR_RETURN(View view, MakeView(ViewId{i}, upright_tiles[i], lens.camera, lens.cam_from_rig, options, maps));
+    PX_ASSIGN_OR_RETURN(View view,
+                        MakeView(ViewId{i}, upright_tiles[i], lens.camera, lens.cam_from_rig, options, maps));
     num_undistorted += lens.camera.HasDistortion() ? 1 : 0;
     views.push_back(std::move(view));
   }
   const double ms = MsSince(start);
-  Logger("calib")->info("made {} views ({} undistorted, {} cached camera maps) in {:.1f} ms", views.size(),
-                        num_undistorted, maps->NumCached(), ms);
+  Logger("calib")->info("made {} views ({} undistorted, {} cached camera maps) in {:.1f} ms",
+                        views.size(),
+                        num_undistorted,
+                        maps->NumCached(),
+                        ms);
   return views;
 }
 

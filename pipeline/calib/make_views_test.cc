@@ -1,10 +1,10 @@
 #include "pipeline/calib/make_views.h"
 
+#include <gtest/gtest.h>
+
 #include <cmath>
 #include <cstdio>
 #include <vector>
-
-#include <gtest/gtest.h>
 
 namespace px {
 namespace {
@@ -113,8 +113,11 @@ TEST(MakeViewsTest, UndistortionMovesPointsToThePinholeProjection) {
     sum_error += error;
     ++count;
   }
-  std::printf("undistortion: %d blobs, max error %.4f px, mean %.4f px (raw offset up to %.1f px)\n", count, max_error,
-              sum_error / count, max_raw_offset);
+  std::printf("undistortion: %d blobs, max error %.4f px, mean %.4f px (raw offset up to %.1f px)\n",
+              count,
+              max_error,
+              sum_error / count,
+              max_raw_offset);
   ASSERT_GT(count, 150);
   EXPECT_LT(max_error, 0.1);
   EXPECT_LT(sum_error / count, 0.04);

@@ -3,10 +3,9 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
-#include <string>
-
 #include <opencv2/core.hpp>
 #include <opencv2/features2d.hpp>
+#include <string>
 
 namespace px::calib {
 namespace {
@@ -74,7 +73,8 @@ std::vector<FeatureMatch> MatchAll(const Features& a, const Features& b, const M
   return matches;
 }
 
-std::vector<FeatureMatch> MatchCandidates(const Features& a, const Features& b,
+std::vector<FeatureMatch> MatchCandidates(const Features& a,
+                                          const Features& b,
                                           const std::vector<std::vector<int>>& candidates_of_a,
                                           const MatchOptions& options) {
   std::vector<FeatureMatch> matches;
@@ -100,8 +100,10 @@ std::vector<FeatureMatch> MatchCandidates(const Features& a, const Features& b,
 
 std::vector<std::vector<int>> EpipolarCandidates(const std::vector<Eigen::Vector3d>& rays_a,
                                                  const std::vector<Eigen::Vector2d>& undistorted_px_b,
-                                                 const Rigid3& b_from_a, const Eigen::Matrix3d& k_b,
-                                                 double min_depth, double tolerance_px) {
+                                                 const Rigid3& b_from_a,
+                                                 const Eigen::Matrix3d& k_b,
+                                                 double min_depth,
+                                                 double tolerance_px) {
   std::vector<std::vector<int>> candidates(rays_a.size());
   if (undistorted_px_b.empty()) return candidates;
   // Bucket b's points on a grid of cells about the tolerance's size.

@@ -3,9 +3,8 @@
 // against candidates that the factory calibration allows (a rig: near the epipolar segment).
 #pragma once
 
-#include <vector>
-
 #include <Eigen/Core>
+#include <vector>
 
 #include "pipeline/calib/features.h"
 #include "pipeline/core/rigid3.h"
@@ -34,7 +33,8 @@ std::vector<FeatureMatch> MatchAll(const Features& a, const Features& b, const M
 // Only the listed candidates: candidates_of_a[i] holds the features of `b` that feature i of `a`
 // may match. The ratio test compares the best and second best candidate of each feature of `a`
 // (one candidate passes when it is the only one); the mutual test uses the same candidate sets.
-std::vector<FeatureMatch> MatchCandidates(const Features& a, const Features& b,
+std::vector<FeatureMatch> MatchCandidates(const Features& a,
+                                          const Features& b,
                                           const std::vector<std::vector<int>>& candidates_of_a,
                                           const MatchOptions& options);
 
@@ -45,7 +45,9 @@ std::vector<FeatureMatch> MatchCandidates(const Features& a, const Features& b,
 // with the candidates, not with the product of the feature counts.
 std::vector<std::vector<int>> EpipolarCandidates(const std::vector<Eigen::Vector3d>& rays_a,
                                                  const std::vector<Eigen::Vector2d>& undistorted_px_b,
-                                                 const Rigid3& b_from_a, const Eigen::Matrix3d& k_b,
-                                                 double min_depth, double tolerance_px);
+                                                 const Rigid3& b_from_a,
+                                                 const Eigen::Matrix3d& k_b,
+                                                 double min_depth,
+                                                 double tolerance_px);
 
 }  // namespace px::calib

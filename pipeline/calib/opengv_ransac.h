@@ -5,9 +5,8 @@
 #include <cstdint>
 #include <functional>
 #include <memory>
-#include <vector>
-
 #include <opengv/sac/Ransac.hpp>
+#include <vector>
 
 #include "pipeline/calib/ransac_options.h"
 
@@ -24,8 +23,12 @@ void SeedProblem(Problem* problem, uint64_t seed) {
 // With `refine`, the model is then re-estimated (nonlinearly) on all its inliers and kept when
 // it explains at least as many.
 template <typename Problem>
-bool RunRansac(std::shared_ptr<Problem> problem, double threshold, const RansacOptions& options,
-               typename Problem::model_t* model, std::vector<int>* inliers, bool refine = false) {
+bool RunRansac(std::shared_ptr<Problem> problem,
+               double threshold,
+               const RansacOptions& options,
+               typename Problem::model_t* model,
+               std::vector<int>* inliers,
+               bool refine = false) {
   SeedProblem(problem.get(), options.seed);
   opengv::sac::Ransac<Problem> ransac(options.max_iterations, threshold, options.confidence);
   ransac.sac_model_ = problem;

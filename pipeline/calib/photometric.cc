@@ -3,10 +3,9 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
-#include <sstream>
-
 #include <opencv2/imgproc.hpp>
 #include <opencv2/video/tracking.hpp>
+#include <sstream>
 
 #include "pipeline/core/stage_clock.h"
 
@@ -14,8 +13,8 @@ namespace px::calib {
 
 namespace {
 
-constexpr int kTerms = 7;               // 1, u, v, u^2, uv, v^2, (u^2 + v^2)^2
-constexpr int kFitIterations = 8;       // iteratively reweighted least squares
+constexpr int kTerms = 7;                        // 1, u, v, u^2, uv, v^2, (u^2 + v^2)^2
+constexpr int kFitIterations = 8;                // iteratively reweighted least squares
 constexpr float kDarkest = 8, kBrightest = 247;  // samples outside are clipped, not exposed
 constexpr int kMinSamples = 200;
 
@@ -108,8 +107,11 @@ bool FitLogGain(const cv::Mat& reference, const cv::Mat& view, const cv::Mat& va
 
 // The gain field (CV_32FC3) of the log-gain `shape` shared by the channels plus each channel's
 // own constant: the median of what the shape leaves of its log ratio.
-cv::Mat GainField(const cv::Vec<double, kTerms>& shape, const std::vector<cv::Mat>& reference_channels,
-                  const std::vector<cv::Mat>& view_channels, const cv::Mat& valid, double max_log_gain) {
+cv::Mat GainField(const cv::Vec<double, kTerms>& shape,
+                  const std::vector<cv::Mat>& reference_channels,
+                  const std::vector<cv::Mat>& view_channels,
+                  const cv::Mat& valid,
+                  double max_log_gain) {
   const cv::Size size = valid.size();
   const cv::Mat shape_field = FieldOf(shape, size, max_log_gain);
   std::vector<cv::Mat> fields(3);
@@ -151,7 +153,8 @@ double MeanAbsDifference(const cv::Mat& a, const cv::Mat& b, const cv::Mat& vali
 }  // namespace
 
 Status PhotometricOptions::Validate() const {
-  if (working_width_px < 32 || working_width_px > 1024) return OutOfRange("working_width_px", working_width_px, "[32, 1024]");
+  if (working_width_px < 32 || working_width_px > 1024)
+    return OutOfRange("working_width_px", working_width_px, "[32, 1024]");
   if (!(blur_fraction > 0 && blur_fraction <= 0.2)) return OutOfRange("blur_fraction", blur_fraction, "(0, 0.2]");
   if (!(min_change >= 0 && min_change < 1)) return OutOfRange("min_change", min_change, "[0, 1)");
   if (!(min_difference >= 0 && min_difference < 255)) return OutOfRange("min_difference", min_difference, "[0, 255)");
@@ -169,9 +172,16 @@ std::string PhotometricReport::Summary() const {
   for (const ViewPhotometry& v : views) {
     if (v.view == reference) continue;
     if (v.applied) {
-      std::snprintf(item, sizeof(item), " view %d gain %.2f/%.2f/%.2f corner %.2f, difference %.1f -> %.1f;",
-                    v.view.value, v.centre_gain[2], v.centre_gain[1], v.centre_gain[0], v.corner_falloff,
-                    v.difference_before, v.difference_after);
+      std::snprintf(item,
+                    sizeof(item),
+                    " view %d gain %.2f/%.2f/%.2f corner %.2f, difference %.1f -> %.1f;",
+                    v.view.value,
+                    v.centre_gain[2],
+                    v.centre_gain[1],
+                    v.centre_gain[0],
+                    v.corner_falloff,
+                    v.difference_before,
+                    v.difference_after);
     } else {
       std::snprintf(item, sizeof(item), " view %d as it is (%s);", v.view.value, v.note.c_str());
     }
@@ -182,7 +192,8 @@ std::string PhotometricReport::Summary() const {
   return text.str();
 }
 
-StatusOr<PhotometricReport> EqualisePhotometry(std::vector<View>* views, int reference_index,
+StatusOr<PhotometricReport> EqualisePhotometry(std::vector<View>* views,
+                                               int reference_index,
                                                const PhotometricOptions& options) {
   const Clock::time_point start = Clock::now();
   PX_RETURN_IF_ERROR(options.Validate());
@@ -288,8 +299,8 @@ StatusOr<PhotometricReport> EqualisePhotometry(std::vector<View>* views, int ref
     cv::split(view_small, view_channels);
     // An exposure and a cast alone first; the shape (vignetting) only where it explains clearly
     // more: on a strip with much parallax the shape terms would otherwise fit the parallax.
-    const cv::Mat flat_gain = GainField(cv::Vec<double, kTerms>::all(0), reference_channels, view_channels, valid,
-                                        max_log_gain);
+    const cv::Mat flat_gain =
+        GainField(cv::Vec<double, kTerms>::all(0), reference_channels, view_channels, valid, max_log_gain);
     const double flat_after = MeanAbsDifference(aligned, view_small.mul(flat_gain), valid);
     const cv::Mat shaped_gain = GainField(shape, reference_channels, view_channels, valid, max_log_gain);
     const double shaped_after = MeanAbsDifference(aligned, view_small.mul(shaped_gain), valid);
@@ -309,7 +320,9 @@ StatusOr<PhotometricReport> EqualisePhotometry(std::vector<View>* views, int ref
     const cv::Vec3f centre = gain_small.at<cv::Vec3f>(small.height / 2, small.width / 2);
     result.centre_gain = cv::Vec3d(centre[0], centre[1], centre[2]);
     double falloff = 0;
-    for (const cv::Point corner : {cv::Point(0, 0), cv::Point(small.width - 1, 0), cv::Point(0, small.height - 1),
+    for (const cv::Point corner : {cv::Point(0, 0),
+                                   cv::Point(small.width - 1, 0),
+                                   cv::Point(0, small.height - 1),
                                    cv::Point(small.width - 1, small.height - 1)}) {
       const cv::Vec3f g = gain_small.at<cv::Vec3f>(corner);
       for (int c = 0; c < 3; ++c) falloff += g[c] / centre[c] / 12;
@@ -319,8 +332,11 @@ StatusOr<PhotometricReport> EqualisePhotometry(std::vector<View>* views, int ref
       result.note = "the same exposure";
     } else if (!(result.difference_after < (1 - options.min_improvement) * result.difference_before)) {
       char note[120];
-      std::snprintf(note, sizeof(note), "no gain field brings it closer: difference %.1f -> %.1f",
-                    result.difference_before, result.difference_after);
+      std::snprintf(note,
+                    sizeof(note),
+                    "no gain field brings it closer: difference %.1f -> %.1f",
+                    result.difference_before,
+                    result.difference_after);
       result.note = note;
     } else {
       cv::Mat gain, equalised;

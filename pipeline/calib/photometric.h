@@ -10,10 +10,9 @@
 // (zero-mean normalised correlation) is blind to gain already; the blend and the morph are not.
 #pragma once
 
+#include <opencv2/core.hpp>
 #include <string>
 #include <vector>
-
-#include <opencv2/core.hpp>
 
 #include "pipeline/core/status.h"
 #include "pipeline/core/view.h"
@@ -56,12 +55,13 @@ struct PhotometricReport {
   ViewId reference;
   std::vector<ViewPhotometry> views;  // one per view, the reference included (never changed)
   double ms = 0;
-  std::string Summary() const;        // one line for the log
+  std::string Summary() const;  // one line for the log
 };
 
 // Equalises every view of `views` to views[reference_index] in place (images stay CV_8UC3).
 // Views of any sizes; too small or blank views are left as they are, with a note.
-StatusOr<PhotometricReport> EqualisePhotometry(std::vector<View>* views, int reference_index,
+StatusOr<PhotometricReport> EqualisePhotometry(std::vector<View>* views,
+                                               int reference_index,
                                                const PhotometricOptions& options);
 
 }  // namespace px::calib

@@ -3,10 +3,10 @@
 // views of one exposure are left untouched.
 #include "pipeline/calib/photometric.h"
 
+#include <gtest/gtest.h>
+
 #include <cmath>
 #include <cstdio>
-
-#include <gtest/gtest.h>
 #include <opencv2/imgproc.hpp>
 
 namespace px::calib {
@@ -20,8 +20,10 @@ cv::Mat Scene(cv::Size size) {
   cv::resize(noise, scene, size, 0, 0, cv::INTER_CUBIC);
   for (int i = 0; i < 40; ++i) {
     const cv::Point corner(rng.uniform(0, size.width - 40), rng.uniform(0, size.height - 40));
-    cv::rectangle(scene, cv::Rect(corner, cv::Size(rng.uniform(8, 40), rng.uniform(8, 40))),
-                  cv::Scalar(rng.uniform(30, 220), rng.uniform(30, 220), rng.uniform(30, 220)), cv::FILLED);
+    cv::rectangle(scene,
+                  cv::Rect(corner, cv::Size(rng.uniform(8, 40), rng.uniform(8, 40))),
+                  cv::Scalar(rng.uniform(30, 220), rng.uniform(30, 220), rng.uniform(30, 220)),
+                  cv::FILLED);
   }
   return scene;
 }
@@ -82,7 +84,8 @@ TEST(PhotometricTest, ExposureCastAndVignettingOfAShiftedViewAreUndone) {
   cv::Mat difference;
   cv::absdiff(views[1].image, truth_with_subject, difference);
   const cv::Scalar after = cv::mean(difference, outside);
-  std::printf("[figures] mean difference from the true colours: %.1f grey levels before, %.1f after\n", before,
+  std::printf("[figures] mean difference from the true colours: %.1f grey levels before, %.1f after\n",
+              before,
               (after[0] + after[1] + after[2]) / 3);
   EXPECT_LT((after[0] + after[1] + after[2]) / 3, 4.0);
   EXPECT_GT(before, 25.0);

@@ -4,7 +4,6 @@
 #include <cmath>
 #include <limits>
 #include <memory>
-
 #include <opencv2/calib3d.hpp>
 #include <opengv/relative_pose/CentralRelativeAdapter.hpp>
 #include <opengv/relative_pose/methods.hpp>
@@ -12,6 +11,7 @@
 #include <opengv/sac_problems/relative_pose/RotationOnlySacProblem.hpp>
 
 #include "pipeline/calib/opengv_ransac.h"
+#include "pipeline/core/order_statistics.h"
 
 namespace px::calib {
 namespace {
@@ -21,20 +21,6 @@ using opengv::sac_problems::relative_pose::RotationOnlySacProblem;
 
 constexpr int kMinCorrespondences = 8;
 
-double Median(std::vector<double> values) {
-  if (values.empty()) return 0;
-  const size_t middle = values.size() / 2;
-  std::nth_element(values.begin(), values.begin() + middle, values.end());
-  return values[middle];
-}
-
-double Percentile(std::vector<double> values, double fraction) {
-  if (values.empty()) return 0;
-  const size_t k = std::min(values.size() - 1, static_cast<size_t>(fraction * values.size()));
-  std::nth_element(values.begin(), values.begin() + k, values.end());
-  return values[k];
-}
-
 // Angle between two rays, accurate for small angles (atan2 of the cross and dot products).
 double AngleBetween(const Eigen::Vector3d& u, const Eigen::Vector3d& v) {
   return std::atan2(u.cross(v).norm(), u.dot(v));
@@ -43,9 +29,14 @@ double AngleBetween(const Eigen::Vector3d& u, const Eigen::Vector3d& v) {
 // How well one homography explains `subset`: the fraction within `threshold_px` and the 90th
 // percentile of the transfer error (points in pixels at `focal_px`, where OpenCV's conditioning works as meant).
 // The homography is RANSAC's at `ransac_threshold_px`, refined by OpenCV on its inliers.
-void FitHomography(const std::vector<Eigen::Vector3d>& rays_a, const std::vector<Eigen::Vector3d>& rays_b,
-                   const std::vector<int>& subset, double focal_px, double ransac_threshold_px, double threshold_px,
-                   double* fraction, double* p90_error_px) {
+void FitHomography(const std::vector<Eigen::Vector3d>& rays_a,
+                   const std::vector<Eigen::Vector3d>& rays_b,
+                   const std::vector<int>& subset,
+                   double focal_px,
+                   double ransac_threshold_px,
+                   double threshold_px,
+                   double* fraction,
+                   double* p90_error_px) {
   *fraction = 0;
   *p90_error_px = std::numeric_limits<double>::infinity();
   std::vector<cv::Point2d> a, b;
@@ -65,8 +56,8 @@ void FitHomography(const std::vector<Eigen::Vector3d>& rays_a, const std::vector
   int explained = 0;
   for (size_t i = 0; i < a.size(); ++i) {
     const cv::Vec3d p = hm * cv::Vec3d(a[i].x, a[i].y, 1.0);
-    const double error = p[2] == 0 ? std::numeric_limits<double>::infinity()
-                                   : std::hypot(p[0] / p[2] - b[i].x, p[1] / p[2] - b[i].y);
+    const double error =
+        p[2] == 0 ? std::numeric_limits<double>::infinity() : std::hypot(p[0] / p[2] - b[i].x, p[1] / p[2] - b[i].y);
     errors.push_back(error);
     explained += error < threshold_px ? 1 : 0;
   }
@@ -76,8 +67,10 @@ void FitHomography(const std::vector<Eigen::Vector3d>& rays_a, const std::vector
 
 // Sampson distances of the inliers to the essential matrix of (R, t) = b_from_a, in normalised
 // units: each correspondence's first-order distance to its epipolar constraint.
-std::vector<double> SampsonErrors(const opengv::bearingVectors_t& bearings_b, const opengv::bearingVectors_t& bearings_a,
-                                  const opengv::transformation_t& b_from_a, const std::vector<int>& inliers) {
+std::vector<double> SampsonErrors(const opengv::bearingVectors_t& bearings_b,
+                                  const opengv::bearingVectors_t& bearings_a,
+                                  const opengv::transformation_t& b_from_a,
+                                  const std::vector<int>& inliers) {
   const Eigen::Vector3d t = b_from_a.col(3).normalized();
   Eigen::Matrix3d t_cross;
   t_cross << 0, -t.z(), t.y(), t.z(), 0, -t.x(), -t.y(), t.x(), 0;
@@ -105,7 +98,8 @@ double RelativePoseResult::HomographyRatio() const {
 }
 
 RelativePoseResult EstimateRelativePose(const std::vector<Eigen::Vector3d>& rays_a,
-                                        const std::vector<Eigen::Vector3d>& rays_b, RelativePoseSolver solver,
+                                        const std::vector<Eigen::Vector3d>& rays_b,
+                                        RelativePoseSolver solver,
                                         const RansacOptions& options) {
   RelativePoseResult result;
   result.num_correspondences = static_cast<int>(std::min(rays_a.size(), rays_b.size()));
@@ -114,8 +108,8 @@ RelativePoseResult EstimateRelativePose(const std::vector<Eigen::Vector3d>& rays
     return result;
   }
   if (rays_a.size() != rays_b.size()) {
-    result.failure = "got " + std::to_string(rays_a.size()) + " rays in view a and " + std::to_string(rays_b.size()) +
-                     " in view b";
+    result.failure =
+        "got " + std::to_string(rays_a.size()) + " rays in view a and " + std::to_string(rays_b.size()) + " in view b";
     return result;
   }
   if (result.num_correspondences < kMinCorrespondences) {
@@ -134,13 +128,15 @@ RelativePoseResult EstimateRelativePose(const std::vector<Eigen::Vector3d>& rays
   const double angle = options.MaxErrorRad();
   // OpenGV scores a pair by (1 - cos) of the reprojection angle in each view, summed.
   const double threshold = 2.0 * (1.0 - std::cos(angle));
-  auto problem = std::make_shared<CentralRelativePoseSacProblem>(
-      adapter, solver == RelativePoseSolver::kFivePoint ? CentralRelativePoseSacProblem::STEWENIUS
-                                                        : CentralRelativePoseSacProblem::EIGHTPT,
-      /*randomSeed=*/false);
+  auto problem = std::make_shared<CentralRelativePoseSacProblem>(adapter,
+                                                                 solver == RelativePoseSolver::kFivePoint
+                                                                     ? CentralRelativePoseSacProblem::STEWENIUS
+                                                                     : CentralRelativePoseSacProblem::EIGHTPT,
+                                                                 /*randomSeed=*/false);
   opengv::transformation_t model;
   std::vector<int> inliers;
-  if (!internal::RunRansac(problem, threshold, options, &model, &inliers, /*refine=*/true) || inliers.size() < kMinCorrespondences) {
+  if (!internal::RunRansac(problem, threshold, options, &model, &inliers, /*refine=*/true) ||
+      inliers.size() < kMinCorrespondences) {
     result.failure = "no relative pose fits " + std::to_string(kMinCorrespondences) + " or more of " +
                      std::to_string(result.num_correspondences) + " correspondences";
     return result;
@@ -166,8 +162,7 @@ RelativePoseResult EstimateRelativePose(const std::vector<Eigen::Vector3d>& rays
   auto rotation_problem = std::make_shared<RotationOnlySacProblem>(adapter, /*randomSeed=*/false);
   opengv::rotation_t rotation_only;
   std::vector<int> rotation_inliers;
-  if (internal::RunRansac(rotation_problem, 1.0 - std::cos(2.0 * angle), options, &rotation_only,
-                          &rotation_inliers)) {
+  if (internal::RunRansac(rotation_problem, 1.0 - std::cos(2.0 * angle), options, &rotation_only, &rotation_inliers)) {
     result.rotation_only_inliers = static_cast<int>(rotation_inliers.size());
   }
   // The homography's threshold follows the matches' own noise (5x the median Sampson error,
@@ -175,8 +170,14 @@ RelativePoseResult EstimateRelativePose(const std::vector<Eigen::Vector3d>& rays
   // deep scene would pass for a plane.
   const double homography_threshold_px =
       std::clamp(5.0 * result.median_epipolar_error_px, std::min(0.5, options.max_error_px), options.max_error_px);
-  FitHomography(rays_a, rays_b, inliers, options.focal_px, options.max_error_px, homography_threshold_px,
-                &result.homography_inlier_fraction, &result.p90_homography_error_px);
+  FitHomography(rays_a,
+                rays_b,
+                inliers,
+                options.focal_px,
+                options.max_error_px,
+                homography_threshold_px,
+                &result.homography_inlier_fraction,
+                &result.p90_homography_error_px);
   result.success = true;
   return result;
 }

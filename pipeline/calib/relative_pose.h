@@ -4,10 +4,9 @@
 // how many matches a pure rotation explains, and how many a single homography (a plane) does.
 #pragma once
 
+#include <Eigen/Core>
 #include <string>
 #include <vector>
-
-#include <Eigen/Core>
 
 #include "pipeline/calib/ransac_options.h"
 #include "pipeline/core/rigid3.h"
@@ -21,9 +20,9 @@ enum class RelativePoseSolver {
 
 struct RelativePoseResult {
   bool success = false;
-  std::string failure;        // why not, when !success
-  Rigid3 b_from_a;            // translation of unit length: two views fix no scale
-  std::vector<int> inliers;   // indices into the correspondences
+  std::string failure;       // why not, when !success
+  Rigid3 b_from_a;           // translation of unit length: two views fix no scale
+  std::vector<int> inliers;  // indices into the correspondences
   int num_correspondences = 0;
   // Inliers of the best rotation-only model (twice the angle threshold: generous to rotation).
   int rotation_only_inliers = 0;
@@ -55,7 +54,8 @@ struct RelativePoseResult {
 // rays_a[i] and rays_b[i] are the same point's viewing rays (any positive length, z > 0 for the
 // homography check) in each camera's frame. Needs at least 8 correspondences.
 RelativePoseResult EstimateRelativePose(const std::vector<Eigen::Vector3d>& rays_a,
-                                        const std::vector<Eigen::Vector3d>& rays_b, RelativePoseSolver solver,
+                                        const std::vector<Eigen::Vector3d>& rays_b,
+                                        RelativePoseSolver solver,
                                         const RansacOptions& options);
 
 }  // namespace px::calib

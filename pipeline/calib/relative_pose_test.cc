@@ -1,8 +1,8 @@
 #include "pipeline/calib/relative_pose.h"
 
-#include <cstdio>
-
 #include <gtest/gtest.h>
+
+#include <cstdio>
 
 #include "pipeline/calib/geometry_test_util.h"
 
@@ -22,8 +22,11 @@ struct Correspondences {
   std::vector<bool> outlier;
 };
 
-Correspondences Make(const Rigid3& a_from_world, const Rigid3& b_from_world, const std::vector<Eigen::Vector3d>& points,
-                     double outlier_fraction, cv::RNG& rng) {
+Correspondences Make(const Rigid3& a_from_world,
+                     const Rigid3& b_from_world,
+                     const std::vector<Eigen::Vector3d>& points,
+                     double outlier_fraction,
+                     cv::RNG& rng) {
   Correspondences c;
   for (const Eigen::Vector3d& p : points) {
     const bool outlier = rng.uniform(0.0, 1.0) < outlier_fraction;
@@ -73,10 +76,17 @@ TEST_P(RelativePoseCaseTest, RecoversKnownPoseWithOutliers) {
   const double direction_error = AngleDeg(result.b_from_a.translation, truth.translation.normalized());
   int wrong = 0;
   for (int i : result.inliers) wrong += c.outlier[i] ? 1 : 0;
-  std::printf("%s: %zu inliers (%d outliers among them), rotation error %.4f deg, direction %.2f deg, "
-              "parallax %.1f px, rotation-only inliers %d, homography fraction %.2f\n",
-              pose_case.name, result.inliers.size(), wrong, rotation_error, direction_error,
-              result.median_parallax_px, result.rotation_only_inliers, result.homography_inlier_fraction);
+  std::printf(
+      "%s: %zu inliers (%d outliers among them), rotation error %.4f deg, direction %.2f deg, "
+      "parallax %.1f px, rotation-only inliers %d, homography fraction %.2f\n",
+      pose_case.name,
+      result.inliers.size(),
+      wrong,
+      rotation_error,
+      direction_error,
+      result.median_parallax_px,
+      result.rotation_only_inliers,
+      result.homography_inlier_fraction);
   EXPECT_LT(rotation_error, pose_case.max_rotation_error_deg);
   EXPECT_LT(direction_error, pose_case.max_direction_error_deg);
   EXPECT_GT(result.inliers.size(), 200u);
@@ -86,7 +96,8 @@ TEST_P(RelativePoseCaseTest, RecoversKnownPoseWithOutliers) {
 }
 
 INSTANTIATE_TEST_SUITE_P(
-    Cases, RelativePoseCaseTest,
+    Cases,
+    RelativePoseCaseTest,
     ::testing::Values(PoseCase{"five-point 10 cm", RelativePoseSolver::kFivePoint, 0.10, 0.03, 1.5},
                       PoseCase{"eight-point 10 cm", RelativePoseSolver::kEightPoint, 0.10, 0.03, 1.5},
                       PoseCase{"five-point 3 cm", RelativePoseSolver::kFivePoint, 0.03, 0.15, 8.0}),
@@ -109,10 +120,14 @@ TEST(RelativePoseTest, PureRotationShowsNoParallax) {
   const Correspondences c = Make(Rigid3(), b_from_world, RandomPoints(200, 1.0, 1.0, 4.0, rng), 0.0, rng);
   const RelativePoseResult result = EstimateRelativePose(c.a, c.b, RelativePoseSolver::kFivePoint, Ransac());
   ASSERT_TRUE(result.success) << result.failure;
-  std::printf("pure rotation: parallax %.2f px, epipolar error %.2f px, rotation-only inliers %d of %zu, "
-              "homography fraction %.2f\n",
-              result.median_parallax_px, result.median_epipolar_error_px, result.rotation_only_inliers,
-              result.inliers.size(), result.homography_inlier_fraction);
+  std::printf(
+      "pure rotation: parallax %.2f px, epipolar error %.2f px, rotation-only inliers %d of %zu, "
+      "homography fraction %.2f\n",
+      result.median_parallax_px,
+      result.median_epipolar_error_px,
+      result.rotation_only_inliers,
+      result.inliers.size(),
+      result.homography_inlier_fraction);
   // Noise only (0.3 px in each view): the 2D residual of a rotation is ~1.75x the 1D Sampson one.
   EXPECT_LT(result.median_parallax_px, 2.5 * result.median_epipolar_error_px);
   EXPECT_GE(result.rotation_only_inliers, static_cast<int>(result.inliers.size() * 0.95));
@@ -125,7 +140,8 @@ TEST(RelativePoseTest, PlanarSceneIsExplainedByAHomography) {
   const Correspondences c = Make(Rigid3(), b_from_world, wall, 0.0, rng);
   const RelativePoseResult result = EstimateRelativePose(c.a, c.b, RelativePoseSolver::kFivePoint, Ransac());
   ASSERT_TRUE(result.success) << result.failure;
-  std::printf("planar: homography fraction %.2f, parallax %.1f px\n", result.homography_inlier_fraction,
+  std::printf("planar: homography fraction %.2f, parallax %.1f px\n",
+              result.homography_inlier_fraction,
               result.median_parallax_px);
   EXPECT_GT(result.homography_inlier_fraction, 0.95);
   EXPECT_GT(result.median_parallax_px, 2.5 * result.median_epipolar_error_px);  // a plane still shows parallax

@@ -1,13 +1,12 @@
 #include "pipeline/calib/rig_calibrator.h"
 
+#include <Eigen/SVD>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
-#include <sstream>
-
-#include <Eigen/SVD>
 #include <opencv2/calib3d.hpp>
 #include <opencv2/core/eigen.hpp>
+#include <sstream>
 
 #include "pipeline/core/stage_clock.h"
 
@@ -30,8 +29,8 @@ int CentreView(const LatticeLayout& layout) {
 }
 
 struct TileBoards {
-  std::vector<int> captures;                        // where the board was found
-  std::vector<std::vector<cv::Point2f>> corners;    // per such capture
+  std::vector<int> captures;                      // where the board was found
+  std::vector<std::vector<cv::Point2f>> corners;  // per such capture
   CameraModel camera;
   double rms_px = 0;
 };
@@ -79,14 +78,21 @@ std::string RigCalibrationReport::Summary() const {
     worst_pose = std::max(worst_pose, t.pose_rms_px);
   }
   char text[256];
-  std::snprintf(text, sizeof(text),
+  std::snprintf(text,
+                sizeof(text),
                 "%zu tiles from %d captures: board RMS up to %.3f px, pose RMS up to %.3f px, %zu warnings, %.0f ms",
-                tiles.size(), captures, worst, worst_pose, warnings.size(), ms);
+                tiles.size(),
+                captures,
+                worst,
+                worst_pose,
+                warnings.size(),
+                ms);
   return text;
 }
 
 StatusOr<RigCalibrationResult> CalibrateRig(const std::vector<std::vector<cv::Mat>>& tiles_by_capture,
-                                            const LatticeLayout& layout, const RigCalibratorOptions& options) {
+                                            const LatticeLayout& layout,
+                                            const RigCalibratorOptions& options) {
   const auto start = std::chrono::steady_clock::now();
   PX_RETURN_IF_ERROR(options.Validate());
   PX_RETURN_IF_ERROR(layout.Validate().WithContext("rig calibration"));
@@ -125,9 +131,9 @@ StatusOr<RigCalibrationResult> CalibrateRig(const std::vector<std::vector<cv::Ma
     }
     if (static_cast<int>(t.captures.size()) < options.min_boards_per_tile) {
       return NotFoundError("rig calibration: " + TileName(layout, v) + ": board found in only " +
-                           std::to_string(t.captures.size()) + " of " + std::to_string(captures) +
-                           " captures, need " + std::to_string(options.min_boards_per_tile) + " (" +
-                           found[v].status().message() + " in capture 0)");
+                           std::to_string(t.captures.size()) + " of " + std::to_string(captures) + " captures, need " +
+                           std::to_string(options.min_boards_per_tile) + " (" + found[v].status().message() +
+                           " in capture 0)");
     }
   }
   // Intrinsics per tile.
@@ -138,7 +144,8 @@ StatusOr<RigCalibrationResult> CalibrateRig(const std::vector<std::vector<cv::Ma
       std::vector<std::vector<cv::Point3f>> object(t.corners.size(), board);
       cv::Mat k, d;
       std::vector<cv::Mat> rvecs, tvecs;
-      const int flags = (options.fit_k3 ? 0 : cv::CALIB_FIX_K3) | (options.fit_tangential ? 0 : cv::CALIB_ZERO_TANGENT_DIST);
+      const int flags =
+          (options.fit_k3 ? 0 : cv::CALIB_FIX_K3) | (options.fit_tangential ? 0 : cv::CALIB_ZERO_TANGENT_DIST);
       t.rms_px = cv::calibrateCamera(object, t.corners, size, k, d, rvecs, tvecs, flags);
       t.camera.width = size.width;
       t.camera.height = size.height;
@@ -182,8 +189,8 @@ StatusOr<RigCalibrationResult> CalibrateRig(const std::vector<std::vector<cv::Ma
     cv::Mat k_r(tiles[ref].camera.CvK()), d_r = tiles[ref].camera.CvDistortion();
     cv::Mat r, t, e, fm;
     // x_v = R x_ref + T: v's camera from the reference camera.
-    f.pose_rms_px = cv::stereoCalibrate(object, in_ref, in_v, k_r, d_r, k_v, d_v, tiles_by_capture[0][v].size(), r, t,
-                                        e, fm, cv::CALIB_FIX_INTRINSIC);
+    f.pose_rms_px = cv::stereoCalibrate(
+        object, in_ref, in_v, k_r, d_r, k_v, d_v, tiles_by_capture[0][v].size(), r, t, e, fm, cv::CALIB_FIX_INTRINSIC);
     cam_from_ref[v] = RigidFromCv(r, t);
   }
   // The rig frame: origin at the mean lens centre, axes the mean lens orientation.
@@ -203,8 +210,13 @@ StatusOr<RigCalibrationResult> CalibrateRig(const std::vector<std::vector<cv::Ma
     rig.lenses.push_back({tiles[v].camera, cam_from_ref[v] * ref_from_rig});
     if (figures[v].rms_px > options.warn_rms_px || figures[v].pose_rms_px > options.warn_rms_px) {
       char text[200];
-      std::snprintf(text, sizeof(text), "%s: board RMS %.2f px, pose RMS %.2f px (above %.2f)",
-                    TileName(layout, v).c_str(), figures[v].rms_px, figures[v].pose_rms_px, options.warn_rms_px);
+      std::snprintf(text,
+                    sizeof(text),
+                    "%s: board RMS %.2f px, pose RMS %.2f px (above %.2f)",
+                    TileName(layout, v).c_str(),
+                    figures[v].rms_px,
+                    figures[v].pose_rms_px,
+                    options.warn_rms_px);
       report.warnings.push_back(text);
     }
   }

@@ -5,10 +5,9 @@
 // orientation (x right, y down, z forward, as rig_calibration.h says).
 #pragma once
 
+#include <opencv2/core.hpp>
 #include <string>
 #include <vector>
-
-#include <opencv2/core.hpp>
 
 #include "pipeline/calib/board_detector.h"
 #include "pipeline/core/lattice_layout.h"
@@ -36,10 +35,10 @@ struct RigCalibratorOptions {
 
 struct TileCalibrationFigures {
   int view = 0;
-  int boards_found = 0;     // captures whose board was found in this tile
-  double rms_px = 0;        // board reprojection RMS of its intrinsic calibration
+  int boards_found = 0;           // captures whose board was found in this tile
+  double rms_px = 0;              // board reprojection RMS of its intrinsic calibration
   int shared_with_reference = 0;  // captures used for its pose (board also in the reference tile)
-  double pose_rms_px = 0;   // stereo reprojection RMS of its pose (0 for the reference)
+  double pose_rms_px = 0;         // stereo reprojection RMS of its pose (0 for the reference)
 };
 
 struct RigCalibrationReport {
@@ -62,6 +61,7 @@ struct RigCalibrationResult {
 // wrong number of tiles; NOT_FOUND naming the tile when the board is in too few of its captures or
 // never in the same capture as the reference tile.
 StatusOr<RigCalibrationResult> CalibrateRig(const std::vector<std::vector<cv::Mat>>& tiles_by_capture,
-                                            const LatticeLayout& layout, const RigCalibratorOptions& options);
+                                            const LatticeLayout& layout,
+                                            const RigCalibratorOptions& options);
 
 }  // namespace px

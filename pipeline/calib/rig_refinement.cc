@@ -5,7 +5,6 @@
 #include <cmath>
 #include <cstdio>
 #include <limits>
-
 #include <opencv2/core/utility.hpp>
 
 #include "pipeline/calib/absolute_pose.h"
@@ -13,6 +12,7 @@
 #include "pipeline/calib/relative_pose.h"
 #include "pipeline/calib/tracks.h"
 #include "pipeline/calib/triangulation.h"
+#include "pipeline/core/order_statistics.h"
 #include "pipeline/core/stage_clock.h"
 
 namespace px::calib {
@@ -25,13 +25,6 @@ constexpr int kMinPairMatches = 16;
 // A factory calibration whose reprojection RMS on the shot is at most this (pixels) fits it:
 // refinement that cannot improve on it leaves it without a warning.
 constexpr double kFactoryFitsRmsPx = 1.0;
-
-double Median(std::vector<double> values) {
-  if (values.empty()) return 0;
-  const size_t middle = values.size() / 2;
-  std::nth_element(values.begin(), values.begin() + middle, values.end());
-  return values[middle];
-}
 
 std::string Format(const char* format, double a, double b = 0, double c = 0) {
   char text[256];
@@ -53,21 +46,30 @@ double SmallestSpacing(const RigCalibration& rig) {
 
 struct ViewData {
   Features features;
-  std::vector<Eigen::Vector3d> rays;           // unit-depth rays through the factory lens
+  std::vector<Eigen::Vector3d> rays;            // unit-depth rays through the factory lens
   std::vector<Eigen::Vector2d> undistorted_px;  // the same in the factory pinhole's pixels
   bool usable = false;
 };
 
 // Matches one lens pair inside the factory's epipolar band and verifies it with five-point RANSAC.
-PairMatches MatchPair(const ViewData& a, const ViewData& b, int ia, int ib, const RigCalibration& factory,
-                      const RigRefinementOptions& options, uint64_t seed, PairRefinement* figures) {
+PairMatches MatchPair(const ViewData& a,
+                      const ViewData& b,
+                      int ia,
+                      int ib,
+                      const RigCalibration& factory,
+                      const RigRefinementOptions& options,
+                      uint64_t seed,
+                      PairRefinement* figures) {
   PairMatches verified{ia, ib, {}};
   figures->view_a = ia;
   figures->view_b = ib;
   const Rigid3 b_from_a = factory.lenses[ib].cam_from_rig * factory.lenses[ia].cam_from_rig.Inverse();
-  const std::vector<std::vector<int>> candidates =
-      EpipolarCandidates(a.rays, b.undistorted_px, b_from_a, factory.lenses[ib].camera.WithoutDistortion().K(),
-                         0.5 * factory.nominal_depth_min_m, options.epipolar_tolerance_px);
+  const std::vector<std::vector<int>> candidates = EpipolarCandidates(a.rays,
+                                                                      b.undistorted_px,
+                                                                      b_from_a,
+                                                                      factory.lenses[ib].camera.WithoutDistortion().K(),
+                                                                      0.5 * factory.nominal_depth_min_m,
+                                                                      options.epipolar_tolerance_px);
   const std::vector<FeatureMatch> matches = MatchCandidates(a.features, b.features, candidates, options.matching);
   figures->matches = static_cast<int>(matches.size());
   if (figures->matches < kMinPairMatches) return verified;
@@ -92,8 +94,10 @@ PairMatches MatchPair(const ViewData& a, const ViewData& b, int ia, int ib, cons
 // Up to `max_tracks` of `tracks`: the longest first, taken in turn from the cells of a 6x6 grid
 // over the image of each track's first view, so that the kept points cover the field (where
 // focal length and principal point show).
-std::vector<Track> SelectTracks(std::vector<Track> tracks, const std::vector<ViewData>& views,
-                                const RigCalibration& rig, int max_tracks) {
+std::vector<Track> SelectTracks(std::vector<Track> tracks,
+                                const std::vector<ViewData>& views,
+                                const RigCalibration& rig,
+                                int max_tracks) {
   if (static_cast<int>(tracks.size()) <= max_tracks) return tracks;
   std::stable_sort(tracks.begin(), tracks.end(), [](const Track& a, const Track& b) {
     return a.observations.size() > b.observations.size();
@@ -166,7 +170,8 @@ StatusOr<double> FactoryRms(const BaProblem& problem, const RigCalibration& fact
 }  // namespace
 
 StatusOr<RigRefinementResult> RefineRigCalibration(const std::vector<cv::Mat>& upright_tiles,
-                                                   const RigCalibration& factory, const RigRefinementOptions& options) {
+                                                   const RigCalibration& factory,
+                                                   const RigRefinementOptions& options) {
   const Clock::time_point start = Clock::now();
   PX_RETURN_IF_ERROR(options.Validate());
   PX_RETURN_IF_ERROR(factory.Validate().WithContext("rig refinement: factory calibration"));
@@ -236,7 +241,8 @@ StatusOr<RigRefinementResult> RefineRigCalibration(const std::vector<cv::Mat>& u
   std::vector<std::pair<int, int>> pair_list;
   for (int i = 0; i < n; ++i) {
     for (int j = i + 1; j < n; ++j) {
-      const double d = (CameraCentre(factory.lenses[i].cam_from_rig) - CameraCentre(factory.lenses[j].cam_from_rig)).norm();
+      const double d =
+          (CameraCentre(factory.lenses[i].cam_from_rig) - CameraCentre(factory.lenses[j].cam_from_rig)).norm();
       if (views[i].usable && views[j].usable && d <= options.max_pair_distance_spacings * spacing * (1 + 1e-9)) {
         pair_list.emplace_back(i, j);
       }
@@ -253,8 +259,8 @@ StatusOr<RigRefinementResult> RefineRigCalibration(const std::vector<cv::Mat>& u
   cv::parallel_for_(cv::Range(0, static_cast<int>(pair_list.size())), [&](const cv::Range& range) {
     for (int p = range.start; p < range.end; ++p) {
       const auto [a, b] = pair_list[p];
-      verified[p] = MatchPair(views[a], views[b], a, b, factory, pair_options, options.seed * 1000003ULL + p,
-                              &report.pairs[p]);
+      verified[p] =
+          MatchPair(views[a], views[b], a, b, factory, pair_options, options.seed * 1000003ULL + p, &report.pairs[p]);
     }
   });
   report.num_pairs = static_cast<int>(pair_list.size());
@@ -295,7 +301,8 @@ StatusOr<RigRefinementResult> RefineRigCalibration(const std::vector<cv::Mat>& u
 
   // 4. P3P per view against those points: drops the observations that disagree with the rest.
   std::vector<std::vector<int>> observations_of_view(n);
-  for (size_t k = 0; k < problem.observations.size(); ++k) observations_of_view[problem.observations[k].camera].push_back(k);
+  for (size_t k = 0; k < problem.observations.size(); ++k)
+    observations_of_view[problem.observations[k].camera].push_back(k);
   std::vector<char> keep(problem.observations.size(), 1);
   RansacOptions p3p = ransac;
   p3p.max_error_px = std::max(2.0 * ransac.max_error_px, 4.0);  // the points carry the factory's errors
@@ -335,12 +342,10 @@ StatusOr<RigRefinementResult> RefineRigCalibration(const std::vector<cv::Mat>& u
     held[v] = 1;
     if (report.views[v].note.empty()) {
       const std::string exposure = DescribeExposureProblem(MeasureExposure(upright_tiles[v]));
-      report.views[v].note = std::to_string(observations_per_view[v]) + " matched points (need " +
-                             std::to_string(options.min_observations_per_view) +
-                             "): the view shares too little with its neighbours (" +
-                             (exposure.empty() ? "a different scene, or a lens far off its calibration?"
-                                               : "it is " + exposure) +
-                             ")";
+      report.views[v].note =
+          std::to_string(observations_per_view[v]) + " matched points (need " +
+          std::to_string(options.min_observations_per_view) + "): the view shares too little with its neighbours (" +
+          (exposure.empty() ? "a different scene, or a lens far off its calibration?" : "it is " + exposure) + ")";
     }
   }
   std::erase_if(problem.observations, [&](const BaObservation& o) { return held[o.camera] != 0; });
@@ -423,14 +428,20 @@ StatusOr<RigRefinementResult> RefineRigCalibration(const std::vector<cv::Mat>& u
     report.max_focal_change_relative = std::max(report.max_focal_change_relative, std::abs(view.focal_change_relative));
     if (!implausible.empty()) continue;
     if (view.rotation_change_deg > options.max_rotation_change_deg) {
-      implausible = Format("lens %.0f turned by %.2f deg (more than %.2f deg is not plausible)", v,
-                           view.rotation_change_deg, options.max_rotation_change_deg);
+      implausible = Format("lens %.0f turned by %.2f deg (more than %.2f deg is not plausible)",
+                           v,
+                           view.rotation_change_deg,
+                           options.max_rotation_change_deg);
     } else if (view.centre_change_m > options.max_centre_change_spacings * spacing) {
-      implausible = Format("lens %.0f moved by %.2f mm (more than %.2f mm is not plausible)", v,
-                           1000 * view.centre_change_m, 1000 * options.max_centre_change_spacings * spacing);
+      implausible = Format("lens %.0f moved by %.2f mm (more than %.2f mm is not plausible)",
+                           v,
+                           1000 * view.centre_change_m,
+                           1000 * options.max_centre_change_spacings * spacing);
     } else if (std::abs(view.focal_change_relative) > options.max_focal_change_relative) {
-      implausible = Format("lens %.0f changed focal length by %.1f %% (more than %.1f %% is not plausible)", v,
-                           100 * view.focal_change_relative, 100 * options.max_focal_change_relative);
+      implausible = Format("lens %.0f changed focal length by %.1f %% (more than %.1f %% is not plausible)",
+                           v,
+                           100 * view.focal_change_relative,
+                           100 * options.max_focal_change_relative);
     }
   }
   for (int v = 0; v < n; ++v) {
@@ -440,10 +451,11 @@ StatusOr<RigRefinementResult> RefineRigCalibration(const std::vector<cv::Mat>& u
     }
   }
   if (report.centres_held) {
-    report.warnings.push_back(Format("the scene is planar or too far for the baseline (one homography explains the "
-                                     "matches of the median lens pair to %.1f times their noise): lens centres are "
-                                     "held at the factory calibration",
-                                     report.median_homography_ratio));
+    report.warnings.push_back(
+        Format("the scene is planar or too far for the baseline (one homography explains the "
+               "matches of the median lens pair to %.1f times their noise): lens centres are "
+               "held at the factory calibration",
+               report.median_homography_ratio));
   }
   if (!std::isfinite(report.rms_after_px) || !std::isfinite(report.rms_before_px)) {
     return finish("bundle adjustment failed: " + second.message);
@@ -455,11 +467,14 @@ StatusOr<RigRefinementResult> RefineRigCalibration(const std::vector<cv::Mat>& u
     report.factory_fits = report.rms_before_px <= kFactoryFitsRmsPx;
     if (report.factory_fits) {
       return finish(Format("the factory calibration already fits the shot (reprojection RMS %.3f px; refined %.3f px)",
-                           report.rms_before_px, report.rms_after_px));
+                           report.rms_before_px,
+                           report.rms_after_px));
     }
-    return finish(Format("refinement did not lower the reprojection error (%.3f px with the factory calibration, "
-                         "%.3f px refined)",
-                         report.rms_before_px, report.rms_after_px));
+    return finish(
+        Format("refinement did not lower the reprojection error (%.3f px with the factory calibration, "
+               "%.3f px refined)",
+               report.rms_before_px,
+               report.rms_after_px));
   }
   result.rig = std::move(refined);
   return finish("");

@@ -55,7 +55,8 @@ Status RigRefinementOptions::Validate() const {
   if (!(planar_homography_ratio >= 1 && planar_homography_ratio <= 100)) {
     return OutOfRange("planar_homography_ratio", planar_homography_ratio, "[1, 100]");
   }
-  if (!(min_rms_gain_px >= 0 && min_rms_gain_px <= 10)) return OutOfRange("min_rms_gain_px", min_rms_gain_px, "[0, 10]");
+  if (!(min_rms_gain_px >= 0 && min_rms_gain_px <= 10))
+    return OutOfRange("min_rms_gain_px", min_rms_gain_px, "[0, 10]");
   if (num_threads < 1 || num_threads > 64) return OutOfRange("num_threads", num_threads, "[1, 64]");
   return OkStatus();
 }

@@ -21,7 +21,7 @@ struct RigRefinementOptions {
   // false: the factory calibration is used as it is (no features, no matching).
   bool enabled = true;
   FeatureOptions features = RigFeatures();  // SIFT, 1200 per view
-  MatchOptions matching;    // ratio 0.8, mutual
+  MatchOptions matching;                    // ratio 0.8, mutual
   // A match must lie within this distance of the epipolar segment that the factory calibration
   // predicts (points from half the rig's nominal minimum depth to infinity), pixels, [1, 200].
   // Covers lenses that moved: 0.3 deg and 1 % of focal length move points by a few pixels.
@@ -66,8 +66,8 @@ struct RigRefinementOptions {
   // many pixels, [0, 10]: below, the lenses have not measurably moved and the factory's stand.
   double min_rms_gain_px = 0.05;
 
-  uint64_t seed = 1;     // RANSAC sampling: the same seed and shot give the same calibration
-  int num_threads = 1;   // Ceres threads [1, 64]; features and pairs use OpenCV's pool
+  uint64_t seed = 1;    // RANSAC sampling: the same seed and shot give the same calibration
+  int num_threads = 1;  // Ceres threads [1, 64]; features and pairs use OpenCV's pool
 
   Status Validate() const;
 };

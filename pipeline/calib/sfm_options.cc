@@ -35,8 +35,9 @@ Status SfmOptions::Validate() const {
     return OutOfRange("metadata_focal_sigma_relative", metadata_focal_sigma_relative, "(0, 1]");
   }
   if (!(focal_sweep_min >= 0.2 && focal_sweep_min < focal_sweep_max && focal_sweep_max <= 10)) {
-    return OutOfRange("focal_sweep_min..max", focal_sweep_min, "0.2 <= min < max <= 10 (max " +
-                                                                     std::to_string(focal_sweep_max) + ")");
+    return OutOfRange("focal_sweep_min..max",
+                      focal_sweep_min,
+                      "0.2 <= min < max <= 10 (max " + std::to_string(focal_sweep_max) + ")");
   }
   if (!(min_rotation_for_focal_deg >= 0 && min_rotation_for_focal_deg <= 45)) {
     return OutOfRange("min_rotation_for_focal_deg", min_rotation_for_focal_deg, "[0, 45]");

@@ -63,7 +63,7 @@ struct SfmOptions {
   // Scale of the result: the median depth of the points in their views, (0, 1e6] (scene units;
   // metres when the real scale is unknown is a guess, see the report).
   double median_depth = 1.0;
-  int num_threads = 1;            // Ceres threads [1, 64]; features and matching use OpenCV's pool
+  int num_threads = 1;  // Ceres threads [1, 64]; features and matching use OpenCV's pool
 
   Status Validate() const;
 };

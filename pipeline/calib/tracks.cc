@@ -28,7 +28,8 @@ class DisjointSets {
 
 }  // namespace
 
-std::vector<Track> BuildTracks(const std::vector<int>& features_per_view, const std::vector<PairMatches>& pairs,
+std::vector<Track> BuildTracks(const std::vector<int>& features_per_view,
+                               const std::vector<PairMatches>& pairs,
                                int min_length) {
   std::vector<int> offset(features_per_view.size() + 1, 0);
   for (size_t v = 0; v < features_per_view.size(); ++v) offset[v + 1] = offset[v] + features_per_view[v];

@@ -26,7 +26,8 @@ struct PairMatches {
 // hold two features of one view (conflicting matches) is dropped: it cannot be one point.
 // Tracks shorter than `min_length` views are dropped too. Deterministic order (by first view,
 // then feature).
-std::vector<Track> BuildTracks(const std::vector<int>& features_per_view, const std::vector<PairMatches>& pairs,
+std::vector<Track> BuildTracks(const std::vector<int>& features_per_view,
+                               const std::vector<PairMatches>& pairs,
                                int min_length = 2);
 
 }  // namespace px::calib

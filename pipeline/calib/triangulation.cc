@@ -1,9 +1,8 @@
 #include "pipeline/calib/triangulation.h"
 
+#include <Eigen/SVD>
 #include <algorithm>
 #include <cmath>
-
-#include <Eigen/SVD>
 
 namespace px::calib {
 

@@ -2,10 +2,9 @@
 // whether a triangulated point can be trusted.
 #pragma once
 
+#include <Eigen/Core>
 #include <optional>
 #include <vector>
-
-#include <Eigen/Core>
 
 #include "pipeline/core/rigid3.h"
 

@@ -5,8 +5,8 @@
 namespace px {
 
 bool SameCamera(const CameraModel& a, const CameraModel& b) {
-  return a.width == b.width && a.height == b.height && a.fx == b.fx && a.fy == b.fy && a.cx == b.cx &&
-         a.cy == b.cy && a.distortion == b.distortion;
+  return a.width == b.width && a.height == b.height && a.fx == b.fx && a.fy == b.fy && a.cx == b.cx && a.cy == b.cy &&
+         a.distortion == b.distortion;
 }
 
 const UndistortCache::Maps& UndistortCache::Get(const CameraModel& camera) {
@@ -17,8 +17,14 @@ const UndistortCache::Maps& UndistortCache::Get(const CameraModel& camera) {
   entry.camera = camera;
   const cv::Mat k(camera.CvK());
   // New camera matrix = K: the output is the same pinhole camera, only without distortion.
-  cv::initUndistortRectifyMap(k, camera.CvDistortion(), cv::Mat(), k, cv::Size(camera.width, camera.height), CV_32FC1,
-                              entry.maps.map_x, entry.maps.map_y);
+  cv::initUndistortRectifyMap(k,
+                              camera.CvDistortion(),
+                              cv::Mat(),
+                              k,
+                              cv::Size(camera.width, camera.height),
+                              CV_32FC1,
+                              entry.maps.map_x,
+                              entry.maps.map_y);
   entries_.push_back(std::move(entry));
   return entries_.back().maps;
 }

@@ -2,9 +2,8 @@
 // changes between shots, and lenses with identical intrinsics share one pair of maps.
 #pragma once
 
-#include <vector>
-
 #include <opencv2/core.hpp>
+#include <vector>
 
 #include "pipeline/core/camera_model.h"
 

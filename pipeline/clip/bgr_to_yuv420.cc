@@ -9,10 +9,10 @@ BgrToYuv420::~BgrToYuv420() { sws_freeContext(sws_); }
 Status BgrToYuv420::Init(int width, int height, Matrix matrix) {
   width_ = width;
   height_ = height;
-  sws_ = sws_getContext(width, height, AV_PIX_FMT_BGR24, width, height, AV_PIX_FMT_YUV420P, SWS_BILINEAR, nullptr,
-                        nullptr, nullptr);
-  if (sws_ == nullptr) return InternalError("no BGR24 to yuv420p converter for " + std::to_string(width) + "x" +
-                                            std::to_string(height));
+  sws_ = sws_getContext(
+      width, height, AV_PIX_FMT_BGR24, width, height, AV_PIX_FMT_YUV420P, SWS_BILINEAR, nullptr, nullptr, nullptr);
+  if (sws_ == nullptr)
+    return InternalError("no BGR24 to yuv420p converter for " + std::to_string(width) + "x" + std::to_string(height));
   const int* coefficients = sws_getCoefficients(matrix == Matrix::kBt709 ? SWS_CS_ITU709 : SWS_CS_ITU601);
   sws_setColorspaceDetails(sws_, coefficients, 1, coefficients, 0, 0, 1 << 16, 1 << 16);
   return OkStatus();

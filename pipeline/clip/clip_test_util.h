@@ -3,7 +3,6 @@
 
 #include <cmath>
 #include <cstdint>
-
 #include <opencv2/core.hpp>
 #include <opencv2/imgproc.hpp>
 

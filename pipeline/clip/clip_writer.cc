@@ -13,10 +13,14 @@ constexpr ClipFormat kFormats[] = {ClipFormat::kMp4, ClipFormat::kGif, ClipForma
 
 std::string_view ClipFormatName(ClipFormat format) {
   switch (format) {
-    case ClipFormat::kMp4: return "mp4";
-    case ClipFormat::kGif: return "gif";
-    case ClipFormat::kWebp: return "webp";
-    case ClipFormat::kPng: return "png";
+    case ClipFormat::kMp4:
+      return "mp4";
+    case ClipFormat::kGif:
+      return "gif";
+    case ClipFormat::kWebp:
+      return "webp";
+    case ClipFormat::kPng:
+      return "png";
   }
   return "?";
 }
@@ -30,10 +34,14 @@ StatusOr<ClipFormat> ParseClipFormat(std::string_view name) {
 
 std::string_view ClipFormatExtension(ClipFormat format) {
   switch (format) {
-    case ClipFormat::kMp4: return ".mp4";
-    case ClipFormat::kGif: return ".gif";
-    case ClipFormat::kWebp: return ".webp";
-    case ClipFormat::kPng: return "";
+    case ClipFormat::kMp4:
+      return ".mp4";
+    case ClipFormat::kGif:
+      return ".gif";
+    case ClipFormat::kWebp:
+      return ".webp";
+    case ClipFormat::kPng:
+      return "";
   }
   return "";
 }
@@ -86,17 +94,23 @@ Status CheckClipSize(const std::filesystem::path& path, int width, int height, i
   return OkStatus();
 }
 
-StatusOr<std::unique_ptr<ClipWriter>> OpenClipWriter(const std::filesystem::path& path, int width, int height,
+StatusOr<std::unique_ptr<ClipWriter>> OpenClipWriter(const std::filesystem::path& path,
+                                                     int width,
+                                                     int height,
                                                      const ClipOptions& options) {
   PX_RETURN_IF_ERROR(options.Validate());
   switch (options.format) {
     case ClipFormat::kMp4: {
-      PX_ASSIGN_OR_RETURN(auto writer, Mp4Writer::Open(path, width, height, {options.fps, options.crf, options.preset}));
+      PX_ASSIGN_OR_RETURN(auto writer,
+                          Mp4Writer::Open(path, width, height, {options.fps, options.crf, options.preset}));
       return std::unique_ptr<ClipWriter>(std::move(writer));
     }
-    case ClipFormat::kGif: return OpenGifWriter(path, width, height, options);
-    case ClipFormat::kWebp: return OpenWebpWriter(path, width, height, options);
-    case ClipFormat::kPng: return OpenPngSequenceWriter(path, width, height, options);
+    case ClipFormat::kGif:
+      return OpenGifWriter(path, width, height, options);
+    case ClipFormat::kWebp:
+      return OpenWebpWriter(path, width, height, options);
+    case ClipFormat::kPng:
+      return OpenPngSequenceWriter(path, width, height, options);
   }
   return InvalidArgumentError("clip.format: unknown");
 }

@@ -10,10 +10,9 @@
 
 #include <filesystem>
 #include <memory>
+#include <opencv2/core.hpp>
 #include <string>
 #include <string_view>
-
-#include <opencv2/core.hpp>
 
 #include "pipeline/core/status.h"
 
@@ -28,19 +27,19 @@ std::string_view ClipFormatExtension(ClipFormat format);
 
 struct ClipOptions {
   ClipFormat format = ClipFormat::kMp4;
-  double fps = 30.0;                // frames per second, (0, 240]; GIF stores delays in 1/100 s
+  double fps = 30.0;  // frames per second, (0, 240]; GIF stores delays in 1/100 s
   // mp4
   int crf = 20;                     // x264 constant rate factor, [0, 51]; lower is better and larger
   std::string preset = "veryfast";  // x264 preset: ultrafast .. placebo
   // gif, webp
-  int loop_count = 0;               // times the animation plays, [0, 65535]; 0 = forever
+  int loop_count = 0;  // times the animation plays, [0, 65535]; 0 = forever
   // webp
-  int webp_quality = 80;            // lossy quality, [0, 100]; higher is better and larger
-  bool webp_lossless = false;       // lossless instead (webp_quality then sets the effort)
+  int webp_quality = 80;       // lossy quality, [0, 100]; higher is better and larger
+  bool webp_lossless = false;  // lossless instead (webp_quality then sets the effort)
   // gif
-  bool gif_dither = true;           // ordered (Bayer 4x4) dithering against palette banding
+  bool gif_dither = true;  // ordered (Bayer 4x4) dithering against palette banding
   // png
-  int png_compression = 1;          // zlib level, [0, 9]; 1 is fast and still lossless
+  int png_compression = 1;  // zlib level, [0, 9]; 1 is fast and still lossless
 
   // Errors name the field as the daemon config does ("clip.crf: 60 is outside [0, 51]").
   Status Validate() const;
@@ -83,7 +82,9 @@ class ClipWriter {
 
 // Opens a writer of options.format on `path` for width x height frames. INVALID_ARGUMENT for bad
 // options or a size the format cannot hold; the encoder's or the file system's error otherwise.
-StatusOr<std::unique_ptr<ClipWriter>> OpenClipWriter(const std::filesystem::path& path, int width, int height,
+StatusOr<std::unique_ptr<ClipWriter>> OpenClipWriter(const std::filesystem::path& path,
+                                                     int width,
+                                                     int height,
                                                      const ClipOptions& options);
 
 // For the format writers: INVALID_ARGUMENT unless min_size <= width, height <= max_size.

@@ -1,13 +1,13 @@
 #include "pipeline/clip/clip_writer.h"
 
-#include <cmath>
-#include <string>
-#include <vector>
-
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
+
+#include <cmath>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
+#include <string>
+#include <vector>
 
 #include "pipeline/clip/clip_test_util.h"
 #include "tests/testing/animation_probe.h"
@@ -161,7 +161,8 @@ TEST_P(ClipFormatTest, FramesOfTheWrongSizeOrNoFramesAreErrors) {
   EXPECT_THAT(nowhere.message(), HasSubstr("no/such"));
 }
 
-INSTANTIATE_TEST_SUITE_P(Formats, ClipFormatTest,
+INSTANTIATE_TEST_SUITE_P(Formats,
+                         ClipFormatTest,
                          ::testing::Values(ClipFormat::kMp4, ClipFormat::kGif, ClipFormat::kWebp, ClipFormat::kPng),
                          [](const auto& param_info) { return std::string(ClipFormatName(param_info.param)); });
 
@@ -178,7 +179,9 @@ TEST_P(LoopingFormatTest, LoopCountIsStored) {
   }
 }
 
-INSTANTIATE_TEST_SUITE_P(Formats, LoopingFormatTest, ::testing::Values(ClipFormat::kGif, ClipFormat::kWebp),
+INSTANTIATE_TEST_SUITE_P(Formats,
+                         LoopingFormatTest,
+                         ::testing::Values(ClipFormat::kGif, ClipFormat::kWebp),
                          [](const auto& param_info) { return std::string(ClipFormatName(param_info.param)); });
 
 TEST(ClipWriterTest, LosslessWebpKeepsEveryPixel) {

@@ -78,7 +78,9 @@ class GifWriter final : public ClipWriter {
 
 }  // namespace
 
-StatusOr<std::unique_ptr<ClipWriter>> OpenGifWriter(const std::filesystem::path& path, int width, int height,
+StatusOr<std::unique_ptr<ClipWriter>> OpenGifWriter(const std::filesystem::path& path,
+                                                    int width,
+                                                    int height,
                                                     const ClipOptions& options) {
   PX_RETURN_IF_ERROR(CheckClipSize(path, width, height, 1, 65535));
   auto writer = std::make_unique<GifWriter>(path, width, height, options);

@@ -16,8 +16,10 @@ Status AvError(const std::string& what, int error) {
   return InternalError(message);
 }
 
-StatusOr<std::unique_ptr<LibavStreamWriter>> LibavStreamWriter::Open(const std::filesystem::path& path, int width,
-                                                                     int height, const LibavStreamSpec& spec) {
+StatusOr<std::unique_ptr<LibavStreamWriter>> LibavStreamWriter::Open(const std::filesystem::path& path,
+                                                                     int width,
+                                                                     int height,
+                                                                     const LibavStreamSpec& spec) {
   // Encoders report their settings at info level on every open; keep stderr for warnings.
   if (av_log_get_level() == AV_LOG_INFO) av_log_set_level(AV_LOG_WARNING);
   std::unique_ptr<LibavStreamWriter> writer(new LibavStreamWriter());

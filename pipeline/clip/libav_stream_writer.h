@@ -20,8 +20,8 @@ extern "C" {
 namespace px::clip {
 
 struct LibavStreamSpec {
-  std::string muxer;    // libavformat muxer: "mp4", "gif", "webp"
-  std::string encoder;  // libavcodec encoder: "libx264", "gif", "libwebp_anim"
+  std::string muxer;                             // libavformat muxer: "mp4", "gif", "webp"
+  std::string encoder;                           // libavcodec encoder: "libx264", "gif", "libwebp_anim"
   AVPixelFormat pixel_format = AV_PIX_FMT_NONE;  // what frame() holds
   AVRational time_base{1, 30};                   // pts units
   AVRational frame_rate{30, 1};
@@ -37,7 +37,9 @@ class LibavStreamWriter {
  public:
   // Opens the muxer on `path` and the encoder for width x height frames. Errors start
   // "clip <path>: ".
-  static StatusOr<std::unique_ptr<LibavStreamWriter>> Open(const std::filesystem::path& path, int width, int height,
+  static StatusOr<std::unique_ptr<LibavStreamWriter>> Open(const std::filesystem::path& path,
+                                                           int width,
+                                                           int height,
                                                            const LibavStreamSpec& spec);
   ~LibavStreamWriter();
   LibavStreamWriter(const LibavStreamWriter&) = delete;

@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <array>
 #include <limits>
-
 #include <opencv2/core/utility.hpp>
 
 #include "pipeline/core/check.h"
@@ -94,8 +93,9 @@ MedianCutPalette MedianCutPalette::Build(const cv::Mat& bgr, int max_colours, in
     if (chosen < 0) break;  // every box is a single bin
     Box& box = boxes[chosen];
     const int axis = box.longest_axis;
-    std::sort(bins.begin() + box.begin, bins.begin() + box.end,
-              [axis](int a, int b) { return Channel(a, axis) < Channel(b, axis); });
+    std::sort(bins.begin() + box.begin, bins.begin() + box.end, [axis](int a, int b) {
+      return Channel(a, axis) < Channel(b, axis);
+    });
     // The median by pixel count, kept off both ends so each half holds a bin.
     int64_t seen = 0;
     int split = box.begin + 1;
@@ -120,7 +120,8 @@ MedianCutPalette MedianCutPalette::Build(const cv::Mat& bgr, int max_colours, in
       for (int c = 0; c < 3; ++c) sum[c] += stats[bins[i]].sum[c];
     }
     cv::Vec3b colour;
-    for (int c = 0; c < 3; ++c) colour[c] = static_cast<uint8_t>((sum[c] + box.count / 2) / std::max<int64_t>(box.count, 1));
+    for (int c = 0; c < 3; ++c)
+      colour[c] = static_cast<uint8_t>((sum[c] + box.count / 2) / std::max<int64_t>(box.count, 1));
     palette.colours_.push_back(colour);
   }
   palette.nearest_ = std::make_unique<std::atomic<uint16_t>[]>(kCells);

@@ -8,9 +8,8 @@
 #include <atomic>
 #include <cstdint>
 #include <memory>
-#include <vector>
-
 #include <opencv2/core.hpp>
+#include <vector>
 
 namespace px::clip {
 

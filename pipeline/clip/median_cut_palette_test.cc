@@ -1,9 +1,9 @@
 #include "pipeline/clip/median_cut_palette.h"
 
-#include <set>
-
 #include <gtest/gtest.h>
+
 #include <opencv2/imgproc.hpp>
+#include <set>
 
 namespace px::clip {
 namespace {

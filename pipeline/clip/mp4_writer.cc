@@ -11,8 +11,8 @@ namespace px::clip {
 
 namespace {
 
-constexpr std::array<const char*, 10> kPresets = {"ultrafast", "superfast", "veryfast", "faster", "fast",
-                                                  "medium",    "slow",      "slower",   "veryslow", "placebo"};
+constexpr std::array<const char*, 10> kPresets = {
+    "ultrafast", "superfast", "veryfast", "faster", "fast", "medium", "slow", "slower", "veryslow", "placebo"};
 
 // libavcodec's libx264 wrapper, writing an MP4 through libavformat. Colour: BGR is converted to
 // BT.709 limited-range yuv420p (what phones and browsers assume for untagged HD video, and the
@@ -72,7 +72,8 @@ class LibavMp4Writer final : public Mp4Writer {
 }  // namespace
 
 Status Mp4Options::Validate() const {
-  if (!(fps > 0 && fps <= 240)) return InvalidArgumentError("clip.fps: " + std::to_string(fps) + " is outside (0, 240]");
+  if (!(fps > 0 && fps <= 240))
+    return InvalidArgumentError("clip.fps: " + std::to_string(fps) + " is outside (0, 240]");
   if (crf < 0 || crf > 51) return InvalidArgumentError("clip.crf: " + std::to_string(crf) + " is outside [0, 51]");
   for (const char* known : kPresets) {
     if (preset == known) return OkStatus();
@@ -80,7 +81,9 @@ Status Mp4Options::Validate() const {
   return InvalidArgumentError("clip.preset: \"" + preset + "\" is not an x264 preset (ultrafast .. placebo)");
 }
 
-StatusOr<std::unique_ptr<Mp4Writer>> Mp4Writer::Open(const std::filesystem::path& path, int width, int height,
+StatusOr<std::unique_ptr<Mp4Writer>> Mp4Writer::Open(const std::filesystem::path& path,
+                                                     int width,
+                                                     int height,
                                                      const Mp4Options& options) {
   PX_RETURN_IF_ERROR(options.Validate());
   PX_RETURN_IF_ERROR(CheckClipSize(path, width, height, 2, 16384));

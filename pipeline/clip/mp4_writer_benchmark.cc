@@ -2,14 +2,13 @@
 // options (CRF 20, veryfast). The content is a detailed texture panning 1 px a frame, as a
 // dolly's background does. Prints figures, asserts nothing.
 #include <benchmark/benchmark.h>
+#include <unistd.h>
 
 #include <filesystem>
-#include <string>
-#include <vector>
-
 #include <opencv2/core.hpp>
 #include <opencv2/imgproc.hpp>
-#include <unistd.h>
+#include <string>
+#include <vector>
 
 #include "pipeline/clip/mp4_writer.h"
 

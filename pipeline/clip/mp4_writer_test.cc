@@ -1,15 +1,15 @@
 #include "pipeline/clip/mp4_writer.h"
 
-#include "pipeline/clip/clip_test_util.h"
+#include <gtest/gtest.h>
+#include <unistd.h>
 
 #include <cmath>
 #include <fstream>
+#include <opencv2/imgproc.hpp>
 #include <string>
 #include <vector>
 
-#include <gtest/gtest.h>
-#include <unistd.h>
-#include <opencv2/imgproc.hpp>
+#include "pipeline/clip/clip_test_util.h"
 
 extern "C" {
 #include <libavcodec/avcodec.h>
@@ -68,8 +68,16 @@ Decoded Decode(const std::filesystem::path& path) {
   out.fps = av_q2d(stream->avg_frame_rate);
   AVPacket* packet = av_packet_alloc();
   AVFrame* frame = av_frame_alloc();
-  SwsContext* sws = sws_getContext(out.width, out.height, AV_PIX_FMT_YUV420P, out.width, out.height,
-                                   AV_PIX_FMT_BGR24, SWS_BILINEAR, nullptr, nullptr, nullptr);
+  SwsContext* sws = sws_getContext(out.width,
+                                   out.height,
+                                   AV_PIX_FMT_YUV420P,
+                                   out.width,
+                                   out.height,
+                                   AV_PIX_FMT_BGR24,
+                                   SWS_BILINEAR,
+                                   nullptr,
+                                   nullptr,
+                                   nullptr);
   const int* bt709 = sws_getCoefficients(SWS_CS_ITU709);
   sws_setColorspaceDetails(sws, bt709, 0, bt709, 1, 0, 1 << 16, 1 << 16);
   auto drain = [&]() {

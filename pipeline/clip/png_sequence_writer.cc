@@ -2,11 +2,10 @@
 
 #include <cerrno>
 #include <cstdio>
+#include <opencv2/imgcodecs.hpp>
 #include <string>
 #include <system_error>
 #include <vector>
-
-#include <opencv2/imgcodecs.hpp>
 
 #include "pipeline/core/durable_file.h"
 
@@ -40,7 +39,8 @@ class PngSequenceWriter final : public ClipWriter {
     std::vector<uint8_t> bytes;
     try {
       if (!cv::imencode(".png", bgr, bytes, {cv::IMWRITE_PNG_COMPRESSION, compression_})) {
-        return InternalError("clip " + path().string() + ": PNG encoding of frame " + std::to_string(index) + " failed");
+        return InternalError("clip " + path().string() + ": PNG encoding of frame " + std::to_string(index) +
+                             " failed");
       }
     } catch (const cv::Exception& e) {
       return InternalError("clip " + path().string() + ": PNG encoding of frame " + std::to_string(index) + ": " +
@@ -52,8 +52,8 @@ class PngSequenceWriter final : public ClipWriter {
     const size_t written = std::fwrite(bytes.data(), 1, bytes.size(), out);
     const int write_errno = errno;
     const bool closed = std::fclose(out) == 0;
-    if (written != bytes.size() || !closed) return ErrnoToStatus(write_errno != 0 ? write_errno : EIO, "write", file,
-                                                                 bytes.size());
+    if (written != bytes.size() || !closed)
+      return ErrnoToStatus(write_errno != 0 ? write_errno : EIO, "write", file, bytes.size());
     return OkStatus();
   }
 
@@ -69,7 +69,9 @@ class PngSequenceWriter final : public ClipWriter {
 
 }  // namespace
 
-StatusOr<std::unique_ptr<ClipWriter>> OpenPngSequenceWriter(const std::filesystem::path& path, int width, int height,
+StatusOr<std::unique_ptr<ClipWriter>> OpenPngSequenceWriter(const std::filesystem::path& path,
+                                                            int width,
+                                                            int height,
                                                             const ClipOptions& options) {
   PX_RETURN_IF_ERROR(CheckClipSize(path, width, height, 1, 32767));
   auto writer = std::make_unique<PngSequenceWriter>(path, width, height, options);

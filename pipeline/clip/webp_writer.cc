@@ -1,9 +1,8 @@
 #include "pipeline/clip/webp_writer.h"
 
 #include <cmath>
-#include <string>
-
 #include <opencv2/imgproc.hpp>
+#include <string>
 
 #include "pipeline/clip/bgr_to_yuv420.h"
 #include "pipeline/clip/libav_stream_writer.h"
@@ -56,7 +55,9 @@ class WebpWriter final : public ClipWriter {
 
 }  // namespace
 
-StatusOr<std::unique_ptr<ClipWriter>> OpenWebpWriter(const std::filesystem::path& path, int width, int height,
+StatusOr<std::unique_ptr<ClipWriter>> OpenWebpWriter(const std::filesystem::path& path,
+                                                     int width,
+                                                     int height,
                                                      const ClipOptions& options) {
   PX_RETURN_IF_ERROR(CheckClipSize(path, width, height, 1, 16383));  // WebP's limit
   auto writer = std::make_unique<WebpWriter>(path, width, height, options);

@@ -1,4 +1,5 @@
-// Clip output as an animated WebP (libavcodec's libwebp_anim encoder; webp muxer). Use OpenClipWriter (clip_writer.h), which validates the options.
+// Clip output as an animated WebP (libavcodec's libwebp_anim encoder; webp muxer). Use OpenClipWriter (clip_writer.h),
+// which validates the options.
 #pragma once
 
 #include <filesystem>
@@ -8,7 +9,9 @@
 
 namespace px::clip {
 
-StatusOr<std::unique_ptr<ClipWriter>> OpenWebpWriter(const std::filesystem::path& path, int width, int height,
+StatusOr<std::unique_ptr<ClipWriter>> OpenWebpWriter(const std::filesystem::path& path,
+                                                     int width,
+                                                     int height,
                                                      const ClipOptions& options);
 
 }  // namespace px::clip

@@ -30,8 +30,7 @@ Status CameraModel::Validate() const {
   } else if (!(fx > 0) || !(fy > 0) || !std::isfinite(fx) || !std::isfinite(fy)) {
     error << "focal length fx=" << fx << " fy=" << fy << " is not positive and finite";
   } else if (!(cx >= -0.5 && cx <= width - 0.5 && cy >= -0.5 && cy <= height - 0.5)) {
-    error << "principal point (" << cx << ", " << cy << ") lies outside the " << width << "x" << height
-          << " image";
+    error << "principal point (" << cx << ", " << cy << ") lies outside the " << width << "x" << height << " image";
   } else {
     for (double d : distortion) {
       if (!std::isfinite(d)) error << "distortion coefficient " << d << " is not finite";
@@ -60,8 +59,7 @@ Eigen::Vector2d CameraModel::Distort(const Eigen::Vector2d& n) const {
   const double x = n.x(), y = n.y();
   const double r2 = x * x + y * y;
   const double radial = 1 + r2 * (k1 + r2 * (k2 + r2 * k3));
-  return {x * radial + 2 * p1 * x * y + p2 * (r2 + 2 * x * x),
-          y * radial + p1 * (r2 + 2 * y * y) + 2 * p2 * x * y};
+  return {x * radial + 2 * p1 * x * y + p2 * (r2 + 2 * x * x), y * radial + p1 * (r2 + 2 * y * y) + 2 * p2 * x * y};
 }
 
 Eigen::Vector2d CameraModel::Undistort(const Eigen::Vector2d& d) const {

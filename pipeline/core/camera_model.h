@@ -2,10 +2,9 @@
 // intrinsics in pixels. Pixel centres are at integer coordinates (OpenCV convention).
 #pragma once
 
-#include <array>
-
 #include <Eigen/Core>
 #include <Eigen/LU>
+#include <array>
 #include <opencv2/core.hpp>
 
 #include "pipeline/core/status.h"
@@ -13,11 +12,11 @@
 namespace px {
 
 struct CameraModel {
-  int width = 0;   // image size in pixels
+  int width = 0;  // image size in pixels
   int height = 0;
-  double fx = 0;   // focal lengths in pixels
+  double fx = 0;  // focal lengths in pixels
   double fy = 0;
-  double cx = 0;   // principal point in pixels
+  double cx = 0;  // principal point in pixels
   double cy = 0;
   // OpenCV order: k1, k2, p1, p2, k3. All zero means an ideal pinhole.
   std::array<double, 5> distortion = {0, 0, 0, 0, 0};

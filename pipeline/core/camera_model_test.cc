@@ -1,6 +1,7 @@
 #include "pipeline/core/camera_model.h"
 
 #include <gtest/gtest.h>
+
 #include <opencv2/calib3d.hpp>
 
 namespace px {
@@ -30,8 +31,8 @@ TEST(CameraModelTest, MatchesOpenCvProjectPoints) {
   const CameraModel camera = DistortedCamera();
   std::vector<cv::Point3d> points = {{0.2, -0.1, 1.5}, {-0.5, 0.4, 2.0}, {0.0, 0.0, 1.0}};
   std::vector<cv::Point2d> expected;
-  cv::projectPoints(points, cv::Vec3d(0, 0, 0), cv::Vec3d(0, 0, 0), cv::Mat(camera.CvK()), camera.CvDistortion(),
-                    expected);
+  cv::projectPoints(
+      points, cv::Vec3d(0, 0, 0), cv::Vec3d(0, 0, 0), cv::Mat(camera.CvK()), camera.CvDistortion(), expected);
   for (size_t i = 0; i < points.size(); ++i) {
     Eigen::Vector2d pixel;
     ASSERT_TRUE(camera.Project({points[i].x, points[i].y, points[i].z}, &pixel));

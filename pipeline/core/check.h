@@ -28,5 +28,4 @@ struct Voidify {
 }  // namespace px::internal
 
 #define PX_CHECK(condition) \
-  (condition) ? (void)0     \
-              : ::px::internal::Voidify() & ::px::internal::CheckFailure(__FILE__, __LINE__, #condition)
+  (condition) ? (void)0 : ::px::internal::Voidify() & ::px::internal::CheckFailure(__FILE__, __LINE__, #condition)

@@ -20,6 +20,7 @@ struct CoverageReport {
 };
 
 // What the direction stage calls to measure a candidate viewpoint (the renderer's Coverage()).
-using CoverageFunction = std::function<StatusOr<CoverageReport>(const CameraModel& camera, const Rigid3& cam_from_world)>;
+using CoverageFunction =
+    std::function<StatusOr<CoverageReport>(const CameraModel& camera, const Rigid3& cam_from_world)>;
 
 }  // namespace px

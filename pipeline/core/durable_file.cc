@@ -1,7 +1,5 @@
 #include "pipeline/core/durable_file.h"
 
-#include "pipeline/core/unique_fd.h"
-
 #include <fcntl.h>
 #include <signal.h>
 #include <sys/stat.h>
@@ -14,6 +12,8 @@
 #include <fstream>
 #include <string>
 #include <system_error>
+
+#include "pipeline/core/unique_fd.h"
 
 namespace px {
 namespace {
@@ -111,7 +111,7 @@ bool ProcessIsAlive(pid_t pid) {
   std::ifstream stat("/proc/" + std::to_string(pid) + "/stat");
   std::string line;
   if (!std::getline(stat, line)) return true;  // no /proc: trust kill()
-  const size_t name_end = line.rfind(')');    // the name may hold spaces and parentheses
+  const size_t name_end = line.rfind(')');     // the name may hold spaces and parentheses
   return name_end == std::string::npos || name_end + 2 >= line.size() || line[name_end + 2] != 'Z';
 }
 

@@ -1,6 +1,6 @@
-// Durable file helpers (recordings, clips, the daemon's state): a file is either absent, the old version or the new one,
-// never half-written, even across a power cut (write a temporary beside it, fsync, rename, fsync
-// the folder). A full disk is RESOURCE_EXHAUSTED with a message saying how much is free and needed.
+// Durable file helpers (recordings, clips, the daemon's state): a file is either absent, the old version or the new
+// one, never half-written, even across a power cut (write a temporary beside it, fsync, rename, fsync the folder). A
+// full disk is RESOURCE_EXHAUSTED with a message saying how much is free and needed.
 #pragma once
 
 #include <cstdint>
@@ -18,7 +18,8 @@ namespace px {
 // `path`, fsync the folder. On failure the temporary is removed and `path` is untouched.
 // `before_rename`, when set, runs once the temporary is complete (tests use it to stop exactly
 // where a crash would); a non-OK result aborts the write like an I/O error.
-Status WriteFileAtomically(const std::filesystem::path& path, std::string_view bytes,
+Status WriteFileAtomically(const std::filesystem::path& path,
+                           std::string_view bytes,
                            const std::function<Status()>& before_rename = {});
 
 // Reads a whole file. NOT_FOUND when it is absent.

@@ -60,10 +60,10 @@ class TiffReader {
     if (type == 5 || type == 10) {
       const size_t at = U32(field);
       if (!Has(at, 8)) return 0;
-      const double denominator = type == 5 ? static_cast<double>(U32(at + 4))
-                                           : static_cast<double>(static_cast<int32_t>(U32(at + 4)));
-      const double numerator = type == 5 ? static_cast<double>(U32(at))
-                                         : static_cast<double>(static_cast<int32_t>(U32(at)));
+      const double denominator =
+          type == 5 ? static_cast<double>(U32(at + 4)) : static_cast<double>(static_cast<int32_t>(U32(at + 4)));
+      const double numerator =
+          type == 5 ? static_cast<double>(U32(at)) : static_cast<double>(static_cast<int32_t>(U32(at)));
       return denominator != 0 ? numerator / denominator : 0;
     }
     return 0;

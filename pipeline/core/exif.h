@@ -15,12 +15,12 @@ namespace px {
 struct ExifInfo {
   std::string make;
   std::string model;
-  int orientation = 1;             // 1 = upright (TIFF orientation tag); 0 when absent
-  double focal_length_mm = 0;      // 0 when absent
-  double focal_length_35mm = 0;    // 35 mm film equivalent, 0 when absent
+  int orientation = 1;                  // 1 = upright (TIFF orientation tag); 0 when absent
+  double focal_length_mm = 0;           // 0 when absent
+  double focal_length_35mm = 0;         // 35 mm film equivalent, 0 when absent
   double focal_plane_x_resolution = 0;  // pixels per focal-plane unit, 0 when absent
   double focal_plane_unit_mm = 0;       // the unit: 25.4 (inch) or 10 (cm)
-  int pixel_width = 0;             // the Exif image size the resolution refers to (0 when absent)
+  int pixel_width = 0;                  // the Exif image size the resolution refers to (0 when absent)
   int pixel_height = 0;
 
   // Focal length in pixels for an upright image of width x height: from the focal plane

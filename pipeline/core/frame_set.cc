@@ -14,10 +14,14 @@ StatusOr<FrameSetKind> ParseFrameSetKind(std::string_view name) {
 
 std::string_view FrameStatusName(FrameStatus status) {
   switch (status) {
-    case FrameStatus::kOk: return "ok";
-    case FrameStatus::kCorrupt: return "corrupt";
-    case FrameStatus::kDropped: return "dropped";
-    case FrameStatus::kWrongFormat: return "wrong_format";
+    case FrameStatus::kOk:
+      return "ok";
+    case FrameStatus::kCorrupt:
+      return "corrupt";
+    case FrameStatus::kDropped:
+      return "dropped";
+    case FrameStatus::kWrongFormat:
+      return "wrong_format";
   }
   return "ok";
 }

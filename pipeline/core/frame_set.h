@@ -18,9 +18,9 @@ enum class FrameSetKind {
 
 enum class FrameStatus {
   kOk,
-  kCorrupt,    // the buffer is truncated or garbled
-  kDropped,    // the sensor did not deliver this frame
-  kWrongFormat // size or pixel format differs from what was configured
+  kCorrupt,     // the buffer is truncated or garbled
+  kDropped,     // the sensor did not deliver this frame
+  kWrongFormat  // size or pixel format differs from what was configured
 };
 
 std::string_view FrameSetKindName(FrameSetKind kind);  // "lattice_frame", "image_set"
@@ -30,10 +30,10 @@ StatusOr<FrameStatus> ParseFrameStatus(std::string_view name);
 
 struct Frame {
   RawImage image;
-  uint64_t sequence = 0;       // the sensor's frame counter
-  int64_t timestamp_ns = 0;    // capture time (CLOCK_MONOTONIC or the source's injected clock)
+  uint64_t sequence = 0;     // the sensor's frame counter
+  int64_t timestamp_ns = 0;  // capture time (CLOCK_MONOTONIC or the source's injected clock)
   FrameStatus status = FrameStatus::kOk;
-  std::string status_detail;   // why status is not kOk, for logs and reports
+  std::string status_detail;  // why status is not kOk, for logs and reports
   // The lens's focal length in this image's pixels, from the image's own metadata (a JPEG's
   // EXIF); 0 = unknown, and structure from motion then self-calibrates it.
   double focal_length_px = 0;
@@ -46,8 +46,8 @@ struct Frame {
 
 struct FrameSet {
   FrameSetKind kind = FrameSetKind::kLatticeFrame;
-  uint64_t capture_id = 0;     // increments per press
-  std::vector<Frame> frames;   // one for kLatticeFrame, one per view for kImageSet
+  uint64_t capture_id = 0;    // increments per press
+  std::vector<Frame> frames;  // one for kLatticeFrame, one per view for kImageSet
 
   int NumUsableFrames() const;
 };

@@ -6,9 +6,10 @@
 #include <fstream>
 #include <iterator>
 #include <new>
+#include <opencv2/imgcodecs.hpp>
 #include <vector>
 
-#include <opencv2/imgcodecs.hpp>
+#include "pipeline/core/size_text.h"
 
 namespace px {
 namespace {
@@ -66,10 +67,6 @@ StatusOr<ImageHeaderSize> WebpSize(std::span<const uint8_t> bytes) {
   return DataLossError("a WebP file whose first chunk is none of VP8, VP8L, VP8X");
 }
 
-std::string SizeText(const ImageHeaderSize& size) {
-  return std::to_string(size.width) + "x" + std::to_string(size.height);
-}
-
 }  // namespace
 
 StatusOr<ImageHeaderSize> ReadImageHeaderSize(std::span<const uint8_t> bytes) {
@@ -86,14 +83,16 @@ StatusOr<ImageHeaderSize> ReadImageHeaderSize(std::span<const uint8_t> bytes) {
   return DataLossError("not a JPEG, PNG, GIF or WebP image (by its first bytes)");
 }
 
-StatusOr<cv::Mat> DecodeImageBytes(std::span<const uint8_t> bytes, const std::string& name,
+StatusOr<cv::Mat> DecodeImageBytes(std::span<const uint8_t> bytes,
+                                   const std::string& name,
                                    const ImageDecodeOptions& options) {
   StatusOr<ImageHeaderSize> size = ReadImageHeaderSize(bytes);
   if (!size.ok()) return DataLossError(name + ": cannot be decoded: " + size.status().message());
-  if (size->width <= 0 || size->height <= 0) return DataLossError(name + ": its header claims " + SizeText(*size) + " pixels");
+  if (size->width <= 0 || size->height <= 0)
+    return DataLossError(name + ": its header claims " + SizeText(size->width, size->height) + " pixels");
   const double pixels = static_cast<double>(size->width) * static_cast<double>(size->height);
   if (pixels > options.max_pixels) {
-    return ResourceExhaustedError(name + ": its header claims " + SizeText(*size) + " pixels (" +
+    return ResourceExhaustedError(name + ": its header claims " + SizeText(size->width, size->height) + " pixels (" +
                                   std::to_string(static_cast<int64_t>(pixels / 1e6)) + " MP), over the limit of " +
                                   std::to_string(static_cast<int64_t>(options.max_pixels / 1e6)) +
                                   " MP; refused before decoding");
@@ -117,21 +116,21 @@ StatusOr<cv::Mat> DecodeImageBytes(std::span<const uint8_t> bytes, const std::st
   } catch (const cv::Exception& e) {
     return DataLossError(name + ": cannot be decoded (" + e.err + ")");
   } catch (const std::bad_alloc&) {
-    return ResourceExhaustedError(name + ": out of memory decoding " + SizeText(*size) + " pixels");
+    return ResourceExhaustedError(name + ": out of memory decoding " + SizeText(size->width, size->height) + " pixels");
   }
   if (bgr.empty()) return DataLossError(name + ": cannot be decoded (truncated or damaged)");
   return bgr;
 }
 
-StatusOr<std::vector<uint8_t>> ReadImageFileBytes(const std::filesystem::path& file, const ImageDecodeOptions& options) {
+StatusOr<std::vector<uint8_t>> ReadImageFileBytes(const std::filesystem::path& file,
+                                                  const ImageDecodeOptions& options) {
   std::error_code ec;
   const uintmax_t file_bytes = std::filesystem::file_size(file, ec);
   // A compressed image is far smaller than its pixels; a file over 3 bytes a pixel allowed is not a photo.
   if (!ec && static_cast<double>(file_bytes) > 3 * options.max_pixels) {
-    return ResourceExhaustedError(file.string() + ": " + std::to_string(file_bytes / 1000000) +
-                                  " MB, more than an image of the " +
-                                  std::to_string(static_cast<int64_t>(options.max_pixels / 1e6)) +
-                                  " MP limit can hold; refused before reading");
+    return ResourceExhaustedError(
+        file.string() + ": " + std::to_string(file_bytes / 1000000) + " MB, more than an image of the " +
+        std::to_string(static_cast<int64_t>(options.max_pixels / 1e6)) + " MP limit can hold; refused before reading");
   }
   std::ifstream in(file, std::ios::binary);
   if (!in) return NotFoundError(file.string() + ": cannot be opened");

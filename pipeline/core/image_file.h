@@ -7,11 +7,10 @@
 
 #include <cstdint>
 #include <filesystem>
+#include <opencv2/core.hpp>
 #include <span>
 #include <string>
 #include <vector>
-
-#include <opencv2/core.hpp>
 
 #include "pipeline/core/status.h"
 
@@ -40,7 +39,8 @@ struct ImageHeaderSize {
 StatusOr<ImageHeaderSize> ReadImageHeaderSize(std::span<const uint8_t> bytes);
 
 // The image as 8-bit BGR. `name` (the file, or "FILE image 2") heads every error.
-StatusOr<cv::Mat> DecodeImageBytes(std::span<const uint8_t> bytes, const std::string& name,
+StatusOr<cv::Mat> DecodeImageBytes(std::span<const uint8_t> bytes,
+                                   const std::string& name,
                                    const ImageDecodeOptions& options = {});
 StatusOr<cv::Mat> DecodeImageFile(const std::filesystem::path& file, const ImageDecodeOptions& options = {});
 

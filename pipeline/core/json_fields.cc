@@ -15,14 +15,14 @@ std::string FieldPath(const std::string& parent, const std::string& key) {
   return parent.empty() ? key : parent + "." + key;
 }
 
-std::string IndexPath(const std::string& parent, size_t index) {
-  return parent + "[" + std::to_string(index) + "]";
-}
+std::string IndexPath(const std::string& parent, size_t index) { return parent + "[" + std::to_string(index) + "]"; }
 
-StatusOr<const nlohmann::json*> GetField(const nlohmann::json& object, const std::string& key,
+StatusOr<const nlohmann::json*> GetField(const nlohmann::json& object,
+                                         const std::string& key,
                                          const std::string& parent) {
   const std::string path = FieldPath(parent, key);
-  if (!object.is_object()) return InvalidArgumentError((parent.empty() ? "document" : parent) + ": want an object, got " + TypeName(object));
+  if (!object.is_object())
+    return InvalidArgumentError((parent.empty() ? "document" : parent) + ": want an object, got " + TypeName(object));
   auto it = object.find(key);
   if (it == object.end()) return InvalidArgumentError(path + ": missing");
   return &*it;
@@ -52,8 +52,10 @@ StatusOr<bool> GetBool(const nlohmann::json& object, const std::string& key, con
   return value->get<bool>();
 }
 
-StatusOr<std::vector<double>> GetNumbers(const nlohmann::json& object, const std::string& key,
-                                         const std::string& parent, int size) {
+StatusOr<std::vector<double>> GetNumbers(const nlohmann::json& object,
+                                         const std::string& key,
+                                         const std::string& parent,
+                                         int size) {
   PX_ASSIGN_OR_RETURN(const nlohmann::json* value, GetField(object, key, parent));
   const std::string path = FieldPath(parent, key);
   if (!value->is_array()) return Mistyped(path, "an array of numbers", *value);
@@ -69,25 +71,33 @@ StatusOr<std::vector<double>> GetNumbers(const nlohmann::json& object, const std
   return numbers;
 }
 
-StatusOr<double> GetNumberOr(const nlohmann::json& object, const std::string& key, const std::string& parent,
+StatusOr<double> GetNumberOr(const nlohmann::json& object,
+                             const std::string& key,
+                             const std::string& parent,
                              double fallback) {
   if (!object.is_object() || !object.contains(key)) return fallback;
   return GetNumber(object, key, parent);
 }
 
-StatusOr<int64_t> GetIntegerOr(const nlohmann::json& object, const std::string& key, const std::string& parent,
+StatusOr<int64_t> GetIntegerOr(const nlohmann::json& object,
+                               const std::string& key,
+                               const std::string& parent,
                                int64_t fallback) {
   if (!object.is_object() || !object.contains(key)) return fallback;
   return GetInteger(object, key, parent);
 }
 
-StatusOr<std::string> GetStringOr(const nlohmann::json& object, const std::string& key,
-                                  const std::string& parent, const std::string& fallback) {
+StatusOr<std::string> GetStringOr(const nlohmann::json& object,
+                                  const std::string& key,
+                                  const std::string& parent,
+                                  const std::string& fallback) {
   if (!object.is_object() || !object.contains(key)) return fallback;
   return GetString(object, key, parent);
 }
 
-StatusOr<bool> GetBoolOr(const nlohmann::json& object, const std::string& key, const std::string& parent,
+StatusOr<bool> GetBoolOr(const nlohmann::json& object,
+                         const std::string& key,
+                         const std::string& parent,
                          bool fallback) {
   if (!object.is_object() || !object.contains(key)) return fallback;
   return GetBool(object, key, parent);

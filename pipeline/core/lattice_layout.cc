@@ -7,16 +7,22 @@ namespace px {
 
 std::string_view TileOrientationName(TileOrientation orientation) {
   switch (orientation) {
-    case TileOrientation::kUpright: return "upright";
-    case TileOrientation::kRotated180: return "rotated180";
-    case TileOrientation::kMirroredX: return "mirrored_x";
-    case TileOrientation::kMirroredY: return "mirrored_y";
+    case TileOrientation::kUpright:
+      return "upright";
+    case TileOrientation::kRotated180:
+      return "rotated180";
+    case TileOrientation::kMirroredX:
+      return "mirrored_x";
+    case TileOrientation::kMirroredY:
+      return "mirrored_y";
   }
   return "upright";
 }
 
 StatusOr<TileOrientation> ParseTileOrientation(std::string_view name) {
-  for (auto o : {TileOrientation::kUpright, TileOrientation::kRotated180, TileOrientation::kMirroredX,
+  for (auto o : {TileOrientation::kUpright,
+                 TileOrientation::kRotated180,
+                 TileOrientation::kMirroredX,
                  TileOrientation::kMirroredY}) {
     if (TileOrientationName(o) == name) return o;
   }
@@ -55,8 +61,8 @@ bool LatticeLayout::HasRotatedTiles() const {
   return false;
 }
 
-LatticeLayout LatticeLayout::Regular(int rows, int cols, int tile_width, int tile_height, int gap_px,
-                                     TileOrientation orientation) {
+LatticeLayout LatticeLayout::Regular(
+    int rows, int cols, int tile_width, int tile_height, int gap_px, TileOrientation orientation) {
   LatticeLayout layout;
   layout.rows = rows;
   layout.cols = cols;
@@ -67,8 +73,8 @@ LatticeLayout LatticeLayout::Regular(int rows, int cols, int tile_width, int til
       Tile tile;
       tile.row = r;
       tile.col = c;
-      tile.rect = cv::Rect(gap_px + c * (tile_width + gap_px), gap_px + r * (tile_height + gap_px), tile_width,
-                           tile_height);
+      tile.rect =
+          cv::Rect(gap_px + c * (tile_width + gap_px), gap_px + r * (tile_height + gap_px), tile_width, tile_height);
       tile.orientation = orientation;
       layout.tiles.push_back(tile);
     }
@@ -96,8 +102,8 @@ Status LatticeLayout::Validate() const {
       error << "tile " << i << " rotation " << t.rotation_deg << " deg is outside [-" << Tile::kMaxRotationDeg << ", "
             << Tile::kMaxRotationDeg << "]";
     } else if ((t.rect & sensor) != t.rect) {
-      error << "tile " << i << " at (" << t.rect.x << "," << t.rect.y << ") " << t.rect.width << "x"
-            << t.rect.height << " leaves the " << sensor_width << "x" << sensor_height << " sensor";
+      error << "tile " << i << " at (" << t.rect.x << "," << t.rect.y << ") " << t.rect.width << "x" << t.rect.height
+            << " leaves the " << sensor_width << "x" << sensor_height << " sensor";
     } else {
       for (size_t j = 0; j < i; ++j) {
         if ((t.rect & tiles[j].rect).area() > 0) {

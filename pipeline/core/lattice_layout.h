@@ -2,11 +2,10 @@
 #pragma once
 
 #include <array>
+#include <opencv2/core.hpp>
 #include <string>
 #include <string_view>
 #include <vector>
-
-#include <opencv2/core.hpp>
 
 #include "pipeline/core/status.h"
 
@@ -32,9 +31,9 @@ struct LatticeHint {
 struct Tile {
   static constexpr double kMaxRotationDeg = 45.0;
 
-  int row = 0;            // lattice row, 0 = top as seen from behind the camera
-  int col = 0;            // lattice column, 0 = left
-  cv::Rect rect;          // sub-image on the sensor, in sensor pixels (before rotation_deg)
+  int row = 0;    // lattice row, 0 = top as seen from behind the camera
+  int col = 0;    // lattice column, 0 = left
+  cv::Rect rect;  // sub-image on the sensor, in sensor pixels (before rotation_deg)
   TileOrientation orientation = TileOrientation::kUpright;
   // A lens or mask mounted slightly askew turns its sub-image: the tile's pixels lie on `rect`
   // turned by this angle about the rect's centre, degrees, positive = clockwise as the sensor
@@ -55,13 +54,17 @@ std::array<cv::Point2d, 4> TileCorners(const Tile& tile);
 struct LatticeLayout {
   int rows = 0;
   int cols = 0;
-  int sensor_width = 0;   // the full sensor frame the rectangles refer to
+  int sensor_width = 0;  // the full sensor frame the rectangles refer to
   int sensor_height = 0;
   std::vector<Tile> tiles;  // row-major: tiles[row * cols + col]; view id = index
 
   // A regular grid: tiles of tile_width x tile_height separated by gap_px of dark border,
   // with a gap_px margin around the frame.
-  static LatticeLayout Regular(int rows, int cols, int tile_width, int tile_height, int gap_px,
+  static LatticeLayout Regular(int rows,
+                               int cols,
+                               int tile_width,
+                               int tile_height,
+                               int gap_px,
                                TileOrientation orientation = TileOrientation::kUpright);
 
   int NumViews() const { return static_cast<int>(tiles.size()); }

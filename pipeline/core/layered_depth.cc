@@ -8,7 +8,8 @@ namespace px {
 namespace {
 
 std::string Where(const LayeredDepthView& view, int layer) {
-  return "layered depth of view " + std::to_string(view.id.value) + (layer >= 0 ? ", layer " + std::to_string(layer) : "");
+  return "layered depth of view " + std::to_string(view.id.value) +
+         (layer >= 0 ? ", layer " + std::to_string(layer) : "");
 }
 
 std::string Number(double value) {
@@ -58,7 +59,9 @@ Status ValidateLayeredDepthView(const LayeredDepthView& view) {
     }
     if (segment.num_pixels > 0) {
       const cv::Rect& b = segment.bbox;
-      for (const cv::Point corner : {b.tl(), cv::Point(b.br().x - 1, b.y), cv::Point(b.x, b.br().y - 1),
+      for (const cv::Point corner : {b.tl(),
+                                     cv::Point(b.br().x - 1, b.y),
+                                     cv::Point(b.x, b.br().y - 1),
                                      cv::Point(b.br().x - 1, b.br().y - 1)}) {
         if (segment.DepthAt(corner.x, corner.y) <= 0) {
           return InvalidArgumentError(what + ": its plane has no positive depth at bbox corner " +
@@ -84,8 +87,8 @@ Status ValidateLayeredDepthView(const LayeredDepthView& view) {
         const std::string where = Where(view, layer) + ", " + Pixel(x, y);
         if (!(w >= 0 && w <= 1)) return InvalidArgumentError(where + ": weight " + Number(w) + " is outside [0, 1]");
         if (w > 0 && (s < 0 || s >= num_segments)) {
-          return InvalidArgumentError(where + ": weight " + Number(w) + " but segment index " +
-                                      std::to_string(s) + " is not one of the " + std::to_string(num_segments));
+          return InvalidArgumentError(where + ": weight " + Number(w) + " but segment index " + std::to_string(s) +
+                                      " is not one of the " + std::to_string(num_segments));
         }
         if (w > 0 && !view.segments[s].bbox.contains(cv::Point(x, y))) {
           return InvalidArgumentError(where + ": segment " + std::to_string(s) + " covers it outside its bbox");

@@ -17,9 +17,8 @@
 
 #include <array>
 #include <cstdint>
-#include <vector>
-
 #include <opencv2/core.hpp>
+#include <vector>
 
 #include "pipeline/core/camera_model.h"
 #include "pipeline/core/status.h"
@@ -35,9 +34,9 @@ struct DepthSegment {
   double inv_depth_a = 0;
   double inv_depth_b = 0;
   double inv_depth_c = 0;
-  cv::Rect bbox;            // the pixels it covers in either layer, within the view
-  float confidence = 0;     // [0, 1]: how much the stereo stage trusts this segment's plane
-  int32_t num_pixels = 0;   // pixels it covers with weight > 0, in either layer
+  cv::Rect bbox;           // the pixels it covers in either layer, within the view
+  float confidence = 0;    // [0, 1]: how much the stereo stage trusts this segment's plane
+  int32_t num_pixels = 0;  // pixels it covers with weight > 0, in either layer
 
   // Inverse depth (1/m) of the plane at pixel (x, y) of the view.
   double InverseDepthAt(double x, double y) const { return inv_depth_a * x + inv_depth_b * y + inv_depth_c; }
@@ -59,7 +58,7 @@ struct SegmentLayer {
 
 struct LayeredDepthView {
   ViewId id;
-  CameraModel camera;      // the view's pinhole camera (no distortion); all images are its size
+  CameraModel camera;  // the view's pinhole camera (no distortion); all images are its size
   std::vector<DepthSegment> segments;
   std::array<SegmentLayer, 2> layers;  // [0] front, [1] behind it at boundaries (see above)
   // Per-pixel summaries for a plain depth map: z in metres of the dominant layer's plane (layers[0]

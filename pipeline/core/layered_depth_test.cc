@@ -70,7 +70,8 @@ TEST(LayeredDepth, WeightsThatDoNotSumToOneAreNamed) {
 TEST(LayeredDepth, BadSegmentIndexSizeAndPlaneAreNamed) {
   LayeredDepthView view = TwoLayerView();
   view.layers[0].segment.at<int32_t>(2, 3) = 7;
-  EXPECT_THAT(ValidateLayeredDepthView(view).message(), HasSubstr("layer 0, pixel (3, 2): weight 1 but segment index 7"));
+  EXPECT_THAT(ValidateLayeredDepthView(view).message(),
+              HasSubstr("layer 0, pixel (3, 2): weight 1 but segment index 7"));
 
   view = TwoLayerView();
   view.layers[0].segment.at<int32_t>(2, 3) = 1;  // the foreground segment, outside its bbox

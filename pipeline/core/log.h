@@ -3,11 +3,11 @@
 // something; warn: degraded result; info: one line per stage with its duration; debug: per frame.
 #pragma once
 
+#include <spdlog/spdlog.h>
+
 #include <memory>
 #include <string>
 #include <string_view>
-
-#include <spdlog/spdlog.h>
 
 #include "pipeline/core/status.h"
 

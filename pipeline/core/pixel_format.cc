@@ -3,8 +3,9 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
-
 #include <opencv2/imgproc.hpp>
+
+#include "pipeline/core/size_text.h"
 
 namespace px {
 namespace {
@@ -15,11 +16,13 @@ struct FormatInfo {
 };
 
 constexpr FormatInfo kFormats[] = {
-    {PixelFormat::kRgb888, "RGB888"}, {PixelFormat::kBgr888, "BGR888"}, {PixelFormat::kGray8, "GRAY8"},
-    {PixelFormat::kYuyv, "YUYV"},     {PixelFormat::kNv12, "NV12"},     {PixelFormat::kBayerRggb8, "SRGGB8"},
+    {PixelFormat::kRgb888, "RGB888"},
+    {PixelFormat::kBgr888, "BGR888"},
+    {PixelFormat::kGray8, "GRAY8"},
+    {PixelFormat::kYuyv, "YUYV"},
+    {PixelFormat::kNv12, "NV12"},
+    {PixelFormat::kBayerRggb8, "SRGGB8"},
 };
-
-std::string SizeText(int width, int height) { return std::to_string(width) + "x" + std::to_string(height); }
 
 uint8_t Clamp8(double v) { return static_cast<uint8_t>(std::clamp(std::lround(v), 0L, 255L)); }
 
@@ -54,8 +57,10 @@ StatusOr<size_t> PackedImageBytes(PixelFormat format, int width, int height) {
   const size_t pixels = static_cast<size_t>(width) * static_cast<size_t>(height);
   switch (format) {
     case PixelFormat::kRgb888:
-    case PixelFormat::kBgr888: return pixels * 3;
-    case PixelFormat::kGray8: return pixels;
+    case PixelFormat::kBgr888:
+      return pixels * 3;
+    case PixelFormat::kGray8:
+      return pixels;
     case PixelFormat::kYuyv:
       if (width % 2 != 0) return InvalidArgumentError("YUYV needs an even width, got " + SizeText(width, height));
       return pixels * 2;
@@ -91,7 +96,9 @@ StatusOr<cv::Mat> ToBgr(const RawImage& raw) {
     case PixelFormat::kRgb888:
       cv::cvtColor(cv::Mat(raw.height, raw.width, CV_8UC3, data), bgr, cv::COLOR_RGB2BGR);
       break;
-    case PixelFormat::kBgr888: bgr = cv::Mat(raw.height, raw.width, CV_8UC3, data).clone(); break;
+    case PixelFormat::kBgr888:
+      bgr = cv::Mat(raw.height, raw.width, CV_8UC3, data).clone();
+      break;
     case PixelFormat::kGray8:
       cv::cvtColor(cv::Mat(raw.height, raw.width, CV_8UC1, data), bgr, cv::COLOR_GRAY2BGR);
       break;

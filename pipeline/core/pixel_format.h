@@ -3,24 +3,23 @@
 #pragma once
 
 #include <cstdint>
+#include <opencv2/core.hpp>
 #include <optional>
 #include <string>
 #include <string_view>
 #include <vector>
-
-#include <opencv2/core.hpp>
 
 #include "pipeline/core/status.h"
 
 namespace px {
 
 enum class PixelFormat {
-  kRgb888,     // 3 bytes per pixel, R G B
-  kBgr888,     // 3 bytes per pixel, B G R (OpenCV's order)
-  kGray8,      // 1 byte per pixel
-  kYuyv,       // 4:2:2 packed Y0 U Y1 V, BT.601 limited range; width must be even
-  kNv12,       // 4:2:0 planar Y then interleaved UV, BT.601 limited range; even width and height
-  kBayerRggb8, // raw Bayer mosaic, 8 bits, R at (0,0); even width and height
+  kRgb888,      // 3 bytes per pixel, R G B
+  kBgr888,      // 3 bytes per pixel, B G R (OpenCV's order)
+  kGray8,       // 1 byte per pixel
+  kYuyv,        // 4:2:2 packed Y0 U Y1 V, BT.601 limited range; width must be even
+  kNv12,        // 4:2:0 planar Y then interleaved UV, BT.601 limited range; even width and height
+  kBayerRggb8,  // raw Bayer mosaic, 8 bits, R at (0,0); even width and height
 };
 
 // Canonical names as used in recordings: "RGB888", "BGR888", "GRAY8", "YUYV", "NV12", "SRGGB8".

@@ -1,6 +1,7 @@
 #include "pipeline/core/pixel_format.h"
 
 #include <gtest/gtest.h>
+
 #include <opencv2/imgproc.hpp>
 
 namespace px {
@@ -34,9 +35,14 @@ TEST_P(PixelFormatRoundTrip, EncodeThenDecodeIsClose) {
   EXPECT_GT(cv::PSNR(bgr(inner), (*back)(inner)), 35.0) << PixelFormatName(GetParam());
 }
 
-INSTANTIATE_TEST_SUITE_P(AllFormats, PixelFormatRoundTrip,
-                         ::testing::Values(PixelFormat::kRgb888, PixelFormat::kBgr888, PixelFormat::kGray8,
-                                           PixelFormat::kYuyv, PixelFormat::kNv12, PixelFormat::kBayerRggb8));
+INSTANTIATE_TEST_SUITE_P(AllFormats,
+                         PixelFormatRoundTrip,
+                         ::testing::Values(PixelFormat::kRgb888,
+                                           PixelFormat::kBgr888,
+                                           PixelFormat::kGray8,
+                                           PixelFormat::kYuyv,
+                                           PixelFormat::kNv12,
+                                           PixelFormat::kBayerRggb8));
 
 TEST(PixelFormatTest, NamesRoundTrip) {
   for (auto f : {PixelFormat::kRgb888, PixelFormat::kYuyv, PixelFormat::kNv12, PixelFormat::kBayerRggb8}) {

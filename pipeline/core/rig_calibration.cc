@@ -11,8 +11,8 @@ Status RigCalibration::Validate() const {
     PX_RETURN_IF_ERROR(lattice.Validate().WithContext("rig calibration '" + rig_name + "'"));
     if (lattice.NumViews() != NumViews()) {
       return InvalidArgumentError("rig calibration '" + rig_name + "': lattice has " +
-                                  std::to_string(lattice.NumViews()) + " tiles but " +
-                                  std::to_string(NumViews()) + " lenses are calibrated");
+                                  std::to_string(lattice.NumViews()) + " tiles but " + std::to_string(NumViews()) +
+                                  " lenses are calibrated");
     }
   }
   for (int i = 0; i < NumViews(); ++i) {
@@ -33,8 +33,8 @@ Status RigCalibration::Validate() const {
   }
   if (!(nominal_depth_min_m > 0 && nominal_depth_max_m > nominal_depth_min_m)) {
     std::ostringstream error;
-    error << "rig calibration '" << rig_name << "': depth range [" << nominal_depth_min_m << ", "
-          << nominal_depth_max_m << "] m is not positive and increasing";
+    error << "rig calibration '" << rig_name << "': depth range [" << nominal_depth_min_m << ", " << nominal_depth_max_m
+          << "] m is not positive and increasing";
     return InvalidArgumentError(error.str());
   }
   return OkStatus();

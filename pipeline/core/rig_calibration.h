@@ -13,8 +13,8 @@
 namespace px {
 
 struct LensCalibration {
-  CameraModel camera;      // intrinsics of the upright tile image, in tile pixels
-  Rigid3 cam_from_rig;     // rig frame: centred on the lattice, x right, y down, z forward
+  CameraModel camera;   // intrinsics of the upright tile image, in tile pixels
+  Rigid3 cam_from_rig;  // rig frame: centred on the lattice, x right, y down, z forward
 };
 
 struct RigCalibration {

@@ -1,7 +1,6 @@
 #include "pipeline/core/rig_calibration_json.h"
 
 #include <cmath>
-
 #include <nlohmann/json.hpp>
 
 #include "pipeline/core/json_fields.h"
@@ -13,7 +12,12 @@ using json::FieldPath;
 using json::IndexPath;
 
 Json CameraModelToJson(const CameraModel& c) {
-  return Json{{"width", c.width}, {"height", c.height}, {"fx", c.fx}, {"fy", c.fy}, {"cx", c.cx}, {"cy", c.cy},
+  return Json{{"width", c.width},
+              {"height", c.height},
+              {"fx", c.fx},
+              {"fy", c.fy},
+              {"cx", c.cx},
+              {"cy", c.cy},
               {"distortion_k1k2p1p2k3", std::vector<double>(c.distortion.begin(), c.distortion.end())}};
 }
 
@@ -93,8 +97,8 @@ StatusOr<LatticeLayout> LatticeLayoutFromJson(const Json& j, const std::string& 
     PX_ASSIGN_OR_RETURN(std::string orientation, json::GetStringOr(tj, "orientation", tile_path, "upright"));
     tile.row = static_cast<int>(row);
     tile.col = static_cast<int>(col);
-    tile.rect = cv::Rect(static_cast<int>(rect[0]), static_cast<int>(rect[1]), static_cast<int>(rect[2]),
-                         static_cast<int>(rect[3]));
+    tile.rect = cv::Rect(
+        static_cast<int>(rect[0]), static_cast<int>(rect[1]), static_cast<int>(rect[2]), static_cast<int>(rect[3]));
     auto parsed = ParseTileOrientation(orientation);
     if (!parsed.ok()) return parsed.status().WithContext(FieldPath(tile_path, "orientation"));
     tile.orientation = *parsed;

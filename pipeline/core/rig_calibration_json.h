@@ -2,9 +2,8 @@
 // write the files. The schema is documented in FORMAT.md ("Rig calibration").
 #pragma once
 
-#include <string>
-
 #include <nlohmann/json_fwd.hpp>
+#include <string>
 
 #include "pipeline/core/rig_calibration.h"
 

@@ -1,6 +1,7 @@
 #include "pipeline/core/rig_calibration_json.h"
 
 #include <gtest/gtest.h>
+
 #include <nlohmann/json.hpp>
 
 namespace px {
@@ -56,8 +57,7 @@ TEST(RigCalibrationJsonTest, TileRotationRoundTripsAndIsOmittedWhenZero) {
             std::string::npos)
       << RigCalibrationFromJson(bad).status().message();
   bad["lattice"]["tiles"][5]["rotation_deg"] = "tilted";
-  EXPECT_EQ(RigCalibrationFromJson(bad).status().message(),
-            "lattice.tiles[5].rotation_deg: want a number, got string");
+  EXPECT_EQ(RigCalibrationFromJson(bad).status().message(), "lattice.tiles[5].rotation_deg: want a number, got string");
 }
 
 TEST(LatticeLayoutTest, RotatedTileGeometry) {

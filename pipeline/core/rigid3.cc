@@ -5,7 +5,8 @@
 
 namespace px {
 
-Rigid3 Rigid3::LookAt(const Eigen::Vector3d& centre_in_world, const Eigen::Vector3d& target_in_world,
+Rigid3 Rigid3::LookAt(const Eigen::Vector3d& centre_in_world,
+                      const Eigen::Vector3d& target_in_world,
                       const Eigen::Vector3d& up_in_world) {
   Eigen::Vector3d z = (target_in_world - centre_in_world).normalized();
   // Camera +y points down in the image, so image "up" is -y.

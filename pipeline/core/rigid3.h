@@ -18,7 +18,8 @@ struct Rigid3 {
   }
   // The camera whose centre is `centre_in_world`, looking at `target_in_world`, with image "up"
   // as close as possible to `up_in_world` (OpenCV camera: +y is down in the image).
-  static Rigid3 LookAt(const Eigen::Vector3d& centre_in_world, const Eigen::Vector3d& target_in_world,
+  static Rigid3 LookAt(const Eigen::Vector3d& centre_in_world,
+                       const Eigen::Vector3d& target_in_world,
                        const Eigen::Vector3d& up_in_world = Eigen::Vector3d(0, -1, 0));
 
   Eigen::Matrix3d RotationMatrix() const { return rotation.toRotationMatrix(); }

@@ -31,8 +31,7 @@ TEST(Rigid3Test, InterpolatePoseMovesTheCentreOnAStraightLine) {
   Rigid3 a = Rigid3::LookAt({-1, 0, 0}, {0, 0, 5});
   Rigid3 b = Rigid3::LookAt({1, 0, 0}, {0, 0, 5});
   Rigid3 mid = InterpolatePose(a, b, 0.5);
-  EXPECT_TRUE(CameraCentre(mid).isApprox(Eigen::Vector3d(0, 0, 0), 1e-12) ||
-              CameraCentre(mid).norm() < 1e-12);
+  EXPECT_TRUE(CameraCentre(mid).isApprox(Eigen::Vector3d(0, 0, 0), 1e-12) || CameraCentre(mid).norm() < 1e-12);
   EXPECT_LT(RotationErrorDeg(mid, Rigid3::LookAt({0, 0, 0}, {0, 0, 5})), 1e-6);
 }
 

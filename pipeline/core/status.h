@@ -15,19 +15,19 @@ namespace px {
 enum class StatusCode {
   kOk = 0,
   kCancelled,
-  kInvalidArgument,     // the caller's input is wrong (bad option, malformed file)
-  kDeadlineExceeded,    // a timeout elapsed (camera did not deliver in time)
-  kNotFound,            // a file, camera or lattice that should exist does not
+  kInvalidArgument,   // the caller's input is wrong (bad option, malformed file)
+  kDeadlineExceeded,  // a timeout elapsed (camera did not deliver in time)
+  kNotFound,          // a file, camera or lattice that should exist does not
   kAlreadyExists,
   kResourceExhausted,   // disk full, quota reached, out of memory
   kFailedPrecondition,  // the system is not in a state to do this (not configured)
   kOutOfRange,
   kUnimplemented,
   kInternal,
-  kUnavailable,         // a device went away or is busy; may work later
-  kDataLoss,            // truncated or corrupt data
-  kPermissionDenied,    // the caller may not do this (a control-socket peer of another user)
-  kAborted,             // cut short from outside: a worker process killed by a signal or a limit
+  kUnavailable,       // a device went away or is busy; may work later
+  kDataLoss,          // truncated or corrupt data
+  kPermissionDenied,  // the caller may not do this (a control-socket peer of another user)
+  kAborted,           // cut short from outside: a worker process killed by a signal or a limit
 };
 
 std::string_view StatusCodeName(StatusCode code);
@@ -48,9 +48,7 @@ class [[nodiscard]] Status {
   // Returns a copy whose message is "context: message" (no-op on OK).
   Status WithContext(std::string_view context) const;
 
-  friend bool operator==(const Status& a, const Status& b) {
-    return a.code_ == b.code_ && a.message_ == b.message_;
-  }
+  friend bool operator==(const Status& a, const Status& b) { return a.code_ == b.code_ && a.message_ == b.message_; }
 
  private:
   StatusCode code_ = StatusCode::kOk;
@@ -114,15 +112,14 @@ class [[nodiscard]] StatusOr {
 #define PX_STATUS_CONCAT(a, b) PX_STATUS_CONCAT_INNER(a, b)
 
 // Returns from the enclosing function if `expr` (a Status) is not OK.
-#define PX_RETURN_IF_ERROR(expr)                   \
-  do {                                             \
-    ::px::Status px_status_tmp_ = (expr);          \
+#define PX_RETURN_IF_ERROR(expr)                     \
+  do {                                               \
+    ::px::Status px_status_tmp_ = (expr);            \
     if (!px_status_tmp_.ok()) return px_status_tmp_; \
   } while (0)
 
 // PX_ASSIGN_OR_RETURN(auto x, MakeX()); returns the error if MakeX() failed.
-#define PX_ASSIGN_OR_RETURN(lhs, expr) \
-  PX_ASSIGN_OR_RETURN_IMPL(PX_STATUS_CONCAT(px_statusor_, __LINE__), lhs, expr)
+#define PX_ASSIGN_OR_RETURN(lhs, expr) PX_ASSIGN_OR_RETURN_IMPL(PX_STATUS_CONCAT(px_statusor_, __LINE__), lhs, expr)
 #define PX_ASSIGN_OR_RETURN_IMPL(tmp, lhs, expr) \
   auto tmp = (expr);                             \
   if (!tmp.ok()) return tmp.status();            \

@@ -3,9 +3,8 @@
 
 #include <cstdint>
 #include <limits>
-#include <vector>
-
 #include <opencv2/core.hpp>
+#include <vector>
 
 #include "pipeline/core/camera_model.h"
 #include "pipeline/core/rigid3.h"
@@ -31,8 +30,8 @@ struct View {
 // Per-view depth: z in the camera frame (metres), 0 where unknown.
 struct DepthMap {
   ViewId id;
-  cv::Mat depth_m;        // CV_32F
-  cv::Mat confidence;     // CV_32F in [0, 1]
+  cv::Mat depth_m;     // CV_32F
+  cv::Mat confidence;  // CV_32F in [0, 1]
 };
 
 }  // namespace px

@@ -4,11 +4,10 @@
 // path, consumed by pipeline/render. It lives in core so that neither stage depends on the other.
 #pragma once
 
+#include <Eigen/Core>
 #include <string>
 #include <string_view>
 #include <vector>
-
-#include <Eigen/Core>
 
 #include "pipeline/core/camera_model.h"
 #include "pipeline/core/rigid3.h"
@@ -32,14 +31,14 @@ struct ColorEffect {
   double amount = 1.0;
   Eigen::Vector3d region_min_in_world = Eigen::Vector3d::Zero();  // metres
   Eigen::Vector3d region_max_in_world = Eigen::Vector3d::Zero();
-  double falloff_m = 0.05;   // Gaussian sigma of the fade outside the box, metres, > 0
-  bool invert = false;       // apply to the complement of the region instead
+  double falloff_m = 0.05;  // Gaussian sigma of the fade outside the box, metres, > 0
+  bool invert = false;      // apply to the complement of the region instead
 
   Status Validate() const;
 };
 
 struct VirtualCamera {
-  CameraModel camera;      // pinhole (no distortion): output size, focal length, principal point
+  CameraModel camera;  // pinhole (no distortion): output size, focal length, principal point
   Rigid3 cam_from_world;
   // Thin-lens depth of field: aperture diameter in metres (0 = pinhole, everything sharp) and the
   // in-focus depth in metres along the optical axis (used when aperture_m > 0).

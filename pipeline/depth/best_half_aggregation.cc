@@ -23,8 +23,8 @@ void CountValid(const float* __restrict cost, int cols, float* __restrict count)
 }
 
 // Adds the sorted row of rank k where it is among the best ceil(count / 2), i.e. 2k < count.
-void AddIfKept(const float* __restrict sorted, const float* __restrict count, int cols, float twice_rank,
-               float* __restrict sum) {
+void AddIfKept(
+    const float* __restrict sorted, const float* __restrict count, int cols, float twice_rank, float* __restrict sum) {
   for (int x = 0; x < cols; ++x) {
     const float s = sorted[x], n = count[x];
     sum[x] += twice_rank < n ? s : 0.0f;

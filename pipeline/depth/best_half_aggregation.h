@@ -1,9 +1,8 @@
 // Occlusion-robust aggregation of the neighbours' matching costs for one plane.
 #pragma once
 
-#include <vector>
-
 #include <opencv2/core.hpp>
+#include <vector>
 
 namespace px::depth {
 

@@ -30,8 +30,12 @@ void AddRow(const float* __restrict row, int cols, float* __restrict acc) {
   for (int x = 0; x < cols; ++x) acc[x] += row[x];
 }
 
-void SlideAndScale(const float* __restrict add, const float* __restrict sub, int cols, float scale,
-                   float* __restrict acc, float* __restrict out) {
+void SlideAndScale(const float* __restrict add,
+                   const float* __restrict sub,
+                   int cols,
+                   float scale,
+                   float* __restrict acc,
+                   float* __restrict out) {
   for (int x = 0; x < cols; ++x) {
     acc[x] += add[x] - sub[x];
     out[x] = acc[x] * scale;
@@ -57,15 +61,33 @@ void RowWindowSum(const float* src, int cols, int radius, float* padded, float* 
   }
   std::copy(src, src + cols, padded + radius);
   switch (radius) {
-    case 1: SumWindows<1>(padded, cols, dst); break;
-    case 2: SumWindows<2>(padded, cols, dst); break;
-    case 3: SumWindows<3>(padded, cols, dst); break;
-    case 4: SumWindows<4>(padded, cols, dst); break;
-    case 5: SumWindows<5>(padded, cols, dst); break;
-    case 6: SumWindows<6>(padded, cols, dst); break;
-    case 7: SumWindows<7>(padded, cols, dst); break;
-    case 8: SumWindows<8>(padded, cols, dst); break;
-    default: SumWindowsAnyRadius(padded, cols, radius, dst); break;
+    case 1:
+      SumWindows<1>(padded, cols, dst);
+      break;
+    case 2:
+      SumWindows<2>(padded, cols, dst);
+      break;
+    case 3:
+      SumWindows<3>(padded, cols, dst);
+      break;
+    case 4:
+      SumWindows<4>(padded, cols, dst);
+      break;
+    case 5:
+      SumWindows<5>(padded, cols, dst);
+      break;
+    case 6:
+      SumWindows<6>(padded, cols, dst);
+      break;
+    case 7:
+      SumWindows<7>(padded, cols, dst);
+      break;
+    case 8:
+      SumWindows<8>(padded, cols, dst);
+      break;
+    default:
+      SumWindowsAnyRadius(padded, cols, radius, dst);
+      break;
   }
 }
 
@@ -85,8 +107,8 @@ void BoxMean(const cv::Mat& src, int radius, std::vector<float>* scratch, cv::Ma
   for (int dy = -r; dy <= r; ++dy) AddRow(row(ReflectIndex(dy, rows)), cols, column);
   Scale(column, cols, inv_area, dst->ptr<float>(0));
   for (int y = 1; y < rows; ++y) {
-    SlideAndScale(row(ReflectIndex(y + r, rows)), row(ReflectIndex(y - r - 1, rows)), cols, inv_area, column,
-                  dst->ptr<float>(y));
+    SlideAndScale(
+        row(ReflectIndex(y + r, rows)), row(ReflectIndex(y - r - 1, rows)), cols, inv_area, column, dst->ptr<float>(y));
   }
 }
 

@@ -2,9 +2,8 @@
 // loops the compiler vectorises: direct sums along rows, running sums down columns.
 #pragma once
 
-#include <vector>
-
 #include <opencv2/core.hpp>
+#include <vector>
 
 namespace px::depth {
 

@@ -1,15 +1,17 @@
 #include "pipeline/depth/consistency.h"
 
-#include <cmath>
-
 #include <Eigen/Dense>
+#include <cmath>
 
 #include "pipeline/core/check.h"
 
 namespace px::depth {
 
-cv::Mat ConsistentPixels(const std::vector<View>& views, const std::vector<cv::Mat>& depth_m, int reference,
-                         const std::vector<int>& others, double tolerance_px) {
+cv::Mat ConsistentPixels(const std::vector<View>& views,
+                         const std::vector<cv::Mat>& depth_m,
+                         int reference,
+                         const std::vector<int>& others,
+                         double tolerance_px) {
   const View& ref = views[reference];
   const cv::Mat& depth = depth_m[reference];
   PX_CHECK(depth.type() == CV_32F && depth.cols == ref.camera.width && depth.rows == ref.camera.height);

@@ -10,8 +10,12 @@ namespace px::depth {
 namespace {
 
 // a = cov(I, p) / (var(I) + eps), b = mean(p) - a mean(I)
-void Coefficients(const float* __restrict mean_i, const float* __restrict inv_variance,
-                  const float* __restrict mean_p, const float* __restrict mean_ip, int n, float* __restrict a,
+void Coefficients(const float* __restrict mean_i,
+                  const float* __restrict inv_variance,
+                  const float* __restrict mean_p,
+                  const float* __restrict mean_ip,
+                  int n,
+                  float* __restrict a,
                   float* __restrict b) {
   for (int i = 0; i < n; ++i) {
     const float slope = (mean_ip[i] - mean_i[i] * mean_p[i]) * inv_variance[i];
@@ -33,8 +37,13 @@ int MaskNoData(int n, float* __restrict cost, float* __restrict weight) {
   return missing;
 }
 
-void Products(const float* __restrict guide, const float* __restrict cost, const float* __restrict weight, int n,
-              float* __restrict guide_cost, float* __restrict weighted_guide, float* __restrict weighted_guide2) {
+void Products(const float* __restrict guide,
+              const float* __restrict cost,
+              const float* __restrict weight,
+              int n,
+              float* __restrict guide_cost,
+              float* __restrict weighted_guide,
+              float* __restrict weighted_guide2) {
   for (int i = 0; i < n; ++i) {
     guide_cost[i] = guide[i] * cost[i];
     weighted_guide[i] = weight[i] * guide[i];
@@ -44,9 +53,15 @@ void Products(const float* __restrict guide, const float* __restrict cost, const
 
 // The guided filter's coefficients from statistics over the pixels with data only: each sum is
 // divided by the window's data weight. Windows without data get a = 0, b = kNoDataCost.
-void MaskedCoefficients(const float* __restrict sum_w, const float* __restrict sum_wi, const float* __restrict sum_wii,
-                        const float* __restrict sum_p, const float* __restrict sum_ip, int n, float eps,
-                        float* __restrict a, float* __restrict b) {
+void MaskedCoefficients(const float* __restrict sum_w,
+                        const float* __restrict sum_wi,
+                        const float* __restrict sum_wii,
+                        const float* __restrict sum_p,
+                        const float* __restrict sum_ip,
+                        int n,
+                        float eps,
+                        float* __restrict a,
+                        float* __restrict b) {
   for (int i = 0; i < n; ++i) {
     const float w = sum_w[i];
     const bool any = w > 1e-6f;
@@ -59,7 +74,10 @@ void MaskedCoefficients(const float* __restrict sum_w, const float* __restrict s
   }
 }
 
-void Combine(const float* __restrict mean_a, const float* __restrict mean_b, const float* __restrict guide, int n,
+void Combine(const float* __restrict mean_a,
+             const float* __restrict mean_b,
+             const float* __restrict guide,
+             int n,
              float* __restrict out) {
   for (int i = 0; i < n; ++i) out[i] = mean_a[i] * guide[i] + mean_b[i];
 }
@@ -92,21 +110,37 @@ void FilterCostSlice(const CostFilterGuide& guide, CostFilterWorkspace* workspac
   const float* i_ptr = guide.guide.ptr<float>();
   float* p_ptr = cost->ptr<float>();
   const int missing = MaskNoData(n, p_ptr, w.weight.ptr<float>());
-  Products(i_ptr, p_ptr, w.weight.ptr<float>(), n, w.product.ptr<float>(), w.weighted_guide.ptr<float>(),
+  Products(i_ptr,
+           p_ptr,
+           w.weight.ptr<float>(),
+           n,
+           w.product.ptr<float>(),
+           w.weighted_guide.ptr<float>(),
            w.weighted_guide2.ptr<float>());
   BoxMean(*cost, r, &w.scratch, &w.mean_cost);
   BoxMean(w.product, r, &w.scratch, &w.mean_product);
   if (missing == 0) {
-    Coefficients(guide.mean.ptr<float>(), guide.inv_variance.ptr<float>(), w.mean_cost.ptr<float>(),
-                 w.mean_product.ptr<float>(), n, w.a.ptr<float>(), w.b.ptr<float>());
+    Coefficients(guide.mean.ptr<float>(),
+                 guide.inv_variance.ptr<float>(),
+                 w.mean_cost.ptr<float>(),
+                 w.mean_product.ptr<float>(),
+                 n,
+                 w.a.ptr<float>(),
+                 w.b.ptr<float>());
   } else {
     // Near the borders no neighbour samples some planes: statistics over the sampled pixels only,
     // so the missing ones neither pull costs up nor skew the guide's statistics.
     BoxMean(w.weight, r, &w.scratch, &w.mean_weight);
     BoxMean(w.weighted_guide, r, &w.scratch, &w.mean_guide);
     BoxMean(w.weighted_guide2, r, &w.scratch, &w.mean_guide2);
-    MaskedCoefficients(w.mean_weight.ptr<float>(), w.mean_guide.ptr<float>(), w.mean_guide2.ptr<float>(),
-                       w.mean_cost.ptr<float>(), w.mean_product.ptr<float>(), n, guide.eps, w.a.ptr<float>(),
+    MaskedCoefficients(w.mean_weight.ptr<float>(),
+                       w.mean_guide.ptr<float>(),
+                       w.mean_guide2.ptr<float>(),
+                       w.mean_cost.ptr<float>(),
+                       w.mean_product.ptr<float>(),
+                       n,
+                       guide.eps,
+                       w.a.ptr<float>(),
                        w.b.ptr<float>());
   }
   BoxMean(w.a, r, &w.scratch, &w.mean_cost);     // reuse as mean of a

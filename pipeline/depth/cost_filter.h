@@ -3,9 +3,8 @@
 // pixels into weakly textured ones of the same surface without crossing intensity edges.
 #pragma once
 
-#include <vector>
-
 #include <opencv2/core.hpp>
+#include <vector>
 
 namespace px::depth {
 
@@ -13,9 +12,9 @@ namespace px::depth {
 struct CostFilterGuide {
   int radius_px = 0;
   float eps = 0;
-  cv::Mat guide;          // I
-  cv::Mat mean;           // box mean of I
-  cv::Mat inv_variance;   // 1 / (box variance of I + eps)
+  cv::Mat guide;         // I
+  cv::Mat mean;          // box mean of I
+  cv::Mat inv_variance;  // 1 / (box variance of I + eps)
 };
 
 // eps (grey levels^2 in [0, 1] units) sets what counts as an edge: windows whose variance is well

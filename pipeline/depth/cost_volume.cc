@@ -20,15 +20,16 @@ InverseDepthPlanes MakeInverseDepthPlanes(double min_depth_m, double max_depth_m
   return planes;
 }
 
-CostVolume BuildCostVolume(const WorkingView& ref, const std::vector<const WorkingView*>& neighbours,
-                           const InverseDepthPlanes& planes, const CostVolumeOptions& options) {
+CostVolume BuildCostVolume(const WorkingView& ref,
+                           const std::vector<const WorkingView*>& neighbours,
+                           const InverseDepthPlanes& planes,
+                           const CostVolumeOptions& options) {
   const cv::Size size = ref.gray.size();
   const ReferenceWindows windows =
       PrepareReferenceWindows(ref.gray, options.window_radius_px, options.min_texture_stddev);
   const bool filter_costs = options.filter_radius_px > 0;
   const CostFilterGuide guide =
-      filter_costs ? PrepareCostFilterGuide(ref.gray, options.filter_radius_px, options.filter_eps)
-                   : CostFilterGuide();
+      filter_costs ? PrepareCostFilterGuide(ref.gray, options.filter_radius_px, options.filter_eps) : CostFilterGuide();
   CostVolume volume;
   volume.slices.resize(planes.count);
   volume.sampled = cv::Mat::zeros(size, CV_8U);

@@ -5,9 +5,8 @@
 // aggregated edge-aware with a guided filter guided by the reference image.
 #pragma once
 
-#include <vector>
-
 #include <opencv2/core.hpp>
+#include <vector>
 
 #include "pipeline/depth/working_view.h"
 
@@ -26,9 +25,9 @@ struct InverseDepthPlanes {
 InverseDepthPlanes MakeInverseDepthPlanes(double min_depth_m, double max_depth_m, int count);
 
 struct CostVolumeOptions {
-  int window_radius_px = 3;          // ZNCC window (2r+1)^2
+  int window_radius_px = 3;           // ZNCC window (2r+1)^2
   double min_texture_stddev = 0.004;  // textureless windows cost kNeutralCost
-  int filter_radius_px = 4;          // guided filter; 0 = no aggregation
+  int filter_radius_px = 4;           // guided filter; 0 = no aggregation
   double filter_eps = 1e-4;
 };
 
@@ -46,7 +45,9 @@ struct CostVolume {
 };
 
 // Planes are processed in parallel (cv::parallel_for_), each worker with its own buffers.
-CostVolume BuildCostVolume(const WorkingView& ref, const std::vector<const WorkingView*>& neighbours,
-                           const InverseDepthPlanes& planes, const CostVolumeOptions& options);
+CostVolume BuildCostVolume(const WorkingView& ref,
+                           const std::vector<const WorkingView*>& neighbours,
+                           const InverseDepthPlanes& planes,
+                           const CostVolumeOptions& options);
 
 }  // namespace px::depth

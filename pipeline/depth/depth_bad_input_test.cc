@@ -1,13 +1,13 @@
 // Bad input to the depth stage: a view of another scene, black and saturated views, exposure
 // differences between lenses, no texture at all. No crash, low confidence where deserved, and a
 // report that says which view and why; the good views keep their accuracy.
+#include <gtest/gtest.h>
+
 #include <algorithm>
 #include <cstdio>
 #include <string>
 #include <utility>
 #include <vector>
-
-#include <gtest/gtest.h>
 
 #include "pipeline/core/layered_depth.h"
 #include "pipeline/depth/depth_stage.h"
@@ -47,7 +47,9 @@ BadInputCase WithReplacedViews(const std::vector<std::pair<int, cv::Mat>>& repla
   return input;
 }
 
-void ExpectOthersStillGood(const DepthStageResult& result, const BadInputCase& input, const std::vector<int>& bad_views) {
+void ExpectOthersStillGood(const DepthStageResult& result,
+                           const BadInputCase& input,
+                           const std::vector<int>& bad_views) {
   for (int i = 0; i < 9; ++i) {
     ASSERT_TRUE(ValidateLayeredDepthView(result.layered[i]).ok());
     if (std::find(bad_views.begin(), bad_views.end(), i) != bad_views.end()) continue;
@@ -65,8 +67,10 @@ DepthOptions BadInputOptions() {
 
 // The figure the check for views of another scene reads, per view, beside its threshold.
 void PrintMatchCosts(const DepthStageResult& result, const DepthOptions& options, const std::string& name) {
-  std::printf("%s, filter radius %d: median best matching cost per view (threshold %.2f):", name.c_str(),
-              options.matching.cost_filter_radius_px, options.max_view_match_cost);
+  std::printf("%s, filter radius %d: median best matching cost per view (threshold %.2f):",
+              name.c_str(),
+              options.matching.cost_filter_radius_px,
+              options.max_view_match_cost);
   for (const ViewDepthReport& report : result.report.views) {
     std::printf(" %.3f (%.3f elsewhere)", report.median_match_cost, report.median_typical_cost);
   }
@@ -185,7 +189,8 @@ TEST(DepthBadInputTest, AShotWhoseViewsAllMatchPoorlyIsWarnedAboutNotThrownAway)
   PrintMatchCosts(*result, BadInputOptions(), "noise in every view");
   EXPECT_TRUE(result->report.disagreeing_views.empty());
   bool warned = false;
-  for (const std::string& warning : result->report.warnings) warned = warned || warning.find("matches its neighbours poorly") != std::string::npos;
+  for (const std::string& warning : result->report.warnings)
+    warned = warned || warning.find("matches its neighbours poorly") != std::string::npos;
   EXPECT_TRUE(warned);
   double confident = 0;
   for (const ViewDepthReport& report : result->report.views) confident += report.confident_fraction;

@@ -2,18 +2,17 @@
 
 #include <algorithm>
 #include <cmath>
-#include <vector>
-
 #include <opencv2/calib3d.hpp>
 #include <opencv2/imgproc.hpp>
 #include <opencv2/ximgproc/edge_filter.hpp>
+#include <vector>
 
 #include "pipeline/core/check.h"
 
 namespace px::depth {
 
-void LowerSpeckleConfidence(const cv::Mat& plane, int max_size_px, float max_jump_planes, float confidence_cap,
-                            cv::Mat* confidence) {
+void LowerSpeckleConfidence(
+    const cv::Mat& plane, int max_size_px, float max_jump_planes, float confidence_cap, cv::Mat* confidence) {
   if (max_size_px <= 0) return;
   // filterSpeckles works on 16-bit fixed point; 16 steps per plane keeps the sub-plane part.
   constexpr float kSteps = 16;
@@ -30,8 +29,12 @@ void LowerSpeckleConfidence(const cv::Mat& plane, int max_size_px, float max_jum
   }
 }
 
-void FillLowConfidence(const cv::Mat& guide_bgr, const cv::Mat& confidence, float fill_confidence, float min_value,
-                       float max_value, cv::Mat* inverse_depth) {
+void FillLowConfidence(const cv::Mat& guide_bgr,
+                       const cv::Mat& confidence,
+                       float fill_confidence,
+                       float min_value,
+                       float max_value,
+                       cv::Mat* inverse_depth) {
   if (fill_confidence <= 0) return;
   // Smoothing strength and colour edge threshold of the fast global smoother (Min et al. 2014),
   // in the range OpenCV's WLS disparity filter uses; 8-bit colour units.
@@ -56,8 +59,12 @@ void FillLowConfidence(const cv::Mat& guide_bgr, const cv::Mat& confidence, floa
   }
 }
 
-void UpsampleJointBilateral(const cv::Mat& low_value, const cv::Mat& low_confidence, const cv::Mat& low_guide_bgr,
-                            const cv::Mat& high_guide_bgr, cv::Mat* high_value, cv::Mat* high_confidence) {
+void UpsampleJointBilateral(const cv::Mat& low_value,
+                            const cv::Mat& low_confidence,
+                            const cv::Mat& low_guide_bgr,
+                            const cv::Mat& high_guide_bgr,
+                            cv::Mat* high_value,
+                            cv::Mat* high_confidence) {
   PX_CHECK(low_value.size() == low_confidence.size() && low_value.size() == low_guide_bgr.size());
   PX_CHECK(low_guide_bgr.type() == CV_8UC3 && high_guide_bgr.type() == CV_8UC3);
   // Spatial sigma in low-resolution pixels (about one sample) and colour sigma in 8-bit units.
@@ -73,19 +80,19 @@ void UpsampleJointBilateral(const cv::Mat& low_value, const cv::Mat& low_confide
   }
   // Separable spatial weights: per output column the nearest low-resolution column and the
   // weights of its three neighbours; the same per output row.
-  const auto spatial = [&](int count, float scale, int low_count, std::vector<int>* centre,
-                           std::vector<float>* weights) {
-    centre->resize(count);
-    weights->resize(3 * count);
-    for (int i = 0; i < count; ++i) {
-      const float l = (i + 0.5f) * scale - 0.5f;
-      (*centre)[i] = std::clamp(static_cast<int>(std::lround(l)), 0, low_count - 1);
-      for (int k = 0; k < 3; ++k) {
-        const float d = static_cast<float>((*centre)[i] + k - 1) - l;
-        (*weights)[3 * i + k] = std::exp(-d * d / (2 * kSigmaSpatial * kSigmaSpatial));
-      }
-    }
-  };
+  const auto spatial =
+      [&](int count, float scale, int low_count, std::vector<int>* centre, std::vector<float>* weights) {
+        centre->resize(count);
+        weights->resize(3 * count);
+        for (int i = 0; i < count; ++i) {
+          const float l = (i + 0.5f) * scale - 0.5f;
+          (*centre)[i] = std::clamp(static_cast<int>(std::lround(l)), 0, low_count - 1);
+          for (int k = 0; k < 3; ++k) {
+            const float d = static_cast<float>((*centre)[i] + k - 1) - l;
+            (*weights)[3 * i + k] = std::exp(-d * d / (2 * kSigmaSpatial * kSigmaSpatial));
+          }
+        }
+      };
   std::vector<int> centre_x, centre_y;
   std::vector<float> weight_x, weight_y;
   spatial(high_guide_bgr.cols, scale_x, low_value.cols, &centre_x, &weight_x);

@@ -1,9 +1,9 @@
 // Unit tests of the plane sweep's building blocks against straightforward reference versions.
-#include <cmath>
-#include <vector>
-
 #include <gtest/gtest.h>
+
+#include <cmath>
 #include <opencv2/imgproc.hpp>
+#include <vector>
 
 #include "pipeline/depth/best_half_aggregation.h"
 #include "pipeline/depth/box_mean.h"
@@ -31,8 +31,8 @@ TEST(BoxMeanTest, MatchesOpenCvBoxFilterWithReflectedBorders) {
     cv::Mat ours, expected;
     std::vector<float> scratch;
     BoxMean(image, radius, &scratch, &ours);
-    cv::boxFilter(image, expected, CV_32F, cv::Size(2 * radius + 1, 2 * radius + 1), cv::Point(-1, -1), true,
-                  cv::BORDER_REFLECT);
+    cv::boxFilter(
+        image, expected, CV_32F, cv::Size(2 * radius + 1, 2 * radius + 1), cv::Point(-1, -1), true, cv::BORDER_REFLECT);
     // Float running sums over 23 rows: agreement to 1e-5 of values in [0, 1].
     EXPECT_LT(cv::norm(ours, expected, cv::NORM_INF), 1e-5) << "radius " << radius;
   }
@@ -103,8 +103,8 @@ TEST(PlaneWarpTest, CubicShiftReproducesSmoothImagesAndMatchesTheGeneralWarp) {
   cv::Mat fast, general;
   WarpIntoReference(quadratic, h, quadratic.size(), &fast);
   const cv::Matx33d m(1, 0, 2.3, 0, 1, -1.6, 0, 0, 1);
-  cv::warpPerspective(quadratic, general, m, quadratic.size(), cv::INTER_LINEAR | cv::WARP_INVERSE_MAP,
-                      cv::BORDER_REPLICATE);
+  cv::warpPerspective(
+      quadratic, general, m, quadratic.size(), cv::INTER_LINEAR | cv::WARP_INVERSE_MAP, cv::BORDER_REPLICATE);
   EXPECT_LT(cv::norm(fast(cv::Rect(5, 5, 28, 20)), general(cv::Rect(5, 5, 28, 20)), cv::NORM_INF), 3e-3);
   h(2, 0) = 1e-4;
   EXPECT_FALSE(IsTranslation(h, &dx, &dy));
@@ -127,7 +127,7 @@ TEST(BestHalfAggregationTest, AveragesTheBestHalfOfTheValidCosts) {
   const std::vector<float> values = {0.9f, 0.1f, kInvalidCost, 0.3f, 0.5f};
   std::vector<cv::Mat> costs;
   for (float v : values) costs.emplace_back(1, 3, CV_32F, cv::Scalar(v));
-  costs[0].at<float>(0, 1) = kInvalidCost;  // pixel 1: valid 0.1, 0.3, 0.5 -> best 2: 0.2
+  costs[0].at<float>(0, 1) = kInvalidCost;                    // pixel 1: valid 0.1, 0.3, 0.5 -> best 2: 0.2
   for (cv::Mat& c : costs) c.at<float>(0, 2) = kInvalidCost;  // pixel 2: nothing valid
   AggregationWorkspace workspace;
   cv::Mat aggregated;
@@ -226,12 +226,42 @@ TEST(DepthCleanupTest, FillReplacesOnlyUnreliablePixels) {
 TEST(FillUnconfirmedTest, RunsTakeTheFartherConfirmedEnd) {
   // Row 0: a run between a near (2 m) and a far (5 m) confirmed pixel; row 1: a run at the left
   // border; row 2: nothing confirmed.
-  cv::Mat depth = (cv::Mat_<float>(3, 6) << 2, 2, 1, 9, 5, 5,  //
-                   7, 8, 3, 3, 3, 3,                          //
-                   4, 4, 4, 4, 4, 4);
-  const cv::Mat confirmed = (cv::Mat_<uint8_t>(3, 6) << 255, 255, 0, 0, 255, 255,  //
-                             0, 0, 255, 255, 255, 255,                             //
-                             0, 0, 0, 0, 0, 0);
+  cv::Mat depth = (cv::Mat_<float>(3, 6) << 2,
+                   2,
+                   1,
+                   9,
+                   5,
+                   5,  //
+                   7,
+                   8,
+                   3,
+                   3,
+                   3,
+                   3,  //
+                   4,
+                   4,
+                   4,
+                   4,
+                   4,
+                   4);
+  const cv::Mat confirmed = (cv::Mat_<uint8_t>(3, 6) << 255,
+                             255,
+                             0,
+                             0,
+                             255,
+                             255,  //
+                             0,
+                             0,
+                             255,
+                             255,
+                             255,
+                             255,  //
+                             0,
+                             0,
+                             0,
+                             0,
+                             0,
+                             0);
   const cv::Mat before = depth.clone();
   EXPECT_EQ(FillUnconfirmedFromBackground(confirmed, &depth), 4);
   EXPECT_EQ(depth.at<float>(0, 2), 5.0f);

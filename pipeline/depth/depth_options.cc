@@ -17,10 +17,13 @@ Status ValidateMatching(const MatchingOptions& m) {
   if (m.num_planes != 0 && (m.num_planes < 2 || m.num_planes > 1024)) {
     return OutOfRange("matching.num_planes", m.num_planes, "0 or [2, 1024]");
   }
-  if (!(m.plane_step_px > 0 && m.plane_step_px <= 8)) return OutOfRange("matching.plane_step_px", m.plane_step_px, "(0, 8]");
+  if (!(m.plane_step_px > 0 && m.plane_step_px <= 8))
+    return OutOfRange("matching.plane_step_px", m.plane_step_px, "(0, 8]");
   if (m.max_planes < 2 || m.max_planes > 1024) return OutOfRange("matching.max_planes", m.max_planes, "[2, 1024]");
-  if (m.num_neighbors < 1 || m.num_neighbors > 16) return OutOfRange("matching.num_neighbors", m.num_neighbors, "[1, 16]");
-  if (m.spread_neighbors < 0 || m.spread_neighbors > 16) return OutOfRange("matching.spread_neighbors", m.spread_neighbors, "[0, 16]");
+  if (m.num_neighbors < 1 || m.num_neighbors > 16)
+    return OutOfRange("matching.num_neighbors", m.num_neighbors, "[1, 16]");
+  if (m.spread_neighbors < 0 || m.spread_neighbors > 16)
+    return OutOfRange("matching.spread_neighbors", m.spread_neighbors, "[0, 16]");
   if (m.window_radius_px < 1 || m.window_radius_px > 15) {
     return OutOfRange("matching.window_radius_px", m.window_radius_px, "[1, 15]");
   }
@@ -33,7 +36,8 @@ Status ValidateMatching(const MatchingOptions& m) {
   if (!(m.min_texture_stddev >= 0 && m.min_texture_stddev <= 0.5)) {
     return OutOfRange("matching.min_texture_stddev", m.min_texture_stddev, "[0, 0.5]");
   }
-  if (m.sgm_paths != 0 && m.sgm_paths != 4 && m.sgm_paths != 8) return OutOfRange("matching.sgm_paths", m.sgm_paths, "0, 4 or 8");
+  if (m.sgm_paths != 0 && m.sgm_paths != 4 && m.sgm_paths != 8)
+    return OutOfRange("matching.sgm_paths", m.sgm_paths, "0, 4 or 8");
   if (!(m.sgm_step_penalty >= 0 && m.sgm_step_penalty <= 1)) {
     return OutOfRange("matching.sgm_step_penalty", m.sgm_step_penalty, "[0, 1]");
   }
@@ -44,8 +48,10 @@ Status ValidateMatching(const MatchingOptions& m) {
 }
 
 Status ValidateSegments(const SegmentOptions& s) {
-  if (s.region_size_px < 4 || s.region_size_px > 64) return OutOfRange("segments.region_size_px", s.region_size_px, "[4, 64]");
-  if (!(s.compactness >= 1 && s.compactness <= 100)) return OutOfRange("segments.compactness", s.compactness, "[1, 100]");
+  if (s.region_size_px < 4 || s.region_size_px > 64)
+    return OutOfRange("segments.region_size_px", s.region_size_px, "[4, 64]");
+  if (!(s.compactness >= 1 && s.compactness <= 100))
+    return OutOfRange("segments.compactness", s.compactness, "[1, 100]");
   if (s.iterations < 1 || s.iterations > 20) return OutOfRange("segments.iterations", s.iterations, "[1, 20]");
   if (!(s.min_confidence >= 0 && s.min_confidence <= 1)) {
     return OutOfRange("segments.min_confidence", s.min_confidence, "[0, 1]");
@@ -73,18 +79,21 @@ Status ValidateSegments(const SegmentOptions& s) {
   if (!(s.refine_offset_px > 0 && s.refine_offset_px <= 8)) {
     return OutOfRange("segments.refine_offset_px", s.refine_offset_px, "(0, 8]");
   }
-  if (!(s.refine_slope_px > 0 && s.refine_slope_px <= 1)) return OutOfRange("segments.refine_slope_px", s.refine_slope_px, "(0, 1]");
+  if (!(s.refine_slope_px > 0 && s.refine_slope_px <= 1))
+    return OutOfRange("segments.refine_slope_px", s.refine_slope_px, "(0, 1]");
   if (!(s.slanted_min_slope_px >= 0 && s.slanted_min_slope_px <= 1)) {
     return OutOfRange("segments.slanted_min_slope_px", s.slanted_min_slope_px, "[0, 1]");
   }
   if (!(s.slanted_max_change_px > 0 && s.slanted_max_change_px <= 8)) {
     return OutOfRange("segments.slanted_max_change_px", s.slanted_max_change_px, "(0, 8]");
   }
-  if (s.slanted_ring_px < 0 || s.slanted_ring_px > 8) return OutOfRange("segments.slanted_ring_px", s.slanted_ring_px, "[0, 8]");
+  if (s.slanted_ring_px < 0 || s.slanted_ring_px > 8)
+    return OutOfRange("segments.slanted_ring_px", s.slanted_ring_px, "[0, 8]");
   if (!(s.edge_disparity_px > 0 && s.edge_disparity_px <= 64)) {
     return OutOfRange("segments.edge_disparity_px", s.edge_disparity_px, "(0, 64]");
   }
-  if (s.band_radius_px < 1 || s.band_radius_px > 16) return OutOfRange("segments.band_radius_px", s.band_radius_px, "[1, 16]");
+  if (s.band_radius_px < 1 || s.band_radius_px > 16)
+    return OutOfRange("segments.band_radius_px", s.band_radius_px, "[1, 16]");
   if (!(s.group_depth_search_px >= 0 && s.group_depth_search_px <= 4)) {
     return OutOfRange("segments.group_depth_search_px", s.group_depth_search_px, "[0, 4]");
   }

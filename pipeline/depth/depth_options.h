@@ -190,9 +190,9 @@ struct DepthOptions {
 // Our options for a light field (a dense grid such as HCI's 9x9): its disparities between
 // neighbours are a few pixels, so match at full resolution with plane steps of 0.2 px (at most
 // 64 planes), and use 16 of its many neighbours: the 4 nearest and 12 spread over the widest
-// baselines (on the 9x9, the cross and the diagonals out to the grid's edge); segments of 24 px refined by segment-level PatchMatch, the steep ones
-// against the exact slanted cost; a guided filter of radius 3; depth_m keeps the per-pixel depth
-// within 1 px of the segment planes where its confidence is at least 0.2.
+// baselines (on the 9x9, the cross and the diagonals out to the grid's edge); segments of 24 px refined by
+// segment-level PatchMatch, the steep ones against the exact slanted cost; a guided filter of radius 3; depth_m keeps
+// the per-pixel depth within 1 px of the segment planes where its confidence is at least 0.2.
 DepthOptions LightFieldDepthOptions(const DepthOptions& ours);
 
 }  // namespace px

@@ -5,10 +5,9 @@
 // that disagree with the rest (a lens that saw another scene) before rendering.
 #pragma once
 
+#include <opencv2/core.hpp>
 #include <string>
 #include <vector>
-
-#include <opencv2/core.hpp>
 
 #include "pipeline/core/view.h"
 
@@ -16,12 +15,12 @@ namespace px {
 
 struct ViewDepthReport {
   ViewId id;
-  bool computed = false;           // false for views used only as neighbours
-  double confident_fraction = 0;   // pixels with confidence >= 0.5
-  double consistent_fraction = 0;  // pixels whose depth another view confirms (consistency check)
-  double textureless_fraction = 0; // pixels whose matching window has no texture
-  double saturated_fraction = 0;   // pixels at 0 or 255 in some channel... at >= 250 in all channels
-  double dark_fraction = 0;        // pixels darker than 8 grey levels
+  bool computed = false;            // false for views used only as neighbours
+  double confident_fraction = 0;    // pixels with confidence >= 0.5
+  double consistent_fraction = 0;   // pixels whose depth another view confirms (consistency check)
+  double textureless_fraction = 0;  // pixels whose matching window has no texture
+  double saturated_fraction = 0;    // pixels at 0 or 255 in some channel... at >= 250 in all channels
+  double dark_fraction = 0;         // pixels darker than 8 grey levels
   // Median over textured pixels of the best matching cost against the neighbours before
   // aggregation, in [0, 2] (1 - ZNCC, best half of the neighbours): under 0.1 for views of the
   // same scene, 0.3 and more for unrelated images (the best of many depths matches by chance).
@@ -29,19 +28,19 @@ struct ViewDepthReport {
   // The median over the same pixels of their cost at depths not their own (the mean over planes):
   // a view of the scene matches well below it; a view of another scene hardly below.
   double median_typical_cost = 0;
-  bool disagrees = false;          // matches none of its neighbours: left out as a neighbour
-  cv::Mat low_confidence;          // CV_8U at view resolution: 255 where depth is unreliable
+  bool disagrees = false;  // matches none of its neighbours: left out as a neighbour
+  cv::Mat low_confidence;  // CV_8U at view resolution: 255 where depth is unreliable
   int num_segments = 0;
-  int num_boundary_pixels = 0;     // pixels shared by two segment layers (soft depth edges)
+  int num_boundary_pixels = 0;       // pixels shared by two segment layers (soft depth edges)
   std::vector<std::string> reasons;  // why this view's depth is degraded, if it is
 };
 
 struct DepthReport {
-  std::vector<ViewDepthReport> views;   // in the views' order
+  std::vector<ViewDepthReport> views;  // in the views' order
   std::vector<ViewId> disagreeing_views;
-  double confident_fraction = 0;        // over all computed views
-  std::vector<std::string> warnings;    // one line each, for the log and the clip's JSON
-  double matching_ms = 0;               // time per part of the stage, all views
+  double confident_fraction = 0;      // over all computed views
+  std::vector<std::string> warnings;  // one line each, for the log and the clip's JSON
+  double matching_ms = 0;             // time per part of the stage, all views
   double consistency_ms = 0;
   double segments_ms = 0;
   double layers_ms = 0;

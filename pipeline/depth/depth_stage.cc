@@ -4,32 +4,32 @@
 #include <chrono>
 #include <cmath>
 #include <functional>
+#include <opencv2/imgproc.hpp>
 #include <sstream>
 
-#include <opencv2/imgproc.hpp>
-
 #include "pipeline/core/log.h"
+#include "pipeline/core/order_statistics.h"
 #include "pipeline/core/stage_clock.h"
-#include "pipeline/depth/pixel_depth_near_planes.h"
 #include "pipeline/depth/consistency.h"
 #include "pipeline/depth/coplanar_groups.h"
-#include "pipeline/depth/edge_labels.h"
-#include "pipeline/depth/group_depth.h"
 #include "pipeline/depth/cost_volume.h"
+#include "pipeline/depth/edge_labels.h"
 #include "pipeline/depth/fill_unconfirmed.h"
+#include "pipeline/depth/group_depth.h"
 #include "pipeline/depth/neighbour_views.h"
+#include "pipeline/depth/pixel_depth_near_planes.h"
 #include "pipeline/depth/plane_homography.h"
 #include "pipeline/depth/refine_segment_planes.h"
 #include "pipeline/depth/segment_match_cost.h"
 #include "pipeline/depth/segment_planes.h"
+#include "pipeline/depth/select_planes.h"
 #include "pipeline/depth/semi_global.h"
 #include "pipeline/depth/sub_plane.h"
-#include "pipeline/depth/select_planes.h"
 #include "pipeline/depth/superpixels.h"
 #include "pipeline/depth/two_layer.h"
 #include "pipeline/depth/volume_plane_cost.h"
-#include "pipeline/depth/zncc_cost.h"
 #include "pipeline/depth/working_view.h"
+#include "pipeline/depth/zncc_cost.h"
 
 namespace px {
 namespace {
@@ -44,13 +44,17 @@ Status CheckInputs(const std::vector<View>& views, const DepthOptions& options) 
           << "] m is not set (fill it from the rig with WithDefaultDepthRange)";
     return InvalidArgumentError(error.str());
   }
-  return depth::CheckViews(views, depth::MatchingScale(views, options.working_scale, options.min_working_width_px),
+  return depth::CheckViews(views,
+                           depth::MatchingScale(views, options.working_scale, options.min_working_width_px),
                            options.matching.window_radius_px);
 }
 
 // Largest and smallest distance between the reference camera centre and its neighbours'.
-void BaselineRange(const std::vector<View>& views, int reference, const std::vector<int>& neighbours,
-                   double* nearest_m, double* farthest_m) {
+void BaselineRange(const std::vector<View>& views,
+                   int reference,
+                   const std::vector<int>& neighbours,
+                   double* nearest_m,
+                   double* farthest_m) {
   const Eigen::Vector3d centre = CameraCentre(views[reference].cam_from_world);
   *nearest_m = 1e300;
   *farthest_m = 0;
@@ -73,15 +77,17 @@ struct StageTimes {
 
 // Neighbour views of `reference` (neighbour_views.h), leaving out the `excluded` ones unless
 // that leaves none.
-std::vector<int> UsableNeighbours(const std::vector<View>& views, int reference, const std::vector<char>& excluded,
+std::vector<int> UsableNeighbours(const std::vector<View>& views,
+                                  int reference,
+                                  const std::vector<char>& excluded,
                                   const MatchingOptions& m) {
   const std::vector<int> all = depth::NearestNeighbourViews(views, reference, static_cast<int>(views.size()));
   std::vector<int> usable;
   for (int k : all) {
     if (!excluded[k]) usable.push_back(k);
   }
-  return depth::ChooseNeighbourViews(views, reference, usable.empty() ? all : usable, m.num_neighbors,
-                                     m.spread_neighbors);
+  return depth::ChooseNeighbourViews(
+      views, reference, usable.empty() ? all : usable, m.num_neighbors, m.spread_neighbors);
 }
 
 // 255 where the grey window of radius r has at least min_stddev of texture.
@@ -92,12 +98,6 @@ cv::Mat TexturedPixels(const cv::Mat& gray, int radius_px, double min_stddev) {
   cv::boxFilter(gray.mul(gray), mean_sq, CV_32F, window, cv::Point(-1, -1), true, cv::BORDER_REFLECT);
   cv::Mat variance = mean_sq - mean.mul(mean);
   return variance >= min_stddev * min_stddev + 1e-12;
-}
-
-double MedianOf(std::vector<float> values) {
-  if (values.empty()) return 0;
-  std::nth_element(values.begin(), values.begin() + values.size() / 2, values.end());
-  return values[values.size() / 2];
 }
 
 // Saturated (>= 250 in every channel) and dark (grey < 8) fractions of an image.
@@ -136,9 +136,13 @@ std::vector<float> UnseenFractions(const std::vector<std::vector<int>>& segment_
 // Segment-level PatchMatch (refine_segment_planes.h): every segment against the cost volume,
 // then the steep ones against the exact slanted cost, within slanted_max_change_px of their plane.
 // `inverse_per_px` converts disparity against the nearest neighbour (working scale) to inverse depth.
-void RefineSegmentPlanes(const WorkingView& ref, const std::vector<const WorkingView*>& neighbours,
-                         const depth::Superpixels& segments, const depth::VolumePlaneCost& volume_cost,
-                         const cv::Mat& pixel_inverse_depth, double inverse_per_px, const DepthOptions& options,
+void RefineSegmentPlanes(const WorkingView& ref,
+                         const std::vector<const WorkingView*>& neighbours,
+                         const depth::Superpixels& segments,
+                         const depth::VolumePlaneCost& volume_cost,
+                         const cv::Mat& pixel_inverse_depth,
+                         double inverse_per_px,
+                         const DepthOptions& options,
                          std::vector<depth::SegmentPlane>* planes) {
   const SegmentOptions& so = options.segments;
   depth::PlaneRefinementOptions refine;
@@ -159,14 +163,24 @@ void RefineSegmentPlanes(const WorkingView& ref, const std::vector<const Working
   if (!any) return;
   refine.max_change_inverse_m = so.slanted_max_change_px * inverse_per_px;
   constexpr double kRingTolerancePx = 1.0;  // ring pixels whose own depth is this near the plane
-  const depth::SegmentMatchCost slanted(ref, neighbours, segments, pixel_inverse_depth, *planes, so.slanted_ring_px,
-                                        kRingTolerancePx * inverse_per_px, options.matching.min_texture_stddev);
+  const depth::SegmentMatchCost slanted(ref,
+                                        neighbours,
+                                        segments,
+                                        pixel_inverse_depth,
+                                        *planes,
+                                        so.slanted_ring_px,
+                                        kRingTolerancePx * inverse_per_px,
+                                        options.matching.min_texture_stddev);
   depth::RefineSegmentPlanes(segments, std::cref(slanted), refine, planes);
 }
 
-ReferenceDepth MatchReference(const std::vector<View>& views, const std::vector<WorkingView>& working,
-                              const std::vector<WorkingView>& full_resolution, int reference,
-                              const std::vector<char>& excluded, const DepthOptions& options, StageTimes* times) {
+ReferenceDepth MatchReference(const std::vector<View>& views,
+                              const std::vector<WorkingView>& working,
+                              const std::vector<WorkingView>& full_resolution,
+                              int reference,
+                              const std::vector<char>& excluded,
+                              const DepthOptions& options,
+                              StageTimes* times) {
   Clock::time_point start = Clock::now();
   const MatchingOptions& m = options.matching;
   const WorkingView& ref = working[reference];
@@ -209,10 +223,12 @@ ReferenceDepth MatchReference(const std::vector<View>& views, const std::vector<
         if (u[x] < depth::kNoDataCost) typical.push_back(u[x]);
       }
     }
-    result.report.median_match_cost = costs.empty() ? depth::kNeutralCost : MedianOf(std::move(costs));
-    result.report.median_typical_cost = typical.empty() ? depth::kNeutralCost : MedianOf(std::move(typical));
-    Logger("depth")->debug("view {}: median matching cost {:.3f}, {:.3f} at other depths", view.id.value,
-                           result.report.median_match_cost, result.report.median_typical_cost);
+    result.report.median_match_cost = costs.empty() ? depth::kNeutralCost : Median(std::move(costs));
+    result.report.median_typical_cost = typical.empty() ? depth::kNeutralCost : Median(std::move(typical));
+    Logger("depth")->debug("view {}: median matching cost {:.3f}, {:.3f} at other depths",
+                           view.id.value,
+                           result.report.median_match_cost,
+                           result.report.median_typical_cost);
   }
   result.report.textureless_fraction = 1.0 - cv::countNonZero(textured) / static_cast<double>(size.area());
   // With semi-global aggregation the winner comes from the aggregate and its sub-plane position
@@ -227,7 +243,8 @@ ReferenceDepth MatchReference(const std::vector<View>& views, const std::vector<
   }
   const double step_px = ref.camera.fx * nearest_m * planes.step_inverse_m;
   const int fit_half_width = 2 * step_px <= 0.3 ? 2 : 1;
-  depth::PlaneSelection selection = depth::SelectPlanes(aggregated.empty() ? volume.slices : aggregated, fit_half_width);
+  depth::PlaneSelection selection =
+      depth::SelectPlanes(aggregated.empty() ? volume.slices : aggregated, fit_half_width);
   if (!aggregated.empty()) {
     depth::RefineAroundWinners(volume.slices, /*search_planes=*/2, fit_half_width >= 2, &selection.plane);
     volume.slices = std::move(aggregated);
@@ -264,15 +281,28 @@ ReferenceDepth MatchReference(const std::vector<View>& views, const std::vector<
     coplanar.keep_fraction = so.coplanar_keep_fraction;
     groups = depth::MergeCoplanarSegments(
         segments, segment_pixels, pixel_inverse_depth, selection.confidence, coplanar, &segment_planes);
-    Logger("depth")->debug("view {}: {} of {} segments in {} coplanar groups", view.id.value, groups.grouped_segments,
-                           segments.count, groups.groups);
+    Logger("depth")->debug("view {}: {} of {} segments in {} coplanar groups",
+                           view.id.value,
+                           groups.grouped_segments,
+                           segments.count,
+                           groups.groups);
   }
   const depth::VolumePlaneCost volume_cost(volume.slices, planes, segment_pixels);
-  depth::AssignUnfittedSegments(segments, std::cref(volume_cost), {}, UnseenFractions(segment_pixels, volume.sampled),
-                                so.propagation_cost_margin, &segment_planes);
+  depth::AssignUnfittedSegments(segments,
+                                std::cref(volume_cost),
+                                {},
+                                UnseenFractions(segment_pixels, volume.sampled),
+                                so.propagation_cost_margin,
+                                &segment_planes);
   if (so.refine_iterations > 0) {
-    RefineSegmentPlanes(ref, neighbours, segments, volume_cost, pixel_inverse_depth, 1.0 / (ref.camera.fx * nearest_m),
-                        options, &segment_planes);
+    RefineSegmentPlanes(ref,
+                        neighbours,
+                        segments,
+                        volume_cost,
+                        pixel_inverse_depth,
+                        1.0 / (ref.camera.fx * nearest_m),
+                        options,
+                        &segment_planes);
   }
   volume.slices.clear();
   times->segments_ms += MsSince(start);
@@ -311,11 +341,13 @@ ReferenceDepth MatchReference(const std::vector<View>& views, const std::vector<
     group_depth.search_px = so.group_depth_search_px;
     group_depth.step_px = group_depth.search_px / 5;
     group_depth.min_texture_stddev = options.matching.min_texture_stddev;
-    const depth::GroupDepthStats stats =
-        depth::RefineGroupDepths(full_resolution[reference], full_resolution_neighbours, groups.group_of, group_depth,
-                                 &image);
-    Logger("depth")->debug("view {}: {} of {} coplanar groups moved, mean {:.3f} px", view.id.value, stats.moved,
-                           stats.groups, stats.mean_abs_shift_px);
+    const depth::GroupDepthStats stats = depth::RefineGroupDepths(
+        full_resolution[reference], full_resolution_neighbours, groups.group_of, group_depth, &image);
+    Logger("depth")->debug("view {}: {} of {} coplanar groups moved, mean {:.3f} px",
+                           view.id.value,
+                           stats.moved,
+                           stats.groups,
+                           stats.mean_abs_shift_px);
   }
   if (so.edge_label_radius_px > 0) {
     std::vector<const View*> full_neighbours;
@@ -327,7 +359,10 @@ ReferenceDepth MatchReference(const std::vector<View>& views, const std::vector<
     edge.visibility = so.edge_label_visibility;
     const depth::EdgeLabelStats stats = depth::RefineDepthEdgeLabels(view, full_neighbours, edge, &image);
     Logger("depth")->debug("view {}: {} of {} pixels near depth edges took another segment ({} segments emptied)",
-                           view.id.value, stats.changed, stats.reconsidered, stats.dropped_segments);
+                           view.id.value,
+                           stats.changed,
+                           stats.reconsidered,
+                           stats.dropped_segments);
   }
   depth::TwoLayerOptions layer_options;
   layer_options.edge_inverse_depth_m = so.edge_disparity_px / (view.camera.fx * nearest_m);
@@ -339,8 +374,8 @@ ReferenceDepth MatchReference(const std::vector<View>& views, const std::vector<
   if (so.pixel_depth_tolerance_px > 0 && !scaled) {
     // Unconfident pixels (weak texture) are left out: inverse depth 0 keeps the plane.
     pixel_inverse_depth.setTo(0, selection.confidence < so.pixel_depth_min_confidence);
-    depth::KeepPixelDepthNearPlanes(pixel_inverse_depth, so.pixel_depth_tolerance_px / (view.camera.fx * nearest_m),
-                                    &result.layered);
+    depth::KeepPixelDepthNearPlanes(
+        pixel_inverse_depth, so.pixel_depth_tolerance_px / (view.camera.fx * nearest_m), &result.layered);
   }
   // Depth within the swept range (planes may extrapolate past it at a segment's far corner).
   cv::max(result.layered.depth_m, options.min_depth_m, result.layered.depth_m);
@@ -355,8 +390,10 @@ ReferenceDepth MatchReference(const std::vector<View>& views, const std::vector<
 }
 
 // Lowers the confidence of pixels (and segments) that no other computed view confirms.
-void ApplyConsistency(const std::vector<View>& views, const std::vector<int>& reference_indices,
-                      const DepthOptions& options, std::vector<ReferenceDepth>* references) {
+void ApplyConsistency(const std::vector<View>& views,
+                      const std::vector<int>& reference_indices,
+                      const DepthOptions& options,
+                      std::vector<ReferenceDepth>* references) {
   std::vector<cv::Mat> depth_m(views.size());
   for (size_t i = 0; i < reference_indices.size(); ++i) {
     // A copy: filling one view's depth must not change what the views after it are checked against.
@@ -414,7 +451,7 @@ double ShotMedianMatchCost(const std::vector<ReferenceDepth>& references) {
     if (report.dark_fraction > 0.9 || report.saturated_fraction > 0.9 || report.textureless_fraction >= 0.95) continue;
     costs.push_back(static_cast<float>(report.median_match_cost));
   }
-  return costs.empty() ? 0.0 : MedianOf(std::move(costs));
+  return costs.empty() ? 0.0 : Median(std::move(costs));
 }
 
 std::string Percent(double fraction) { return std::to_string(static_cast<int>(std::lround(100 * fraction))) + "%"; }
@@ -433,13 +470,18 @@ void FinishReport(const DepthOptions& options, ReferenceDepth* reference) {
            << " at other depths): another scene, a black or saturated frame?";
     report.reasons.push_back(reason.str());
   }
-  if (report.textureless_fraction > 0.3) report.reasons.push_back(Percent(report.textureless_fraction) + " of pixels have no texture to match");
-  if (report.saturated_fraction > 0.2) report.reasons.push_back(Percent(report.saturated_fraction) + " of pixels are saturated");
-  if (report.dark_fraction > 0.5) report.reasons.push_back(Percent(report.dark_fraction) + " of pixels are nearly black");
+  if (report.textureless_fraction > 0.3)
+    report.reasons.push_back(Percent(report.textureless_fraction) + " of pixels have no texture to match");
+  if (report.saturated_fraction > 0.2)
+    report.reasons.push_back(Percent(report.saturated_fraction) + " of pixels are saturated");
+  if (report.dark_fraction > 0.5)
+    report.reasons.push_back(Percent(report.dark_fraction) + " of pixels are nearly black");
   if (report.consistent_fraction > 0 && report.consistent_fraction < 0.5) {
-    report.reasons.push_back("only " + Percent(report.consistent_fraction) + " of pixels agree with another view's depth");
+    report.reasons.push_back("only " + Percent(report.consistent_fraction) +
+                             " of pixels agree with another view's depth");
   }
-  if (report.confident_fraction < 0.3) report.reasons.push_back("only " + Percent(report.confident_fraction) + " of pixels have confident depth");
+  if (report.confident_fraction < 0.3)
+    report.reasons.push_back("only " + Percent(report.confident_fraction) + " of pixels have confident depth");
 }
 
 }  // namespace
@@ -507,8 +549,9 @@ StatusOr<DepthStageResult> ComputeLayeredDepthForViews(const std::vector<View>& 
     }
     PX_RETURN_IF_ERROR(match_all(redo));
   } else if (num_disagreeing > 0) {
-    result.report.warnings.push_back("depth: no view matches its neighbours (all views of different scenes, or "
-                                     "all black or saturated): depth is guesswork everywhere");
+    result.report.warnings.push_back(
+        "depth: no view matches its neighbours (all views of different scenes, or "
+        "all black or saturated): depth is guesswork everywhere");
   }
   if (num_disagreeing == 0 && shot_median_cost > options.max_view_match_cost) {
     std::ostringstream warning;
@@ -548,23 +591,31 @@ StatusOr<DepthStageResult> ComputeLayeredDepthForViews(const std::vector<View>& 
   result.report.segments_ms = times.segments_ms;
   result.report.layers_ms = times.layers_ms;
   if (progress) progress(1.0);
-  Logger("depth")->info("{} layered depth views in {:.0f} ms (matching {:.0f}, segments {:.0f}, layers {:.0f}, "
-                        "consistency {:.0f}), {:.0f}% confident, {} disagreeing",
-                        result.maps.size(), MsSince(start), times.matching_ms, times.segments_ms, times.layers_ms,
-                        result.report.consistency_ms, 100 * result.report.confident_fraction,
-                        result.report.disagreeing_views.size());
+  Logger("depth")->info(
+      "{} layered depth views in {:.0f} ms (matching {:.0f}, segments {:.0f}, layers {:.0f}, "
+      "consistency {:.0f}), {:.0f}% confident, {} disagreeing",
+      result.maps.size(),
+      MsSince(start),
+      times.matching_ms,
+      times.segments_ms,
+      times.layers_ms,
+      result.report.consistency_ms,
+      100 * result.report.confident_fraction,
+      result.report.disagreeing_views.size());
   for (const std::string& warning : result.report.warnings) Logger("depth")->warn("{}", warning);
   return result;
 }
 
-StatusOr<DepthStageResult> ComputeLayeredDepth(const std::vector<View>& views, const DepthOptions& options,
+StatusOr<DepthStageResult> ComputeLayeredDepth(const std::vector<View>& views,
+                                               const DepthOptions& options,
                                                const DepthProgressCallback& progress) {
   std::vector<int> all(views.size());
   for (int i = 0; i < static_cast<int>(views.size()); ++i) all[i] = i;
   return ComputeLayeredDepthForViews(views, all, options, progress);
 }
 
-StatusOr<std::vector<DepthMap>> ComputeDepth(const std::vector<View>& views, const DepthOptions& options,
+StatusOr<std::vector<DepthMap>> ComputeDepth(const std::vector<View>& views,
+                                             const DepthOptions& options,
                                              const DepthProgressCallback& progress) {
   PX_ASSIGN_OR_RETURN(DepthStageResult result, ComputeLayeredDepth(views, options, progress));
   return std::move(result.maps);

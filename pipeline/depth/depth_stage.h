@@ -38,7 +38,8 @@ struct DepthStageResult {
 // depth range (DepthOptions::WithDefaultDepthRange). Errors name the view or field at fault.
 // Degraded input (no texture, saturated or black views, a view of another scene) is not an
 // error: it lowers confidence and is explained in the report.
-StatusOr<DepthStageResult> ComputeLayeredDepth(const std::vector<View>& views, const DepthOptions& options,
+StatusOr<DepthStageResult> ComputeLayeredDepth(const std::vector<View>& views,
+                                               const DepthOptions& options,
                                                const DepthProgressCallback& progress = {});
 
 // Depth for views[reference_indices] only; every view serves as a neighbour (e.g. the centre of
@@ -49,7 +50,8 @@ StatusOr<DepthStageResult> ComputeLayeredDepthForViews(const std::vector<View>& 
                                                        const DepthProgressCallback& progress = {});
 
 // The plain depth maps of ComputeLayeredDepth, for consumers that want one depth per pixel.
-StatusOr<std::vector<DepthMap>> ComputeDepth(const std::vector<View>& views, const DepthOptions& options,
+StatusOr<std::vector<DepthMap>> ComputeDepth(const std::vector<View>& views,
+                                             const DepthOptions& options,
                                              const DepthProgressCallback& progress = {});
 
 }  // namespace px

@@ -1,16 +1,17 @@
 // The segment stereo stage on scenes of known depth: layered output, accuracy away from and at
 // depth edges, the consistency check, two-view input and option errors (bad images are in
 // depth_bad_input_test.cc).
+#include "pipeline/depth/depth_stage.h"
+
+#include <gtest/gtest.h>
+
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <opencv2/imgproc.hpp>
 #include <vector>
 
-#include <gtest/gtest.h>
-#include <opencv2/imgproc.hpp>
-
 #include "pipeline/core/layered_depth.h"
-#include "pipeline/depth/depth_stage.h"
 #include "pipeline/depth/depth_stage_test_util.h"
 #include "pipeline/depth/plane_scene_test_util.h"
 
@@ -43,10 +44,17 @@ TEST(DepthStageTest, SquareBeforeWallLayeredAndAccurate) {
     const double bad_away = BadFraction(result->maps[i].depth_m, truth[i], away, 0.05);
     const double bad_edges = BadFraction(result->maps[i].depth_m, truth[i], edges, 0.05);
     const ViewDepthReport& report = result->report.views[i];
-    std::printf("view %d: %.1f%% off by > 5%% away from edges, %.1f%% within 6 px of them; %d segments, %d "
-                "boundary px, %.0f%% confident, %.0f%% confirmed by another view, median best cost %.3f\n",
-                i, 100 * bad_away, 100 * bad_edges, report.num_segments, report.num_boundary_pixels,
-                100 * report.confident_fraction, 100 * report.consistent_fraction, report.median_match_cost);
+    std::printf(
+        "view %d: %.1f%% off by > 5%% away from edges, %.1f%% within 6 px of them; %d segments, %d "
+        "boundary px, %.0f%% confident, %.0f%% confirmed by another view, median best cost %.3f\n",
+        i,
+        100 * bad_away,
+        100 * bad_edges,
+        report.num_segments,
+        report.num_boundary_pixels,
+        100 * report.confident_fraction,
+        100 * report.consistent_fraction,
+        report.median_match_cost);
     // Exact renders of textured planes: away from edges nearly every pixel is right (measured
     // about 0-1 %); the margin allows for segments straddling the border region.
     EXPECT_LT(bad_away, 0.05) << "view " << i;
@@ -61,8 +69,7 @@ TEST(DepthStageTest, SquareBeforeWallLayeredAndAccurate) {
 
 TEST(DepthStageTest, TwoViewRectifiedPair) {
   std::vector<cv::Mat> truth;
-  const std::vector<View> views =
-      RenderGridRig(1, 2, 0.06, SmallCamera(), {Wall(2.0, 31)}, &truth);
+  const std::vector<View> views = RenderGridRig(1, 2, 0.06, SmallCamera(), {Wall(2.0, 31)}, &truth);
   StatusOr<DepthStageResult> result = ComputeLayeredDepth(views, StageTestOptions());
   ASSERT_TRUE(result.ok()) << result.status().ToString();
   for (int i = 0; i < 2; ++i) {

@@ -1,7 +1,6 @@
 #include "pipeline/depth/depth_stage_test_util.h"
 
 #include <cmath>
-
 #include <opencv2/imgproc.hpp>
 
 namespace px::depth::testing {

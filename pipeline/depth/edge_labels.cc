@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
-
 #include <opencv2/imgproc.hpp>
 
 #include "pipeline/core/check.h"
@@ -86,7 +85,8 @@ std::vector<EdgePixel> FindEdgePixels(const SegmentImage& image, const EdgeLabel
   const cv::Mat& labels = image.labels;
   const int r = options.radius_px;
   cv::Mat near_edge;
-  cv::dilate(DepthEdgeSeeds(image, options.edge_inverse_depth_m), near_edge,
+  cv::dilate(DepthEdgeSeeds(image, options.edge_inverse_depth_m),
+             near_edge,
              cv::getStructuringElement(cv::MORPH_RECT, cv::Size(2 * r + 1, 2 * r + 1)));
   std::vector<EdgePixel> edge;
   for (int y = 0; y < labels.rows; ++y) {
@@ -121,8 +121,14 @@ std::vector<EdgePixel> FindEdgePixels(const SegmentImage& image, const EdgeLabel
 // depth u at the pixel) carries it: the mean over the views that see that point where at least
 // `min_visible` do (`occlusion_margin` > 0), else over the better half of all the views; -1 where
 // no view holds it.
-float PlaneColourCost(const cv::Vec3b& colour, int x, int y, double u, const std::vector<Projector>& projectors,
-                      float truncation, double occlusion_margin, int min_visible) {
+float PlaneColourCost(const cv::Vec3b& colour,
+                      int x,
+                      int y,
+                      double u,
+                      const std::vector<Projector>& projectors,
+                      float truncation,
+                      double occlusion_margin,
+                      int min_visible) {
   std::array<float, kMaxNeighbours> costs;
   std::array<char, kMaxNeighbours> hidden{};
   int n = 0, num_hidden = 0;
@@ -216,8 +222,14 @@ EdgeLabelStats RefineDepthEdgeLabels(const View& reference,
     EdgePixel& p = edge[i];
     const cv::Vec3b colour = reference.image.at<cv::Vec3b>(p.y, p.x);
     for (int k = 0; k < p.count; ++k) {
-      p.cost[k] = PlaneColourCost(colour, p.x, p.y, image->planes[p.labels[k]].At(p.x, p.y), projectors, truncation,
-                                  occlusion_margin, options.min_visible_views);
+      p.cost[k] = PlaneColourCost(colour,
+                                  p.x,
+                                  p.y,
+                                  image->planes[p.labels[k]].At(p.x, p.y),
+                                  projectors,
+                                  truncation,
+                                  occlusion_margin,
+                                  options.min_visible_views);
       if (p.cost[k] < 0) decidable[i] = 0;
     }
   }

@@ -33,13 +33,13 @@ namespace px::depth {
 struct EdgeLabelOptions {
   // Planes that differ by more than this at a pixel (inverse depth, 1/m) make a depth edge. > 0.
   double edge_inverse_depth_m = 0;
-  int radius_px = 2;             // pixels this near a depth edge are reconsidered, [1, 8]
+  int radius_px = 2;  // pixels this near a depth edge are reconsidered, [1, 8]
   // Colour difference (mean over the channels, 0-255) at which one view's evidence saturates:
   // a view where the pixel is hidden says "wrong" no louder than this. > 0.
   double truncation = 24;
   // Cost of each of the 8 neighbours with another label, in the data term's units. >= 0.
   double smoothness = 2;
-  int iterations = 3;            // sweeps of iterated conditional modes, [1, 10]
+  int iterations = 3;  // sweeps of iterated conditional modes, [1, 10]
   // Leave out the views that cannot see a candidate's point (inverse depth there more than
   // edge_inverse_depth_m behind the reference's surface in that view) and average the rest;
   // where fewer than min_visible_views ([1, 16]) see it, the best half of all of them.
@@ -48,8 +48,8 @@ struct EdgeLabelOptions {
 };
 
 struct EdgeLabelStats {
-  int reconsidered = 0;  // pixels near depth edges
-  int changed = 0;       // of them, pixels that took another segment
+  int reconsidered = 0;      // pixels near depth edges
+  int changed = 0;           // of them, pixels that took another segment
   int dropped_segments = 0;  // segments left with no pixel, removed
 };
 

@@ -54,8 +54,11 @@ TEST(EdgeLabelsTest, AnOutlineTooWideShrinksToTheSilhouette) {
   const int before = Mislabelled(image, scene.square);
   const EdgeLabelStats stats = Refine(scene, &image);
   const int after = Mislabelled(image, scene.square);
-  std::printf("outline 2 px too wide: %d mislabelled pixels -> %d (%d reconsidered, %d changed)\n", before, after,
-              stats.reconsidered, stats.changed);
+  std::printf("outline 2 px too wide: %d mislabelled pixels -> %d (%d reconsidered, %d changed)\n",
+              before,
+              after,
+              stats.reconsidered,
+              stats.changed);
   ASSERT_GT(before, 500);
   EXPECT_LT(after, before / 20);  // measured 0
 }
@@ -104,7 +107,9 @@ TEST(EdgeLabelsTest, FromACornerViewTheViewsThatSeeThePointDecide) {
   Refine(scene, &best_half, /*visibility=*/false);
   const int after = Mislabelled(with_visibility, scene.square), after_best_half = Mislabelled(best_half, scene.square);
   std::printf("corner view, grain, outline 3 px too wide: %d mislabelled pixels -> %d (best half of the views: %d)\n",
-              before, after, after_best_half);
+              before,
+              after,
+              after_best_half);
   ASSERT_GT(before, 800);
   // Measured 423 against 886: what is left lies along the top and the left, where the fattened
   // rim itself, splatted into the views below and to the right, still hides the wall behind it.

@@ -24,18 +24,18 @@ struct GroupDepthOptions {
   double pixel_inverse_depth = 0;
   // A pixel is interior when the pixels this far away in the 8 directions are in its group.
   int interior_px = 12;
-  int sample_step_px = 2;          // every this many pixels in x and y, [1, 16]
-  double search_px = 0.1;          // the plane moves at most this much disparity, (0, 4]
-  double step_px = 0.02;           // in steps of this, refined by a parabola, (0, search_px]
-  int min_samples = 200;           // groups with fewer interior samples stay, >= 16
-  int max_samples = 2000;          // larger groups are read at evenly spread samples, >= min_samples
+  int sample_step_px = 2;             // every this many pixels in x and y, [1, 16]
+  double search_px = 0.1;             // the plane moves at most this much disparity, (0, 4]
+  double step_px = 0.02;              // in steps of this, refined by a parabola, (0, search_px]
+  int min_samples = 200;              // groups with fewer interior samples stay, >= 16
+  int max_samples = 2000;             // larger groups are read at evenly spread samples, >= min_samples
   double min_texture_stddev = 0.004;  // grey [0, 1]: groups whose samples vary less stay
 };
 
 struct GroupDepthStats {
-  int groups = 0;                  // groups with enough interior to search
-  int moved = 0;                   // of them, groups whose plane moved
-  double mean_abs_shift_px = 0;    // over the searched groups, in disparity
+  int groups = 0;                // groups with enough interior to search
+  int moved = 0;                 // of them, groups whose plane moved
+  double mean_abs_shift_px = 0;  // over the searched groups, in disparity
 };
 
 // `group_of` gives each segment's group (-1: none), indexed like image->planes; a group's

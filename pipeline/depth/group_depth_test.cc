@@ -58,8 +58,11 @@ TEST(GroupDepthTest, AWallTooNearOrTooFarComesBack) {
     Scene scene = SquareScene();
     scene.image.planes[0].c *= 1 + error;  // 0.05 px of disparity against the nearest neighbour
     const GroupDepthStats stats = Refine(&scene, {0, -1});
-    std::printf("wall %+.1f %% off -> %+.3f %% (%d group searched, %.3f px moved)\n", 100 * error,
-                100 * WallError(scene), stats.groups, stats.mean_abs_shift_px);
+    std::printf("wall %+.1f %% off -> %+.3f %% (%d group searched, %.3f px moved)\n",
+                100 * error,
+                100 * WallError(scene),
+                stats.groups,
+                stats.mean_abs_shift_px);
     EXPECT_EQ(stats.groups, 1);
     EXPECT_LT(std::abs(WallError(scene)), 0.001) << "start " << error;  // measured 0.000 %
     EXPECT_EQ(scene.image.planes[1].c, 1 / kSquareDepthM) << "the square is in no group";

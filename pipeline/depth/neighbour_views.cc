@@ -5,8 +5,8 @@
 
 namespace px::depth {
 
-std::vector<int> ChooseNeighbourViews(const std::vector<View>& views, int reference,
-                                      const std::vector<int>& candidates, int count, int num_spread) {
+std::vector<int> ChooseNeighbourViews(
+    const std::vector<View>& views, int reference, const std::vector<int>& candidates, int count, int num_spread) {
   const int wanted = std::min(count, static_cast<int>(candidates.size()));
   const int num_nearest = wanted - std::clamp(num_spread, 0, wanted);
   std::vector<int> chosen(candidates.begin(), candidates.begin() + num_nearest);

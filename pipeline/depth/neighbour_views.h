@@ -15,7 +15,7 @@ namespace px::depth {
 // centres (each the candidate farthest from the reference and every view already chosen; ties
 // to the nearer one), which spreads them over the widest baselines and every direction.
 // num_spread is clamped to [0, count].
-std::vector<int> ChooseNeighbourViews(const std::vector<View>& views, int reference,
-                                      const std::vector<int>& candidates, int count, int num_spread);
+std::vector<int> ChooseNeighbourViews(
+    const std::vector<View>& views, int reference, const std::vector<int>& candidates, int count, int num_spread);
 
 }  // namespace px::depth

@@ -5,8 +5,11 @@
 
 namespace px::depth {
 
-Eigen::Matrix3d PlaneHomography(const CameraModel& ref, const Rigid3& ref_from_world, const CameraModel& src,
-                                const Rigid3& src_from_world, double depth_m) {
+Eigen::Matrix3d PlaneHomography(const CameraModel& ref,
+                                const Rigid3& ref_from_world,
+                                const CameraModel& src,
+                                const Rigid3& src_from_world,
+                                double depth_m) {
   const Rigid3 src_from_ref = src_from_world * ref_from_world.Inverse();
   const Eigen::Matrix3d r = src_from_ref.RotationMatrix();
   const Eigen::Vector3d& t = src_from_ref.translation;
@@ -15,7 +18,9 @@ Eigen::Matrix3d PlaneHomography(const CameraModel& ref, const Rigid3& ref_from_w
   return src.K() * plane * ref.K().inverse();
 }
 
-InverseDepthMapping MappingInto(const CameraModel& ref, const Rigid3& ref_from_world, const CameraModel& src,
+InverseDepthMapping MappingInto(const CameraModel& ref,
+                                const Rigid3& ref_from_world,
+                                const CameraModel& src,
                                 const Rigid3& src_from_world) {
   const Rigid3 src_from_ref = src_from_world * ref_from_world.Inverse();
   InverseDepthMapping mapping;
@@ -33,10 +38,11 @@ std::vector<int> NearestNeighbourViews(const std::vector<View>& views, int refer
     const double distance = (CameraCentre(views[i].cam_from_world) - centre).norm();
     if (distance > kSameCentreM) by_distance.emplace_back(distance, i);
   }
-  std::stable_sort(by_distance.begin(), by_distance.end(),
-                   [](const auto& a, const auto& b) { return a.first < b.first; });
+  std::stable_sort(
+      by_distance.begin(), by_distance.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
   std::vector<int> nearest;
-  for (int i = 0; i < std::min(count, static_cast<int>(by_distance.size())); ++i) nearest.push_back(by_distance[i].second);
+  for (int i = 0; i < std::min(count, static_cast<int>(by_distance.size())); ++i)
+    nearest.push_back(by_distance[i].second);
   return nearest;
 }
 

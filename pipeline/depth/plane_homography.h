@@ -2,9 +2,8 @@
 // fronto-parallel plane in the reference camera induces between two views.
 #pragma once
 
-#include <vector>
-
 #include <Eigen/Core>
+#include <vector>
 
 #include "pipeline/core/camera_model.h"
 #include "pipeline/core/rigid3.h"
@@ -18,8 +17,11 @@ namespace px::depth {
 //   H = K_src (R + t n^T / depth_m) K_ref^-1.
 // (The textbook "R - t n^T / d" writes the plane as n.X + d = 0.) Both cameras must be pinhole
 // (undistorted); their pixel grids are whatever `ref` and `src` describe (e.g. working scale).
-Eigen::Matrix3d PlaneHomography(const CameraModel& ref, const Rigid3& ref_from_world, const CameraModel& src,
-                                const Rigid3& src_from_world, double depth_m);
+Eigen::Matrix3d PlaneHomography(const CameraModel& ref,
+                                const Rigid3& ref_from_world,
+                                const CameraModel& src,
+                                const Rigid3& src_from_world,
+                                double depth_m);
 
 // Maps a reference pixel (x, y) at inverse depth u (1/m, any surface) into a source view:
 // x_src ~ a (x, y, 1) + b u, from X_src = R K_ref^-1 (x, y, 1) / u + t scaled by u.
@@ -41,7 +43,9 @@ struct InverseDepthMapping {
     return true;
   }
 };
-InverseDepthMapping MappingInto(const CameraModel& ref, const Rigid3& ref_from_world, const CameraModel& src,
+InverseDepthMapping MappingInto(const CameraModel& ref,
+                                const Rigid3& ref_from_world,
+                                const CameraModel& src,
                                 const Rigid3& src_from_world);
 
 // Indices of up to `count` other views nearest to views[reference] by camera-centre distance,

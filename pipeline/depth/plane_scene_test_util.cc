@@ -2,7 +2,6 @@
 
 #include <cmath>
 #include <limits>
-
 #include <opencv2/imgproc.hpp>
 
 namespace px::depth::testing {
@@ -39,7 +38,9 @@ cv::Mat RandomTexture(cv::Size size, uint64_t seed) {
   return texture;
 }
 
-cv::Mat RenderPlanes(const CameraModel& camera, const Rigid3& cam_from_world, const std::vector<TexturedPlane>& planes,
+cv::Mat RenderPlanes(const CameraModel& camera,
+                     const Rigid3& cam_from_world,
+                     const std::vector<TexturedPlane>& planes,
                      cv::Mat* depth_m) {
   const cv::Size size(camera.width, camera.height);
   const Rigid3 world_from_cam = cam_from_world.Inverse();
@@ -69,10 +70,10 @@ cv::Mat RenderPlanes(const CameraModel& camera, const Rigid3& cam_from_world, co
         const double origin_x = infinite ? 0.0 : plane.extent_m.x + plane.extent_m.width / 2;
         const double origin_y = infinite ? 0.0 : plane.extent_m.y + plane.extent_m.height / 2;
         // Texel centres at integers: texel (tw-1)/2 sits on the extent's centre.
-        map_x[i].at<float>(y, x) = static_cast<float>((hit.x() - origin_x) / plane.metres_per_texel +
-                                                      (plane.texture.cols - 1) / 2.0);
-        map_y[i].at<float>(y, x) = static_cast<float>((hit.y() - origin_y) / plane.metres_per_texel +
-                                                      (plane.texture.rows - 1) / 2.0);
+        map_x[i].at<float>(y, x) =
+            static_cast<float>((hit.x() - origin_x) / plane.metres_per_texel + (plane.texture.cols - 1) / 2.0);
+        map_y[i].at<float>(y, x) =
+            static_cast<float>((hit.y() - origin_y) / plane.metres_per_texel + (plane.texture.rows - 1) / 2.0);
         if (lambda < nearest) {
           nearest = lambda;
           label.at<int>(y, x) = static_cast<int>(i);
@@ -91,8 +92,10 @@ cv::Mat RenderPlanes(const CameraModel& camera, const Rigid3& cam_from_world, co
   return image;
 }
 
-std::vector<View> RenderViews(const std::vector<Rigid3>& cams_from_world, const CameraModel& camera,
-                              const std::vector<TexturedPlane>& planes, std::vector<cv::Mat>* true_depth_m) {
+std::vector<View> RenderViews(const std::vector<Rigid3>& cams_from_world,
+                              const CameraModel& camera,
+                              const std::vector<TexturedPlane>& planes,
+                              std::vector<cv::Mat>* true_depth_m) {
   std::vector<View> views;
   if (true_depth_m != nullptr) true_depth_m->clear();
   for (const Rigid3& cam_from_world : cams_from_world) {
@@ -119,8 +122,12 @@ std::vector<Rigid3> GridRigPoses(int rows, int cols, double baseline_m) {
   return poses;
 }
 
-std::vector<View> RenderGridRig(int rows, int cols, double baseline_m, const CameraModel& camera,
-                                const std::vector<TexturedPlane>& planes, std::vector<cv::Mat>* true_depth_m) {
+std::vector<View> RenderGridRig(int rows,
+                                int cols,
+                                double baseline_m,
+                                const CameraModel& camera,
+                                const std::vector<TexturedPlane>& planes,
+                                std::vector<cv::Mat>* true_depth_m) {
   return RenderViews(GridRigPoses(rows, cols, baseline_m), camera, planes, true_depth_m);
 }
 

@@ -5,9 +5,8 @@
 #pragma once
 
 #include <cstdint>
-#include <vector>
-
 #include <opencv2/core.hpp>
+#include <vector>
 
 #include "pipeline/core/camera_model.h"
 #include "pipeline/core/rigid3.h"
@@ -24,8 +23,8 @@ Superpixels BlockSegments(int cols, int rows, int block_px);
 // world z axis for an infinite plane), one texel = metres_per_texel square.
 struct TexturedPlane {
   double depth_m = 1.0;
-  cv::Rect2d extent_m;     // empty: infinite
-  cv::Mat texture;         // CV_8UC3
+  cv::Rect2d extent_m;  // empty: infinite
+  cv::Mat texture;      // CV_8UC3
   double metres_per_texel = 0.002;
 };
 
@@ -33,12 +32,16 @@ struct TexturedPlane {
 cv::Mat RandomTexture(cv::Size size, uint64_t seed);
 
 // Renders the planes into a camera (nearest hit wins). Rays that hit nothing are black with depth 0.
-cv::Mat RenderPlanes(const CameraModel& camera, const Rigid3& cam_from_world, const std::vector<TexturedPlane>& planes,
+cv::Mat RenderPlanes(const CameraModel& camera,
+                     const Rigid3& cam_from_world,
+                     const std::vector<TexturedPlane>& planes,
                      cv::Mat* depth_m = nullptr);
 
 // One view per pose (view id = index), each rendering `planes`.
-std::vector<View> RenderViews(const std::vector<Rigid3>& cams_from_world, const CameraModel& camera,
-                              const std::vector<TexturedPlane>& planes, std::vector<cv::Mat>* true_depth_m = nullptr);
+std::vector<View> RenderViews(const std::vector<Rigid3>& cams_from_world,
+                              const CameraModel& camera,
+                              const std::vector<TexturedPlane>& planes,
+                              std::vector<cv::Mat>* true_depth_m = nullptr);
 
 // The poses of a rows x cols lattice rig: identity rotations, centres on the z = 0 plane, row 0
 // at the top, spaced baseline_m, row-major.
@@ -46,7 +49,11 @@ std::vector<Rigid3> GridRigPoses(int rows, int cols, double baseline_m);
 
 // A rows x cols lattice rig (identity rotations, camera centres on the z = 0 plane, row 0 at the
 // top, spaced baseline_m), each view rendering `planes`; view id = index, row-major.
-std::vector<View> RenderGridRig(int rows, int cols, double baseline_m, const CameraModel& camera,
-                                const std::vector<TexturedPlane>& planes, std::vector<cv::Mat>* true_depth_m = nullptr);
+std::vector<View> RenderGridRig(int rows,
+                                int cols,
+                                double baseline_m,
+                                const CameraModel& camera,
+                                const std::vector<TexturedPlane>& planes,
+                                std::vector<cv::Mat>* true_depth_m = nullptr);
 
 }  // namespace px::depth::testing

@@ -2,17 +2,16 @@
 
 #include <algorithm>
 #include <chrono>
-#include <limits>
 #include <cmath>
+#include <limits>
+#include <opencv2/imgproc.hpp>
 #include <sstream>
 #include <string>
 
-#include <opencv2/imgproc.hpp>
-
 #include "pipeline/core/log.h"
 #include "pipeline/core/stage_clock.h"
-#include "pipeline/depth/depth_cleanup.h"
 #include "pipeline/depth/cost_volume.h"
+#include "pipeline/depth/depth_cleanup.h"
 #include "pipeline/depth/plane_homography.h"
 #include "pipeline/depth/select_planes.h"
 #include "pipeline/depth/working_view.h"
@@ -43,7 +42,9 @@ double NearestBaselineM(const std::vector<View>& views, int reference, const std
   return nearest;
 }
 
-DepthMap SweepReference(const std::vector<View>& views, const std::vector<WorkingView>& working, int reference,
+DepthMap SweepReference(const std::vector<View>& views,
+                        const std::vector<WorkingView>& working,
+                        int reference,
                         const PlaneSweepOptions& options) {
   const WorkingView& ref = working[reference];
   const std::vector<int> neighbour_ids = depth::NearestNeighbourViews(views, reference, options.num_neighbors);
@@ -67,8 +68,11 @@ DepthMap SweepReference(const std::vector<View>& views, const std::vector<Workin
   selection.confidence.setTo(0, volume.sampled == 0);
   const auto fill_confidence = static_cast<float>(options.fill_confidence);
   // Speckles keep their depth but end up below the fill threshold, so the fill may replace it.
-  depth::LowerSpeckleConfidence(selection.plane, options.speckle_max_size_px, /*max_jump_planes=*/2.0f,
-                                0.5f * fill_confidence, &selection.confidence);
+  depth::LowerSpeckleConfidence(selection.plane,
+                                options.speckle_max_size_px,
+                                /*max_jump_planes=*/2.0f,
+                                0.5f * fill_confidence,
+                                &selection.confidence);
   const cv::Size size = ref.gray.size();
   cv::Mat inverse_depth(size, CV_32F);
   for (int y = 0; y < size.height; ++y) {
@@ -88,8 +92,8 @@ DepthMap SweepReference(const std::vector<View>& views, const std::vector<Workin
     full_inverse = inverse_depth;
     result.confidence = selection.confidence;
   } else {
-    depth::UpsampleJointBilateral(inverse_depth, selection.confidence, ref.bgr, view.image, &full_inverse,
-                                  &result.confidence);
+    depth::UpsampleJointBilateral(
+        inverse_depth, selection.confidence, ref.bgr, view.image, &full_inverse, &result.confidence);
   }
   result.depth_m.create(full_inverse.size(), CV_32F);
   for (int y = 0; y < full_inverse.rows; ++y) {
@@ -102,8 +106,9 @@ DepthMap SweepReference(const std::vector<View>& views, const std::vector<Workin
 
 }  // namespace
 
-StatusOr<std::vector<DepthMap>> ComputePlaneSweepDepth(const std::vector<View>& views, const PlaneSweepOptions& options,
-                                             const PlaneSweepProgressCallback& progress) {
+StatusOr<std::vector<DepthMap>> ComputePlaneSweepDepth(const std::vector<View>& views,
+                                                       const PlaneSweepOptions& options,
+                                                       const PlaneSweepProgressCallback& progress) {
   const auto start = std::chrono::steady_clock::now();
   PX_RETURN_IF_ERROR(CheckInputs(views, options));
   const ScopedNumThreads threads(options.num_threads);
@@ -125,20 +130,28 @@ StatusOr<std::vector<DepthMap>> ComputePlaneSweepDepth(const std::vector<View>& 
   if (progress) progress(1.0);
   const double ms = MsSince(start);
   Logger("depth")->info("{} depth maps ({} planes, {} neighbours, scale {}) in {:.0f} ms, mean confidence {:.2f}",
-                        maps.size(), options.num_planes, options.num_neighbors, options.working_scale, ms,
+                        maps.size(),
+                        options.num_planes,
+                        options.num_neighbors,
+                        options.working_scale,
+                        ms,
                         mean_confidence);
   // Below this most of the image is textureless, out of the depth range or badly calibrated.
   constexpr double kLowMeanConfidence = 0.2;
   if (mean_confidence < kLowMeanConfidence) {
-    Logger("depth")->warn("mean depth confidence {:.2f} is low: little texture, depth outside [{}, {}] m, or a "
-                          "calibration that does not match the views",
-                          mean_confidence, options.min_depth_m, options.max_depth_m);
+    Logger("depth")->warn(
+        "mean depth confidence {:.2f} is low: little texture, depth outside [{}, {}] m, or a "
+        "calibration that does not match the views",
+        mean_confidence,
+        options.min_depth_m,
+        options.max_depth_m);
   }
   return maps;
 }
 
-StatusOr<DepthMap> ComputePlaneSweepDepthForView(const std::vector<View>& views, int reference_index,
-                                       const PlaneSweepOptions& options) {
+StatusOr<DepthMap> ComputePlaneSweepDepthForView(const std::vector<View>& views,
+                                                 int reference_index,
+                                                 const PlaneSweepOptions& options) {
   PX_RETURN_IF_ERROR(CheckInputs(views, options));
   if (reference_index < 0 || reference_index >= static_cast<int>(views.size())) {
     return OutOfRangeError("reference view index " + std::to_string(reference_index) + " is outside [0, " +

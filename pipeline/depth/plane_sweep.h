@@ -28,11 +28,13 @@ using PlaneSweepProgressCallback = std::function<bool(double fraction)>;
 // available). Views must be undistorted pinhole views (calib's MakeViews) with CV_8UC3 images of
 // their camera's size, at least two of them at distinct centres. options must have a depth range
 // (see PlaneSweepOptions::WithDefaultDepthRange). Errors name the view or field at fault.
-StatusOr<std::vector<DepthMap>> ComputePlaneSweepDepth(const std::vector<View>& views, const PlaneSweepOptions& options,
-                                             const PlaneSweepProgressCallback& progress = {});
+StatusOr<std::vector<DepthMap>> ComputePlaneSweepDepth(const std::vector<View>& views,
+                                                       const PlaneSweepOptions& options,
+                                                       const PlaneSweepProgressCallback& progress = {});
 
 // The depth map of views[reference_index] alone (the others serve as neighbours).
-StatusOr<DepthMap> ComputePlaneSweepDepthForView(const std::vector<View>& views, int reference_index,
-                                       const PlaneSweepOptions& options);
+StatusOr<DepthMap> ComputePlaneSweepDepthForView(const std::vector<View>& views,
+                                                 int reference_index,
+                                                 const PlaneSweepOptions& options);
 
 }  // namespace px

@@ -3,17 +3,16 @@
 // depths 0.5-8 m, all 9 depth maps per iteration; and of the segment stereo on a 9x9 light field
 // of 512x512 views (the HCI benchmark's shape), centre view only. Peak RSS is printed.
 // Run: ./bench/plane_sweep_benchmark.
+#include <benchmark/benchmark.h>
 #include <sys/resource.h>
 
 #include <ctime>
+#include <opencv2/core.hpp>
 #include <vector>
 
-#include <benchmark/benchmark.h>
-#include <opencv2/core.hpp>
-
 #include "pipeline/core/log.h"
-#include "pipeline/depth/plane_scene_test_util.h"
 #include "pipeline/depth/depth_stage.h"
+#include "pipeline/depth/plane_scene_test_util.h"
 #include "pipeline/depth/plane_sweep.h"
 
 namespace px {
@@ -103,7 +102,12 @@ void BM_LayeredDepthPop9(benchmark::State& state) {
   state.SetLabel("segment stereo, 9 views 640x480, layered output");
 }
 // Args: threads, working scale in percent.
-BENCHMARK(BM_LayeredDepthPop9)->Args({2, 50})->Args({2, 100})->Unit(benchmark::kMillisecond)->UseRealTime()->MinTime(2.0);
+BENCHMARK(BM_LayeredDepthPop9)
+    ->Args({2, 50})
+    ->Args({2, 100})
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime()
+    ->MinTime(2.0);
 
 void BM_LayeredDepthLightField9x9(benchmark::State& state) {
   (void)SetLogLevels("depth=warn");

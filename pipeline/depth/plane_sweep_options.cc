@@ -20,7 +20,8 @@ Status PlaneSweepOptions::Validate() const {
   if (!(max_depth_m >= 0) || !std::isfinite(max_depth_m)) return OutOfRange("max_depth_m", max_depth_m, "[0, inf)");
   if (min_depth_m > 0 && max_depth_m > 0 && !(max_depth_m > min_depth_m)) {
     std::ostringstream error;
-    error << "plane sweep options: max_depth_m = " << max_depth_m << " is not greater than min_depth_m = " << min_depth_m;
+    error << "plane sweep options: max_depth_m = " << max_depth_m
+          << " is not greater than min_depth_m = " << min_depth_m;
     return InvalidArgumentError(error.str());
   }
   if (num_planes < 2 || num_planes > 1024) return OutOfRange("num_planes", num_planes, "[2, 1024]");
@@ -30,7 +31,8 @@ Status PlaneSweepOptions::Validate() const {
   if (cost_filter_radius_px < 0 || cost_filter_radius_px > 15) {
     return OutOfRange("cost_filter_radius_px", cost_filter_radius_px, "[0, 15]");
   }
-  if (!(cost_filter_eps >= 1e-6 && cost_filter_eps <= 1)) return OutOfRange("cost_filter_eps", cost_filter_eps, "[1e-6, 1]");
+  if (!(cost_filter_eps >= 1e-6 && cost_filter_eps <= 1))
+    return OutOfRange("cost_filter_eps", cost_filter_eps, "[1e-6, 1]");
   if (!(min_texture_stddev >= 0 && min_texture_stddev <= 0.5)) {
     return OutOfRange("min_texture_stddev", min_texture_stddev, "[0, 0.5]");
   }

@@ -1,17 +1,17 @@
 #include "pipeline/depth/plane_sweep.h"
 
+#include <gtest/gtest.h>
+
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
-#include <string>
-#include <vector>
-
-#include <gtest/gtest.h>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
+#include <string>
+#include <vector>
 
 #include "pipeline/depth/neighbour_views.h"
 #include "pipeline/depth/plane_homography.h"
@@ -169,8 +169,8 @@ TEST(PlaneSweepTest, FrontoParallelPlaneAtKnownDepth) {
     ExpectWellFormed(map, views[i], options);
     const cv::Mat all(map.depth_m.size(), CV_8U, cv::Scalar(255));
     const double error = MedianRelativeError(map.depth_m, truth[i], all);
-    std::printf("plane: view %d median relative error %.4f, mean confidence %.3f\n", i, error,
-                cv::mean(map.confidence)[0]);
+    std::printf(
+        "plane: view %d median relative error %.4f, mean confidence %.3f\n", i, error, cv::mean(map.confidence)[0]);
     // At 1.6 m the disparity between adjacent lenses is 8.75 px at full resolution; a 2 % depth
     // error is 0.18 px, several times what sub-plane refinement achieves on clean texture.
     EXPECT_LT(error, 0.02) << "view " << i;
@@ -246,7 +246,7 @@ TEST(PlaneSweepTest, TwoPlaneSceneAwayFromEdgesAndConfidenceOnTexture) {
     ExpectWellFormed(map, scene.views[i], options);
     // Pixels more than 12 px (about two matching windows at half resolution) from a depth edge
     // and from the flat patch, which has no texture to match.
-    cv::Mat foreground = scene.truth[i] < 2.0f, background = scene.truth[i] > 2.0f;
+    cv::Mat foreground = scene.truth[i]<2.0f, background = scene.truth[i]> 2.0f;
     const cv::Mat kernel = cv::getStructuringElement(cv::MORPH_RECT, cv::Size(25, 25));
     cv::erode(foreground, foreground, kernel);
     cv::erode(background, background, kernel);
@@ -257,7 +257,9 @@ TEST(PlaneSweepTest, TwoPlaneSceneAwayFromEdgesAndConfidenceOnTexture) {
     }
     const double foreground_error = MedianRelativeError(map.depth_m, scene.truth[i], foreground);
     const double background_error = MedianRelativeError(map.depth_m, scene.truth[i], background);
-    std::printf("two planes: view %d median relative error foreground %.4f, background %.4f\n", i, foreground_error,
+    std::printf("two planes: view %d median relative error foreground %.4f, background %.4f\n",
+                i,
+                foreground_error,
                 background_error);
     // 3 %: at 3 m the adjacent-lens disparity is only 4.7 px (2.3 px at the working scale), so
     // 3 % is about 0.07 px at the working scale: tight but above the refinement's bias.
@@ -367,7 +369,8 @@ TEST(PlaneSweepOptionsTest, ValidateNamesTheBadField) {
     mutate(options);
     return options.Validate().message();
   };
-  EXPECT_EQ(message([](PlaneSweepOptions& o) { o.num_planes = 1; }), "plane sweep options: num_planes = 1 is outside [2, 1024]");
+  EXPECT_EQ(message([](PlaneSweepOptions& o) { o.num_planes = 1; }),
+            "plane sweep options: num_planes = 1 is outside [2, 1024]");
   EXPECT_NE(message([](PlaneSweepOptions& o) { o.min_depth_m = -1; }).find("min_depth_m"), std::string::npos);
   EXPECT_NE(message([](PlaneSweepOptions& o) {
               o.min_depth_m = 2;
@@ -488,9 +491,13 @@ TEST(PlaneSweepHciTest, AntinousCentreViewBadPix007) {
   double mse_tuned = 0;
   const double bad_tuned = BadPix007(map->depth_m, truth, &mse_tuned);
 
-  std::printf("HCI antinous centre view: BadPix0.07 = %.1f %% (MSE x100 %.2f) with default options, "
-              "%.1f %% (MSE x100 %.2f) at full resolution with 8 neighbours\n",
-              bad_default, mse_default, bad_tuned, mse_tuned);
+  std::printf(
+      "HCI antinous centre view: BadPix0.07 = %.1f %% (MSE x100 %.2f) with default options, "
+      "%.1f %% (MSE x100 %.2f) at full resolution with 8 neighbours\n",
+      bad_default,
+      mse_default,
+      bad_tuned,
+      mse_tuned);
   RecordProperty("badpix007_default_percent", std::to_string(bad_default));
   RecordProperty("badpix007_full_resolution_percent", std::to_string(bad_tuned));
   // A naive plane sweep scores about 40 % here; the bounds only catch a broken sweep (the

@@ -1,11 +1,10 @@
 #include "pipeline/depth/plane_warp.h"
 
+#include <Eigen/LU>
 #include <algorithm>
 #include <cmath>
-#include <vector>
-
-#include <Eigen/LU>
 #include <opencv2/imgproc.hpp>
+#include <vector>
 
 #include "pipeline/core/check.h"
 
@@ -29,8 +28,8 @@ namespace {
 // Keys cubic convolution weights (a = -0.5) for taps at -1, 0, 1, 2 around a fraction t.
 void CubicWeights(float t, float w[4]) {
   constexpr float a = -0.5f;
-  const auto near = [](float x) { return ((a + 2) * x - (a + 3)) * x * x + 1; };           // |x| <= 1
-  const auto far = [](float x) { return ((a * x - 5 * a) * x + 8 * a) * x - 4 * a; };       // 1 < |x| < 2
+  const auto near = [](float x) { return ((a + 2) * x - (a + 3)) * x * x + 1; };       // |x| <= 1
+  const auto far = [](float x) { return ((a * x - 5 * a) * x + 8 * a) * x - 4 * a; };  // 1 < |x| < 2
   w[0] = far(1 + t);
   w[1] = near(t);
   w[2] = near(1 - t);
@@ -43,8 +42,13 @@ void Blend4(const float* __restrict in, int count, const float w[4], float* __re
   for (int x = 0; x < count; ++x) out[x] = w0 * in[x] + w1 * in[x + 1] + w2 * in[x + 2] + w3 * in[x + 3];
 }
 
-void BlendRows(const float* __restrict r0, const float* __restrict r1, const float* __restrict r2,
-               const float* __restrict r3, int cols, const float w[4], float* __restrict out) {
+void BlendRows(const float* __restrict r0,
+               const float* __restrict r1,
+               const float* __restrict r2,
+               const float* __restrict r3,
+               int cols,
+               const float w[4],
+               float* __restrict out) {
   const float w0 = w[0], w1 = w[1], w2 = w[2], w3 = w[3];
   for (int x = 0; x < cols; ++x) out[x] = w0 * r0[x] + w1 * r1[x] + w2 * r2[x] + w3 * r3[x];
 }
@@ -108,8 +112,8 @@ void ValidSampleMask(const Eigen::Matrix3d& h, cv::Size src_size, int radius_px,
     }
     // Clamp far outside points so the fixed-point coordinates cannot overflow.
     const double px = std::clamp(p.x() / p.z(), -1e5, 1e5), py = std::clamp(p.y() / p.z(), -1e5, 1e5);
-    polygon[i] = cv::Point(static_cast<int>(std::lround(px * (1 << kShift))),
-                           static_cast<int>(std::lround(py * (1 << kShift))));
+    polygon[i] =
+        cv::Point(static_cast<int>(std::lround(px * (1 << kShift))), static_cast<int>(std::lround(py * (1 << kShift))));
   }
   if (in_front) {
     // The image of a rectangle under a homography that keeps it in front is a convex quadrilateral.

@@ -85,8 +85,10 @@ double GreyVariance(const cv::Mat& gray, const std::vector<cv::Point>& pixels) {
   return sum_sq / count - mean * mean;
 }
 
-double BestHalfZnccCost(const cv::Mat& ref_gray, const std::vector<GrayNeighbour>& neighbours,
-                        const std::vector<cv::Point>& pixels, const InversePlane& plane) {
+double BestHalfZnccCost(const cv::Mat& ref_gray,
+                        const std::vector<GrayNeighbour>& neighbours,
+                        const std::vector<cv::Point>& pixels,
+                        const InversePlane& plane) {
   PX_CHECK(neighbours.size() <= 16) << "at most 16 neighbours";
   const int count = static_cast<int>(pixels.size());
   float costs[16];

@@ -34,8 +34,10 @@ double GreyVariance(const cv::Mat& gray, const std::vector<cv::Point>& pixels);
 // values at `pixels` and each neighbour's where `plane` carries them; a neighbour that sees
 // fewer than half of them (or fewer than 4) does not count; kNoDataCost when none does.
 // At most 16 neighbours.
-double BestHalfZnccCost(const cv::Mat& ref_gray, const std::vector<GrayNeighbour>& neighbours,
-                        const std::vector<cv::Point>& pixels, const InversePlane& plane);
+double BestHalfZnccCost(const cv::Mat& ref_gray,
+                        const std::vector<GrayNeighbour>& neighbours,
+                        const std::vector<cv::Point>& pixels,
+                        const InversePlane& plane);
 
 class SegmentMatchCost {
  public:

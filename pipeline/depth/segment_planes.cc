@@ -1,10 +1,9 @@
 #include "pipeline/depth/segment_planes.h"
 
+#include <Eigen/Dense>
 #include <algorithm>
 #include <cmath>
 #include <numeric>
-
-#include <Eigen/Dense>
 
 #include "pipeline/core/check.h"
 
@@ -79,7 +78,9 @@ uint64_t NextRandom(uint64_t* state) {
   return *state * 0x2545F4914F6CDD1DULL;
 }
 
-SegmentPlane FitOne(const std::vector<Sample>& samples, int segment_size, const PlaneFitOptions& options,
+SegmentPlane FitOne(const std::vector<Sample>& samples,
+                    int segment_size,
+                    const PlaneFitOptions& options,
                     uint64_t seed) {
   SegmentPlane result;
   const int n = static_cast<int>(samples.size());
@@ -149,8 +150,11 @@ SegmentPlane FitOne(const std::vector<Sample>& samples, int segment_size, const 
 
 }  // namespace
 
-void ConfidentSamples(const std::vector<int>& pixels, const cv::Mat& inverse_depth, const cv::Mat& weight,
-                      float min_weight, std::vector<PlaneSample>* samples) {
+void ConfidentSamples(const std::vector<int>& pixels,
+                      const cv::Mat& inverse_depth,
+                      const cv::Mat& weight,
+                      float min_weight,
+                      std::vector<PlaneSample>* samples) {
   samples->clear();
   const int cols = weight.cols;
   for (int index : pixels) {
@@ -161,10 +165,12 @@ void ConfidentSamples(const std::vector<int>& pixels, const cv::Mat& inverse_dep
   }
 }
 
-std::vector<SegmentPlane> FitSegmentPlanes(const Superpixels& segments, const cv::Mat& inverse_depth,
-                                           const cv::Mat& weight, const PlaneFitOptions& options) {
-  PX_CHECK(inverse_depth.type() == CV_32F && weight.type() == CV_32F && inverse_depth.size() == segments.labels.size() &&
-           weight.size() == segments.labels.size());
+std::vector<SegmentPlane> FitSegmentPlanes(const Superpixels& segments,
+                                           const cv::Mat& inverse_depth,
+                                           const cv::Mat& weight,
+                                           const PlaneFitOptions& options) {
+  PX_CHECK(inverse_depth.type() == CV_32F && weight.type() == CV_32F &&
+           inverse_depth.size() == segments.labels.size() && weight.size() == segments.labels.size());
   PX_CHECK(options.inlier_tolerance > 0);
   const std::vector<std::vector<int>> pixels = SegmentPixels(segments);
   std::vector<SegmentPlane> planes(segments.count);
@@ -178,9 +184,12 @@ std::vector<SegmentPlane> FitSegmentPlanes(const Superpixels& segments, const cv
   return planes;
 }
 
-void AssignUnfittedSegments(const Superpixels& segments, const PlaneCost& cost,
-                            const std::vector<float>& occluded_fraction, const std::vector<float>& unseen_fraction,
-                            double cost_margin, std::vector<SegmentPlane>* planes) {
+void AssignUnfittedSegments(const Superpixels& segments,
+                            const PlaneCost& cost,
+                            const std::vector<float>& occluded_fraction,
+                            const std::vector<float>& unseen_fraction,
+                            double cost_margin,
+                            std::vector<SegmentPlane>* planes) {
   const int n = segments.count;
   // Segments that need a plane, most-supported neighbours first: repeat sweeps until no segment
   // changes, each sweep taking segments with at least one settled neighbour.
@@ -208,7 +217,8 @@ void AssignUnfittedSegments(const Superpixels& segments, const PlaneCost& cost,
       (void)support;
       const cv::Point2f centre = segments.centroids[s];
       std::vector<std::pair<double, InversePlane>> candidates;  // (cost, plane)
-      if ((*planes)[s].source == PlaneSource::kFronto) candidates.emplace_back(cost(s, (*planes)[s].plane), (*planes)[s].plane);
+      if ((*planes)[s].source == PlaneSource::kFronto)
+        candidates.emplace_back(cost(s, (*planes)[s].plane), (*planes)[s].plane);
       for (int t : segments.adjacent[s]) {
         if (settled[t]) candidates.emplace_back(cost(s, (*planes)[t].plane), (*planes)[t].plane);
       }

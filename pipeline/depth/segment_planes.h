@@ -7,9 +7,8 @@
 
 #include <cstdint>
 #include <functional>
-#include <vector>
-
 #include <opencv2/core.hpp>
+#include <vector>
 
 #include "pipeline/depth/superpixels.h"
 
@@ -41,23 +40,28 @@ struct PlaneSample {
 
 // The pixels of one segment (`pixels`: indices y * cols + x) whose `weight` (CV_32F) reaches
 // `min_weight`, with their `inverse_depth` (CV_32F), in the pixels' order.
-void ConfidentSamples(const std::vector<int>& pixels, const cv::Mat& inverse_depth, const cv::Mat& weight,
-                      float min_weight, std::vector<PlaneSample>* samples);
+void ConfidentSamples(const std::vector<int>& pixels,
+                      const cv::Mat& inverse_depth,
+                      const cv::Mat& weight,
+                      float min_weight,
+                      std::vector<PlaneSample>* samples);
 
 struct PlaneFitOptions {
-  float min_weight = 0.2f;          // pixels with weight below this are not used
-  double inlier_tolerance = 0;      // |u - plane| for an inlier, inverse-depth units (> 0)
+  float min_weight = 0.2f;      // pixels with weight below this are not used
+  double inlier_tolerance = 0;  // |u - plane| for an inlier, inverse-depth units (> 0)
   int ransac_iterations = 40;
-  int min_pixels = 8;               // fewer usable pixels: the segment is not fitted
-  double min_support = 0.15;        // fewer inliers than this fraction of the segment: not fitted
+  int min_pixels = 8;         // fewer usable pixels: the segment is not fitted
+  double min_support = 0.15;  // fewer inliers than this fraction of the segment: not fitted
   uint64_t seed = 1;
 };
 
 // Fits every segment of `segments` to `inverse_depth` (CV_32F) using pixels whose `weight`
 // (CV_32F in [0, 1]: confidence, 0 for pixels that failed the consistency check) reaches
 // options.min_weight. Deterministic for a given seed.
-std::vector<SegmentPlane> FitSegmentPlanes(const Superpixels& segments, const cv::Mat& inverse_depth,
-                                           const cv::Mat& weight, const PlaneFitOptions& options);
+std::vector<SegmentPlane> FitSegmentPlanes(const Superpixels& segments,
+                                           const cv::Mat& inverse_depth,
+                                           const cv::Mat& weight,
+                                           const PlaneFitOptions& options);
 
 // Mean matching cost of `plane` over segment s (lower is better), from the cost volume.
 using PlaneCost = std::function<double(int segment, const InversePlane& plane)>;
@@ -71,8 +75,11 @@ using PlaneCost = std::function<double(int segment, const InversePlane& plane)>;
 // outside every other view (`unseen_fraction` > 0.5: the strip along a border that no neighbour
 // sees, where all costs are kNoDataCost) have no occluder to go behind: they continue the
 // adjacent surface closest to them in colour. Either vector may be empty (none).
-void AssignUnfittedSegments(const Superpixels& segments, const PlaneCost& cost,
-                            const std::vector<float>& occluded_fraction, const std::vector<float>& unseen_fraction,
-                            double cost_margin, std::vector<SegmentPlane>* planes);
+void AssignUnfittedSegments(const Superpixels& segments,
+                            const PlaneCost& cost,
+                            const std::vector<float>& occluded_fraction,
+                            const std::vector<float>& unseen_fraction,
+                            double cost_margin,
+                            std::vector<SegmentPlane>* planes);
 
 }  // namespace px::depth

@@ -13,8 +13,8 @@ constexpr float kHuge = std::numeric_limits<float>::max();
 
 // The per-plane loops are separate functions so that __restrict holds and they vectorise.
 
-void UpdateBest(const float* __restrict cost, int cols, float plane, float* __restrict best,
-                float* __restrict best_plane) {
+void UpdateBest(
+    const float* __restrict cost, int cols, float plane, float* __restrict best, float* __restrict best_plane) {
   for (int x = 0; x < cols; ++x) {
     const float c = cost[x], b = best[x], bp = best_plane[x];
     best[x] = std::min(c, b);
@@ -25,8 +25,13 @@ void UpdateBest(const float* __restrict cost, int cols, float plane, float* __re
 // For plane p: tracks the curve's maximum, the lowest local minimum not adjacent to the
 // winner, and the costs just left and right of the winner (for the parabola). Plane positions
 // are whole numbers here, so "adjacent" tests use a 0.25 margin.
-void ScanPlaneExtremes(const float* __restrict previous, const float* __restrict cost, const float* __restrict next,
-                       const float* __restrict best_plane, int cols, float plane, float* __restrict highest,
+void ScanPlaneExtremes(const float* __restrict previous,
+                       const float* __restrict cost,
+                       const float* __restrict next,
+                       const float* __restrict best_plane,
+                       int cols,
+                       float plane,
+                       float* __restrict highest,
                        float* __restrict second) {
   for (int x = 0; x < cols; ++x) {
     const float c = cost[x], s = second[x], distance = plane - best_plane[x];
@@ -38,8 +43,13 @@ void ScanPlaneExtremes(const float* __restrict previous, const float* __restrict
 }
 
 // Records this plane's cost where it lies 1 or 2 planes before or after the winner.
-void ScanPlaneNeighbours(const float* __restrict cost, const float* __restrict best_plane, int cols, float plane,
-                         float* __restrict before2, float* __restrict before1, float* __restrict after1,
+void ScanPlaneNeighbours(const float* __restrict cost,
+                         const float* __restrict best_plane,
+                         int cols,
+                         float plane,
+                         float* __restrict before2,
+                         float* __restrict before1,
+                         float* __restrict after1,
                          float* __restrict after2) {
   for (int x = 0; x < cols; ++x) {
     const float c = cost[x], offset = plane - best_plane[x];
@@ -51,10 +61,18 @@ void ScanPlaneNeighbours(const float* __restrict cost, const float* __restrict b
   }
 }
 
-void Finish(const float* __restrict best, const float* __restrict best_plane, const float* __restrict highest,
-            const float* __restrict second, const float* __restrict before2, const float* __restrict before1,
-            const float* __restrict after1, const float* __restrict after2, int cols, bool wide_fit,
-            float* __restrict plane_out, float* __restrict confidence_out) {
+void Finish(const float* __restrict best,
+            const float* __restrict best_plane,
+            const float* __restrict highest,
+            const float* __restrict second,
+            const float* __restrict before2,
+            const float* __restrict before1,
+            const float* __restrict after1,
+            const float* __restrict after2,
+            int cols,
+            bool wide_fit,
+            float* __restrict plane_out,
+            float* __restrict confidence_out) {
   for (int x = 0; x < cols; ++x) {
     const float c0 = best[x], b2 = before2[x], b1 = before1[x], a1 = after1[x], a2 = after2[x], s = second[x];
     // Neighbours stay kHuge beyond the ends of the range and are kNoDataCost where unsampled.
@@ -100,7 +118,8 @@ PlaneSelection SelectPlanes(const std::vector<cv::Mat>& cost_volume, int fit_hal
     for (int y = rows.start; y < rows.end; ++y) {
       std::fill_n(best, cols, kHuge);
       std::fill_n(best_plane, cols, 0.0f);
-      for (int p = 0; p < num_planes; ++p) UpdateBest(cost_volume[p].ptr<float>(y), cols, static_cast<float>(p), best, best_plane);
+      for (int p = 0; p < num_planes; ++p)
+        UpdateBest(cost_volume[p].ptr<float>(y), cols, static_cast<float>(p), best, best_plane);
       std::fill_n(highest, cols, 0.0f);
       std::fill_n(second, cols, kHuge);
       std::fill_n(before2, 4 * cols, kHuge);
@@ -112,8 +131,18 @@ PlaneSelection SelectPlanes(const std::vector<cv::Mat>& cost_volume, int fit_hal
         ScanPlaneExtremes(previous, cost, next, best_plane, cols, static_cast<float>(p), highest, second);
         ScanPlaneNeighbours(cost, best_plane, cols, static_cast<float>(p), before2, before1, after1, after2);
       }
-      Finish(best, best_plane, highest, second, before2, before1, after1, after2, cols, wide_fit,
-             selection.plane.ptr<float>(y), selection.confidence.ptr<float>(y));
+      Finish(best,
+             best_plane,
+             highest,
+             second,
+             before2,
+             before1,
+             after1,
+             after2,
+             cols,
+             wide_fit,
+             selection.plane.ptr<float>(y),
+             selection.confidence.ptr<float>(y));
     }
   });
   return selection;

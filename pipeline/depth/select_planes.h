@@ -2,9 +2,8 @@
 // confidence read off the shape of each pixel's cost curve.
 #pragma once
 
-#include <vector>
-
 #include <opencv2/core.hpp>
+#include <vector>
 
 namespace px::depth {
 

@@ -12,8 +12,13 @@ namespace {
 
 // One path step: out[d] = cost[d] + min(prev[d], prev[d -+ 1] + p1, min(prev) + p2) - min(prev);
 // returns min(out). prev and out hold num_planes values.
-float PathStep(const float* __restrict cost, const float* __restrict prev, int num_planes, float p1, float p2,
-               float prev_min, float* __restrict out) {
+float PathStep(const float* __restrict cost,
+               const float* __restrict prev,
+               int num_planes,
+               float p1,
+               float p2,
+               float prev_min,
+               float* __restrict out) {
   const float jump = prev_min + p2;
   float out_min = std::numeric_limits<float>::max();
   for (int d = 0; d < num_planes; ++d) {
@@ -59,8 +64,12 @@ void AddRow(const std::vector<float>& row_sum, int y, float scale, Aggregate* ag
 // One sweep over the rows in direction `dy` (+1: top to bottom with paths from the left, top,
 // and (8 paths) top-left and top-right; -1: the mirror image). Only the previous row's path
 // costs are kept; each finished row's sum of paths, times `scale`, goes into the aggregate.
-void Sweep(const std::vector<cv::Mat>& slices, const cv::Mat& gray, const SemiGlobalOptions& options, int dy,
-           float scale, Aggregate* aggregate) {
+void Sweep(const std::vector<cv::Mat>& slices,
+           const cv::Mat& gray,
+           const SemiGlobalOptions& options,
+           int dy,
+           float scale,
+           Aggregate* aggregate) {
   const int rows = gray.rows, cols = gray.cols, planes = static_cast<int>(slices.size());
   const size_t row_size = static_cast<size_t>(cols) * planes;
   const bool diagonals = options.num_paths == 8;
@@ -91,8 +100,13 @@ void Sweep(const std::vector<cv::Mat>& slices, const cv::Mat& gray, const SemiGl
         std::copy_n(c, planes, along.data());
         along_min = MinOf(along.data(), planes);
       } else {
-        along_min = PathStep(c, along.data(), planes, options.step_penalty, JumpPenalty(options, g[x], g[x - dx]),
-                             along_min, along_next.data());
+        along_min = PathStep(c,
+                             along.data(),
+                             planes,
+                             options.step_penalty,
+                             JumpPenalty(options, g[x], g[x - dx]),
+                             along_min,
+                             along_next.data());
         std::swap(along, along_next);
       }
       AddTo(along.data(), planes, s + static_cast<size_t>(x) * planes);
@@ -108,9 +122,13 @@ void Sweep(const std::vector<cv::Mat>& slices, const cv::Mat& gray, const SemiGl
           std::copy_n(c, planes, out);
           current_min[k][x] = MinOf(out, planes);
         } else {
-          current_min[k][x] =
-              PathStep(c, previous[k].data() + static_cast<size_t>(from) * planes, planes, options.step_penalty,
-                       JumpPenalty(options, g[x], prev_gray[from]), previous_min[k][from], out);
+          current_min[k][x] = PathStep(c,
+                                       previous[k].data() + static_cast<size_t>(from) * planes,
+                                       planes,
+                                       options.step_penalty,
+                                       JumpPenalty(options, g[x], prev_gray[from]),
+                                       previous_min[k][from],
+                                       out);
         }
         AddTo(out, planes, s + static_cast<size_t>(x) * planes);
       }
@@ -124,7 +142,8 @@ void Sweep(const std::vector<cv::Mat>& slices, const cv::Mat& gray, const SemiGl
 
 }  // namespace
 
-std::vector<cv::Mat> AggregateSemiGlobal(const cv::Mat& gray, const SemiGlobalOptions& options,
+std::vector<cv::Mat> AggregateSemiGlobal(const cv::Mat& gray,
+                                         const SemiGlobalOptions& options,
                                          const std::vector<cv::Mat>& slices) {
   PX_CHECK(gray.type() == CV_32FC1 && slices.size() >= 2) << "grey reference and at least two planes";
   PX_CHECK(options.num_paths == 4 || options.num_paths == 8) << "4 or 8 paths, got " << options.num_paths;

@@ -6,16 +6,15 @@
 // costs alone leave ambiguous.
 #pragma once
 
-#include <vector>
-
 #include <opencv2/core.hpp>
+#include <vector>
 
 namespace px::depth {
 
 struct SemiGlobalOptions {
-  int num_paths = 4;             // 4 (rows and columns) or 8 (and diagonals)
-  float step_penalty = 0.01f;    // P1: one plane of change to the next pixel, cost units
-  float jump_penalty = 0.12f;    // P2: more than one plane, cost units (>= step_penalty)
+  int num_paths = 4;           // 4 (rows and columns) or 8 (and diagonals)
+  float step_penalty = 0.01f;  // P1: one plane of change to the next pixel, cost units
+  float jump_penalty = 0.12f;  // P2: more than one plane, cost units (>= step_penalty)
   // Across a grey step of at least this ([0, 1] units) the jump penalty drops to a third.
   float edge_gray = 0.04f;
 };
@@ -24,7 +23,8 @@ struct SemiGlobalOptions {
 // least 2), divided by the number of paths so costs keep their scale; `slices` is left as it is.
 // `gray` is the reference image (CV_32F in [0, 1]). Uses two threads (the forward and backward
 // sweeps); memory is the returned volume plus a few rows of path costs per thread.
-std::vector<cv::Mat> AggregateSemiGlobal(const cv::Mat& gray, const SemiGlobalOptions& options,
+std::vector<cv::Mat> AggregateSemiGlobal(const cv::Mat& gray,
+                                         const SemiGlobalOptions& options,
                                          const std::vector<cv::Mat>& slices);
 
 }  // namespace px::depth

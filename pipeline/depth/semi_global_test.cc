@@ -1,12 +1,13 @@
 // Semi-global aggregation and the sub-plane refinement against the raw costs.
+#include "pipeline/depth/semi_global.h"
+
+#include <gtest/gtest.h>
+
 #include <algorithm>
 #include <cmath>
 #include <vector>
 
-#include <gtest/gtest.h>
-
 #include "pipeline/depth/select_planes.h"
-#include "pipeline/depth/semi_global.h"
 #include "pipeline/depth/sub_plane.h"
 
 namespace px::depth {
@@ -26,9 +27,7 @@ std::vector<cv::Mat> AmbiguousVolume() {
   return slices;
 }
 
-int CountAtTrue(const PlaneSelection& selection) {
-  return cv::countNonZero(cv::abs(selection.plane - kTrue) < 0.5);
-}
+int CountAtTrue(const PlaneSelection& selection) { return cv::countNonZero(cv::abs(selection.plane - kTrue) < 0.5); }
 
 TEST(SemiGlobalTest, CarriesTexturedEvidenceAcrossAmbiguousPixels) {
   const cv::Mat gray(24, 24, CV_32F, cv::Scalar(0.5));  // no grey edges
@@ -60,7 +59,8 @@ TEST(SemiGlobalTest, ZeroPenaltiesLeaveCostsUnchanged) {
 
 // Hirschmueller's recursion written plainly, one path direction (dx, dy) at a time, in double:
 // L(p, d) = C(p, d) + min(L(q, d), L(q, d -+ 1) + P1, min L(q) + P2) - min L(q), q = p - (dx, dy).
-std::vector<cv::Mat> ReferenceAggregate(const cv::Mat& gray, const SemiGlobalOptions& options,
+std::vector<cv::Mat> ReferenceAggregate(const cv::Mat& gray,
+                                        const SemiGlobalOptions& options,
                                         const std::vector<cv::Mat>& slices) {
   const int rows = gray.rows, cols = gray.cols, planes = static_cast<int>(slices.size());
   std::vector<cv::Mat> sum(planes);

@@ -6,9 +6,8 @@
 // as SelectPlanes) a least-squares parabola through it and two neighbours on each side.
 #pragma once
 
-#include <vector>
-
 #include <opencv2/core.hpp>
+#include <vector>
 
 namespace px::depth {
 

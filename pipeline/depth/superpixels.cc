@@ -1,7 +1,6 @@
 #include "pipeline/depth/superpixels.h"
 
 #include <algorithm>
-
 #include <opencv2/imgproc.hpp>
 #include <opencv2/ximgproc/slic.hpp>
 
@@ -118,8 +117,8 @@ cv::Mat UpsampleLabels(const Superpixels& superpixels, const cv::Mat& bgr, doubl
       for (int x = 0; x < bgr.cols; ++x) {
         const double xs = std::clamp((x + 0.5) * factor - 0.5, 0.0, small.cols - 1.0);
         const int x0 = static_cast<int>(xs), x1 = std::min(x0 + 1, small.cols - 1);
-        const int candidates[4] = {small.at<int>(y0, x0), small.at<int>(y0, x1), small.at<int>(y1, x0),
-                                   small.at<int>(y1, x1)};
+        const int candidates[4] = {
+            small.at<int>(y0, x0), small.at<int>(y0, x1), small.at<int>(y1, x0), small.at<int>(y1, x1)};
         // The nearest working pixel's label unless another candidate's colour fits better.
         int best = small.at<int>(std::lround(ys), std::lround(xs));
         float best_distance = 1e30f;

@@ -3,20 +3,19 @@
 // which segments touch it.
 #pragma once
 
-#include <vector>
-
 #include <opencv2/core.hpp>
+#include <vector>
 
 namespace px::depth {
 
 struct Superpixels {
   cv::Mat labels;  // CV_32S, 0 .. count - 1, each label one 4-connected region
   int count = 0;
-  std::vector<int> sizes;                   // pixels per segment
-  std::vector<cv::Rect> bboxes;             // per segment
-  std::vector<cv::Point2f> centroids;       // mean pixel position per segment
-  std::vector<cv::Vec3f> mean_lab;          // CIE Lab (OpenCV 8-bit scale) per segment
-  std::vector<std::vector<int>> adjacent;   // 4-connected neighbours per segment, ascending
+  std::vector<int> sizes;                  // pixels per segment
+  std::vector<cv::Rect> bboxes;            // per segment
+  std::vector<cv::Point2f> centroids;      // mean pixel position per segment
+  std::vector<cv::Vec3f> mean_lab;         // CIE Lab (OpenCV 8-bit scale) per segment
+  std::vector<std::vector<int>> adjacent;  // 4-connected neighbours per segment, ascending
 };
 
 // SLIC on the Lab image of `bgr` (CV_8UC3, lightly blurred first, as OpenCV recommends) with

@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
-
 #include <opencv2/imgproc.hpp>
 
 #include "pipeline/core/check.h"
@@ -16,8 +15,10 @@ constexpr int32_t kNone = SegmentLayer::kNoSegment;
 // Replaces planes that reach too small (or negative) inverse depth anywhere in `box` by a
 // fronto-parallel plane at their value at `centre`.
 void KeepPositive(const cv::Rect& box, const cv::Point2d& centre, double min_inverse, InversePlane* plane) {
-  const double corners[4] = {plane->At(box.x, box.y), plane->At(box.br().x - 1, box.y),
-                             plane->At(box.x, box.br().y - 1), plane->At(box.br().x - 1, box.br().y - 1)};
+  const double corners[4] = {plane->At(box.x, box.y),
+                             plane->At(box.br().x - 1, box.y),
+                             plane->At(box.x, box.br().y - 1),
+                             plane->At(box.br().x - 1, box.br().y - 1)};
   if (*std::min_element(corners, corners + 4) >= min_inverse) return;
   InversePlane fronto;
   fronto.c = std::max(plane->At(centre.x, centre.y), min_inverse);
@@ -55,7 +56,10 @@ cv::Mat FindDepthEdges(const cv::Mat& labels, const std::vector<InversePlane>& p
 
 // Fills each layer's colour at the band pixels from the nearest pixels that show that segment
 // alone, growing inwards one pixel per pass.
-void CarryColours(const cv::Mat& bgr, const cv::Mat& labels, const cv::Mat& in_band, int passes,
+void CarryColours(const cv::Mat& bgr,
+                  const cv::Mat& labels,
+                  const cv::Mat& in_band,
+                  int passes,
                   std::array<SegmentLayer, 2>* layers) {
   std::vector<cv::Point> band;
   cv::findNonZero(in_band, band);
@@ -126,8 +130,8 @@ constexpr float kMatteMinContrast = 24.0f;
 // background to foreground, blended towards `prior` where the two are too alike to tell apart, and
 // kept within `max_change` of `prior` and within [0, 1] (a textured surface can look like the
 // other side; the prior says which side of the edge the pixel is on).
-float MatteAlpha(const cv::Vec3f& colour, const cv::Vec3f& foreground, const cv::Vec3f& background, float prior,
-                 float max_change) {
+float MatteAlpha(
+    const cv::Vec3f& colour, const cv::Vec3f& foreground, const cv::Vec3f& background, float prior, float max_change) {
   const cv::Vec3f span = foreground - background;
   const float contrast_sq = span.dot(span);
   const float trust = std::min(1.0f, contrast_sq / (kMatteMinContrast * kMatteMinContrast));
@@ -141,15 +145,20 @@ float MatteAlpha(const cv::Vec3f& colour, const cv::Vec3f& foreground, const cv:
 // tell: the real silhouette is about a pixel wide, the ramp 2 * band + 1 (a fixed ramp mixes
 // background into the foreground's edge pixels in every novel view), and a segment border that
 // misses the silhouette by a pixel is followed. Depth follows the dominant layer.
-void MatteBand(const cv::Mat& bgr, const cv::Mat& in_band, const std::vector<InversePlane>& planes,
+void MatteBand(const cv::Mat& bgr,
+               const cv::Mat& in_band,
+               const std::vector<InversePlane>& planes,
                LayeredDepthView* view) {
   constexpr float kMaxChange = 0.5f;
   std::vector<cv::Point> band;
   cv::findNonZero(in_band, band);
   for (const cv::Point& p : band) {
     float& alpha = view->layers[0].weight.at<float>(p);
-    alpha = MatteAlpha(cv::Vec3f(bgr.at<cv::Vec3b>(p)), cv::Vec3f(view->layers[0].colour.at<cv::Vec3b>(p)),
-                       cv::Vec3f(view->layers[1].colour.at<cv::Vec3b>(p)), alpha, kMaxChange);
+    alpha = MatteAlpha(cv::Vec3f(bgr.at<cv::Vec3b>(p)),
+                       cv::Vec3f(view->layers[0].colour.at<cv::Vec3b>(p)),
+                       cv::Vec3f(view->layers[1].colour.at<cv::Vec3b>(p)),
+                       alpha,
+                       kMaxChange);
     view->layers[1].weight.at<float>(p) = 1 - alpha;
     const int32_t dominant = view->layers[alpha >= 0.5f ? 0 : 1].segment.at<int32_t>(p);
     view->depth_m.at<float>(p) = static_cast<float>(1.0 / planes[dominant].At(p.x, p.y));
@@ -158,8 +167,11 @@ void MatteBand(const cv::Mat& bgr, const cv::Mat& in_band, const std::vector<Inv
 
 }  // namespace
 
-LayeredDepthView BuildTwoLayerView(ViewId id, const CameraModel& camera, const cv::Mat& bgr,
-                                   const SegmentImage& segments, const cv::Mat& pixel_confidence,
+LayeredDepthView BuildTwoLayerView(ViewId id,
+                                   const CameraModel& camera,
+                                   const cv::Mat& bgr,
+                                   const SegmentImage& segments,
+                                   const cv::Mat& pixel_confidence,
                                    const TwoLayerOptions& options) {
   const cv::Size size(camera.width, camera.height);
   PX_CHECK(bgr.type() == CV_8UC3 && bgr.size() == size && segments.labels.type() == CV_32S &&
@@ -191,8 +203,8 @@ LayeredDepthView BuildTwoLayerView(ViewId id, const CameraModel& camera, const c
     const int r = options.band_radius_px + 1;  // a partner reaches one pixel past the band
     for (int s = 0; s < num_segments; ++s) {
       if (counts[s] == 0) continue;
-      const cv::Rect grown = cv::Rect(boxes[s].x - r, boxes[s].y - r, boxes[s].width + 2 * r,
-                                      boxes[s].height + 2 * r) & cv::Rect(0, 0, size.width, size.height);
+      const cv::Rect grown = cv::Rect(boxes[s].x - r, boxes[s].y - r, boxes[s].width + 2 * r, boxes[s].height + 2 * r) &
+                             cv::Rect(0, 0, size.width, size.height);
       KeepPositive(grown, sums[s] / counts[s], options.min_inverse_depth_m, &planes[s]);
     }
   }
@@ -233,8 +245,10 @@ LayeredDepthView BuildTwoLayerView(ViewId id, const CameraModel& camera, const c
         const cv::Point e = label < static_cast<int>(edge_of_label.size()) ? edge_of_label[label] : cv::Point(-1, -1);
         if (e.x >= 0) {
           const int32_t e_own = labels.at<int32_t>(e), e_across = across.at<int32_t>(e);
-          if (own == e_own) partner = e_across;
-          else if (own == e_across) partner = e_own;
+          if (own == e_own)
+            partner = e_across;
+          else if (own == e_across)
+            partner = e_own;
         }
       }
       const double u_own = planes[own].At(x, y);
@@ -283,14 +297,12 @@ LayeredDepthView BuildTwoLayerView(ViewId id, const CameraModel& camera, const c
     segment.inv_depth_a = planes[s].a;
     segment.inv_depth_b = planes[s].b;
     segment.inv_depth_c = planes[s].c;
-    segment.confidence = s < static_cast<int>(segments.confidence.size())
-                             ? std::clamp(segments.confidence[s], 0.0f, 1.0f) : 0.0f;
+    segment.confidence =
+        s < static_cast<int>(segments.confidence.size()) ? std::clamp(segments.confidence[s], 0.0f, 1.0f) : 0.0f;
   }
   return view;
 }
 
-int CountBoundaryPixels(const LayeredDepthView& view) {
-  return cv::countNonZero(view.layers[1].weight > 0);
-}
+int CountBoundaryPixels(const LayeredDepthView& view) { return cv::countNonZero(view.layers[1].weight > 0); }
 
 }  // namespace px::depth

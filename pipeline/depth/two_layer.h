@@ -8,9 +8,8 @@
 // pixel belongs to its own segment alone.
 #pragma once
 
-#include <vector>
-
 #include <opencv2/core.hpp>
+#include <vector>
 
 #include "pipeline/core/camera_model.h"
 #include "pipeline/core/layered_depth.h"
@@ -32,16 +31,19 @@ struct TwoLayerOptions {
 };
 
 struct SegmentImage {
-  cv::Mat labels;                     // CV_32S at view resolution, 0 .. planes.size() - 1
-  std::vector<InversePlane> planes;   // per segment, in the view's pixel coordinates
-  std::vector<float> confidence;      // per segment, [0, 1]
+  cv::Mat labels;                    // CV_32S at view resolution, 0 .. planes.size() - 1
+  std::vector<InversePlane> planes;  // per segment, in the view's pixel coordinates
+  std::vector<float> confidence;     // per segment, [0, 1]
 };
 
 // The layered view of `segments` over `bgr` (CV_8UC3, the camera's size). `pixel_confidence`
 // (CV_32F, same size) becomes the view's confidence; depth_m is the depth of the pixel's
 // dominant layer (the larger weight). The result passes ValidateLayeredDepthView.
-LayeredDepthView BuildTwoLayerView(ViewId id, const CameraModel& camera, const cv::Mat& bgr,
-                                   const SegmentImage& segments, const cv::Mat& pixel_confidence,
+LayeredDepthView BuildTwoLayerView(ViewId id,
+                                   const CameraModel& camera,
+                                   const cv::Mat& bgr,
+                                   const SegmentImage& segments,
+                                   const cv::Mat& pixel_confidence,
                                    const TwoLayerOptions& options);
 
 // Pixels shared by two layers (weight of layer 1 > 0).

@@ -1,17 +1,17 @@
 // The two-layer split at a synthetic foreground/background boundary, and robust plane fits.
-#include <cmath>
-#include <cstdint>
-#include <random>
+#include "pipeline/depth/two_layer.h"
 
 #include <gtest/gtest.h>
 
+#include <cmath>
+#include <cstdint>
 #include <opencv2/imgproc.hpp>
+#include <random>
 
 #include "pipeline/core/layered_depth.h"
 #include "pipeline/depth/pixel_depth_near_planes.h"
 #include "pipeline/depth/segment_planes.h"
 #include "pipeline/depth/superpixels.h"
-#include "pipeline/depth/two_layer.h"
 
 namespace px::depth {
 namespace {
@@ -47,8 +47,8 @@ TwoLayerOptions EdgeOptions() {
 
 TEST(TwoLayerTest, SoftAlphaAcrossADepthEdge) {
   const EdgeScene scene = MakeEdgeScene(3.0);
-  const LayeredDepthView view = BuildTwoLayerView(ViewId{7}, scene.camera, scene.bgr, scene.segments,
-                                                  cv::Mat(32, 64, CV_32F, cv::Scalar(0.7f)), EdgeOptions());
+  const LayeredDepthView view = BuildTwoLayerView(
+      ViewId{7}, scene.camera, scene.bgr, scene.segments, cv::Mat(32, 64, CV_32F, cv::Scalar(0.7f)), EdgeOptions());
   ASSERT_TRUE(ValidateLayeredDepthView(view).ok()) << ValidateLayeredDepthView(view).ToString();
   EXPECT_EQ(view.id.value, 7);
   ASSERT_EQ(view.NumSegments(), 2);
@@ -90,8 +90,8 @@ TEST(TwoLayerTest, MixedPixelsGetTheAlphaTheirColourSays) {
   EdgeScene scene = MakeEdgeScene(3.0);
   scene.bgr.col(32).setTo(cv::Scalar(0.7 * 255, 0, 0.3 * 255));
   scene.segments.labels.col(32).setTo(0);
-  const LayeredDepthView view = BuildTwoLayerView(ViewId{1}, scene.camera, scene.bgr, scene.segments,
-                                                  cv::Mat(32, 64, CV_32F, cv::Scalar(1.0f)), EdgeOptions());
+  const LayeredDepthView view = BuildTwoLayerView(
+      ViewId{1}, scene.camera, scene.bgr, scene.segments, cv::Mat(32, 64, CV_32F, cv::Scalar(1.0f)), EdgeOptions());
   ASSERT_TRUE(ValidateLayeredDepthView(view).ok()) << ValidateLayeredDepthView(view).ToString();
   const int y = 10;
   EXPECT_NEAR(view.layers[0].weight.at<float>(y, 32), 0.3f, 0.01f);
@@ -103,8 +103,8 @@ TEST(TwoLayerTest, MixedPixelsGetTheAlphaTheirColourSays) {
   EdgeScene alike = MakeEdgeScene(3.0);
   alike.bgr.setTo(cv::Scalar(100, 100, 100));
   alike.bgr.colRange(0, 32).setTo(cv::Scalar(104, 100, 100));
-  const LayeredDepthView ramp = BuildTwoLayerView(ViewId{2}, alike.camera, alike.bgr, alike.segments,
-                                                  cv::Mat(32, 64, CV_32F, cv::Scalar(1.0f)), EdgeOptions());
+  const LayeredDepthView ramp = BuildTwoLayerView(
+      ViewId{2}, alike.camera, alike.bgr, alike.segments, cv::Mat(32, 64, CV_32F, cv::Scalar(1.0f)), EdgeOptions());
   for (int x = 29; x <= 34; ++x) {
     EXPECT_GT(ramp.layers[0].weight.at<float>(y, x), 0.0f) << x;
     EXPECT_LT(ramp.layers[0].weight.at<float>(y, x), 1.0f) << x;
@@ -116,8 +116,8 @@ TEST(TwoLayerTest, MixedPixelsGetTheAlphaTheirColourSays) {
 
 TEST(TwoLayerTest, NoBandWhereNeighbouringPlanesAgree) {
   const EdgeScene scene = MakeEdgeScene(1.01);  // inverse depth jump 0.0099 < 0.05
-  const LayeredDepthView view = BuildTwoLayerView(ViewId{0}, scene.camera, scene.bgr, scene.segments,
-                                                  cv::Mat(32, 64, CV_32F, cv::Scalar(0.7f)), EdgeOptions());
+  const LayeredDepthView view = BuildTwoLayerView(
+      ViewId{0}, scene.camera, scene.bgr, scene.segments, cv::Mat(32, 64, CV_32F, cv::Scalar(0.7f)), EdgeOptions());
   ASSERT_TRUE(ValidateLayeredDepthView(view).ok());
   EXPECT_EQ(CountBoundaryPixels(view), 0);
   EXPECT_EQ(view.layers[0].segment.at<int32_t>(3, 31), 0);
@@ -126,8 +126,8 @@ TEST(TwoLayerTest, NoBandWhereNeighbouringPlanesAgree) {
 
 TEST(PixelDepthNearPlanesTest, KeepsPixelDepthNearThePlaneOutsideTheBands) {
   const EdgeScene scene = MakeEdgeScene(3.0);
-  LayeredDepthView view = BuildTwoLayerView(ViewId{0}, scene.camera, scene.bgr, scene.segments,
-                                            cv::Mat(32, 64, CV_32F, cv::Scalar(0.7f)), EdgeOptions());
+  LayeredDepthView view = BuildTwoLayerView(
+      ViewId{0}, scene.camera, scene.bgr, scene.segments, cv::Mat(32, 64, CV_32F, cv::Scalar(0.7f)), EdgeOptions());
   // The matcher saw relief on both planes (inverse depth off by up to +-0.02), an outlier far
   // off the front plane and a pixel without depth.
   cv::Mat inverse_depth(32, 64, CV_32F);
@@ -145,7 +145,7 @@ TEST(PixelDepthNearPlanesTest, KeepsPixelDepthNearThePlaneOutsideTheBands) {
   EXPECT_NEAR(view.depth_m.at<float>(20, 7), 1.0f / inverse_depth.at<float>(20, 7), 1e-5f);
   EXPECT_NEAR(view.depth_m.at<float>(20, 50), 1.0f / inverse_depth.at<float>(20, 50), 1e-5f);
   EXPECT_NE(view.depth_m.at<float>(20, 50), 3.0f);
-  EXPECT_NEAR(view.depth_m.at<float>(10, 5), 1.0f, 1e-5f);   // the outlier takes the plane
+  EXPECT_NEAR(view.depth_m.at<float>(10, 5), 1.0f, 1e-5f);  // the outlier takes the plane
   EXPECT_NEAR(view.depth_m.at<float>(3, 3), 1.0f, 1e-5f);
   EXPECT_NEAR(view.depth_m.at<float>(10, 31), 1.0f, 1e-5f);  // band: the dominant layer's plane
   EXPECT_NEAR(view.depth_m.at<float>(10, 33), 3.0f, 1e-5f);
@@ -158,8 +158,8 @@ TEST(TwoLayerTest, PlanesBehindTheCameraBecomeFrontoParallel) {
   EdgeScene scene = MakeEdgeScene(3.0);
   scene.segments.planes[1].a = -0.05;  // 1/z reaches 0 at x ~ 6.7, well inside the bbox
   scene.segments.planes[1].c = 1.0 / 3.0 + 0.05 * 40;
-  const LayeredDepthView view = BuildTwoLayerView(ViewId{0}, scene.camera, scene.bgr, scene.segments,
-                                                  cv::Mat(32, 64, CV_32F, cv::Scalar(0.7f)), EdgeOptions());
+  const LayeredDepthView view = BuildTwoLayerView(
+      ViewId{0}, scene.camera, scene.bgr, scene.segments, cv::Mat(32, 64, CV_32F, cv::Scalar(0.7f)), EdgeOptions());
   ASSERT_TRUE(ValidateLayeredDepthView(view).ok()) << ValidateLayeredDepthView(view).ToString();
   EXPECT_EQ(view.segments[1].inv_depth_a, 0.0);
 }

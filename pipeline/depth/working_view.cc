@@ -1,9 +1,8 @@
 #include "pipeline/depth/working_view.h"
 
 #include <algorithm>
-#include <sstream>
-
 #include <opencv2/imgproc.hpp>
+#include <sstream>
 
 #include "pipeline/depth/plane_homography.h"
 
@@ -28,7 +27,8 @@ WorkingView MakeWorkingView(const View& view, double scale) {
 double MatchingScale(const std::vector<View>& views, double working_scale, int min_width_px) {
   double scale = working_scale;
   for (const View& view : views) {
-    if (view.camera.width > 0) scale = std::max(scale, std::min(1.0, min_width_px / static_cast<double>(view.camera.width)));
+    if (view.camera.width > 0)
+      scale = std::max(scale, std::min(1.0, min_width_px / static_cast<double>(view.camera.width)));
   }
   return scale;
 }
@@ -62,8 +62,8 @@ Status CheckViews(const std::vector<View>& views, double working_scale, int wind
     if (working.width < min_side || working.height < min_side) {
       std::ostringstream error;
       error << ViewName(view) << ": " << view.camera.width << "x" << view.camera.height << " at working scale "
-            << working_scale << " is " << working.width << "x" << working.height << ", smaller than " << min_side
-            << "x" << min_side << " (window radius " << window_radius_px << ")";
+            << working_scale << " is " << working.width << "x" << working.height << ", smaller than " << min_side << "x"
+            << min_side << " (window radius " << window_radius_px << ")";
       return InvalidArgumentError(error.str());
     }
   }

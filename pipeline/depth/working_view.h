@@ -3,10 +3,9 @@
 // OpenCV thread count.
 #pragma once
 
+#include <opencv2/core.hpp>
 #include <string>
 #include <vector>
-
-#include <opencv2/core.hpp>
 
 #include "pipeline/core/camera_model.h"
 #include "pipeline/core/rigid3.h"

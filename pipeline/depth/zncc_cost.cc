@@ -19,9 +19,15 @@ void AddRow(const float* __restrict row, int cols, float* __restrict acc) {
 }
 
 // 1 - ZNCC for one row from the window sums (means once scaled by inv_area).
-void ZnccRow(const float* __restrict sum_w, const float* __restrict sum_ww, const float* __restrict sum_gw,
-             const float* __restrict mean_g, const float* __restrict inv_g, int cols, float inv_area,
-             float min_variance, float* __restrict cost) {
+void ZnccRow(const float* __restrict sum_w,
+             const float* __restrict sum_ww,
+             const float* __restrict sum_gw,
+             const float* __restrict mean_g,
+             const float* __restrict inv_g,
+             int cols,
+             float inv_area,
+             float min_variance,
+             float* __restrict cost) {
   for (int x = 0; x < cols; ++x) {
     const float mean_w = sum_w[x] * inv_area;
     const float variance_w = std::max(sum_ww[x] * inv_area - mean_w * mean_w, min_variance);
@@ -37,8 +43,8 @@ void MaskRow(const uchar* __restrict valid, int cols, float* __restrict cost) {
   for (int x = 0; x < cols; ++x) cost[x] = valid[x] != 0 ? cost[x] : kInvalidCost;
 }
 
-void Products(const float* __restrict w, const float* __restrict g, int cols, float* __restrict ww,
-              float* __restrict gw) {
+void Products(
+    const float* __restrict w, const float* __restrict g, int cols, float* __restrict ww, float* __restrict gw) {
   for (int x = 0; x < cols; ++x) {
     ww[x] = w[x] * w[x];
     gw[x] = g[x] * w[x];
@@ -71,8 +77,8 @@ ReferenceWindows PrepareReferenceWindows(const cv::Mat& gray, int radius_px, dou
   return ref;
 }
 
-void ComputeZnccCost(const ReferenceWindows& ref, const cv::Mat& warped, const cv::Mat& valid, ZnccWorkspace* workspace,
-                     cv::Mat* cost) {
+void ComputeZnccCost(
+    const ReferenceWindows& ref, const cv::Mat& warped, const cv::Mat& valid, ZnccWorkspace* workspace, cv::Mat* cost) {
   PX_CHECK(warped.type() == CV_32FC1 && warped.size() == ref.gray.size()) << "warped image must match the reference";
   const int rows = warped.rows, cols = warped.cols, r = ref.radius_px;
   workspace->row_sums.create(3 * rows, cols, CV_32F);
@@ -90,8 +96,8 @@ void ComputeZnccCost(const ReferenceWindows& ref, const cv::Mat& warped, const c
     RowWindowSum(gw, cols, r, workspace->padded.data(), workspace->row_sums.ptr<float>(2 * rows + y));
   }
   // Column sums: the first window directly, then slide down one row at a time.
-  float* sums[3] = {workspace->column_sums.data(), workspace->column_sums.data() + cols,
-                    workspace->column_sums.data() + 2 * cols};
+  float* sums[3] = {
+      workspace->column_sums.data(), workspace->column_sums.data() + cols, workspace->column_sums.data() + 2 * cols};
   for (int dy = -r; dy <= r; ++dy) {
     const int row = ReflectIndex(dy, rows);
     for (int q = 0; q < 3; ++q) AddRow(workspace->row_sums.ptr<float>(q * rows + row), cols, sums[q]);
@@ -102,13 +108,22 @@ void ComputeZnccCost(const ReferenceWindows& ref, const cv::Mat& warped, const c
     if (y > 0) {
       const int add = ReflectIndex(y + r, rows), sub = ReflectIndex(y - r - 1, rows);
       for (int q = 0; q < 3; ++q) {
-        SlideColumn(workspace->row_sums.ptr<float>(q * rows + add), workspace->row_sums.ptr<float>(q * rows + sub),
-                    cols, sums[q]);
+        SlideColumn(workspace->row_sums.ptr<float>(q * rows + add),
+                    workspace->row_sums.ptr<float>(q * rows + sub),
+                    cols,
+                    sums[q]);
       }
     }
     float* c = cost->ptr<float>(y);
-    ZnccRow(sums[0], sums[1], sums[2], ref.mean.ptr<float>(y), ref.inv_stddev.ptr<float>(y), cols, inv_area,
-            ref.min_variance, c);
+    ZnccRow(sums[0],
+            sums[1],
+            sums[2],
+            ref.mean.ptr<float>(y),
+            ref.inv_stddev.ptr<float>(y),
+            cols,
+            inv_area,
+            ref.min_variance,
+            c);
     if (!valid.empty()) MaskRow(valid.ptr<uchar>(y), cols, c);
   }
 }

@@ -4,9 +4,8 @@
 // columns, all in plain loops the compiler vectorises.
 #pragma once
 
-#include <vector>
-
 #include <opencv2/core.hpp>
+#include <vector>
 
 namespace px::depth {
 
@@ -31,7 +30,7 @@ ReferenceWindows PrepareReferenceWindows(const cv::Mat& gray, int radius_px, dou
 
 // Buffers reused between calls (one per thread).
 struct ZnccWorkspace {
-  cv::Mat row_sums;  // CV_32F, 3 * rows x cols: window-row sums of w, w^2, ref * w
+  cv::Mat row_sums;             // CV_32F, 3 * rows x cols: window-row sums of w, w^2, ref * w
   std::vector<float> products;  // w^2 and ref * w of one row
   std::vector<float> padded;
   std::vector<float> column_sums;
@@ -41,7 +40,7 @@ struct ZnccWorkspace {
 // CV_32F, same size) into `cost` (CV_32F). Where `valid` (CV_8U, optional) is 0 the cost is
 // kInvalidCost. A warped window flatter than min_variance is treated as having min_variance, so
 // matching texture against a flat patch costs about kNeutralCost instead of dividing by zero.
-void ComputeZnccCost(const ReferenceWindows& ref, const cv::Mat& warped, const cv::Mat& valid, ZnccWorkspace* workspace,
-                     cv::Mat* cost);
+void ComputeZnccCost(
+    const ReferenceWindows& ref, const cv::Mat& warped, const cv::Mat& valid, ZnccWorkspace* workspace, cv::Mat* cost);
 
 }  // namespace px::depth

@@ -21,8 +21,11 @@ std::vector<Framing> ApertureCorners(const Framing& endpoint, double aperture_m)
   return corners;
 }
 
-StatusOr<ApertureResult> LargestValidAperture(const Framing& endpoint, const SceneGeometry& scene,
-                                              CoverageProbe* probe, double max_aperture_m, double precision_m) {
+StatusOr<ApertureResult> LargestValidAperture(const Framing& endpoint,
+                                              const SceneGeometry& scene,
+                                              CoverageProbe* probe,
+                                              double max_aperture_m,
+                                              double precision_m) {
   ApertureResult result;
   const CameraModel camera = scene.OutputWithFocal(endpoint.focal_px);
   // Worst corner H at an aperture; stops at the first invalid corner.

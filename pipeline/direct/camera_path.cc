@@ -2,9 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
-#include <sstream>
-
 #include <nlohmann/json.hpp>
+#include <sstream>
 
 #include "pipeline/core/json_fields.h"
 
@@ -238,9 +237,7 @@ CameraPath BlankPath(PathKind kind, std::string move, const CameraModel& camera,
   return path;
 }
 
-int NumFrames(double fps, double duration_s) {
-  return std::max(1, static_cast<int>(std::lround(fps * duration_s)));
-}
+int NumFrames(double fps, double duration_s) { return std::max(1, static_cast<int>(std::lround(fps * duration_s))); }
 
 void FitPathToOutput(CameraPath* path, OutputSize size) {
   if (path->width == size.width && path->height == size.height) return;

@@ -10,14 +10,13 @@
 // that view's own centre sees exactly a homography of its image, so it needs no depth).
 #pragma once
 
+#include <Eigen/Core>
+#include <Eigen/Geometry>
 #include <cstdint>
+#include <nlohmann/json_fwd.hpp>
 #include <string>
 #include <string_view>
 #include <vector>
-
-#include <Eigen/Core>
-#include <Eigen/Geometry>
-#include <nlohmann/json_fwd.hpp>
 
 #include "pipeline/core/camera_model.h"
 #include "pipeline/core/rigid3.h"
@@ -58,10 +57,10 @@ struct CameraKeyframe {
 
 struct CameraPath {
   PathKind kind = PathKind::kNovelView;
-  std::string move;    // "establishing_dolly", "dolly_zoom", "morph", "keyframes", ...
-  std::string effect;  // lens or colour effect of the move: "none", "dof_change", "focus_pull", ...
-  std::string reason;  // why this move and these endpoints were chosen (for the log and the clip's JSON)
-  std::vector<std::string> notes;  // fallbacks taken and constraints that bit, one sentence each
+  std::string move;                   // "establishing_dolly", "dolly_zoom", "morph", "keyframes", ...
+  std::string effect;                 // lens or colour effect of the move: "none", "dof_change", "focus_pull", ...
+  std::string reason;                 // why this move and these endpoints were chosen (for the log and the clip's JSON)
+  std::vector<std::string> notes;     // fallbacks taken and constraints that bit, one sentence each
   std::vector<int32_t> source_views;  // kMorph: the two views morphed; kPanZoom2d: the view warped
   std::vector<Subject> subjects;      // the subjects of interest the move was planned for
   direct::Interpolation interpolation = direct::Interpolation::kLinear;
@@ -69,8 +68,8 @@ struct CameraPath {
   int height = 0;
   double cx = 0;  // principal point in output pixels
   double cy = 0;
-  double aspect = 1;  // fy / fx, kept from the source camera
-  double fps = 30;    // frame rate the path is rendered at
+  double aspect = 1;      // fy / fx, kept from the source camera
+  double fps = 30;        // frame rate the path is rendered at
   double duration_s = 5;  // the move's length (the clip's frames: timing.NumFrames)
   // How the frames walk the path. Default: the paper's linear move played once (what a path
   // written without timing meant); the planner sets DirectOptions::timing.

@@ -1,8 +1,8 @@
 #include "pipeline/direct/camera_path.h"
 
-#include <cmath>
-
 #include <gtest/gtest.h>
+
+#include <cmath>
 #include <nlohmann/json.hpp>
 
 namespace px {

@@ -7,17 +7,18 @@
 namespace px {
 namespace {
 
-int MoveFrames(double fps, double duration_s) {
-  return std::max(1, static_cast<int>(std::lround(fps * duration_s)));
-}
+int MoveFrames(double fps, double duration_s) { return std::max(1, static_cast<int>(std::lround(fps * duration_s))); }
 
 }  // namespace
 
 std::string_view ClipStyleName(ClipStyle style) {
   switch (style) {
-    case ClipStyle::kOnce: return "once";
-    case ClipStyle::kLoop: return "loop";
-    case ClipStyle::kBoomerang: return "boomerang";
+    case ClipStyle::kOnce:
+      return "once";
+    case ClipStyle::kLoop:
+      return "loop";
+    case ClipStyle::kBoomerang:
+      return "boomerang";
   }
   return "once";
 }
@@ -38,7 +39,8 @@ StatusOr<ClipEase> ParseClipEase(std::string_view name) {
 }
 
 Status ClipTiming::Validate() const {
-  if (!(hold_s >= 0 && hold_s <= 60)) return InvalidArgumentError("hold_s: " + std::to_string(hold_s) + " is not in [0, 60]");
+  if (!(hold_s >= 0 && hold_s <= 60))
+    return InvalidArgumentError("hold_s: " + std::to_string(hold_s) + " is not in [0, 60]");
   if (hold_s > 0 && style != ClipStyle::kOnce) {
     return InvalidArgumentError("hold_s: only a clip played once holds its last frame (style is " +
                                 std::string(ClipStyleName(style)) + ")");
@@ -54,9 +56,12 @@ double Ease(ClipEase ease, double s) {
 int ClipTiming::NumFrames(double fps, double duration_s) const {
   const int m = MoveFrames(fps, duration_s);
   switch (style) {
-    case ClipStyle::kOnce: return m + static_cast<int>(std::lround(fps * hold_s));
-    case ClipStyle::kLoop: return std::max(2, m);
-    case ClipStyle::kBoomerang: return 2 * std::max(2, m) - 1;
+    case ClipStyle::kOnce:
+      return m + static_cast<int>(std::lround(fps * hold_s));
+    case ClipStyle::kLoop:
+      return std::max(2, m);
+    case ClipStyle::kBoomerang:
+      return 2 * std::max(2, m) - 1;
   }
   return m;
 }

@@ -38,7 +38,8 @@ std::string KnownEffectsText() {
 
 Status FaceDetectionOptions::Validate() const {
   if (!(scale_factor > 1 && scale_factor <= 2)) return RangeError("direct.faces.scale_factor", scale_factor, "(1, 2]");
-  if (min_neighbors < 1 || min_neighbors > 30) return RangeError("direct.faces.min_neighbors", min_neighbors, "[1, 30]");
+  if (min_neighbors < 1 || min_neighbors > 30)
+    return RangeError("direct.faces.min_neighbors", min_neighbors, "[1, 30]");
   if (min_face_px < 8 || min_face_px > 1024) return RangeError("direct.faces.min_face_px", min_face_px, "[8, 1024]");
   if (upscale_below_px < 0 || upscale_below_px > 4096) {
     return RangeError("direct.faces.upscale_below_px", upscale_below_px, "[0, 4096]");
@@ -81,8 +82,7 @@ Status DirectOptions::Validate() const {
     return InvalidArgumentError("direct.move: unknown move \"" + move + "\", want one of " + KnownMovesText());
   }
   if (effect != "auto" && !direct::ParseEffect(effect).ok()) {
-    return InvalidArgumentError("direct.effect: unknown effect \"" + effect + "\", want one of " +
-                                KnownEffectsText());
+    return InvalidArgumentError("direct.effect: unknown effect \"" + effect + "\", want one of " + KnownEffectsText());
   }
   if (!(duration_s > 0 && duration_s <= 60)) return RangeError("direct.duration_s", duration_s, "(0, 60]");
   if (!(fps > 0 && fps <= 240)) return RangeError("direct.fps", fps, "(0, 240]");
@@ -101,8 +101,10 @@ Status DirectOptions::Validate() const {
   PX_RETURN_IF_ERROR(search.Validate());
   if (!InRange(zoom_in, 1, 4)) return RangeError("direct.zoom_in", zoom_in, "[1, 4]");
   if (!InRange(framing_margin, 0, 0.3)) return RangeError("direct.framing_margin", framing_margin, "[0, 0.3]");
-  if (!(max_dolly_zoom > 1 && max_dolly_zoom <= 4)) return RangeError("direct.max_dolly_zoom", max_dolly_zoom, "(1, 4]");
-  if (!(max_aperture_m > 0 && max_aperture_m <= 1)) return RangeError("direct.max_aperture_m", max_aperture_m, "(0, 1]");
+  if (!(max_dolly_zoom > 1 && max_dolly_zoom <= 4))
+    return RangeError("direct.max_dolly_zoom", max_dolly_zoom, "(1, 4]");
+  if (!(max_aperture_m > 0 && max_aperture_m <= 1))
+    return RangeError("direct.max_aperture_m", max_aperture_m, "(0, 1]");
   if (!InRange(min_confident_fraction, 0, 1)) {
     return RangeError("direct.min_confident_fraction", min_confident_fraction, "[0, 1]");
   }

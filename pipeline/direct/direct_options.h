@@ -2,10 +2,9 @@
 #pragma once
 
 #include <cstdint>
+#include <opencv2/core/types.hpp>
 #include <string>
 #include <vector>
-
-#include <opencv2/core/types.hpp>
 
 #include "pipeline/core/status.h"
 #include "pipeline/direct/clip_timing.h"
@@ -20,7 +19,7 @@ struct FaceDetectionOptions {
   // Overlapping raw detections a face needs, [1, 30]; more = fewer false faces. 5: the highest
   // precision at the recall of lower values (`parallax eval faces` on faces_dlib_pascalvoc).
   int min_neighbors = 5;
-  int min_face_px = 20;       // smallest face side searched, pixels of the view, [8, 1024]
+  int min_face_px = 20;  // smallest face side searched, pixels of the view, [8, 1024]
   // Views whose longer side is below this are upscaled to it for detection (Haar cascades miss
   // faces under ~24 px), pixels, [0, 4096]; 0 = never. 400: upscaling 500-640 px images makes
   // false faces (`parallax eval faces`, the two-face sim scene and the real photos) and finds no
@@ -40,9 +39,9 @@ struct FaceDetectionOptions {
 
 // Valid-viewpoint search (4.2.1), parallax (4.2.2) and the lens search (4.3).
 struct ViewpointSearchOptions {
-  int grid_size = 12;            // grid cells per side at z = 0 (paper: 12), [2, 64]
-  double grid_extent = 2.0;      // grid side / viewpoints' bounding box side (paper: 2), [1, 8]
-  double valid_hole_score = 2.0; // H(V) below which a viewpoint is valid (paper: 2, k = 3), (0, 1000]
+  int grid_size = 12;             // grid cells per side at z = 0 (paper: 12), [2, 64]
+  double grid_extent = 2.0;       // grid side / viewpoints' bounding box side (paper: 2), [1, 8]
+  double valid_hole_score = 2.0;  // H(V) below which a viewpoint is valid (paper: 2, k = 3), (0, 1000]
   // Coverage is probed at this fraction of the output size (H is compensated, see
   // valid_viewpoints.h), (0, 1]: the search runs at search_scale, the chosen path is checked
   // frame by frame at verify_scale. The reduced-size estimate can read low for the segment
@@ -55,8 +54,8 @@ struct ViewpointSearchOptions {
   // any view saw while the renderer blends the views nearest each ray, and it reads too many
   // viewpoints valid (direction_benchmark's BM_SearchProbeAgreement).
   int splat_stride = 0;
-  int num_longest = 12;        // candidate paths whose parallax is measured (paper: 12), [1, 1000]
-  int verify_frames = 9;       // frames along the chosen path checked at verify_scale, [2, 100]
+  int num_longest = 12;   // candidate paths whose parallax is measured (paper: 12), [1, 1000]
+  int verify_frames = 9;  // frames along the chosen path checked at verify_scale, [2, 100]
   // z search: first step and the precision it stops at, as fractions of the median scene depth.
   double z_first_step = 0.05;  // (0, 1]
   double z_precision = 0.01;   // (0, z_first_step]
@@ -91,10 +90,10 @@ struct DirectOptions {
   int subject_view = -1;
   FaceDetectionOptions faces;
   ViewpointSearchOptions search;
-  double zoom_in = 1.5;            // focal of a subject close-up / the capture's f (paper: 1.5), [1, 4]
-  double framing_margin = 0.03;    // subjects stay this fraction of the width inside the frame, [0, 0.3]
-  double max_dolly_zoom = 2.0;     // largest focal ratio across a dolly zoom, (1, 4]
-  double max_aperture_m = 0.05;    // aperture search limit, metres, (0, 1]
+  double zoom_in = 1.5;          // focal of a subject close-up / the capture's f (paper: 1.5), [1, 4]
+  double framing_margin = 0.03;  // subjects stay this fraction of the width inside the frame, [0, 0.3]
+  double max_dolly_zoom = 2.0;   // largest focal ratio across a dolly zoom, (1, 4]
+  double max_aperture_m = 0.05;  // aperture search limit, metres, (0, 1]
   // Depth the pipeline may trust: below this fraction of confident pixels in the reference
   // view (or inside a subject's box) the 3D moves are not attempted, [0, 1]. Real captures whose
   // held-out views the 3D render predicts well (eval real) measure 24-30 % (a four-camera

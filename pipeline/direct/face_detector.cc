@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <cmath>
-
 #include <opencv2/imgproc.hpp>
 #include <opencv2/objdetect.hpp>
 
@@ -83,10 +82,9 @@ std::vector<FaceBox> FaceDetector::Detect(const cv::Mat& image, const FaceDetect
   }
   if (grey.depth() != CV_8U) grey.convertTo(grey, CV_8U);
   const int longer = std::max(grey.cols, grey.rows);
-  const double scale =
-      options.upscale_below_px > 0 && longer < options.upscale_below_px
-          ? std::min(3.0, static_cast<double>(options.upscale_below_px) / longer)
-          : 1.0;
+  const double scale = options.upscale_below_px > 0 && longer < options.upscale_below_px
+                           ? std::min(3.0, static_cast<double>(options.upscale_below_px) / longer)
+                           : 1.0;
   if (scale != 1.0) cv::resize(grey, grey, cv::Size(), scale, scale, cv::INTER_LINEAR);
   cv::equalizeHist(grey, grey);
   cv::Mat mirrored;
@@ -105,8 +103,8 @@ std::vector<FaceBox> FaceDetector::Detect(const cv::Mat& image, const FaceDetect
         }
         std::vector<cv::Rect> found;
         std::vector<int> neighbours;
-        cascade.classifier->detectMultiScale(*input, found, neighbours, options.scale_factor, options.min_neighbors, 0,
-                                             cv::Size(min_side, min_side));
+        cascade.classifier->detectMultiScale(
+            *input, found, neighbours, options.scale_factor, options.min_neighbors, 0, cv::Size(min_side, min_side));
         for (size_t i = 0; i < found.size(); ++i) {
           cv::Rect2d box(found[i]);
           if (side == 1) box.x = input->cols - box.x - box.width;
@@ -127,13 +125,15 @@ std::vector<FaceBox> FaceDetector::Detect(const cv::Mat& image, const FaceDetect
   std::sort(raw.begin(), raw.end(), [](const Raw& a, const Raw& b) { return a.score > b.score; });
   std::vector<Raw> merged;
   for (const Raw& detection : raw) {
-    auto same = std::find_if(merged.begin(), merged.end(), [&](const Raw& m) { return SameFace(m.box, detection.box); });
+    auto same =
+        std::find_if(merged.begin(), merged.end(), [&](const Raw& m) { return SameFace(m.box, detection.box); });
     if (same == merged.end()) {
       merged.push_back(detection);
       continue;
     }
     const double w0 = same->score, w1 = detection.score, sum = w0 + w1;
-    same->box = cv::Rect2d((w0 * same->box.x + w1 * detection.box.x) / sum, (w0 * same->box.y + w1 * detection.box.y) / sum,
+    same->box = cv::Rect2d((w0 * same->box.x + w1 * detection.box.x) / sum,
+                           (w0 * same->box.y + w1 * detection.box.y) / sum,
                            (w0 * same->box.width + w1 * detection.box.width) / sum,
                            (w0 * same->box.height + w1 * detection.box.height) / sum);
     same->score = sum;

@@ -10,10 +10,9 @@
 
 #include <memory>
 #include <mutex>
+#include <opencv2/core.hpp>
 #include <string>
 #include <vector>
-
-#include <opencv2/core.hpp>
 
 #include "pipeline/core/status.h"
 #include "pipeline/direct/direct_options.h"
@@ -25,15 +24,15 @@ class CascadeClassifier;
 namespace px::direct {
 
 struct CascadeText {
-  std::string name;  // for reports: "haarcascade_frontalface_default"
-  std::string xml;   // the file's contents
+  std::string name;      // for reports: "haarcascade_frontalface_default"
+  std::string xml;       // the file's contents
   bool profile = false;  // a profile-face cascade (looks for faces turned one way)
 };
 
 struct FaceBox {
-  cv::Rect2d box;       // pixels of the image given to Detect
-  double score = 0;     // raw detections merged into it, summed over cascades
-  int cascades = 0;     // how many cascades found it
+  cv::Rect2d box;    // pixels of the image given to Detect
+  double score = 0;  // raw detections merged into it, summed over cascades
+  int cascades = 0;  // how many cascades found it
 };
 
 class FaceDetector {

@@ -6,8 +6,10 @@
 
 namespace px::direct {
 
-double MaxFocalKeepingInside(const std::vector<Subject>& subjects, const CameraModel& camera,
-                             const Rigid3& cam_from_world, double margin_px) {
+double MaxFocalKeepingInside(const std::vector<Subject>& subjects,
+                             const CameraModel& camera,
+                             const Rigid3& cam_from_world,
+                             double margin_px) {
   double best = std::numeric_limits<double>::infinity();
   const double aspect = camera.fx > 0 ? camera.fy / camera.fx : 1.0;
   // Room from the principal point to each edge, less the margin.
@@ -27,7 +29,9 @@ double MaxFocalKeepingInside(const std::vector<Subject>& subjects, const CameraM
   return std::max(0.0, best);
 }
 
-bool SubjectsInside(const std::vector<Subject>& subjects, const CameraModel& camera, const Rigid3& cam_from_world,
+bool SubjectsInside(const std::vector<Subject>& subjects,
+                    const CameraModel& camera,
+                    const Rigid3& cam_from_world,
                     double margin_px) {
   for (const Subject& subject : subjects) {
     for (const Eigen::Vector3d& corner : subject.corners_in_world) {

@@ -15,11 +15,15 @@ namespace px::direct {
 // seen from `cam_from_world`. The camera's own focal is ignored; its size, principal point and
 // aspect are used. +infinity without subjects; 0 when a corner is behind the camera or the
 // principal point leaves no room on its side.
-double MaxFocalKeepingInside(const std::vector<Subject>& subjects, const CameraModel& camera,
-                             const Rigid3& cam_from_world, double margin_px);
+double MaxFocalKeepingInside(const std::vector<Subject>& subjects,
+                             const CameraModel& camera,
+                             const Rigid3& cam_from_world,
+                             double margin_px);
 
 // Every corner of every subject inside the frame, at least `margin_px` from each edge.
-bool SubjectsInside(const std::vector<Subject>& subjects, const CameraModel& camera, const Rigid3& cam_from_world,
+bool SubjectsInside(const std::vector<Subject>& subjects,
+                    const CameraModel& camera,
+                    const Rigid3& cam_from_world,
                     double margin_px);
 
 // Projected height in pixels of a subject: the distance between the images of the midpoints of

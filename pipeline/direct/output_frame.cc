@@ -67,8 +67,8 @@ OutputSize ResolveOutputSize(const OutputFrameOptions& options, int source_width
 CameraModel FrameOutputCamera(const CameraModel& source, OutputSize size, double* scale) {
   CameraModel out = source.WithoutDistortion();
   // The widest crop of the output's aspect inside the source's field: the tighter of the two.
-  const double s = std::max(static_cast<double>(size.width) / source.width,
-                            static_cast<double>(size.height) / source.height);
+  const double s =
+      std::max(static_cast<double>(size.width) / source.width, static_cast<double>(size.height) / source.height);
   out.fx = source.fx * s;
   out.fy = source.fy * s;
   // Pixel centres at integers: the frame's centre is (width - 1) / 2 on both sides.

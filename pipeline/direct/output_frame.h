@@ -13,8 +13,8 @@
 namespace px {
 
 struct OutputFrameOptions {
-  int width = 0;   // output size in pixels; 0 with height 0 = from aspect and height, else both set
-  int height = 0;  // with width 0: the output's height (0 = the centre view's)
+  int width = 0;      // output size in pixels; 0 with height 0 = from aspect and height, else both set
+  int height = 0;     // with width 0: the output's height (0 = the centre view's)
   double aspect = 0;  // width / height when width is 0; 0 = the centre view's
   Status Validate() const;
 };

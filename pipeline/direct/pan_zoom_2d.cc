@@ -88,8 +88,10 @@ bool FrameInsideSource(const View& source, const CameraModel& camera, const Rigi
                                             source.cam_from_world.RotationMatrix() *
                                             cam_from_world.RotationMatrix().transpose() * camera.K().inverse();
   const double w = camera.width, h = camera.height;
-  for (const Eigen::Vector2d& corner : {Eigen::Vector2d(-0.5, -0.5), Eigen::Vector2d(w - 0.5, -0.5),
-                                        Eigen::Vector2d(w - 0.5, h - 0.5), Eigen::Vector2d(-0.5, h - 0.5)}) {
+  for (const Eigen::Vector2d& corner : {Eigen::Vector2d(-0.5, -0.5),
+                                        Eigen::Vector2d(w - 0.5, -0.5),
+                                        Eigen::Vector2d(w - 0.5, h - 0.5),
+                                        Eigen::Vector2d(-0.5, h - 0.5)}) {
     const Eigen::Vector3d p = source_from_frame * Eigen::Vector3d(corner.x(), corner.y(), 1.0);
     if (!(p.z() > 1e-9)) return false;
     const double x = p.x() / p.z(), y = p.y() / p.z();
@@ -101,7 +103,8 @@ bool FrameInsideSource(const View& source, const CameraModel& camera, const Rigi
   return true;
 }
 
-StatusOr<CameraPath> PlanPanZoom2d(const View& view, const std::vector<Subject>& subjects,
+StatusOr<CameraPath> PlanPanZoom2d(const View& view,
+                                   const std::vector<Subject>& subjects,
                                    const DirectOptions& options) {
   PX_RETURN_IF_ERROR(view.camera.Validate().WithContext("pan and zoom: view " + std::to_string(view.id.value)));
   std::mt19937_64 rng(options.seed);
@@ -112,8 +115,8 @@ StatusOr<CameraPath> PlanPanZoom2d(const View& view, const std::vector<Subject>&
   const Eigen::Vector3d axis = Axis(view);
   const CameraModel pinhole = view.camera.WithoutDistortion();
   FlatFrame frame;
-  frame.base = FrameOutputCamera(pinhole, ResolveOutputSize(options.output, view.camera.width, view.camera.height),
-                                 &frame.scale);
+  frame.base = FrameOutputCamera(
+      pinhole, ResolveOutputSize(options.output, view.camera.width, view.camera.height), &frame.scale);
   const Rigid3 world_from_cam = view.cam_from_world.Inverse();
 
   FlatKey a, b;
@@ -143,7 +146,8 @@ StatusOr<CameraPath> PlanPanZoom2d(const View& view, const std::vector<Subject>&
   const double margin_px = options.framing_margin * frame.base.width;
   std::vector<FlatKey> keys = {a, b};
   Eigen::Vector3d towards_subjects = Eigen::Vector3d::Zero();
-  for (const Subject& subject : subjects) towards_subjects += Towards(view, subject.LowerHalfCentreInWorld(), f).direction;
+  for (const Subject& subject : subjects)
+    towards_subjects += Towards(view, subject.LowerHalfCentreInWorld(), f).direction;
   for (FlatKey& key : keys) {
     // A frame narrower than the view (a portrait cut from a landscape) can miss the subjects from
     // the key's aim at any zoom: turn it towards them, as little as brings them into frame.
@@ -199,9 +203,15 @@ StatusOr<CameraPath> PlanPanZoom2d(const View& view, const std::vector<Subject>&
                          " of " + std::to_string(path.NumFrames()) + " frames");
   }
   char reason[200];
-  std::snprintf(reason, sizeof(reason), "flat %s over view %d (%zu subject%s), zoom %.2ff to %.2ff", move.c_str(),
-                view.id.value, subjects.size(), subjects.size() == 1 ? "" : "s",
-                path.keyframes[0].focal_px / (frame.scale * f), path.keyframes[1].focal_px / (frame.scale * f));
+  std::snprintf(reason,
+                sizeof(reason),
+                "flat %s over view %d (%zu subject%s), zoom %.2ff to %.2ff",
+                move.c_str(),
+                view.id.value,
+                subjects.size(),
+                subjects.size() == 1 ? "" : "s",
+                path.keyframes[0].focal_px / (frame.scale * f),
+                path.keyframes[1].focal_px / (frame.scale * f));
   path.reason = reason;
   PX_RETURN_IF_ERROR(path.Validate());
   return path;

@@ -19,7 +19,9 @@ namespace px::direct {
 
 // `seed` picks the direction (in or out, which side first). The path's kind is kPanZoom2d with
 // source_views = {view.id}. Fails only for an invalid view camera.
-StatusOr<CameraPath> PlanPanZoom2d(const View& view, const std::vector<Subject>& subjects, const DirectOptions& options);
+StatusOr<CameraPath> PlanPanZoom2d(const View& view,
+                                   const std::vector<Subject>& subjects,
+                                   const DirectOptions& options);
 
 // The homography taking `source`'s pixels to the frame of `camera` at `cam_from_world` (which
 // must share the source's centre), for cv::warpPerspective.

@@ -10,8 +10,12 @@ namespace px::direct {
 namespace {
 
 // Pixels of `from` (depth `from_depth`) whose surface is hidden behind a nearer one in `to`.
-int CountOccluded(const cv::Mat& from_depth, const CameraModel& from, const Rigid3& from_cam_from_world,
-                  const cv::Mat& to_depth, const CameraModel& to, const Rigid3& to_cam_from_world,
+int CountOccluded(const cv::Mat& from_depth,
+                  const CameraModel& from,
+                  const Rigid3& from_cam_from_world,
+                  const cv::Mat& to_depth,
+                  const CameraModel& to,
+                  const Rigid3& to_cam_from_world,
                   double relative_gap) {
   const Rigid3 to_from_from = to_cam_from_world * from_cam_from_world.Inverse();
   const Eigen::Matrix3d r = to_from_from.RotationMatrix();
@@ -86,14 +90,27 @@ cv::Mat SceneSamples::DepthSeenFrom(const CameraModel& camera, const Rigid3& cam
   return depth;
 }
 
-double ParallaxScore(const SceneSamples& samples, const CameraModel& camera_a, const Rigid3& cam_a_from_world,
-                     const CameraModel& camera_b, const Rigid3& cam_b_from_world, double relative_gap) {
-  return ParallaxScore(samples.DepthSeenFrom(camera_a, cam_a_from_world), camera_a, cam_a_from_world,
-                       samples.DepthSeenFrom(camera_b, cam_b_from_world), camera_b, cam_b_from_world, relative_gap);
+double ParallaxScore(const SceneSamples& samples,
+                     const CameraModel& camera_a,
+                     const Rigid3& cam_a_from_world,
+                     const CameraModel& camera_b,
+                     const Rigid3& cam_b_from_world,
+                     double relative_gap) {
+  return ParallaxScore(samples.DepthSeenFrom(camera_a, cam_a_from_world),
+                       camera_a,
+                       cam_a_from_world,
+                       samples.DepthSeenFrom(camera_b, cam_b_from_world),
+                       camera_b,
+                       cam_b_from_world,
+                       relative_gap);
 }
 
-double ParallaxScore(const cv::Mat& depth_a, const CameraModel& camera_a, const Rigid3& cam_a_from_world,
-                     const cv::Mat& depth_b, const CameraModel& camera_b, const Rigid3& cam_b_from_world,
+double ParallaxScore(const cv::Mat& depth_a,
+                     const CameraModel& camera_a,
+                     const Rigid3& cam_a_from_world,
+                     const cv::Mat& depth_b,
+                     const CameraModel& camera_b,
+                     const Rigid3& cam_b_from_world,
                      double relative_gap) {
   const int a_hidden_in_b =
       CountOccluded(depth_a, camera_a, cam_a_from_world, depth_b, camera_b, cam_b_from_world, relative_gap);

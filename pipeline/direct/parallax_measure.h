@@ -6,9 +6,8 @@
 // leaves the frame (a pan) is not parallax and does not count.
 #pragma once
 
-#include <vector>
-
 #include <opencv2/core.hpp>
+#include <vector>
 
 #include "pipeline/core/camera_model.h"
 #include "pipeline/core/rigid3.h"
@@ -37,12 +36,20 @@ class SceneSamples {
 // Fraction of the frame (both directions summed, so up to 2) visible from one endpoint and
 // occluded from the other; `camera_a`/`camera_b` should be small (a quarter of the output size
 // is plenty). A surface counts as occluded behind one more than `relative_gap` nearer.
-double ParallaxScore(const SceneSamples& samples, const CameraModel& camera_a, const Rigid3& cam_a_from_world,
-                     const CameraModel& camera_b, const Rigid3& cam_b_from_world, double relative_gap = 0.05);
+double ParallaxScore(const SceneSamples& samples,
+                     const CameraModel& camera_a,
+                     const Rigid3& cam_a_from_world,
+                     const CameraModel& camera_b,
+                     const Rigid3& cam_b_from_world,
+                     double relative_gap = 0.05);
 // The same from the endpoints' z-buffers (SceneSamples::DepthSeenFrom with footprint 1), for
 // endpoints shared by several candidate paths.
-double ParallaxScore(const cv::Mat& depth_a, const CameraModel& camera_a, const Rigid3& cam_a_from_world,
-                     const cv::Mat& depth_b, const CameraModel& camera_b, const Rigid3& cam_b_from_world,
+double ParallaxScore(const cv::Mat& depth_a,
+                     const CameraModel& camera_a,
+                     const Rigid3& cam_a_from_world,
+                     const cv::Mat& depth_b,
+                     const CameraModel& camera_b,
+                     const Rigid3& cam_b_from_world,
                      double relative_gap = 0.05);
 
 }  // namespace px::direct

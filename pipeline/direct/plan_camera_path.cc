@@ -39,8 +39,7 @@ std::pair<int, int> MorphPair(const std::vector<View>& views, int centre) {
   return {std::min(centre, best), std::max(centre, best)};
 }
 
-CameraPath MorphPath(const View& a, const View& b, const std::vector<Subject>& subjects,
-                     const DirectOptions& options) {
+CameraPath MorphPath(const View& a, const View& b, const std::vector<Subject>& subjects, const DirectOptions& options) {
   CameraPath path = BlankPath(PathKind::kMorph, "morph", a.camera, options.fps, options.duration_s);
   path.source_views = {a.id.value, b.id.value};
   path.subjects = subjects;
@@ -96,28 +95,36 @@ struct Planner {
         const direct::MorphReport& m = (*morph)->report();
         CameraPath path = MorphPath(views[ia], views[ib], subjects, options);
         char reason[300];
-        std::snprintf(reason, sizeof(reason),
+        std::snprintf(reason,
+                      sizeof(reason),
                       "morph from view %d to view %d along dense correspondences (%.0f%% consistent both ways, "
                       "%s, %.0f%% of matches moving off their epipolar lines)",
-                      views[ia].id.value, views[ib].id.value, 100 * m.consistent_fraction,
-                      m.epipolar ? "soft epipolar constraint" : "no epipolar geometry found", 100 * m.moving_fraction);
+                      views[ia].id.value,
+                      views[ib].id.value,
+                      100 * m.consistent_fraction,
+                      m.epipolar ? "soft epipolar constraint" : "no epipolar geometry found",
+                      100 * m.moving_fraction);
         path.reason = reason;
         report.morph = std::move(morph).value();
         return path;
       }
-      report.notes.push_back(morph.ok() ? "morph not used: only " +
-                                              std::to_string(static_cast<int>(
-                                                  100 * (*morph)->report().consistent_fraction)) +
-                                              "% of the views' correspondences agree both ways"
-                                        : "morph not used: " + morph.status().message());
+      report.notes.push_back(morph.ok()
+                                 ? "morph not used: only " +
+                                       std::to_string(static_cast<int>(100 * (*morph)->report().consistent_fraction)) +
+                                       "% of the views' correspondences agree both ways"
+                                 : "morph not used: " + morph.status().message());
     }
     return direct::PlanPanZoom2d(views[centre], subjects, options);
   }
 
   // The 3D move for the subjects found, with the taxonomy's fallbacks.
-  StatusOr<CameraPath> ThreeD(const direct::SceneGeometry& scene, const direct::SceneSamples& samples,
-                              direct::CoverageProbe* search, direct::CoverageProbe* verify, const std::string& move,
-                              const std::string& effect, const std::vector<Subject>& move_subjects,
+  StatusOr<CameraPath> ThreeD(const direct::SceneGeometry& scene,
+                              const direct::SceneSamples& samples,
+                              direct::CoverageProbe* search,
+                              direct::CoverageProbe* verify,
+                              const std::string& move,
+                              const std::string& effect,
+                              const std::vector<Subject>& move_subjects,
                               std::string* failure) {
     PX_ASSIGN_OR_RETURN(direct::MoveChoice choice,
                         direct::ChooseMove(static_cast<int>(move_subjects.size()), move, effect, options.seed));
@@ -153,8 +160,10 @@ struct Planner {
     return FailedPreconditionError(failures);
   }
 
-  StatusOr<CameraPath> Shot(const direct::Shot& shot, const direct::SceneGeometry* scene,
-                            const direct::SceneSamples* samples, direct::CoverageProbe* search,
+  StatusOr<CameraPath> Shot(const direct::Shot& shot,
+                            const direct::SceneGeometry* scene,
+                            const direct::SceneSamples* samples,
+                            direct::CoverageProbe* search,
                             direct::CoverageProbe* verify);
 };
 
@@ -188,8 +197,10 @@ void HarmoniseEffects(const std::vector<int>& segment_of_key, CameraPath* path) 
   }
 }
 
-StatusOr<CameraPath> Planner::Shot(const direct::Shot& shot, const direct::SceneGeometry* scene,
-                                   const direct::SceneSamples* samples, direct::CoverageProbe* search,
+StatusOr<CameraPath> Planner::Shot(const direct::Shot& shot,
+                                   const direct::SceneGeometry* scene,
+                                   const direct::SceneSamples* samples,
+                                   direct::CoverageProbe* search,
                                    direct::CoverageProbe* verify) {
   DirectOptions shot_options = options;
   if (shot.fps > 0) shot_options.fps = shot.fps;
@@ -203,8 +214,8 @@ StatusOr<CameraPath> Planner::Shot(const direct::Shot& shot, const direct::Scene
   const std::vector<double> durations = shot.SegmentDurations(total);
   const double capture_focal = scene != nullptr ? scene->focal_px : views[centre].camera.fx;
 
-  CameraPath path = BlankPath(PathKind::kNovelView, "shot", scene != nullptr ? scene->output : views[centre].camera,
-                              shot_options.fps, total);
+  CameraPath path = BlankPath(
+      PathKind::kNovelView, "shot", scene != nullptr ? scene->output : views[centre].camera, shot_options.fps, total);
   path.interpolation = direct::Interpolation::kLinear;
   std::vector<int> segment_of_key;
   std::string summary;
@@ -246,8 +257,8 @@ StatusOr<CameraPath> Planner::Shot(const direct::Shot& shot, const direct::Scene
       keys = planned->keyframes;
       for (const std::string& note : planned->notes) path.notes.push_back(note);
       for (const Subject& subject : planned->subjects) path.subjects.push_back(subject);
-      std::snprintf(part, sizeof(part), "%s (%s) over %.1f s", planned->move.c_str(), planned->effect.c_str(),
-                    durations[s]);
+      std::snprintf(
+          part, sizeof(part), "%s (%s) over %.1f s", planned->move.c_str(), planned->effect.c_str(), durations[s]);
     }
     summary += (summary.empty() ? "" : ", then ") + std::string(part);
     for (size_t k = 0; k < keys.size(); ++k) {
@@ -258,8 +269,11 @@ StatusOr<CameraPath> Planner::Shot(const direct::Shot& shot, const direct::Scene
         const double jump = (key.centre_in_world - path.keyframes.back().centre_in_world).norm();
         if (jump > 1e-3 && segment.authored()) {
           char note[160];
-          std::snprintf(note, sizeof(note), "%s starts %.0f mm from where the previous segment ended; it starts there",
-                        where.c_str(), 1000 * jump);
+          std::snprintf(note,
+                        sizeof(note),
+                        "%s starts %.0f mm from where the previous segment ended; it starts there",
+                        where.c_str(),
+                        1000 * jump);
           path.notes.push_back(note);
         }
         continue;
@@ -289,10 +303,13 @@ StatusOr<CameraPath> Planner::Shot(const direct::Shot& shot, const direct::Scene
     report.plan.max_hole_score = worst;
     if (worst >= verify->valid_hole_score()) {
       char note[200];
-      std::snprintf(note, sizeof(note),
+      std::snprintf(note,
+                    sizeof(note),
                     "the authored path leaves the valid viewpoints: H(V) %.1f at t = %.2f (valid below %.1f); "
                     "its holes are inpainted",
-                    worst, worst_t, verify->valid_hole_score());
+                    worst,
+                    worst_t,
+                    verify->valid_hole_score());
       path.notes.push_back(note);
     }
   }
@@ -310,8 +327,10 @@ double ConfidentDepthFraction(const View& view, const std::vector<DepthMap>& dep
   return static_cast<double>(cv::countNonZero(sure)) / static_cast<double>(depth->depth_m.total());
 }
 
-StatusOr<CameraPath> PlanCameraPath(const std::vector<View>& views, const std::vector<DepthMap>& depths,
-                                    const DirectOptions& options, const DirectionContext& context,
+StatusOr<CameraPath> PlanCameraPath(const std::vector<View>& views,
+                                    const std::vector<DepthMap>& depths,
+                                    const DirectOptions& options,
+                                    const DirectionContext& context,
                                     DirectionReport* report_out) {
   const Clock::time_point start = Clock::now();
   PX_RETURN_IF_ERROR(options.Validate());
@@ -322,9 +341,8 @@ StatusOr<CameraPath> PlanCameraPath(const std::vector<View>& views, const std::v
   Planner planner{views, depths, options, context, report};
   planner.centre = direct::CentreViewIndex(views);
 
-  StatusOr<direct::SubjectSearch> found =
-      direct::FindSubjects(views, depths, planner.centre, context.face_detector, options, context.centre_faces,
-                           context.metric_scale);
+  StatusOr<direct::SubjectSearch> found = direct::FindSubjects(
+      views, depths, planner.centre, context.face_detector, options, context.centre_faces, context.metric_scale);
   if (found.ok()) {
     if (context.centre_faces != nullptr && context.centre_faces->view == views[planner.centre].id) {
       report.faces_before_ms = context.centre_faces->ms;
@@ -351,8 +369,11 @@ StatusOr<CameraPath> PlanCameraPath(const std::vector<View>& views, const std::v
     no_3d = "no renderer coverage to check viewpoints with";
   } else if (confident < options.min_confident_fraction) {
     char text[160];
-    std::snprintf(text, sizeof(text), "only %.0f%% of the centre view's depth is confident (want %.0f%%)",
-                  100 * confident, 100 * options.min_confident_fraction);
+    std::snprintf(text,
+                  sizeof(text),
+                  "only %.0f%% of the centre view's depth is confident (want %.0f%%)",
+                  100 * confident,
+                  100 * options.min_confident_fraction);
     no_3d = text;
   }
   if (options.move == "morph" || options.move == "pan_zoom_2d") no_3d = "requested " + options.move;
@@ -373,8 +394,8 @@ StatusOr<CameraPath> PlanCameraPath(const std::vector<View>& views, const std::v
       scene->focal_px *= framed_scale;
       samples = direct::SceneSamples::FromDepths(views, depths);
       if (options.search.splat_stride > 0) {
-        splat = direct::SplatCoverage::FromDepths(views, depths, options.search.search_scale,
-                                                  options.search.splat_stride);
+        splat =
+            direct::SplatCoverage::FromDepths(views, depths, options.search.search_scale, options.search.splat_stride);
       }
     } else {
       no_3d = described.status().message();
@@ -383,7 +404,8 @@ StatusOr<CameraPath> PlanCameraPath(const std::vector<View>& views, const std::v
   // The region search probes the splatted depth (splat_coverage.h) when asked, else the renderer
   // at search_scale; the chosen path's frames are always checked through the renderer.
   const CoverageFunction splat_function = splat ? splat->AsFunction() : CoverageFunction();
-  direct::CoverageProbe search(splat ? &splat_function : &context.coverage, splat ? 1.0 : options.search.search_scale,
+  direct::CoverageProbe search(splat ? &splat_function : &context.coverage,
+                               splat ? 1.0 : options.search.search_scale,
                                options.search.valid_hole_score,
                                /*concurrent=*/splat.has_value() || context.coverage_concurrent);
   direct::CoverageProbe verify(&context.coverage, options.search.verify_scale, options.search.valid_hole_score);
@@ -401,8 +423,10 @@ StatusOr<CameraPath> PlanCameraPath(const std::vector<View>& views, const std::v
       }
     }
     if (!path.ok() && path.status().message() == "not planned") {
-      StatusOr<CameraPath> shot_path = planner.Shot(*context.shot, scene ? &*scene : nullptr,
-                                                    samples ? &*samples : nullptr, scene ? &search : nullptr,
+      StatusOr<CameraPath> shot_path = planner.Shot(*context.shot,
+                                                    scene ? &*scene : nullptr,
+                                                    samples ? &*samples : nullptr,
+                                                    scene ? &search : nullptr,
                                                     scene ? &verify : nullptr);
       if (shot_path.ok()) {
         path = std::move(shot_path);

@@ -42,19 +42,19 @@ struct DirectionContext {
 };
 
 struct DirectionReport {
-  std::string detector;         // cascades used, or why no detection ran
-  int faces_detected = 0;       // before size checks and the two-largest cut
-  int num_subjects = 0;         // subjects the move was chosen for
-  std::string choice;           // the taxonomy's choice and why
+  std::string detector;            // cascades used, or why no detection ran
+  int faces_detected = 0;          // before size checks and the two-largest cut
+  int num_subjects = 0;            // subjects the move was chosen for
+  std::string choice;              // the taxonomy's choice and why
   std::vector<std::string> notes;  // fallbacks taken and why, subjects dropped, effects dropped
-  bool fell_back = false;       // the clip is not what was asked or drawn first
-  direct::MovePlanReport plan;  // figures of the 3D plan (zero for flat or morph clips)
-  int coverage_probes = 0;      // renderer coverage measurements, all sizes
-  double coverage_ms = 0;       // time inside them
-  int verify_probes = 0;        // of which at the verify size (search_scale < verify_scale)
+  bool fell_back = false;          // the clip is not what was asked or drawn first
+  direct::MovePlanReport plan;     // figures of the 3D plan (zero for flat or morph clips)
+  int coverage_probes = 0;         // renderer coverage measurements, all sizes
+  double coverage_ms = 0;          // time inside them
+  int verify_probes = 0;           // of which at the verify size (search_scale < verify_scale)
   double verify_ms = 0;
-  double subjects_ms = 0;        // finding subjects here (without faces found beforehand)
-  double faces_before_ms = 0;    // the detection behind DirectionContext::centre_faces, when used
+  double subjects_ms = 0;      // finding subjects here (without faces found beforehand)
+  double faces_before_ms = 0;  // the detection behind DirectionContext::centre_faces, when used
   double total_ms = 0;
   // For a morph: the correspondences, for pipeline/run to render the frames from.
   std::shared_ptr<const direct::ViewMorph> morph;
@@ -62,8 +62,10 @@ struct DirectionReport {
 
 // Plans the clip's path. Errors only for invalid options or no views; every other problem
 // becomes a fallback recorded in the path's notes and the report.
-StatusOr<CameraPath> PlanCameraPath(const std::vector<View>& views, const std::vector<DepthMap>& depths,
-                                    const DirectOptions& options, const DirectionContext& context = {},
+StatusOr<CameraPath> PlanCameraPath(const std::vector<View>& views,
+                                    const std::vector<DepthMap>& depths,
+                                    const DirectOptions& options,
+                                    const DirectionContext& context = {},
                                     DirectionReport* report = nullptr);
 
 // Fraction of the view's pixels with confident depth (confidence >= 0.5; without a confidence

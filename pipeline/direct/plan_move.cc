@@ -5,9 +5,8 @@
 #include <cmath>
 #include <cstdio>
 #include <limits>
-#include <optional>
-
 #include <opencv2/core/utility.hpp>
+#include <optional>
 
 #include "pipeline/direct/aperture_search.h"
 #include "pipeline/direct/framing.h"
@@ -57,14 +56,16 @@ FramingRule LookAlongAxis(const SceneGeometry& scene, double focal_px) {
 // `rule` with its focal narrowed until every subject is wholly inside the view (with the framing
 // margin), so that the region search measures the views the path will use; a view that would
 // need less than kMinFocalShare of the rule's focal cannot frame them (focal 0).
-FramingRule FittingSubjects(FramingRule rule, const SceneGeometry& scene, const std::vector<Subject>& subjects,
+FramingRule FittingSubjects(FramingRule rule,
+                            const SceneGeometry& scene,
+                            const std::vector<Subject>& subjects,
                             double margin_px) {
   if (subjects.empty()) return rule;
   return [rule = std::move(rule), &scene, subjects, margin_px](const Eigen::Vector3d& centre) {
     Framing framing = rule(centre);
     if (!(framing.focal_px > 0)) return framing;
-    const double most = MaxFocalKeepingInside(subjects, scene.OutputWithFocal(framing.focal_px),
-                                              framing.cam_from_world, margin_px);
+    const double most =
+        MaxFocalKeepingInside(subjects, scene.OutputWithFocal(framing.focal_px), framing.cam_from_world, margin_px);
     framing.focal_px = most >= kMinFocalShare * framing.focal_px ? std::min(framing.focal_px, most) : 0.0;
     return framing;
   };
@@ -88,16 +89,16 @@ CameraKeyframe Key(double t, const Framing& framing) {
 
 std::string Mm(const Eigen::Vector3d& p_in_rig) {
   char text[64];
-  std::snprintf(text, sizeof(text), "(%.0f, %.0f, %.0f) mm", 1000 * p_in_rig.x(), 1000 * p_in_rig.y(),
-                1000 * p_in_rig.z());
+  std::snprintf(
+      text, sizeof(text), "(%.0f, %.0f, %.0f) mm", 1000 * p_in_rig.x(), 1000 * p_in_rig.y(), 1000 * p_in_rig.z());
   return text;
 }
 
 // Narrows focal lengths until every subject is wholly inside every frame. `uniform` scales all
 // keys alike (a dolly zoom keeps its size ratio); otherwise each key first takes the most its
 // own view allows. Fails when the subjects need less than kMinFocalShare of a key's focal.
-Status KeepSubjectsInFrame(const std::vector<Subject>& subjects, double margin_px, bool uniform, CameraPath* path,
-                           double* scale) {
+Status KeepSubjectsInFrame(
+    const std::vector<Subject>& subjects, double margin_px, bool uniform, CameraPath* path, double* scale) {
   *scale = 1.0;
   if (subjects.empty()) return OkStatus();
   std::vector<double> wanted;
@@ -122,9 +123,11 @@ Status KeepSubjectsInFrame(const std::vector<Subject>& subjects, double margin_p
       *scale = std::min(*scale, share);
       if (!(share >= kMinFocalShare)) {
         char text[200];
-        std::snprintf(text, sizeof(text),
+        std::snprintf(text,
+                      sizeof(text),
                       "the subjects fit in frame only at %.0f%% of the move's focal length at keyframe %zu",
-                      100 * share, i);
+                      100 * share,
+                      i);
         return FailedPreconditionError(text);
       }
     }
@@ -160,8 +163,11 @@ Status KeepSubjectsInFrame(const std::vector<Subject>& subjects, double margin_p
 // which the frames are measured the worst first, so that a path that fails is usually rejected
 // by its first measurement at the probe's size (whether the path holds does not depend on the
 // order).
-StatusOr<double> WorstHoleScore(const CameraPath& path, int frames, CoverageProbe* probe,
-                                std::optional<double> ends_score = std::nullopt, CoverageProbe* screen = nullptr) {
+StatusOr<double> WorstHoleScore(const CameraPath& path,
+                                int frames,
+                                CoverageProbe* probe,
+                                std::optional<double> ends_score = std::nullopt,
+                                CoverageProbe* screen = nullptr) {
   std::vector<std::pair<double, double>> order;  // (screened H(V), t), the worst first
   for (int i = ends_score ? 1 : 0; i < (ends_score ? frames - 1 : frames); ++i) {
     const double t = frames > 1 ? static_cast<double>(i) / (frames - 1) : 0.0;
@@ -196,8 +202,11 @@ StatusOr<double> PathAperture(const CameraPath& path, const std::vector<size_t>&
   double aperture = options.max_aperture_m;
   for (size_t k : keys) {
     PX_ASSIGN_OR_RETURN(ApertureResult found,
-                        LargestValidAperture(FramingOfKey(path.keyframes[k]), *context.scene, context.search,
-                                             options.max_aperture_m, 0.02 * options.max_aperture_m));
+                        LargestValidAperture(FramingOfKey(path.keyframes[k]),
+                                             *context.scene,
+                                             context.search,
+                                             options.max_aperture_m,
+                                             0.02 * options.max_aperture_m));
     aperture = std::min(aperture, found.aperture_m);
   }
   for (int attempt = 0; attempt < 4 && aperture > 0; ++attempt) {
@@ -222,8 +231,9 @@ StatusOr<double> PathAperture(const CameraPath& path, const std::vector<size_t>&
 // face width wider on each side and half a face width deep each way.
 ColorEffect SubjectLayer(const Subject& subject, Effect effect, double amount) {
   ColorEffect layer;
-  layer.kind = (effect == Effect::kSaturation || effect == Effect::kDesaturateBackground) ? ColorEffectKind::kSaturation
-                                                                                         : ColorEffectKind::kBrightness;
+  layer.kind = (effect == Effect::kSaturation || effect == Effect::kDesaturateBackground)
+                   ? ColorEffectKind::kSaturation
+                   : ColorEffectKind::kBrightness;
   layer.invert = effect == Effect::kDesaturateBackground || effect == Effect::kDimBackground;
   layer.amount = amount;
   Eigen::Vector3d lo = subject.corners_in_world[0], hi = lo;
@@ -375,21 +385,21 @@ StatusOr<CameraPath> PlanMove(const MoveChoice& choice, const PlanContext& conte
   }
 
   // 1-2. Valid regions (shared with earlier moves that framed the same) and candidate endpoints.
-  const auto find_region = [&](const FramingRule& rule, const std::string& key, bool front,
-                               bool back) -> StatusOr<ValidRegion> {
+  const auto find_region =
+      [&](const FramingRule& rule, const std::string& key, bool front, bool back) -> StatusOr<ValidRegion> {
     std::string full;
     if (!key.empty() && context.regions != nullptr) {
       full = key + (sweep == Sweep::kAxis ? " axis" : " grid") + (front ? " front" : "") + (back ? " back" : "");
       const auto found = context.regions->find(full);
       if (found != context.regions->end()) return found->second;
     }
-    PX_ASSIGN_OR_RETURN(ValidRegion region, FindValidViewpoints(scene, rule, context.search, options.search, sweep,
-                                                                front, back));
+    PX_ASSIGN_OR_RETURN(ValidRegion region,
+                        FindValidViewpoints(scene, rule, context.search, options.search, sweep, front, back));
     if (!full.empty()) (*context.regions)[full] = region;
     return region;
   };
-  PX_ASSIGN_OR_RETURN(ValidRegion start_region, find_region(start_rule, start_key, start_front || both_ways,
-                                                            !start_front || both_ways));
+  PX_ASSIGN_OR_RETURN(ValidRegion start_region,
+                      find_region(start_rule, start_key, start_front || both_ways, !start_front || both_ways));
   std::vector<Candidate> starts = Candidates(start_region, start_front, both_ways);
   // A dolly zoom aimed at a subject off the axis turns every viewpoint past the rays the lenses
   // saw (two_faces: none of 144 grid positions holds the face at f). Then it looks along the axis.
@@ -415,12 +425,14 @@ StatusOr<CameraPath> PlanMove(const MoveChoice& choice, const PlanContext& conte
     const double subject_z = scene.RigFromWorld(first->CentreInWorld()).z();
     const double nearest_z = subject_z - (subject_z - std::min(0.0, start_in_rig.z())) / (0.9 * options.max_dolly_zoom);
     if (start_in_rig.z() > nearest_z && nearest_z > 0) {
-      starts.front().framing = start_rule(scene.WorldFromRig(Eigen::Vector3d(start_in_rig.x(), start_in_rig.y(), nearest_z)));
+      starts.front().framing =
+          start_rule(scene.WorldFromRig(Eigen::Vector3d(start_in_rig.x(), start_in_rig.y(), nearest_z)));
       PX_ASSIGN_OR_RETURN(starts.front().hole_score,
                           context.search->HoleScore(scene.OutputWithFocal(starts.front().framing.focal_px),
                                                     starts.front().framing.cam_from_world));
       if (!(starts.front().hole_score < context.search->valid_hole_score())) {
-        return FailedPreconditionError(name + ": the start " + Mm(scene.RigFromWorld(starts.front().framing.centre_in_world)) +
+        return FailedPreconditionError(name + ": the start " +
+                                       Mm(scene.RigFromWorld(starts.front().framing.centre_in_world)) +
                                        " far enough back for the zoom to keep the subject's size is not valid");
       }
     }
@@ -443,8 +455,8 @@ StatusOr<CameraPath> PlanMove(const MoveChoice& choice, const PlanContext& conte
   if (shared) {
     end_region = start_region;
   } else {
-    PX_ASSIGN_OR_RETURN(end_region, find_region(end_rule, dolly_zoom ? "" : end_key, end_front || both_ways,
-                                                !end_front || both_ways));
+    PX_ASSIGN_OR_RETURN(
+        end_region, find_region(end_rule, dolly_zoom ? "" : end_key, end_front || both_ways, !end_front || both_ways));
   }
   report->valid_cells_end = end_region.valid_cells;
   const std::vector<Candidate> ends = Candidates(end_region, end_front, both_ways);
@@ -461,7 +473,7 @@ StatusOr<CameraPath> PlanMove(const MoveChoice& choice, const PlanContext& conte
     double length = 0, parallax = 0, focal_scale = 1;
     CameraPath path;
     std::optional<Framing> start_pulled, end_pulled;  // ends pulled back to hold at the verify size
-    std::optional<double> ends_score;                  // the ends' largest H(V) at the verify size
+    std::optional<double> ends_score;                 // the ends' largest H(V) at the verify size
   };
   std::vector<Pair> pairs;
   const double min_length = 1e-3;
@@ -545,12 +557,12 @@ StatusOr<CameraPath> PlanMove(const MoveChoice& choice, const PlanContext& conte
     for (int i = range.start; i < range.end; ++i) {
       const Framing& a = starts[measured[i].a].framing;
       const Framing& b = ends[measured[i].b].framing;
-      measured[i].parallax =
-          ParallaxScore(seen_from(a), small_camera(a), a.cam_from_world, seen_from(b), small_camera(b), b.cam_from_world);
+      measured[i].parallax = ParallaxScore(
+          seen_from(a), small_camera(a), a.cam_from_world, seen_from(b), small_camera(b), b.cam_from_world);
     }
   });
-  std::stable_sort(measured.begin(), measured.end(),
-                   [](const Pair& x, const Pair& y) { return x.parallax > y.parallax; });
+  std::stable_sort(
+      measured.begin(), measured.end(), [](const Pair& x, const Pair& y) { return x.parallax > y.parallax; });
 
   // The search pushes every end to the farthest z its reduced-size probe calls valid, so the ends
   // sit on the threshold as that probe sees it, and the frames the path uses are framed once more
@@ -579,8 +591,10 @@ StatusOr<CameraPath> PlanMove(const MoveChoice& choice, const PlanContext& conte
         pair->ends_score = ends_score;
         return true;
       }
-      if (pull[0] > 0) pair->start_pulled = start_rule(a.centre_in_world + pull[0] * (b.centre_in_world - a.centre_in_world));
-      if (pull[1] > 0) pair->end_pulled = end_rule(b.centre_in_world + pull[1] * (a.centre_in_world - b.centre_in_world));
+      if (pull[0] > 0)
+        pair->start_pulled = start_rule(a.centre_in_world + pull[0] * (b.centre_in_world - a.centre_in_world));
+      if (pull[1] > 0)
+        pair->end_pulled = end_rule(b.centre_in_world + pull[1] * (a.centre_in_world - b.centre_in_world));
       for (const std::optional<Framing>& pulled : {pair->start_pulled, pair->end_pulled}) {
         if (pulled && !(pulled->focal_px > 0)) return false;  // the rule cannot frame from there
       }
@@ -629,7 +643,9 @@ StatusOr<CameraPath> PlanMove(const MoveChoice& choice, const PlanContext& conte
     path.effect = std::string(EffectName(effect));
     if (report->focal_scale < 0.999) {
       char text[160];
-      std::snprintf(text, sizeof(text), "framing narrowed the zoom to %.0f%% to keep every subject wholly in frame",
+      std::snprintf(text,
+                    sizeof(text),
+                    "framing narrowed the zoom to %.0f%% to keep every subject wholly in frame",
                     100 * report->focal_scale);
       path.notes.push_back(text);
     }
@@ -638,14 +654,24 @@ StatusOr<CameraPath> PlanMove(const MoveChoice& choice, const PlanContext& conte
     }
     const char* look = along_axis ? "looking along the axis at" : "aimed at";
     char text[512];
-    std::snprintf(text, sizeof(text),
+    std::snprintf(text,
+                  sizeof(text),
                   "%s from %s %s %s to %s %s %s (%.0f mm); %d/%d valid cells; parallax %.2f%% "
                   "(best of %d longest of %d paths); H(V) <= %.2f over %d frames",
-                  name.c_str(), Mm(scene.RigFromWorld(path.keyframes.front().centre_in_world)).c_str(), look,
+                  name.c_str(),
+                  Mm(scene.RigFromWorld(path.keyframes.front().centre_in_world)).c_str(),
+                  look,
                   (reverse ? end_what : start_what).c_str(),
-                  Mm(scene.RigFromWorld(path.keyframes.back().centre_in_world)).c_str(), look,
-                  (reverse ? start_what : end_what).c_str(), 1000 * pair.length, report->valid_cells_start,
-                  start_region.cells, 100 * pair.parallax, report->paths_measured, report->candidate_paths, worst,
+                  Mm(scene.RigFromWorld(path.keyframes.back().centre_in_world)).c_str(),
+                  look,
+                  (reverse ? start_what : end_what).c_str(),
+                  1000 * pair.length,
+                  report->valid_cells_start,
+                  start_region.cells,
+                  100 * pair.parallax,
+                  report->paths_measured,
+                  report->candidate_paths,
+                  worst,
                   options.search.verify_frames);
     path.reason = text;
     PX_RETURN_IF_ERROR(path.Validate());
@@ -670,8 +696,11 @@ StatusOr<CameraPath> PlanMove(const MoveChoice& choice, const PlanContext& conte
     CameraPath& path = pair.path;
     if (pair.start_pulled || pair.end_pulled) {
       // The parallax and length of the path as it now is.
-      pair.parallax = ParallaxScore(*context.samples, path.CameraAt(0).Scaled(kParallaxScale), path.PoseAt(0),
-                                    path.CameraAt(1).Scaled(kParallaxScale), path.PoseAt(1));
+      pair.parallax = ParallaxScore(*context.samples,
+                                    path.CameraAt(0).Scaled(kParallaxScale),
+                                    path.PoseAt(0),
+                                    path.CameraAt(1).Scaled(kParallaxScale),
+                                    path.PoseAt(1));
       pair.length = (path.keyframes.front().centre_in_world - path.keyframes.back().centre_in_world).norm();
       const Eigen::Vector3d& a = starts[pair.a].framing.centre_in_world;
       const Eigen::Vector3d& b = ends[pair.b].framing.centre_in_world;
@@ -679,12 +708,16 @@ StatusOr<CameraPath> PlanMove(const MoveChoice& choice, const PlanContext& conte
         return pulled ? 100 * (pulled->centre_in_world - from).norm() / std::max(1e-9, (a - b).norm()) : 0.0;
       };
       char text[160];
-      std::snprintf(text, sizeof(text), "ends pulled back to hold at the verify size: start %.0f%%, end %.0f%% of the path",
-                    share(pair.start_pulled, a), share(pair.end_pulled, b));
+      std::snprintf(text,
+                    sizeof(text),
+                    "ends pulled back to hold at the verify size: start %.0f%%, end %.0f%% of the path",
+                    share(pair.start_pulled, a),
+                    share(pair.end_pulled, b));
       path.notes.push_back(text);
     }
-    PX_ASSIGN_OR_RETURN(double worst, WorstHoleScore(path, options.search.verify_frames, context.verify,
-                                                     pair.ends_score, context.search));
+    PX_ASSIGN_OR_RETURN(
+        double worst,
+        WorstHoleScore(path, options.search.verify_frames, context.verify, pair.ends_score, context.search));
     if (worst >= context.verify->valid_hole_score()) {
       char text[160];
       std::snprintf(text, sizeof(text), "a frame of the path has H(V) %.2f at the verify size", worst);
@@ -713,8 +746,8 @@ StatusOr<CameraPath> PlanMove(const MoveChoice& choice, const PlanContext& conte
         (choice.effect == Effect::kFocusPull ? "both ends" : "the subject's end") + " of any path that holds valid");
     return complete(*without_effect->pair, without_effect->worst, Effect::kNone, 0.0);
   }
-  return FailedPreconditionError(name + ": none of the " + std::to_string(pairs.size()) +
-                                 " candidate paths holds (" + std::to_string(measured.size()) +
+  return FailedPreconditionError(name + ": none of the " + std::to_string(pairs.size()) + " candidate paths holds (" +
+                                 std::to_string(measured.size()) +
                                  " kept their subjects in frame; last: " + last_failure + ")");
 }
 

@@ -5,18 +5,11 @@
 #include <limits>
 #include <string>
 
+#include "pipeline/core/order_statistics.h"
+
 namespace px::direct {
 
-namespace {
-
-double Percentile(std::vector<double> values, double fraction) {
-  if (values.empty()) return 0;
-  const auto at = values.begin() + static_cast<std::ptrdiff_t>(fraction * (values.size() - 1));
-  std::nth_element(values.begin(), at, values.end());
-  return *at;
-}
-
-}  // namespace
+namespace {}  // namespace
 
 CameraModel SceneGeometry::OutputWithFocal(double focal) const {
   CameraModel camera = output;

@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <cmath>
-
 #include <nlohmann/json.hpp>
 
 #include "pipeline/core/json_fields.h"
@@ -22,14 +21,16 @@ StatusOr<Eigen::Vector3d> GetVec3(const nlohmann::json& j, const std::string& ke
   return out;
 }
 
-StatusOr<std::optional<Eigen::Vector3d>> GetOptionalVec3(const nlohmann::json& j, const std::string& key,
+StatusOr<std::optional<Eigen::Vector3d>> GetOptionalVec3(const nlohmann::json& j,
+                                                         const std::string& key,
                                                          const std::string& where) {
   if (!j.contains(key)) return std::optional<Eigen::Vector3d>();
   PX_ASSIGN_OR_RETURN(Eigen::Vector3d v, GetVec3(j, key, where));
   return std::optional<Eigen::Vector3d>(v);
 }
 
-StatusOr<std::optional<double>> GetOptionalNumber(const nlohmann::json& j, const std::string& key,
+StatusOr<std::optional<double>> GetOptionalNumber(const nlohmann::json& j,
+                                                  const std::string& key,
                                                   const std::string& where) {
   if (!j.contains(key)) return std::optional<double>();
   PX_ASSIGN_OR_RETURN(double v, json::GetNumber(j, key, where));
@@ -51,8 +52,17 @@ Status CheckKnownFields(const nlohmann::json& j, const std::vector<std::string>&
 
 StatusOr<ShotKeyframe> KeyframeFromJson(const nlohmann::json& j, const std::string& where) {
   PX_RETURN_IF_ERROR(CheckKnownFields(j,
-                                      {"t", "position_m", "look_at_m", "direction", "up", "focal_px", "focal_scale",
-                                       "aperture_m", "focus_depth_m", "focus_at_m", "effects"},
+                                      {"t",
+                                       "position_m",
+                                       "look_at_m",
+                                       "direction",
+                                       "up",
+                                       "focal_px",
+                                       "focal_scale",
+                                       "aperture_m",
+                                       "focus_depth_m",
+                                       "focus_at_m",
+                                       "effects"},
                                       where));
   ShotKeyframe key;
   PX_ASSIGN_OR_RETURN(key.t, json::GetNumber(j, "t", where));
@@ -81,13 +91,13 @@ StatusOr<ShotKeyframe> KeyframeFromJson(const nlohmann::json& j, const std::stri
     return InvalidArgumentError(where + ".focal_px: " + std::to_string(*key.focal_px) + " is not positive");
   }
   if (key.focal_scale && !(*key.focal_scale > 0.1 && *key.focal_scale <= 10)) {
-    return InvalidArgumentError(where + ".focal_scale: " + std::to_string(*key.focal_scale) +
-                                " is outside (0.1, 10]");
+    return InvalidArgumentError(where + ".focal_scale: " + std::to_string(*key.focal_scale) + " is outside (0.1, 10]");
   }
   if (!(key.aperture_m >= 0 && key.aperture_m <= 1)) {
     return InvalidArgumentError(where + ".aperture_m: " + std::to_string(key.aperture_m) + " is outside [0, 1]");
   }
-  if (key.focus_depth_m && key.focus_at_m) return InvalidArgumentError(where + ": give focus_depth_m or focus_at_m, not both");
+  if (key.focus_depth_m && key.focus_at_m)
+    return InvalidArgumentError(where + ": give focus_depth_m or focus_at_m, not both");
   if (key.focus_depth_m && !(*key.focus_depth_m > 0)) {
     return InvalidArgumentError(where + ".focus_depth_m: " + std::to_string(*key.focus_depth_m) + " is not positive");
   }
@@ -122,7 +132,8 @@ StatusOr<ShotSegment> SegmentFromJson(const nlohmann::json& j, const std::string
   if (has_keys) {
     const nlohmann::json& keys = j.at("keyframes");
     const std::string path = json::FieldPath(where, "keyframes");
-    if (!keys.is_array() || keys.size() < 2) return InvalidArgumentError(path + ": want an array of at least 2 keyframes");
+    if (!keys.is_array() || keys.size() < 2)
+      return InvalidArgumentError(path + ": want an array of at least 2 keyframes");
     for (size_t i = 0; i < keys.size(); ++i) {
       PX_ASSIGN_OR_RETURN(ShotKeyframe key, KeyframeFromJson(keys[i], json::IndexPath(path, i)));
       if (!segment.keyframes.empty() && !(key.t > segment.keyframes.back().t)) {
@@ -301,7 +312,8 @@ Shot ShotFromPath(const CameraPath& path) {
   return shot;
 }
 
-StatusOr<std::vector<CameraKeyframe>> ResolveKeyframes(const ShotSegment& segment, double capture_focal_px,
+StatusOr<std::vector<CameraKeyframe>> ResolveKeyframes(const ShotSegment& segment,
+                                                       double capture_focal_px,
                                                        const std::string& where) {
   std::vector<CameraKeyframe> keys;
   for (size_t i = 0; i < segment.keyframes.size(); ++i) {

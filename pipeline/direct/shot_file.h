@@ -5,14 +5,13 @@
 // reads the file); written back so that a clip's shot can be replayed or edited.
 #pragma once
 
+#include <Eigen/Core>
 #include <cstdint>
+#include <nlohmann/json_fwd.hpp>
+#include <opencv2/core/types.hpp>
 #include <optional>
 #include <string>
 #include <vector>
-
-#include <Eigen/Core>
-#include <nlohmann/json_fwd.hpp>
-#include <opencv2/core/types.hpp>
 
 #include "pipeline/core/status.h"
 #include "pipeline/core/virtual_camera.h"
@@ -70,7 +69,8 @@ Shot ShotFromPath(const CameraPath& path);
 // An authored segment's keyframes as camera keyframes at segment time, with focal_scale
 // resolved against `capture_focal_px` and focus_at resolved per key. Fails naming the key when
 // neither a look-at point nor a direction is given, or both.
-StatusOr<std::vector<CameraKeyframe>> ResolveKeyframes(const ShotSegment& segment, double capture_focal_px,
+StatusOr<std::vector<CameraKeyframe>> ResolveKeyframes(const ShotSegment& segment,
+                                                       double capture_focal_px,
                                                        const std::string& where);
 
 }  // namespace px::direct

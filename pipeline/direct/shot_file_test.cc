@@ -2,9 +2,9 @@
 // keyframes, and the written shot of a path re-rendering the same path (round trip).
 #include "pipeline/direct/shot_file.h"
 
-#include <cmath>
-
 #include <gtest/gtest.h>
+
+#include <cmath>
 #include <nlohmann/json.hpp>
 
 namespace px::direct {

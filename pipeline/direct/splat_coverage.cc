@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <cmath>
-
 #include <opencv2/imgproc.hpp>
 
 namespace px::direct {
@@ -31,8 +30,10 @@ double HoleScoreAtOutputSize(const cv::Mat& covered, double scale) {
   return cv::mean(at_output, holes)[0] * hole_pixels / area;
 }
 
-SplatCoverage SplatCoverage::FromDepths(const std::vector<View>& views, const std::vector<DepthMap>& depths,
-                                        double scale, int stride) {
+SplatCoverage SplatCoverage::FromDepths(const std::vector<View>& views,
+                                        const std::vector<DepthMap>& depths,
+                                        double scale,
+                                        int stride) {
   SplatCoverage splat;
   splat.samples_ = SceneSamples::FromDepths(views, depths, stride);
   splat.scale_ = std::clamp(scale, 1e-3, 1.0);

@@ -31,7 +31,9 @@ double HoleScoreAtOutputSize(const cv::Mat& covered, double scale);
 class SplatCoverage {
  public:
   // Every `stride`-th pixel of each view; targets at `scale` of the camera asked for.
-  static SplatCoverage FromDepths(const std::vector<View>& views, const std::vector<DepthMap>& depths, double scale,
+  static SplatCoverage FromDepths(const std::vector<View>& views,
+                                  const std::vector<DepthMap>& depths,
+                                  double scale,
                                   int stride);
 
   // H(V) at `camera`'s size (report width and height are the camera's), measured at `scale`.

@@ -3,6 +3,7 @@
 #include "pipeline/direct/splat_coverage.h"
 
 #include <gtest/gtest.h>
+
 #include <opencv2/imgproc.hpp>
 
 namespace px::direct {

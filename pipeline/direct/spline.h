@@ -6,11 +6,10 @@
 // and works for uneven key spacing.
 #pragma once
 
+#include <Eigen/Core>
 #include <cstddef>
 #include <utility>
 #include <vector>
-
-#include <Eigen/Core>
 
 namespace px::direct {
 
@@ -33,8 +32,7 @@ T Interpolate(const std::vector<double>& times, const std::vector<T>& values, do
   const double h = times[i + 1] - times[i];
   // Tangents (per unit time) from the neighbours, one-sided at the ends.
   const T m0 = i == 0 ? T((p1 - p0) / h) : T((p1 - values[i - 1]) / (times[i + 1] - times[i - 1]));
-  const T m1 = i + 2 >= values.size() ? T((p1 - p0) / h)
-                                      : T((values[i + 2] - p0) / (times[i + 2] - times[i]));
+  const T m1 = i + 2 >= values.size() ? T((p1 - p0) / h) : T((values[i + 2] - p0) / (times[i + 2] - times[i]));
   const double f2 = f * f, f3 = f2 * f;
   const double h00 = 2 * f3 - 3 * f2 + 1, h10 = f3 - 2 * f2 + f, h01 = -2 * f3 + 3 * f2, h11 = f3 - f2;
   return T(h00 * p0 + (h10 * h) * m0 + h01 * p1 + (h11 * h) * m1);

@@ -2,26 +2,25 @@
 // a geometric proxy: the quadrilateral at the median depth inside its box in the reference view.
 #pragma once
 
+#include <Eigen/Core>
 #include <array>
 #include <cstdint>
-#include <string>
-
-#include <Eigen/Core>
 #include <opencv2/core/types.hpp>
+#include <string>
 
 namespace px {
 
 struct Subject {
-  std::string source;    // "face" (detected) or "user" (a region given by rectangle)
-  int32_t view = -1;     // the view (ViewId value) whose pixels `box_px` is in
-  cv::Rect2d box_px;     // x, y, width, height in that view's pixels
-  double depth_m = 0;    // median depth inside the box, along that view's optical axis
-  bool depth_known = true;  // false: no trustworthy depth there; depth_m is a nominal 1 m (2D framing only)
+  std::string source;             // "face" (detected) or "user" (a region given by rectangle)
+  int32_t view = -1;              // the view (ViewId value) whose pixels `box_px` is in
+  cv::Rect2d box_px;              // x, y, width, height in that view's pixels
+  double depth_m = 0;             // median depth inside the box, along that view's optical axis
+  bool depth_known = true;        // false: no trustworthy depth there; depth_m is a nominal 1 m (2D framing only)
   double confident_fraction = 1;  // of the box's inner pixels with confident depth, [0, 1]
-  double score = 0;      // detector strength (merged detections), 0 for user regions
+  double score = 0;               // detector strength (merged detections), 0 for user regions
   // The box's corners at depth_m in the world: top-left, top-right, bottom-right, bottom-left.
-  std::array<Eigen::Vector3d, 4> corners_in_world = {Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero(),
-                                                     Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero()};
+  std::array<Eigen::Vector3d, 4> corners_in_world = {
+      Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero()};
 
   Eigen::Vector3d CentreInWorld() const;
   // Centre of the lower half of the quadrilateral: aiming here leaves the face slightly above

@@ -5,18 +5,13 @@
 #include <cmath>
 #include <cstdio>
 
+#include "pipeline/core/order_statistics.h"
 #include "pipeline/core/stage_clock.h"
 #include "pipeline/direct/scene_geometry.h"
 
 namespace px::direct {
 
 namespace {
-
-double Median(std::vector<float>& values) {
-  const auto middle = values.begin() + static_cast<std::ptrdiff_t>(values.size() / 2);
-  std::nth_element(values.begin(), middle, values.end());
-  return *middle;
-}
 
 std::string BoxText(const cv::Rect2d& box) {
   char text[96];
@@ -26,7 +21,9 @@ std::string BoxText(const cv::Rect2d& box) {
 
 }  // namespace
 
-StatusOr<Subject> SubjectFromBox(const View& view, const DepthMap* depth, const cv::Rect2d& box_px,
+StatusOr<Subject> SubjectFromBox(const View& view,
+                                 const DepthMap* depth,
+                                 const cv::Rect2d& box_px,
                                  const std::string& source) {
   const cv::Rect2d image(0, 0, view.camera.width, view.camera.height);
   const cv::Rect2d clipped = box_px & image;
@@ -85,7 +82,10 @@ StatusOr<Subject> SubjectFromBox(const View& view, const DepthMap* depth, const 
   return subject;
 }
 
-DetectedFaces DetectFaces(cv::Mat image, ViewId view, const FaceDetector& detector, const FaceDetectionOptions& options) {
+DetectedFaces DetectFaces(cv::Mat image,
+                          ViewId view,
+                          const FaceDetector& detector,
+                          const FaceDetectionOptions& options) {
   const Clock::time_point start = Clock::now();
   DetectedFaces found;
   found.view = view;
@@ -95,9 +95,13 @@ DetectedFaces DetectFaces(cv::Mat image, ViewId view, const FaceDetector& detect
   return found;
 }
 
-StatusOr<SubjectSearch> FindSubjects(const std::vector<View>& views, const std::vector<DepthMap>& depths,
-                                     int centre_index, const FaceDetector* detector, const DirectOptions& options,
-                                     const DetectedFaces* detected, bool metric_scale) {
+StatusOr<SubjectSearch> FindSubjects(const std::vector<View>& views,
+                                     const std::vector<DepthMap>& depths,
+                                     int centre_index,
+                                     const FaceDetector* detector,
+                                     const DirectOptions& options,
+                                     const DetectedFaces* detected,
+                                     bool metric_scale) {
   const auto start = std::chrono::steady_clock::now();
   SubjectSearch search;
   if (views.empty()) return InvalidArgumentError("subjects: no views");
@@ -118,7 +122,8 @@ StatusOr<SubjectSearch> FindSubjects(const std::vector<View>& views, const std::
     }
     search.detector = "user regions";
     for (size_t i = 0; i < options.subject_boxes_px.size(); ++i) {
-      StatusOr<Subject> subject = SubjectFromBox(*view, FindDepth(depths, view->id), options.subject_boxes_px[i], "user");
+      StatusOr<Subject> subject =
+          SubjectFromBox(*view, FindDepth(depths, view->id), options.subject_boxes_px[i], "user");
       if (!subject.ok()) return subject.status().WithContext("direct.subject_boxes_px[" + std::to_string(i) + "]");
       search.subjects.push_back(std::move(subject).value());
     }
@@ -144,9 +149,13 @@ StatusOr<SubjectSearch> FindSubjects(const std::vector<View>& views, const std::
         const double width_m = face.box.width * subject->depth_m / view.camera.fx;
         if (width_m < options.faces.min_face_width_m || width_m > options.faces.max_face_width_m) {
           char note[200];
-          std::snprintf(note, sizeof(note),
+          std::snprintf(note,
+                        sizeof(note),
                         "face %s dropped: %.2f m wide at %.2f m, outside %.2f..%.2f m (a face-like texture)",
-                        BoxText(face.box).c_str(), width_m, subject->depth_m, options.faces.min_face_width_m,
+                        BoxText(face.box).c_str(),
+                        width_m,
+                        subject->depth_m,
+                        options.faces.min_face_width_m,
                         options.faces.max_face_width_m);
           search.notes.push_back(note);
           continue;
@@ -166,8 +175,12 @@ StatusOr<SubjectSearch> FindSubjects(const std::vector<View>& views, const std::
                              std::to_string(kNominalSubjectDepthM) + " m for 2D framing only");
     } else if (subject.confident_fraction < options.min_confident_fraction) {
       char note[200];
-      std::snprintf(note, sizeof(note), "%s %s: only %.0f%% of its depth is confident (median %.2f m used)",
-                    subject.source.c_str(), BoxText(subject.box_px).c_str(), 100 * subject.confident_fraction,
+      std::snprintf(note,
+                    sizeof(note),
+                    "%s %s: only %.0f%% of its depth is confident (median %.2f m used)",
+                    subject.source.c_str(),
+                    BoxText(subject.box_px).c_str(),
+                    100 * subject.confident_fraction,
                     subject.depth_m);
       search.notes.push_back(note);
     }

@@ -2,10 +2,9 @@
 // user marked, each turned into a 3D quadrilateral at the median depth inside its box.
 #pragma once
 
+#include <opencv2/core.hpp>
 #include <string>
 #include <vector>
-
-#include <opencv2/core.hpp>
 
 #include "pipeline/core/status.h"
 #include "pipeline/core/view.h"
@@ -24,7 +23,9 @@ inline constexpr double kNominalSubjectDepthM = 1.0;
 // quarter of them are, else over all known depth; the quadrilateral is the box's corners at that
 // depth, fronto-parallel to the view. `depth` may be null (then depth_known is false and the
 // nominal depth is used). Fails naming the box when it does not overlap the image.
-StatusOr<Subject> SubjectFromBox(const View& view, const DepthMap* depth, const cv::Rect2d& box_px,
+StatusOr<Subject> SubjectFromBox(const View& view,
+                                 const DepthMap* depth,
+                                 const cv::Rect2d& box_px,
                                  const std::string& source);
 
 // Faces already found on a view (pipeline/run detects them on the centre view while the depth
@@ -38,7 +39,10 @@ struct DetectedFaces {
 
 // Runs `detector` on one view's image and times it. The image is taken by value (shared, not
 // copied) so that the pipeline can detect on another thread while the views change.
-DetectedFaces DetectFaces(cv::Mat image, ViewId view, const FaceDetector& detector, const FaceDetectionOptions& options);
+DetectedFaces DetectFaces(cv::Mat image,
+                          ViewId view,
+                          const FaceDetector& detector,
+                          const FaceDetectionOptions& options);
 
 struct SubjectSearch {
   std::vector<Subject> subjects;   // largest first, at most options.faces.max_subjects
@@ -53,10 +57,14 @@ struct SubjectSearch {
 // whose physical width at its depth is outside options.faces' range is dropped, so that a
 // face-like texture on a far wall or a tiny pattern up close does not become a subject; without
 // depth, or without `metric_scale` (structure from motion's scale is a guess, and a real face
-// would be dropped as 6 cm wide), every face is kept, with a note. `detected`, when it is for the centre view, replaces the detection
-// (its time is then not in SubjectSearch::ms).
-StatusOr<SubjectSearch> FindSubjects(const std::vector<View>& views, const std::vector<DepthMap>& depths,
-                                     int centre_index, const FaceDetector* detector, const DirectOptions& options,
-                                     const DetectedFaces* detected = nullptr, bool metric_scale = true);
+// would be dropped as 6 cm wide), every face is kept, with a note. `detected`, when it is for the centre view, replaces
+// the detection (its time is then not in SubjectSearch::ms).
+StatusOr<SubjectSearch> FindSubjects(const std::vector<View>& views,
+                                     const std::vector<DepthMap>& depths,
+                                     int centre_index,
+                                     const FaceDetector* detector,
+                                     const DirectOptions& options,
+                                     const DetectedFaces* detected = nullptr,
+                                     bool metric_scale = true);
 
 }  // namespace px::direct

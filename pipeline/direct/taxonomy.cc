@@ -68,16 +68,23 @@ std::string_view EffectName(Effect effect) {
 }
 
 const std::vector<Move>& AllMoves() {
-  static const std::vector<Move> moves = {Move::kEstablishingDolly, Move::kEstablishingDollyOut, Move::kDollyIn,
-                                          Move::kDollyOut,          Move::kDollyZoomOut,         Move::kDollyZoomIn,
+  static const std::vector<Move> moves = {Move::kEstablishingDolly,
+                                          Move::kEstablishingDollyOut,
+                                          Move::kDollyIn,
+                                          Move::kDollyOut,
+                                          Move::kDollyZoomOut,
+                                          Move::kDollyZoomIn,
                                           Move::kDolly};
   return moves;
 }
 
 const std::vector<Effect>& AllEffects() {
-  static const std::vector<Effect> effects = {Effect::kNone,       Effect::kDofChange,
-                                              Effect::kFocusPull,  Effect::kSaturation,
-                                              Effect::kBrightness, Effect::kDesaturateBackground,
+  static const std::vector<Effect> effects = {Effect::kNone,
+                                              Effect::kDofChange,
+                                              Effect::kFocusPull,
+                                              Effect::kSaturation,
+                                              Effect::kBrightness,
+                                              Effect::kDesaturateBackground,
                                               Effect::kDimBackground};
   return effects;
 }
@@ -132,8 +139,10 @@ std::vector<Effect> AutomaticEffects(Move move) {
   }
 }
 
-StatusOr<MoveChoice> ChooseMove(int num_subjects, const std::string& requested_move,
-                                const std::string& requested_effect, uint64_t seed) {
+StatusOr<MoveChoice> ChooseMove(int num_subjects,
+                                const std::string& requested_move,
+                                const std::string& requested_effect,
+                                uint64_t seed) {
   std::mt19937_64 rng(seed);
   const int row = std::clamp(num_subjects, 0, 2);
   MoveChoice choice;
@@ -162,8 +171,8 @@ StatusOr<MoveChoice> ChooseMove(int num_subjects, const std::string& requested_m
   if (drawn) {
     const std::vector<Move> candidates = MovesOfRow(row);
     choice.move = candidates[Draw(rng, candidates.size())];
-    choice.reason += count + ": row " + std::to_string(row) + " of table 1 (" + Join(candidates) +
-                     "), seed " + std::to_string(seed) + " drew " + std::string(MoveName(choice.move));
+    choice.reason += count + ": row " + std::to_string(row) + " of table 1 (" + Join(candidates) + "), seed " +
+                     std::to_string(seed) + " drew " + std::string(MoveName(choice.move));
   }
   if (SubjectsNeeded(choice.move) >= 2) choice.swap_subjects = Draw(rng, 2) == 1;
 
@@ -199,9 +208,9 @@ std::vector<MoveChoice> FallbackMoves(const MoveChoice& first, int num_subjects)
         choice.move = move;
         choice.effect = Effect::kNone;
         choice.swap_subjects = swap;
-        choice.reason = "fallback: " + std::string(MoveName(move)) + " (row " + std::to_string(row) + ")" +
-                        (order == 1 ? (row == 2 ? ", from the second subject to the first" : ", on the second subject")
-                                    : "");
+        choice.reason =
+            "fallback: " + std::string(MoveName(move)) + " (row " + std::to_string(row) + ")" +
+            (order == 1 ? (row == 2 ? ", from the second subject to the first" : ", on the second subject") : "");
         fallbacks.push_back(choice);
       }
     }

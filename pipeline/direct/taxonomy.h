@@ -40,7 +40,7 @@ enum class Effect {
   kDimBackground,         // everything but the subject dims
 };
 
-std::string_view MoveName(Move move);      // "establishing_dolly", ..., "dolly"
+std::string_view MoveName(Move move);        // "establishing_dolly", ..., "dolly"
 std::string_view EffectName(Effect effect);  // "none", "dof_change", ...
 StatusOr<Move> ParseMove(std::string_view name);
 StatusOr<Effect> ParseEffect(std::string_view name);
@@ -67,8 +67,10 @@ struct MoveChoice {
 // scene has the subjects it needs (otherwise auto, with the reason saying so). `requested_effect`
 // "auto" draws from AutomaticEffects, a named effect is taken when it suits the move (otherwise
 // none, said in the reason). Deterministic for a given seed. Errors only for unknown names.
-StatusOr<MoveChoice> ChooseMove(int num_subjects, const std::string& requested_move,
-                                const std::string& requested_effect, uint64_t seed);
+StatusOr<MoveChoice> ChooseMove(int num_subjects,
+                                const std::string& requested_move,
+                                const std::string& requested_effect,
+                                uint64_t seed);
 
 // What to try, in order, when `first` cannot be planned (no valid viewpoints for it): the other
 // moves of its row, then those of the rows below, each with no effect. Deterministic.

@@ -4,10 +4,9 @@
 #include <array>
 #include <cmath>
 #include <map>
+#include <opencv2/core/utility.hpp>
 #include <optional>
 #include <string>
-
-#include <opencv2/core/utility.hpp>
 
 namespace px::direct {
 
@@ -34,8 +33,9 @@ class ColumnSearch {
     Probed result;
     result.framing = rule_(scene_.WorldFromRig(Eigen::Vector3d(xy_.x(), xy_.y(), z)));
     if (result.framing.focal_px > 0) {  // else the rule cannot frame from here
-      PX_ASSIGN_OR_RETURN(result.hole_score, probe_->HoleScore(scene_.OutputWithFocal(result.framing.focal_px),
-                                                               result.framing.cam_from_world));
+      PX_ASSIGN_OR_RETURN(
+          result.hole_score,
+          probe_->HoleScore(scene_.OutputWithFocal(result.framing.focal_px), result.framing.cam_from_world));
       result.valid = result.hole_score < probe_->valid_hole_score();
       ++probes_;
     }
@@ -51,12 +51,16 @@ class ColumnSearch {
   // the hint steps on by the precision too). Without a hint the step starts at
   // z.first_step_m, doubling while valid; then halving between the last valid and the first
   // invalid distance. Sets last_z() to the answer's z.
-  StatusOr<Probed> Extreme(const Probed& anchor, double anchor_z, double sign, double limit_z, const ZLimits& z,
+  StatusOr<Probed> Extreme(const Probed& anchor,
+                           double anchor_z,
+                           double sign,
+                           double limit_z,
+                           const ZLimits& z,
                            std::optional<double> hint_z) {
     Probed best = anchor;
     const double limit = sign * (limit_z - anchor_z);  // distances from the anchor along sign
-    double lo = 0;                                      // distance of `best`
-    std::optional<double> hi;                           // first invalid distance found
+    double lo = 0;                                     // distance of `best`
+    std::optional<double> hi;                          // first invalid distance found
     // With a neighbour's answer the frontier is expected near it: small steps.
     double step = hint_z ? z.precision_m : z.first_step_m;
     const auto probe_at = [&](double distance) { return At(anchor_z + sign * distance); };
@@ -129,7 +133,8 @@ ZLimits SearchLimits(const SceneGeometry& scene, const ViewpointSearchOptions& o
   return z;
 }
 
-StatusOr<std::vector<Eigen::Vector2d>> GridPositions(const SceneGeometry& scene, const ViewpointSearchOptions& options) {
+StatusOr<std::vector<Eigen::Vector2d>> GridPositions(const SceneGeometry& scene,
+                                                     const ViewpointSearchOptions& options) {
   Eigen::Vector2d extent = scene.box_max - scene.box_min;
   const double longer = extent.maxCoeff();
   if (!(longer >= 1e-3)) {
@@ -158,13 +163,14 @@ namespace {
 // median of the left's, the upper's and the plane through the three (left + up - up-left), since
 // the frontier is smooth and a slope seen in the row above usually carries on (about a tenth
 // fewer probes on the 640x480 shots than the last valid cell's answer alone).
-std::optional<double> ExpectedAnswer(const std::map<int, double>& answers, std::optional<double> last_valid,
-                                     int cell, int previous_cell, int n) {
+std::optional<double> ExpectedAnswer(
+    const std::map<int, double>& answers, std::optional<double> last_valid, int cell, int previous_cell, int n) {
   const int row = cell / n, column = cell % n, previous_column = previous_cell % n;
   if (row == 0 || previous_cell / n != row) return last_valid;
   const auto left = answers.find(previous_cell), up = answers.find(cell - n),
              up_left = answers.find((row - 1) * n + previous_column);
-  if (left == answers.end() || up == answers.end() || up_left == answers.end() || std::abs(column - previous_column) != 1) {
+  if (left == answers.end() || up == answers.end() || up_left == answers.end() ||
+      std::abs(column - previous_column) != 1) {
     return last_valid;
   }
   std::array<double, 3> guesses = {left->second, up->second, left->second + up->second - up_left->second};
@@ -173,12 +179,17 @@ std::optional<double> ExpectedAnswer(const std::map<int, double>& answers, std::
 }
 
 // The search along one chain of cells, each seeded by the previous cells' answers.
-StatusOr<ValidRegion> SearchChain(const SceneGeometry& scene, const FramingRule& rule, CoverageProbe* probe,
-                                  const ZLimits& z, const std::vector<Eigen::Vector2d>& positions,
-                                  const std::vector<int>& order, bool search_front, bool search_back) {
+StatusOr<ValidRegion> SearchChain(const SceneGeometry& scene,
+                                  const FramingRule& rule,
+                                  CoverageProbe* probe,
+                                  const ZLimits& z,
+                                  const std::vector<Eigen::Vector2d>& positions,
+                                  const std::vector<int>& order,
+                                  bool search_front,
+                                  bool search_back) {
   ValidRegion region;
   const int n = std::max(1, static_cast<int>(std::lround(std::sqrt(static_cast<double>(positions.size())))));
-  std::optional<double> last_front, last_back;     // the last valid cell's answers (z)
+  std::optional<double> last_front, last_back;        // the last valid cell's answers (z)
   std::map<int, double> front_answers, back_answers;  // by cell, this chain's
   int previous_cell = -1;
   for (int cell : order) {
@@ -243,8 +254,12 @@ std::vector<int> Serpentine(int n, int first, int last) {
 
 }  // namespace
 
-StatusOr<ValidRegion> FindValidViewpoints(const SceneGeometry& scene, const FramingRule& rule, CoverageProbe* probe,
-                                          const ViewpointSearchOptions& options, Sweep sweep, bool search_front,
+StatusOr<ValidRegion> FindValidViewpoints(const SceneGeometry& scene,
+                                          const FramingRule& rule,
+                                          CoverageProbe* probe,
+                                          const ViewpointSearchOptions& options,
+                                          Sweep sweep,
+                                          bool search_front,
                                           bool search_back) {
   const ZLimits z = SearchLimits(scene, options);
   std::vector<Eigen::Vector2d> positions;

@@ -14,10 +14,9 @@
 // are two such chains, searched side by side.
 #pragma once
 
+#include <Eigen/Core>
 #include <functional>
 #include <vector>
-
-#include <Eigen/Core>
 
 #include "pipeline/core/rigid3.h"
 #include "pipeline/core/status.h"
@@ -70,8 +69,12 @@ ZLimits SearchLimits(const SceneGeometry& scene, const ViewpointSearchOptions& o
 StatusOr<std::vector<Eigen::Vector2d>> GridPositions(const SceneGeometry& scene, const ViewpointSearchOptions& options);
 
 // Searches the valid region for `rule`. Only the directions asked for are searched.
-StatusOr<ValidRegion> FindValidViewpoints(const SceneGeometry& scene, const FramingRule& rule, CoverageProbe* probe,
-                                          const ViewpointSearchOptions& options, Sweep sweep, bool search_front,
+StatusOr<ValidRegion> FindValidViewpoints(const SceneGeometry& scene,
+                                          const FramingRule& rule,
+                                          CoverageProbe* probe,
+                                          const ViewpointSearchOptions& options,
+                                          Sweep sweep,
+                                          bool search_front,
                                           bool search_back);
 
 }  // namespace px::direct

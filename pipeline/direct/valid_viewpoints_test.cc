@@ -1,12 +1,12 @@
 #include "pipeline/direct/valid_viewpoints.h"
 
+#include <gtest/gtest.h>
+
 #include <algorithm>
 #include <cstdio>
 #include <mutex>
 #include <set>
 #include <thread>
-
-#include <gtest/gtest.h>
 
 namespace px::direct {
 namespace {
@@ -94,7 +94,9 @@ TEST(ValidViewpointsTest, FindsEachCellsFrontAndBackWithinThePrecision) {
     EXPECT_LT(per_direction, 4.0);
     EXPECT_EQ(region->probes, probe.calls());
     std::printf("[figures] %s: %d probes, %.2f a cell and direction, on %zu thread(s)\n",
-                concurrent ? "two chains side by side" : "one chain", region->probes, per_direction,
+                concurrent ? "two chains side by side" : "one chain",
+                region->probes,
+                per_direction,
                 threads.size());  // two chains may share one thread when the workers are busy
   }
 }

@@ -3,11 +3,10 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
-#include <vector>
-
 #include <opencv2/calib3d.hpp>
 #include <opencv2/imgproc.hpp>
 #include <opencv2/video/tracking.hpp>
+#include <vector>
 
 #include "pipeline/core/stage_clock.h"
 
@@ -52,8 +51,8 @@ cv::Mat Consistent(const cv::Mat& ab, const cv::Mat& ba, double tolerance) {
 }
 
 // Signed distance (pixels) of q from the epipolar line F * p, and the line's unit normal.
-inline double EpipolarDistance(const cv::Matx33d& f, double px, double py, double qx, double qy, double* nx,
-                               double* ny) {
+inline double EpipolarDistance(
+    const cv::Matx33d& f, double px, double py, double qx, double qy, double* nx, double* ny) {
   const double a = f(0, 0) * px + f(0, 1) * py + f(0, 2);
   const double b = f(1, 0) * px + f(1, 1) * py + f(1, 2);
   const double c = f(2, 0) * px + f(2, 1) * py + f(2, 2);
@@ -146,7 +145,8 @@ Status MorphOptions::Validate() const {
   return OkStatus();
 }
 
-StatusOr<std::unique_ptr<ViewMorph>> ViewMorph::Create(const cv::Mat& a, const cv::Mat& b,
+StatusOr<std::unique_ptr<ViewMorph>> ViewMorph::Create(const cv::Mat& a,
+                                                       const cv::Mat& b,
                                                        const MorphOptions& options) {
   PX_RETURN_IF_ERROR(options.Validate());
   if (a.empty() || b.empty() || a.type() != CV_8UC3 || b.type() != CV_8UC3 || a.size() != b.size()) {

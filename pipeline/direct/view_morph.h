@@ -14,28 +14,27 @@
 #pragma once
 
 #include <memory>
-#include <string>
-
 #include <opencv2/core.hpp>
+#include <string>
 
 #include "pipeline/core/status.h"
 
 namespace px::direct {
 
 struct MorphOptions {
-  int working_width_px = 640;        // flow is computed at most this wide, [64, 4096]
-  double epipolar_sigma_px = 2.0;    // soft constraint scale at full size, (0, 50]
-  double consistency_px = 1.5;       // forward-backward disagreement still counted as one match, (0, 20]
+  int working_width_px = 640;      // flow is computed at most this wide, [64, 4096]
+  double epipolar_sigma_px = 2.0;  // soft constraint scale at full size, (0, 50]
+  double consistency_px = 1.5;     // forward-backward disagreement still counted as one match, (0, 20]
   Status Validate() const;
 };
 
 struct MorphReport {
-  double consistent_fraction = 0;  // pixels whose flow agrees forwards and backwards
-  bool epipolar = false;           // a fundamental matrix was found (else flow is used as is)
-  int fundamental_samples = 0;     // flow samples offered to RANSAC
-  double fundamental_inliers = 0;  // their fraction within 1.5 px of the epipolar lines
-  double median_epipolar_px = 0;   // median distance of consistent flow from its line, before
-  double moving_fraction = 0;      // consistent pixels more than 3 sigma off their line (scene motion)
+  double consistent_fraction = 0;     // pixels whose flow agrees forwards and backwards
+  bool epipolar = false;              // a fundamental matrix was found (else flow is used as is)
+  int fundamental_samples = 0;        // flow samples offered to RANSAC
+  double fundamental_inliers = 0;     // their fraction within 1.5 px of the epipolar lines
+  double median_epipolar_px = 0;      // median distance of consistent flow from its line, before
+  double moving_fraction = 0;         // consistent pixels more than 3 sigma off their line (scene motion)
   double mean_abs_diff_unwarped = 0;  // mean |a - b| over the frame (grey levels): what no morph scores
   double mean_abs_diff_warped = 0;    // mean |a - b(p + flow)| over consistent pixels: the flow's fit
   double ms = 0;                      // to compute it all

@@ -72,8 +72,13 @@ std::string Positions(const Comb& comb, const AxisSearch& search) {
   std::ostringstream out;
   for (size_t k = 0; k < comb.gaps.size(); ++k) {
     char text[64];
-    std::snprintf(text, sizeof(text), "%s%c=%.0f (z %.1f)", k ? ", " : "", search.coordinate,
-                  comb.gaps[k] * search.to_sensor, comb.z[k]);
+    std::snprintf(text,
+                  sizeof(text),
+                  "%s%c=%.0f (z %.1f)",
+                  k ? ", " : "",
+                  search.coordinate,
+                  comb.gaps[k] * search.to_sensor,
+                  comb.z[k]);
     out << text;
   }
   return out.str();
@@ -137,10 +142,14 @@ StatusOr<AxisGrid> FindAxisGrid(const BoundaryProfile& profile, const AxisSearch
   const int fine = FinePeriod(profile, std::max(4, size / (search.max_count + 1)));
   if (fine > 0) {
     char text[240];
-    std::snprintf(text, sizeof(text),
+    std::snprintf(text,
+                  sizeof(text),
                   "no lattice: the frame repeats every %.0f px along %c (%d cells), finer than a lattice of at "
                   "most %d tiles per axis: a micro-lens (plenoptic) image?",
-                  fine * search.to_sensor, search.coordinate, size / fine, search.max_count);
+                  fine * search.to_sensor,
+                  search.coordinate,
+                  size / fine,
+                  search.max_count);
     return NotFoundError(text);
   }
   if (passing.empty()) return grid;

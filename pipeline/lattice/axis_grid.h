@@ -21,18 +21,18 @@ struct AxisGrid {
 };
 
 struct AxisSearch {
-  int expected_count = 0;      // 0 = any count in [1, max_count]
+  int expected_count = 0;  // 0 = any count in [1, max_count]
   int max_count = 8;
   double min_z = 6.0;
-  std::string axis_name;       // "columns" or "rows", for messages
-  char coordinate = 'x';       // for messages
-  double to_sensor = 1.0;      // working pixels -> sensor pixels, for messages
+  std::string axis_name;   // "columns" or "rows", for messages
+  char coordinate = 'x';   // for messages
+  double to_sensor = 1.0;  // working pixels -> sensor pixels, for messages
 };
 
-// The largest count whose every gap passes min_z and 0.3 x the strongest line's z. NOT_FOUND when the evidence fits counts that
-// do not divide each other and whose gaps the larger count does not explain ("ambiguous period"), when expected_count's gaps are weak, or when
-// the profile repeats with a period finer than max_count allows (a micro-lens image). A count of
-// 1 (no internal gap) is not an error here.
+// The largest count whose every gap passes min_z and 0.3 x the strongest line's z. NOT_FOUND when the evidence fits
+// counts that do not divide each other and whose gaps the larger count does not explain ("ambiguous period"), when
+// expected_count's gaps are weak, or when the profile repeats with a period finer than max_count allows (a micro-lens
+// image). A count of 1 (no internal gap) is not an error here.
 StatusOr<AxisGrid> FindAxisGrid(const BoundaryProfile& profile, const AxisSearch& search);
 
 }  // namespace px::lattice

@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "pipeline/core/check.h"
+#include "pipeline/core/order_statistics.h"
 
 namespace px::lattice {
 namespace {
@@ -12,13 +13,6 @@ namespace {
 constexpr int kHalfWidths[] = {2, 4, 8, 16};
 // A strip's response may sit this many working pixels off the line (tiles turned individually).
 constexpr int kStripSlackPx = 2;
-
-float Median(std::vector<float>* values) {
-  if (values->empty()) return 0.0f;
-  const auto mid = values->begin() + values->size() / 2;
-  std::nth_element(values->begin(), mid, values->end());
-  return *mid;
-}
 
 // Column medians of each horizontal strip: rows = strips, cols = x.
 cv::Mat StripColumnMedians(const cv::Mat& grey, int strip_height) {
@@ -32,7 +26,7 @@ cv::Mat StripColumnMedians(const cv::Mat& grey, int strip_height) {
     for (int x = 0; x < grey.cols; ++x) {
       const float* in = transposed.ptr<float>(x);
       column.assign(in, in + strip_height);
-      out[x] = Median(&column);
+      out[x] = MedianInPlace(std::span<float>(column));
     }
   }
   return medians;
@@ -95,7 +89,8 @@ BoundaryProfile VerticalBoundaryProfile(const cv::Mat& grey, double max_rotation
   const double max_shear = std::tan(max_rotation_deg * CV_PI / 180.0);
   const int shear_steps = static_cast<int>(std::ceil(max_shear * centre_y / kStripSlackPx));
   std::vector<double> shears;
-  for (int j = -shear_steps; j <= shear_steps; ++j) shears.push_back(shear_steps == 0 ? 0.0 : max_shear * j / shear_steps);
+  for (int j = -shear_steps; j <= shear_steps; ++j)
+    shears.push_back(shear_steps == 0 ? 0.0 : max_shear * j / shear_steps);
 
   BoundaryProfile profile;
   profile.strength.assign(width, 0.0f);
@@ -151,7 +146,7 @@ BoundaryProfile VerticalBoundaryProfile(const cv::Mat& grey, double max_rotation
           across.push_back(Interpolate(slack.ptr<float>(s), width, xs));
         }
         if (across.size() * 2 < static_cast<size_t>(strips)) continue;
-        const float value = Median(&across);
+        const float value = MedianInPlace(std::span<float>(across));
         if (std::abs(value) > strength[x]) {
           strength[x] = std::abs(value);
           signed_value[x] = value;
@@ -160,9 +155,10 @@ BoundaryProfile VerticalBoundaryProfile(const cv::Mat& grey, double max_rotation
     }
     // Each width against its own background: broad bands vary more with content than narrow ones.
     std::vector<float> sorted = strength;
-    const float median = Median(&sorted);
+    const float median = MedianInPlace(std::span<float>(sorted));
     for (float& v : sorted) v = std::abs(v - median);
-    const double sigma = std::max(1.4826 * Median(&sorted), 1.0);  // a grey level at least (flat frames)
+    const double sigma =
+        std::max(1.4826 * MedianInPlace(std::span<float>(sorted)), 1.0);  // a grey level at least (flat frames)
     for (int x = 0; x < width; ++x) {
       const float z = static_cast<float>((strength[x] - median) / sigma);
       if (z <= profile.z[x]) continue;
@@ -182,7 +178,7 @@ BoundaryProfile VerticalBoundaryProfile(const cv::Mat& grey, double max_rotation
       const double xs = x + ((s + 0.5) * strip_height - centre_y) * profile.shear;
       if (xs >= 0 && xs <= width - 1) across.push_back(Interpolate(medians.ptr<float>(s), width, xs));
     }
-    profile.level[x] = Median(&across);
+    profile.level[x] = MedianInPlace(std::span<float>(across));
   }
   return profile;
 }

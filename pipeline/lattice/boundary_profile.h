@@ -5,22 +5,21 @@
 #pragma once
 
 #include <cstdint>
-#include <vector>
-
 #include <opencv2/core.hpp>
+#include <vector>
 
 namespace px::lattice {
 
 struct BoundaryProfile {
   // Per position x along the axis:
-  std::vector<float> strength;   // |band response|, grey levels: the line against its two sides
-  std::vector<float> z;          // strength as a robust z-score against the profile at the same width
-  std::vector<int8_t> polarity;  // -1: darker than both sides (dark gap), +1: brighter (bright gap)
+  std::vector<float> strength;     // |band response|, grey levels: the line against its two sides
+  std::vector<float> z;            // strength as a robust z-score against the profile at the same width
+  std::vector<int8_t> polarity;    // -1: darker than both sides (dark gap), +1: brighter (bright gap)
   std::vector<int8_t> half_width;  // band half-width that responded most, working pixels
-  std::vector<float> level;      // grey level along the line (median across the frame)
-  double shear = 0;              // dx/dy of the lines that respond most overall (a tilted frame)
-  double background_median = 0;  // of strength at the last width that won somewhere, for messages
-  double background_sigma = 0;   // its robust standard deviation
+  std::vector<float> level;        // grey level along the line (median across the frame)
+  double shear = 0;                // dx/dy of the lines that respond most overall (a tilted frame)
+  double background_median = 0;    // of strength at the last width that won somewhere, for messages
+  double background_sigma = 0;     // its robust standard deviation
 
   int size() const { return static_cast<int>(strength.size()); }
   int ArgMaxZ(int begin, int end) const;  // position of the largest z in [begin, end)

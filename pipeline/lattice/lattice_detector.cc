@@ -5,14 +5,13 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <opencv2/imgproc.hpp>
 #include <sstream>
 
-#include <opencv2/imgproc.hpp>
-
+#include "pipeline/core/order_statistics.h"
 #include "pipeline/core/stage_clock.h"
 #include "pipeline/lattice/axis_grid.h"
 #include "pipeline/lattice/boundary_profile.h"
-#include "pipeline/lattice/median.h"
 #include "pipeline/lattice/tile_edge_fit.h"
 #include "pipeline/lattice/tile_geometry.h"
 
@@ -20,7 +19,6 @@ namespace px {
 namespace {
 
 using lattice::AxisGrid;
-using lattice::Median;
 using lattice::BoundaryProfile;
 using lattice::EdgeFit;
 using lattice::EdgeLine;
@@ -70,9 +68,9 @@ GreyFrame MakeGrey(const cv::Mat& frame) {
 
 // One boundary between tiles along an axis, in sensor pixels.
 struct Boundary {
-  double centre = 0;      // gap centre; for an outer boundary, where the margin ends (or the frame edge)
-  double half_width = 0;  // estimated half-width of the gap band
-  int polarity = 0;       // -1 dark band, +1 bright band, 0 unknown
+  double centre = 0;        // gap centre; for an outer boundary, where the margin ends (or the frame edge)
+  double half_width = 0;    // estimated half-width of the gap band
+  int polarity = 0;         // -1 dark band, +1 bright band, 0 unknown
   bool frame_edge = false;  // the tiles run to the frame's border here: nothing to fit
   double z = 0;
 };
@@ -91,8 +89,13 @@ double ToSensor(double working, double s) { return (working + 0.5) * s - 0.5; }
 
 // The outer boundary at the start (from_start) or end of the axis: a margin as gap-like as the
 // internal gaps ends where the tiles begin; otherwise the tiles run to the frame's border.
-Boundary OuterBoundary(const BoundaryProfile& profile, double gap_level, double tile_level, double period,
-                       bool from_start, double s, int sensor_size) {
+Boundary OuterBoundary(const BoundaryProfile& profile,
+                       double gap_level,
+                       double tile_level,
+                       double period,
+                       bool from_start,
+                       double s,
+                       int sensor_size) {
   Boundary b;
   const int size = profile.size();
   const double contrast = std::abs(tile_level - gap_level);
@@ -116,8 +119,12 @@ Boundary OuterBoundary(const BoundaryProfile& profile, double gap_level, double 
   return b;
 }
 
-AxisPlan PlanAxis(const BoundaryProfile& profile, const AxisGrid& grid, double gap_level, double tile_level,
-                  double s, int sensor_size) {
+AxisPlan PlanAxis(const BoundaryProfile& profile,
+                  const AxisGrid& grid,
+                  double gap_level,
+                  double tile_level,
+                  double s,
+                  int sensor_size) {
   AxisPlan plan;
   plan.count = grid.count;
   plan.shear = profile.shear;
@@ -154,8 +161,14 @@ struct EdgeResult {
 };
 
 // Fits the edge where tile k starts (start = true: its left/top) or ends, along one axis.
-EdgeResult FitPlannedEdge(const cv::Mat& grey, bool transposed, const AxisPlan& plan, int k, bool start,
-                          double along_begin, double along_end, double max_slope) {
+EdgeResult FitPlannedEdge(const cv::Mat& grey,
+                          bool transposed,
+                          const AxisPlan& plan,
+                          int k,
+                          bool start,
+                          double along_begin,
+                          double along_end,
+                          double max_slope) {
   EdgeResult result;
   const Boundary& b = plan.boundaries[start ? k : k + 1];
   if (b.frame_edge) {
@@ -187,10 +200,11 @@ EdgeResult FitPlannedEdge(const cv::Mat& grey, bool transposed, const AxisPlan& 
     search.sign = 0;  // a plain step between touching tiles has one sign for both of them
     result.fit = lattice::FitEdge(grey, search);
   }
-  result.line = result.fit.found ? result.fit.line
-                                 : EdgeLine{(start ? CoarseStart(plan, k) : CoarseEnd(plan, k)) -
-                                                plan.shear * 0.5 * (along_begin + along_end),
-                                            plan.shear};
+  result.line =
+      result.fit.found
+          ? result.fit.line
+          : EdgeLine{(start ? CoarseStart(plan, k) : CoarseEnd(plan, k)) - plan.shear * 0.5 * (along_begin + along_end),
+                     plan.shear};
   return result;
 }
 
@@ -236,12 +250,12 @@ void FillFromAcrossTheGap(std::vector<TileFits>* fits, int rows, int cols) {
   std::array<std::vector<double>, 2> widths;  // [0]: vertical gaps, [1]: horizontal
   auto gap_pairs = [&](auto&& visit) {
     for (int r = 0; r < rows; ++r) {
-      for (int c = 0; c + 1 < cols; ++c) visit(0, (*fits)[r * cols + c].edges[lattice::kRight],
-                                               (*fits)[r * cols + c + 1].edges[lattice::kLeft]);
+      for (int c = 0; c + 1 < cols; ++c)
+        visit(0, (*fits)[r * cols + c].edges[lattice::kRight], (*fits)[r * cols + c + 1].edges[lattice::kLeft]);
     }
     for (int r = 0; r + 1 < rows; ++r) {
-      for (int c = 0; c < cols; ++c) visit(1, (*fits)[r * cols + c].edges[lattice::kBottom],
-                                           (*fits)[(r + 1) * cols + c].edges[lattice::kTop]);
+      for (int c = 0; c < cols; ++c)
+        visit(1, (*fits)[r * cols + c].edges[lattice::kBottom], (*fits)[(r + 1) * cols + c].edges[lattice::kTop]);
     }
   };
   gap_pairs([&](int axis, EdgeResult& end, EdgeResult& start) {
@@ -277,16 +291,20 @@ Status CheckTiles(const std::vector<DetectedTile>& tiles, const LatticeOptions& 
                            Format("%.0f", 100 * options.max_size_spread) + "% off)");
     }
     if (std::abs(t.rotation_deg) > options.max_rotation_deg + kRotationToleranceDeg) {
-      return NotFoundError("no lattice: " + TileName(t.row, t.col) + "'s edges fit a rotation of " +
-                           Format("%.1f deg, more than the %.1f deg allowed", t.rotation_deg, options.max_rotation_deg));
+      return NotFoundError(
+          "no lattice: " + TileName(t.row, t.col) + "'s edges fit a rotation of " +
+          Format("%.1f deg, more than the %.1f deg allowed", t.rotation_deg, options.max_rotation_deg));
     }
   }
   return OkStatus();
 }
 
 // Figures that say what told the tiles apart.
-std::vector<std::string> Evidence(const GreyFrame& frame, const LatticeLayout& layout, const AxisPlan* x,
-                                  const AxisPlan* y, const std::vector<DetectedTile>& tiles) {
+std::vector<std::string> Evidence(const GreyFrame& frame,
+                                  const LatticeLayout& layout,
+                                  const AxisPlan* x,
+                                  const AxisPlan* y,
+                                  const std::vector<DetectedTile>& tiles) {
   std::vector<std::string> evidence;
   const AxisPlan* plan = x != nullptr && x->count > 1 ? x : y;
   if (plan != nullptr) {
@@ -296,12 +314,13 @@ std::vector<std::string> Evidence(const GreyFrame& frame, const LatticeLayout& l
     }
     const double contrast = plan->tile_level - plan->gap_level;
     if (std::abs(contrast) < 10) {
-      evidence.push_back(Format("tile edges without a distinct gap (gap grey %.0f, tiles %.0f)", plan->gap_level,
-                                plan->tile_level));
+      evidence.push_back(
+          Format("tile edges without a distinct gap (gap grey %.0f, tiles %.0f)", plan->gap_level, plan->tile_level));
     } else {
       evidence.push_back(Format(dark >= bright ? "dark gaps (grey %.0f against %.0f in the tiles)"
                                                : "bright gaps (grey %.0f against %.0f in the tiles)",
-                                plan->gap_level, plan->tile_level));
+                                plan->gap_level,
+                                plan->tile_level));
     }
   }
   int fitted = 0, searched = 0;
@@ -311,7 +330,9 @@ std::vector<std::string> Evidence(const GreyFrame& frame, const LatticeLayout& l
     searched += 4;
     rms += t.edge_rms_px;
   }
-  evidence.push_back(Format("tile edges: %.0f of %.0f fitted as lines, %.2f px RMS", fitted, searched,
+  evidence.push_back(Format("tile edges: %.0f of %.0f fitted as lines, %.2f px RMS",
+                            fitted,
+                            searched,
                             rms / std::max<size_t>(1, tiles.size())));
   // Vignetting: brightness of a ring near each tile's border against its centre.
   std::vector<double> ratios;
@@ -335,8 +356,12 @@ std::vector<std::string> Evidence(const GreyFrame& frame, const LatticeLayout& l
 }
 
 // The level of the gaps and of the tiles from the coarse profiles (medians along the lines).
-void GapAndTileLevels(const BoundaryProfile& px, const AxisGrid& gx, const BoundaryProfile& py, const AxisGrid& gy,
-                      double* gap_level, double* tile_level) {
+void GapAndTileLevels(const BoundaryProfile& px,
+                      const AxisGrid& gx,
+                      const BoundaryProfile& py,
+                      const AxisGrid& gy,
+                      double* gap_level,
+                      double* tile_level) {
   std::vector<double> gaps, tiles;
   for (const auto& [profile, grid] : {std::pair(&px, &gx), std::pair(&py, &gy)}) {
     std::vector<bool> near_gap(profile->size(), false);
@@ -369,7 +394,10 @@ Status CheckFrame(const cv::Mat& frame) {
   return OkStatus();
 }
 
-LatticeLayout LayoutFromTiles(const std::vector<DetectedTile>& tiles, int rows, int cols, const cv::Size& size,
+LatticeLayout LayoutFromTiles(const std::vector<DetectedTile>& tiles,
+                              int rows,
+                              int cols,
+                              const cv::Size& size,
                               const std::vector<TileOrientation>& orientations) {
   LatticeLayout layout;
   layout.rows = rows;
@@ -421,7 +449,8 @@ StatusOr<LatticeDetection> DetectBlind(const GreyFrame& frame, const LatticeOpti
     const int bx = px.ArgMaxZ(0, px.size()), by = py.ArgMaxZ(0, py.size());
     return NotFoundError(Format("no lattice: no gap or tile edge crosses the frame (strongest line evidence: z %.1f "
                                 "at x=%.0f, ",
-                                px.z[bx], ToSensor(bx, s_x)) +
+                                px.z[bx],
+                                ToSensor(bx, s_x)) +
                          Format("z %.1f at y=%.0f; need z >= %.0f)", py.z[by], ToSensor(by, s_y), options.min_gap_z));
   }
   double gap_level = 0, tile_level = 0;
@@ -457,8 +486,8 @@ StatusOr<LatticeDetection> DetectBlind(const GreyFrame& frame, const LatticeOpti
     inliers += report.tiles.back().inlier_fraction;
   }
   PX_RETURN_IF_ERROR(CheckTiles(report.tiles, options));
-  detection.layout = LayoutFromTiles(report.tiles, rows, cols, frame.grey.size(),
-                                     std::vector<TileOrientation>(rows * cols, options.orientation));
+  detection.layout = LayoutFromTiles(
+      report.tiles, rows, cols, frame.grey.size(), std::vector<TileOrientation>(rows * cols, options.orientation));
   const Status valid = detection.layout.Validate();
   if (!valid.ok()) return NotFoundError("no lattice: the edges found do not form one: " + valid.message());
   std::vector<double> z;
@@ -469,7 +498,9 @@ StatusOr<LatticeDetection> DetectBlind(const GreyFrame& frame, const LatticeOpti
     return NotFoundError("no lattice: the " + std::to_string(cols) + "x" + std::to_string(rows) +
                          " grid that fits best is too uncertain: confidence " +
                          Format("%.2f < %.2f (weakest gap z %.1f, edges found on %.0f%% of the cuts)",
-                                report.confidence, options.min_confidence, report.weakest_gap_z,
+                                report.confidence,
+                                options.min_confidence,
+                                report.weakest_gap_z,
                                 100 * inliers / (rows * cols)));
   }
   report.evidence = Evidence(frame, detection.layout, &plan_x, &plan_y, report.tiles);
@@ -518,8 +549,10 @@ LatticeLayout ScaledPrior(const LatticeLayout& prior, const cv::Size& size) {
   scaled.sensor_height = size.height;
   for (Tile& tile : scaled.tiles) {
     const cv::Rect& r = tile.rect;
-    tile.rect = cv::Rect(static_cast<int>(std::lround(r.x * sx)), static_cast<int>(std::lround(r.y * sy)),
-                         static_cast<int>(std::lround(r.width * sx)), static_cast<int>(std::lround(r.height * sy)));
+    tile.rect = cv::Rect(static_cast<int>(std::lround(r.x * sx)),
+                         static_cast<int>(std::lround(r.y * sy)),
+                         static_cast<int>(std::lround(r.width * sx)),
+                         static_cast<int>(std::lround(r.height * sy)));
   }
   return scaled;
 }
@@ -528,8 +561,14 @@ LatticeLayout ScaledPrior(const LatticeLayout& prior, const cv::Size& size) {
 // with the range along it.
 EdgeLine PriorEdge(const Tile& tile, int side, double* along_begin, double* along_end) {
   const std::array<cv::Point2d, 4> c = TileCorners(tile);  // tl, tr, br, bl
-  const cv::Point2d& p = side == lattice::kLeft ? c[0] : side == lattice::kRight ? c[1] : side == lattice::kTop ? c[0] : c[3];
-  const cv::Point2d& q = side == lattice::kLeft ? c[3] : side == lattice::kRight ? c[2] : side == lattice::kTop ? c[1] : c[2];
+  const cv::Point2d& p = side == lattice::kLeft    ? c[0]
+                         : side == lattice::kRight ? c[1]
+                         : side == lattice::kTop   ? c[0]
+                                                   : c[3];
+  const cv::Point2d& q = side == lattice::kLeft    ? c[3]
+                         : side == lattice::kRight ? c[2]
+                         : side == lattice::kTop   ? c[1]
+                                                   : c[2];
   if (side <= lattice::kRight) {
     const double b = (q.x - p.x) / (q.y - p.y);
     *along_begin = p.y;
@@ -542,7 +581,8 @@ EdgeLine PriorEdge(const Tile& tile, int side, double* along_begin, double* alon
   return {p.y - b * p.x, b};
 }
 
-StatusOr<LatticeDetection> DetectNearPrior(const GreyFrame& frame, const LatticeOptions& options,
+StatusOr<LatticeDetection> DetectNearPrior(const GreyFrame& frame,
+                                           const LatticeOptions& options,
                                            const LatticeLayout& given) {
   PX_RETURN_IF_ERROR(given.Validate().WithContext("prior lattice"));
   if ((options.rows != 0 && options.rows != given.rows) || (options.cols != 0 && options.cols != given.cols)) {
@@ -551,8 +591,8 @@ StatusOr<LatticeDetection> DetectNearPrior(const GreyFrame& frame, const Lattice
                                 std::to_string(given.rows) + "x" + std::to_string(given.cols));
   }
   const cv::Size size = frame.grey.size();
-  const double aspect_change = (static_cast<double>(size.width) / given.sensor_width) /
-                               (static_cast<double>(size.height) / given.sensor_height);
+  const double aspect_change =
+      (static_cast<double>(size.width) / given.sensor_width) / (static_cast<double>(size.height) / given.sensor_height);
   if (std::abs(aspect_change - 1) > 0.02) {
     return InvalidArgumentError("lattice detection: the prior lattice is for a " + std::to_string(given.sensor_width) +
                                 "x" + std::to_string(given.sensor_height) + " sensor, the frame is " +
@@ -576,8 +616,8 @@ StatusOr<LatticeDetection> DetectNearPrior(const GreyFrame& frame, const Lattice
       double along_begin = 0, along_end = 0;
       const EdgeLine expected = PriorEdge(prior_tile, side, &along_begin, &along_end);
       const bool vertical = side <= lattice::kRight;
-      const double border = side == lattice::kLeft || side == lattice::kTop ? -0.5
-                                                                            : (vertical ? size.width : size.height) - 0.5;
+      const double border =
+          side == lattice::kLeft || side == lattice::kTop ? -0.5 : (vertical ? size.width : size.height) - 0.5;
       e.line = expected;
       if (std::abs(expected.a + expected.b * 0.5 * (along_begin + along_end) - border) < 1.0) {
         e.fixed = true;  // the tile runs to the frame's border
@@ -622,7 +662,8 @@ StatusOr<LatticeDetection> DetectNearPrior(const GreyFrame& frame, const Lattice
   // Content near a wrong prior's edges yields some edges; a lattice that is there yields nearly all.
   if (edges_found < kMinPriorEdgesFound * edges_searched) {
     return NotFoundError("the frame does not show the prior's lattice: only " + std::to_string(edges_found) +
-                         " of the " + std::to_string(edges_searched) + " tile edges it puts inside the frame were found within " +
+                         " of the " + std::to_string(edges_searched) +
+                         " tile edges it puts inside the frame were found within " +
                          Format("%.0f px (want %.0f%%)", options.prior_search_px, 100 * kMinPriorEdgesFound));
   }
   PX_RETURN_IF_ERROR(CheckTiles(report.tiles, options));
@@ -630,17 +671,20 @@ StatusOr<LatticeDetection> DetectNearPrior(const GreyFrame& frame, const Lattice
   for (const Tile& tile : prior.tiles) orientations.push_back(tile.orientation);
   detection.layout = LayoutFromTiles(report.tiles, prior.rows, prior.cols, size, orientations);
   const Status valid = detection.layout.Validate();
-  if (!valid.ok()) return NotFoundError("no lattice: the edges found near the prior do not form one: " + valid.message());
+  if (!valid.ok())
+    return NotFoundError("no lattice: the edges found near the prior do not form one: " + valid.message());
   report.confidence = inliers / prior.NumViews();
   if (report.confidence < options.min_confidence) {
     return NotFoundError("the frame does not show the prior's lattice clearly: its tile edges were found on " +
-                         Format("%.0f%% of the cuts (confidence %.2f < %.2f)", 100 * report.confidence,
-                                report.confidence, options.min_confidence));
+                         Format("%.0f%% of the cuts (confidence %.2f < %.2f)",
+                                100 * report.confidence,
+                                report.confidence,
+                                options.min_confidence));
   }
   report.evidence = Evidence(frame, detection.layout, nullptr, nullptr, report.tiles);
-  report.evidence.insert(report.evidence.begin(),
-                         Format("prior %.0fx%.0f: tiles moved up to %.2f px", prior.cols, prior.rows,
-                                report.max_prior_shift_px));
+  report.evidence.insert(
+      report.evidence.begin(),
+      Format("prior %.0fx%.0f: tiles moved up to %.2f px", prior.cols, prior.rows, report.max_prior_shift_px));
   return detection;
 }
 
@@ -673,24 +717,28 @@ LatticeDetection EvenSplit(const cv::Size& size, const LatticeOptions& options, 
       report.tiles.push_back(tile);
     }
   }
-  detection.layout = LayoutFromTiles(report.tiles, options.rows, options.cols, size,
+  detection.layout = LayoutFromTiles(report.tiles,
+                                     options.rows,
+                                     options.cols,
+                                     size,
                                      std::vector<TileOrientation>(options.rows * options.cols, options.orientation));
   report.evidence = {Format("%.0f columns x %.0f rows as given, cut evenly: ", options.cols, options.rows) + why};
   return detection;
 }
 
-StatusOr<LatticeDetection> DetectLattice(const cv::Mat& sensor_bgr, const LatticeOptions& options,
+StatusOr<LatticeDetection> DetectLattice(const cv::Mat& sensor_bgr,
+                                         const LatticeOptions& options,
                                          const LatticeLayout* prior) {
   const auto start = std::chrono::steady_clock::now();
   PX_RETURN_IF_ERROR(options.Validate());
   PX_RETURN_IF_ERROR(CheckFrame(sensor_bgr));
   const GreyFrame frame = MakeGrey(sensor_bgr);
   if (frame.stddev < kBlankStddev) {
-    return NotFoundError(Format("no lattice: the frame is blank (grey mean %.1f, stddev %.2f)", frame.mean,
-                                frame.stddev));
+    return NotFoundError(
+        Format("no lattice: the frame is blank (grey mean %.1f, stddev %.2f)", frame.mean, frame.stddev));
   }
-  StatusOr<LatticeDetection> detection = prior != nullptr ? DetectNearPrior(frame, options, *prior)
-                                                          : DetectBlind(frame, options);
+  StatusOr<LatticeDetection> detection =
+      prior != nullptr ? DetectNearPrior(frame, options, *prior) : DetectBlind(frame, options);
   if (!detection.ok() && prior == nullptr && options.rows > 0 && options.cols > 0 &&
       detection.status().code() == StatusCode::kNotFound) {
     // The size is known and no gap stands out. When nothing in the frame shows another lattice
@@ -700,13 +748,13 @@ StatusOr<LatticeDetection> DetectLattice(const cv::Mat& sensor_bgr, const Lattic
     const StatusOr<LatticeDetection> other = DetectBlind(frame, any_size);
     // An axis along which no gap stands out (a count of 1) says nothing against the size given.
     const auto contradicts = [](int found, int given) { return found > 1 && found != given; };
-    if (!other.ok() || (!contradicts(other->report.rows, options.rows) && !contradicts(other->report.cols, options.cols))) {
+    if (!other.ok() ||
+        (!contradicts(other->report.rows, options.rows) && !contradicts(other->report.cols, options.cols))) {
       detection = EvenSplit(frame.grey.size(), options, "no gap stands out (" + detection.status().message() + ")");
     }
   }
   if (detection.ok()) {
-    detection->report.ms =
-        MsSince(start);
+    detection->report.ms = MsSince(start);
   }
   return detection;
 }

@@ -8,10 +8,9 @@
 // near the prior's and the shift is reported.
 #pragma once
 
+#include <opencv2/core.hpp>
 #include <string>
 #include <vector>
-
-#include <opencv2/core.hpp>
 
 #include "pipeline/core/lattice_layout.h"
 #include "pipeline/core/status.h"
@@ -38,8 +37,8 @@ struct LatticeReport {
   std::vector<std::string> evidence;  // what told the tiles apart, with figures
   double weakest_gap_z = 0;           // coarse evidence of the weakest gap (blind search only)
   bool used_prior = false;
-  double max_prior_shift_px = 0;      // largest |shift_px| over the tiles
-  double ms = 0;                      // time taken
+  double max_prior_shift_px = 0;  // largest |shift_px| over the tiles
+  double ms = 0;                  // time taken
 
   std::string Summary() const;  // one line: "3x3, confidence 0.97, dark gaps ..., 31 ms"
 };
@@ -59,7 +58,8 @@ struct LatticeDetection {
 // options.rows and options.cols given, a frame whose gaps cannot be found, and that shows no
 // lattice of another size either, is cut into equal tiles (abutting tiles, as a wiggle lens's),
 // confidence 0, the evidence saying so.
-StatusOr<LatticeDetection> DetectLattice(const cv::Mat& sensor_bgr, const LatticeOptions& options,
+StatusOr<LatticeDetection> DetectLattice(const cv::Mat& sensor_bgr,
+                                         const LatticeOptions& options,
                                          const LatticeLayout* prior = nullptr);
 
 }  // namespace px

@@ -38,7 +38,8 @@ TEST(LatticeDetectorTest, FindsDrawnLatticesExactly) {
     ASSERT_EQ(d->layout.cols, cols);
     for (int i = 0; i < f.truth.NumViews(); ++i) {
       const cv::Rect a = f.truth.tiles[i].rect, b = d->layout.tiles[i].rect;
-      EXPECT_LE(std::abs(a.x - b.x) + std::abs(a.y - b.y) + std::abs(a.width - b.width) + std::abs(a.height - b.height), 2)
+      EXPECT_LE(std::abs(a.x - b.x) + std::abs(a.y - b.y) + std::abs(a.width - b.width) + std::abs(a.height - b.height),
+                2)
           << "tile " << i << ": " << b << " against " << a;
       EXPECT_EQ(d->layout.tiles[i].orientation, TileOrientation::kRotated180);
     }

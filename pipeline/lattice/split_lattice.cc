@@ -1,18 +1,25 @@
 #include "pipeline/lattice/split_lattice.h"
 
-#include <sstream>
-
 #include <opencv2/imgproc.hpp>
+#include <sstream>
 
 namespace px {
 
 cv::Mat MakeTileUpright(const cv::Mat& stored_tile, TileOrientation orientation) {
   cv::Mat upright;
   switch (orientation) {
-    case TileOrientation::kUpright: upright = stored_tile.clone(); break;
-    case TileOrientation::kRotated180: cv::rotate(stored_tile, upright, cv::ROTATE_180); break;
-    case TileOrientation::kMirroredX: cv::flip(stored_tile, upright, 1); break;
-    case TileOrientation::kMirroredY: cv::flip(stored_tile, upright, 0); break;
+    case TileOrientation::kUpright:
+      upright = stored_tile.clone();
+      break;
+    case TileOrientation::kRotated180:
+      cv::rotate(stored_tile, upright, cv::ROTATE_180);
+      break;
+    case TileOrientation::kMirroredX:
+      cv::flip(stored_tile, upright, 1);
+      break;
+    case TileOrientation::kMirroredY:
+      cv::flip(stored_tile, upright, 0);
+      break;
   }
   return upright;
 }
@@ -44,8 +51,12 @@ cv::Mat CutStoredTile(const cv::Mat& sensor, const Tile& tile) {
   if (tile.rotation_deg == 0.0) return sensor(tile.rect);
   cv::Mat stored;
   // dst (u, v) samples the sensor at SensorFromTile * (u, v, 1); pixels past the frame repeat its edge.
-  cv::warpAffine(sensor, stored, cv::Mat(SensorFromTile(tile)), tile.rect.size(),
-                 cv::INTER_LINEAR | cv::WARP_INVERSE_MAP, cv::BORDER_REPLICATE);
+  cv::warpAffine(sensor,
+                 stored,
+                 cv::Mat(SensorFromTile(tile)),
+                 tile.rect.size(),
+                 cv::INTER_LINEAR | cv::WARP_INVERSE_MAP,
+                 cv::BORDER_REPLICATE);
   return stored;
 }
 

@@ -1,8 +1,8 @@
 #include "pipeline/lattice/split_lattice.h"
 
-#include <cmath>
-
 #include <gtest/gtest.h>
+
+#include <cmath>
 
 namespace px {
 namespace {
@@ -23,10 +23,14 @@ cv::Mat CodedTile(int width, int height, int view_id) {
 // (independently of the code under test, which uses cv::rotate / cv::flip).
 cv::Point StoredPosition(int x, int y, int width, int height, TileOrientation orientation) {
   switch (orientation) {
-    case TileOrientation::kUpright: return {x, y};
-    case TileOrientation::kRotated180: return {width - 1 - x, height - 1 - y};
-    case TileOrientation::kMirroredX: return {width - 1 - x, y};
-    case TileOrientation::kMirroredY: return {x, height - 1 - y};
+    case TileOrientation::kUpright:
+      return {x, y};
+    case TileOrientation::kRotated180:
+      return {width - 1 - x, height - 1 - y};
+    case TileOrientation::kMirroredX:
+      return {width - 1 - x, y};
+    case TileOrientation::kMirroredY:
+      return {x, height - 1 - y};
   }
   return {x, y};
 }
@@ -64,9 +68,12 @@ TEST_P(SplitLatticeOrientationTest, TilesComeOutUprightInViewOrder) {
   }
 }
 
-INSTANTIATE_TEST_SUITE_P(AllOrientations, SplitLatticeOrientationTest,
-                         testing::Values(TileOrientation::kUpright, TileOrientation::kRotated180,
-                                         TileOrientation::kMirroredX, TileOrientation::kMirroredY),
+INSTANTIATE_TEST_SUITE_P(AllOrientations,
+                         SplitLatticeOrientationTest,
+                         testing::Values(TileOrientation::kUpright,
+                                         TileOrientation::kRotated180,
+                                         TileOrientation::kMirroredX,
+                                         TileOrientation::kMirroredY),
                          [](const testing::TestParamInfo<TileOrientation>& param_info) {
                            return std::string(TileOrientationName(param_info.param));
                          });
@@ -113,8 +120,8 @@ TEST(SplitLatticeTest, RotatedTilesAreResampledUpright) {
         const double dv = -std::sin(a) * (x - cx) + std::cos(a) * (y - cy);
         const double u = du + (tile.rect.width - 1) / 2.0, v = dv + (tile.rect.height - 1) / 2.0;
         if (u < -0.5 || v < -0.5 || u > tile.rect.width - 0.5 || v > tile.rect.height - 0.5) continue;
-        sensor.at<cv::Vec3b>(y, x) = cv::Vec3b(cv::saturate_cast<uchar>(3 * u), cv::saturate_cast<uchar>(5 * v),
-                                               static_cast<uchar>(id));
+        sensor.at<cv::Vec3b>(y, x) =
+            cv::Vec3b(cv::saturate_cast<uchar>(3 * u), cv::saturate_cast<uchar>(5 * v), static_cast<uchar>(id));
       }
     }
   }

@@ -4,7 +4,7 @@
 #include <cmath>
 #include <vector>
 
-#include "pipeline/lattice/median.h"
+#include "pipeline/core/order_statistics.h"
 
 namespace px::lattice {
 namespace {
@@ -28,8 +28,14 @@ struct Transition {
 // The strongest transition of `sign` in one cut: central differences of the averaged rows (or
 // columns, transposed), the peak refined by a parabola. False when the window leaves the frame
 // or holds no such transition.
-bool StrongestTransition(const cv::Mat& grey, bool transposed, int y, double x_begin, double x_end, int sign,
-                         int gap_side, Transition* out) {
+bool StrongestTransition(const cv::Mat& grey,
+                         bool transposed,
+                         int y,
+                         double x_begin,
+                         double x_end,
+                         int sign,
+                         int gap_side,
+                         Transition* out) {
   const int across_size = transposed ? grey.rows : grey.cols, along_size = transposed ? grey.cols : grey.rows;
   const int x0 = std::max(1, static_cast<int>(std::floor(x_begin)));
   const int x1 = std::min(across_size - 2, static_cast<int>(std::ceil(x_end)));
@@ -73,7 +79,6 @@ bool StrongestTransition(const cv::Mat& grey, bool transposed, int y, double x_b
   out->gradient = d[peak];
   return true;
 }
-
 
 // Line x = a + b y through the transitions, iteratively dropping those off it.
 EdgeFit RobustLine(const std::vector<Transition>& points, const EdgeSearch& search, int cuts, int sign) {
@@ -143,7 +148,8 @@ EdgeFit FitWithSign(const cv::Mat& grey, const EdgeSearch& search, int sign) {
     ++cuts;
     const double x = search.expected.XAt(y);
     Transition t;
-    if (StrongestTransition(grey, search.transposed, y, x - search.behind_px, x + search.ahead_px, sign, search.gap_side, &t)) {
+    if (StrongestTransition(
+            grey, search.transposed, y, x - search.behind_px, x + search.ahead_px, sign, search.gap_side, &t)) {
       points.push_back(t);
     }
   }
@@ -159,7 +165,8 @@ EdgeFit FitWithSign(const cv::Mat& grey, const EdgeSearch& search, int sign) {
     if (y < 0 || y >= along_size) continue;
     const double x = narrow.expected.XAt(y);
     Transition t;
-    if (StrongestTransition(grey, search.transposed, y, x - narrow.behind_px, x + narrow.ahead_px, sign, narrow.gap_side, &t)) {
+    if (StrongestTransition(
+            grey, search.transposed, y, x - narrow.behind_px, x + narrow.ahead_px, sign, narrow.gap_side, &t)) {
       points.push_back(t);
     }
   }

@@ -19,11 +19,11 @@ struct EdgeSearch {
   EdgeLine expected;       // where the edge should be
   double along_begin = 0;  // y range of the cuts
   double along_end = 0;
-  double behind_px = 4;    // search from expected.x - behind_px ...
-  double ahead_px = 4;     // ... to expected.x + ahead_px
-  double max_slope = 0.07; // |b| allowed (tan of the largest tilt)
-  int sign = 0;            // +1: brighter at larger x, -1: darker, 0: try both and keep the better
-  bool transposed = false; // the edge runs along x instead: read "x" as y and "y" as x throughout
+  double behind_px = 4;     // search from expected.x - behind_px ...
+  double ahead_px = 4;      // ... to expected.x + ahead_px
+  double max_slope = 0.07;  // |b| allowed (tan of the largest tilt)
+  int sign = 0;             // +1: brighter at larger x, -1: darker, 0: try both and keep the better
+  bool transposed = false;  // the edge runs along x instead: read "x" as y and "y" as x throughout
   // Where the gap lies: -1 at smaller x (a tile's left/top edge), +1 at larger x, 0 unknown. When
   // known, each cut takes the first strong transition met coming from the gap (at least
   // kFirstOfStrongest of the cut's strongest), not the strongest: a bright object's outline just
@@ -35,10 +35,10 @@ struct EdgeFit {
   bool found = false;
   EdgeLine line;
   int sign = 0;
-  int cuts = 0;          // cuts made
-  int inliers = 0;       // cuts whose transition lies on the line
-  double rms_px = 0;     // of the inliers about the line
-  double contrast = 0;   // median |gradient| of the inliers, grey levels per pixel
+  int cuts = 0;         // cuts made
+  int inliers = 0;      // cuts whose transition lies on the line
+  double rms_px = 0;    // of the inliers about the line
+  double contrast = 0;  // median |gradient| of the inliers, grey levels per pixel
   double InlierFraction() const { return cuts > 0 ? static_cast<double>(inliers) / cuts : 0.0; }
 };
 

@@ -17,7 +17,9 @@ cv::Rect TileGeometry::Rect() const {
   const int w = static_cast<int>(std::lround(width));
   const int h = static_cast<int>(std::lround(height));
   return {static_cast<int>(std::lround(centre.x - (w - 1) * 0.5)),
-          static_cast<int>(std::lround(centre.y - (h - 1) * 0.5)), w, h};
+          static_cast<int>(std::lround(centre.y - (h - 1) * 0.5)),
+          w,
+          h};
 }
 
 TileGeometry GeometryFromEdges(const TileEdges& edges) {
@@ -42,9 +44,11 @@ TileGeometry GeometryFromEdges(const TileEdges& edges) {
   // Distances between opposite lines, measured across them at the centre.
   const double c = std::cos(theta);
   g.width = (edges.lines[kRight].a + edges.lines[kRight].b * g.centre.y - edges.lines[kLeft].a -
-             edges.lines[kLeft].b * g.centre.y) * c;
+             edges.lines[kLeft].b * g.centre.y) *
+            c;
   g.height = (edges.lines[kBottom].a + edges.lines[kBottom].b * g.centre.x - edges.lines[kTop].a -
-              edges.lines[kTop].b * g.centre.x) * c;
+              edges.lines[kTop].b * g.centre.x) *
+             c;
   return g;
 }
 

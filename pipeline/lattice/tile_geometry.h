@@ -2,7 +2,6 @@
 #pragma once
 
 #include <array>
-
 #include <opencv2/core.hpp>
 
 #include "pipeline/lattice/tile_edge_fit.h"
@@ -20,8 +19,8 @@ struct TileEdges {
 };
 
 struct TileGeometry {
-  cv::Point2d centre;     // pixel centres at integers
-  double width = 0;       // between the left and right lines, pixels
+  cv::Point2d centre;  // pixel centres at integers
+  double width = 0;    // between the left and right lines, pixels
   double height = 0;
   double rotation_deg = 0;  // clockwise as displayed (y down), as Tile::rotation_deg
 

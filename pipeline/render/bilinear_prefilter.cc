@@ -51,7 +51,8 @@ std::array<cv::Mat, 2> PrefilterForBilinear(const LayeredDepthView& view, float 
           laplacian += own - neighbour;
         }
         const cv::Vec3f boosted = own + sharpen * laplacian;
-        sharpened[x] = cv::Vec3b(cv::saturate_cast<uint8_t>(boosted[0]), cv::saturate_cast<uint8_t>(boosted[1]),
+        sharpened[x] = cv::Vec3b(cv::saturate_cast<uint8_t>(boosted[0]),
+                                 cv::saturate_cast<uint8_t>(boosted[1]),
                                  cv::saturate_cast<uint8_t>(boosted[2]));
       }
     }

@@ -11,7 +11,6 @@
 #pragma once
 
 #include <array>
-
 #include <opencv2/core.hpp>
 
 #include "pipeline/core/layered_depth.h"

@@ -3,10 +3,9 @@
 #include <array>
 #include <cmath>
 #include <cstdlib>
+#include <opencv2/imgproc.hpp>
 #include <optional>
 #include <vector>
-
-#include <opencv2/imgproc.hpp>
 
 #include "pipeline/core/check.h"
 
@@ -26,10 +25,14 @@ const std::array<Side, 4> kSides = {{{{1, 0}, {0, 1}},     // left
 // Distance of `p` from side `s` of an image of `size`.
 int DistanceFromSide(int s, cv::Point p, cv::Size size) {
   switch (s) {
-    case 0: return p.x;
-    case 1: return p.y;
-    case 2: return size.width - 1 - p.x;
-    default: return size.height - 1 - p.y;
+    case 0:
+      return p.x;
+    case 1:
+      return p.y;
+    case 2:
+      return size.width - 1 - p.x;
+    default:
+      return size.height - 1 - p.y;
   }
 }
 
@@ -87,8 +90,8 @@ FrameSides SidesOnFrameBorder(const cv::Rect& box, const cv::Size& frame_size) {
   return sides;
 }
 
-int FillBorderHoles(const FrameSides& sides, const BorderHoleFillOptions& options, cv::Mat* known, cv::Mat* colour,
-                    cv::Mat* depth) {
+int FillBorderHoles(
+    const FrameSides& sides, const BorderHoleFillOptions& options, cv::Mat* known, cv::Mat* colour, cv::Mat* depth) {
   PX_CHECK(known != nullptr && colour != nullptr && depth != nullptr) << "FillBorderHoles needs outputs";
   PX_CHECK(known->type() == CV_8U && colour->type() == CV_32FC3 && depth->type() == CV_32F)
       << "FillBorderHoles types " << known->type() << " " << colour->type() << " " << depth->type();

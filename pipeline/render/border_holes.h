@@ -30,7 +30,7 @@ struct BorderHoleFillOptions {
 // touches), averaged over the lines within spread * distance beside it. Colour (CV_32FC3) and depth
 // (CV_32F) alike; filled pixels become 255 in `known`. Other holes, and pixels whose line in meets
 // nothing known, are left. Returns the pixels filled.
-int FillBorderHoles(const FrameSides& sides, const BorderHoleFillOptions& options, cv::Mat* known, cv::Mat* colour,
-                    cv::Mat* depth);
+int FillBorderHoles(
+    const FrameSides& sides, const BorderHoleFillOptions& options, cv::Mat* known, cv::Mat* colour, cv::Mat* depth);
 
 }  // namespace px::render

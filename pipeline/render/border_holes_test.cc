@@ -1,8 +1,8 @@
 #include "pipeline/render/border_holes.h"
 
-#include <cmath>
-
 #include <gtest/gtest.h>
+
+#include <cmath>
 
 namespace px::render {
 namespace {
@@ -45,7 +45,7 @@ TEST(BorderHolesTest, AnEdgeCrossingTheBorderGoesOnIntoTheHole) {
   }
   // On the line the fill blends the two sides, the more the further out (the guess fades).
   EXPECT_EQ(frame.colour.at<cv::Vec3f>(19, 9), cv::Vec3f(0, 0, 255));  // 1 px out: the edge pixel
-  const cv::Vec3f far = frame.colour.at<cv::Vec3f>(19, 0);            // 10 px out
+  const cv::Vec3f far = frame.colour.at<cv::Vec3f>(19, 0);             // 10 px out
   EXPECT_GT(far[0], 40.0f);
   EXPECT_GT(far[2], 100.0f);
   EXPECT_FLOAT_EQ(frame.depth.at<float>(19, 0), 2.0f);  // depth carried out as well
@@ -96,7 +96,7 @@ TEST(BorderHolesTest, LeavesHolesAwayFromTheFrameBorder) {
   frame.colour.setTo(cv::Scalar(10, 20, 30));
   frame.Unknown(cv::Rect(15, 10, 8, 8));  // a disocclusion inside the frame
   frame.Unknown(cv::Rect(0, 0, 4, 30));   // a strip on the box's left side
-  FrameSides inside_the_frame;           // the box's left side is not the frame's border
+  FrameSides inside_the_frame;            // the box's left side is not the frame's border
   inside_the_frame.left = false;
   EXPECT_EQ(FillBorderHoles(inside_the_frame, Spread(0.5f), &frame.known, &frame.colour, &frame.depth), 0);
   EXPECT_EQ(cv::countNonZero(frame.known == 0), 8 * 8 + 4 * 30);

@@ -17,8 +17,11 @@ double EffectStrength(const ColorEffect& effect, const Eigen::Vector3d& point_in
   return effect.invert ? 1.0 - strength : strength;
 }
 
-void ApplyColorEffects(const std::vector<ColorEffect>& effects, const CameraModel& camera,
-                       const Rigid3& cam_from_world, const cv::Mat& depth, cv::Mat* colour) {
+void ApplyColorEffects(const std::vector<ColorEffect>& effects,
+                       const CameraModel& camera,
+                       const Rigid3& cam_from_world,
+                       const cv::Mat& depth,
+                       cv::Mat* colour) {
   if (effects.empty()) return;
   const Eigen::Matrix3d world_from_cam = cam_from_world.RotationMatrix().transpose();
   const Eigen::Vector3d centre = CameraCentre(cam_from_world);
@@ -29,8 +32,8 @@ void ApplyColorEffects(const std::vector<ColorEffect>& effects, const CameraMode
       for (int x = 0; x < colour->cols; ++x) {
         const Eigen::Vector3d ray((x - camera.cx) / camera.fx, (y - camera.cy) / camera.fy, 1.0);
         const double inf = std::numeric_limits<double>::infinity();
-        const Eigen::Vector3d point = z[x] > 0 ? Eigen::Vector3d(centre + world_from_cam * (z[x] * ray))
-                                               : Eigen::Vector3d(inf, inf, inf);
+        const Eigen::Vector3d point =
+            z[x] > 0 ? Eigen::Vector3d(centre + world_from_cam * (z[x] * ray)) : Eigen::Vector3d(inf, inf, inf);
         for (const ColorEffect& effect : effects) {
           const float s = static_cast<float>(EffectStrength(effect, point));
           if (s <= 0) continue;

@@ -3,9 +3,8 @@
 // composited over the rendered frame in the order given.
 #pragma once
 
-#include <vector>
-
 #include <opencv2/core.hpp>
+#include <vector>
 
 #include "pipeline/core/camera_model.h"
 #include "pipeline/core/rigid3.h"
@@ -19,7 +18,10 @@ double EffectStrength(const ColorEffect& effect, const Eigen::Vector3d& point_in
 
 // Applies `effects` in order to `colour` (CV_32FC3, 0..255, not clamped), each pixel's world point
 // taken from `depth` (CV_32F, z in the camera; pixels with z <= 0 count as infinitely far).
-void ApplyColorEffects(const std::vector<ColorEffect>& effects, const CameraModel& camera,
-                       const Rigid3& cam_from_world, const cv::Mat& depth, cv::Mat* colour);
+void ApplyColorEffects(const std::vector<ColorEffect>& effects,
+                       const CameraModel& camera,
+                       const Rigid3& cam_from_world,
+                       const cv::Mat& depth,
+                       cv::Mat* colour);
 
 }  // namespace px::render

@@ -4,9 +4,8 @@
 #pragma once
 
 #include <algorithm>
-#include <vector>
-
 #include <opencv2/core.hpp>
+#include <vector>
 
 #include "pipeline/render/layered_scene.h"
 #include "pipeline/render/segment_raster.h"
@@ -15,10 +14,10 @@
 namespace px::render {
 
 struct FrameComposite {
-  long fragments = 0;  // fragments generated (before compositing)
-  cv::Mat colour;  // CV_32FC3, 0..255, un-premultiplied where alpha > 0 (empty: coverage only)
-  cv::Mat alpha;   // CV_32F, the blended alpha: covered where >= RenderOptions::covered_alpha
-  cv::Mat depth;   // CV_32F, z in the novel camera, 0 where alpha == 0
+  long fragments = 0;    // fragments generated (before compositing)
+  cv::Mat colour;        // CV_32FC3, 0..255, un-premultiplied where alpha > 0 (empty: coverage only)
+  cv::Mat alpha;         // CV_32F, the blended alpha: covered where >= RenderOptions::covered_alpha
+  cv::Mat depth;         // CV_32F, z in the novel camera, 0 where alpha == 0
   cv::Mat double_image;  // CV_8U, 255 on double images (BlendRules::measure_double_images; else empty)
   // The colour consensus's results where it changes a pixel, kept aside until the frame's regions
   // of such pixels are known (preview_compositor.cc); buffers reused from frame to frame.
@@ -32,18 +31,27 @@ struct BlendRules {
   float colour_agree_levels = 16;  // ConsistentBlendOptions::colour_agree_levels
   float colour_apart_levels = 32;  // ConsistentBlendOptions::colour_apart_levels
   bool measure_double_images = false;
-  int double_image_levels = 30;    // colours further apart than this (largest channel) are two images
+  int double_image_levels = 30;  // colours further apart than this (largest channel) are two images
 };
 
 // `slots` are the frame's viewing weights (width * height), `frame_views` its set-up segments.
 // with_colour = false skips colour (Coverage()). `rules` (null: the plain soft z) say what to do
 // where the scene's views contradict each other.
-void CompositePreview(const LayeredScene& scene, const std::vector<FrameView>& frame_views,
-                      const std::vector<ViewSlots>& slots, int width, int height, bool with_colour,
-                      FrameComposite* out, const BlendRules* rules = nullptr);
+void CompositePreview(const LayeredScene& scene,
+                      const std::vector<FrameView>& frame_views,
+                      const std::vector<ViewSlots>& slots,
+                      int width,
+                      int height,
+                      bool with_colour,
+                      FrameComposite* out,
+                      const BlendRules* rules = nullptr);
 
-void CompositeOffline(const LayeredScene& scene, const std::vector<FrameView>& frame_views,
-                      const std::vector<ViewSlots>& slots, int width, int height, FrameComposite* out);
+void CompositeOffline(const LayeredScene& scene,
+                      const std::vector<FrameView>& frame_views,
+                      const std::vector<ViewSlots>& slots,
+                      int width,
+                      int height,
+                      FrameComposite* out);
 
 // One row of a segment's projected rectangle: pixels [x_begin, x_end) of row y whose centres are
 // inside it and that may hold its view, and the row's terms of the homogeneous source coordinates
@@ -56,8 +64,8 @@ struct SegmentRow {
 // The source pixel (u, v) of setup `s`'s fragment at column fx of row `r`: false when the
 // homography puts it behind the source camera or outside the segment's rectangle (rounding at the
 // rectangle's edges; the sampler needs it within one pixel of the image).
-inline bool FragmentSource(const SegmentSetup& s, const SceneSegment& segment, const SegmentRow& r, float fx,
-                           float* u, float* v) {
+inline bool FragmentSource(
+    const SegmentSetup& s, const SceneSegment& segment, const SegmentRow& r, float fx, float* u, float* v) {
   const float* h = s.homography.data();
   const float hw = h[6] * fx + r.hw0;
   if (!(hw > 0)) return false;
@@ -69,8 +77,8 @@ inline bool FragmentSource(const SegmentSetup& s, const SceneSegment& segment, c
 
 // Calls row(SegmentRow) for each row of setup `s` within [row_begin, row_end) that has pixels.
 template <typename Row>
-inline void ForEachSegmentRow(const FrameView& frame_view, const SegmentSetup& s, int width, int row_begin,
-                              int row_end, Row&& row) {
+inline void ForEachSegmentRow(
+    const FrameView& frame_view, const SegmentSetup& s, int width, int row_begin, int row_end, Row&& row) {
   const float* h = s.homography.data();
   const int y_begin = std::max(row_begin, s.y_min), y_end = std::min(row_end, s.y_max + 1);
   for (int y = y_begin; y < y_end; ++y) {
@@ -95,9 +103,16 @@ inline void ForEachSegmentRow(const FrameView& frame_view, const SegmentSetup& s
 // is asked first, before any sampling (a saturated pixel needs no more fragments). bgr is null
 // when with_colour is false.
 template <typename Skip, typename Emit>
-inline void RasterizeSegment(const SceneView& view, const FrameView& frame_view, const SegmentSetup& s,
-                             const std::vector<ViewSlots>& slots, int width, int row_begin, int row_end,
-                             bool with_colour, Skip&& skip, Emit&& emit) {
+inline void RasterizeSegment(const SceneView& view,
+                             const FrameView& frame_view,
+                             const SegmentSetup& s,
+                             const std::vector<ViewSlots>& slots,
+                             int width,
+                             int row_begin,
+                             int row_end,
+                             bool with_colour,
+                             Skip&& skip,
+                             Emit&& emit) {
   const int view_index = frame_view.view;
   const SceneSegment& segment = view.segments[s.segment];
   ForEachSegmentRow(frame_view, s, width, row_begin, row_end, [&](const SegmentRow& r) {

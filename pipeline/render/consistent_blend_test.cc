@@ -86,7 +86,10 @@ TEST_F(MovedSubjectTest, ConsistentBlendDrawsTheSubjectOnce) {
   ASSERT_FALSE(after.double_image.empty());
   const double psnr_before = MaskedPsnr(before.bgr, truth), psnr_after = MaskedPsnr(after.bgr, truth);
   std::printf("moved subject: double images %.3f%% -> %.3f%%, PSNR %.2f -> %.2f dB\n",
-              100 * Fraction(before.double_image), 100 * Fraction(after.double_image), psnr_before, psnr_after);
+              100 * Fraction(before.double_image),
+              100 * Fraction(after.double_image),
+              psnr_before,
+              psnr_after);
   EXPECT_GT(Fraction(before.double_image), 0.01);
   EXPECT_LT(Fraction(after.double_image), 0.002);
   EXPECT_GT(psnr_after, psnr_before + 3);

@@ -5,7 +5,6 @@
 #include <cmath>
 #include <cstdlib>
 #include <numeric>
-
 #include <opencv2/core.hpp>
 
 namespace px::render {
@@ -46,8 +45,12 @@ int ColourDistance(const std::array<uint8_t, 4>& a, const std::array<uint8_t, 3>
 }
 
 // View `from`'s texel layers against view `by` (bit `bit`): sets the bit where `by` contradicts.
-long MarkContradictions(const SceneView& from, const SceneView& by, const FrontSurface& front, int bit,
-                        const ConsistentBlendOptions& options, std::vector<std::array<uint16_t, 2>>* masks) {
+long MarkContradictions(const SceneView& from,
+                        const SceneView& by,
+                        const FrontSurface& front,
+                        int bit,
+                        const ConsistentBlendOptions& options,
+                        std::vector<std::array<uint16_t, 2>>* masks) {
   const Rigid3 by_from_from = by.cam_from_world * from.cam_from_world.Inverse();
   const Eigen::Matrix3d r = by_from_from.RotationMatrix();
   const Eigen::Vector3d t = by_from_from.translation;
@@ -99,7 +102,8 @@ long MarkContradictions(const SceneView& from, const SceneView& by, const FrontS
 
 }  // namespace
 
-long FindContradictions(const ConsistentBlendOptions& options, const std::vector<std::vector<int>>& slot_neighbours,
+long FindContradictions(const ConsistentBlendOptions& options,
+                        const std::vector<std::vector<int>>& slot_neighbours,
                         std::vector<SceneView>* views) {
   const int n = static_cast<int>(views->size());
   std::vector<FrontSurface> fronts;
@@ -123,8 +127,8 @@ long FindContradictions(const ConsistentBlendOptions& options, const std::vector
     for (size_t bit = 0; bit < others.size(); ++bit) {
       view.neighbours.push_back(others[bit]);
       view.neighbour_bit[others[bit]] = static_cast<int8_t>(bit);
-      marked += MarkContradictions(view, (*views)[others[bit]], fronts[others[bit]], static_cast<int>(bit), options,
-                                   &masks);
+      marked +=
+          MarkContradictions(view, (*views)[others[bit]], fronts[others[bit]], static_cast<int>(bit), options, &masks);
     }
     if (marked > 0) {
       for (int y = 0; y < view.camera.height; ++y) {

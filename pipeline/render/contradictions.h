@@ -18,7 +18,8 @@ namespace px::render {
 // neighbours, neighbour_bit, SceneSegment::contradicted) against the views that can share a
 // pixel's slots with it (`slot_neighbours`, ViewMesh::SlotNeighbours), the nearest
 // options.max_neighbours of them. Returns the number of contradicted texel layers.
-long FindContradictions(const ConsistentBlendOptions& options, const std::vector<std::vector<int>>& slot_neighbours,
+long FindContradictions(const ConsistentBlendOptions& options,
+                        const std::vector<std::vector<int>>& slot_neighbours,
                         std::vector<SceneView>* views);
 
 }  // namespace px::render

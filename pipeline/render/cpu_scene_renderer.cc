@@ -2,9 +2,8 @@
 
 #include <algorithm>
 #include <chrono>
-#include <string>
-
 #include <opencv2/imgproc.hpp>
+#include <string>
 
 #include "pipeline/core/log.h"
 #include "pipeline/core/stage_clock.h"
@@ -66,7 +65,8 @@ struct PartialPixel {
 
 // The partly covered hole pixels of `region` (section 6: they keep their share of colour over the
 // fill), read before anything draws over the holes.
-std::vector<PartialPixel> PartialPixelsIn(const cv::Rect& region, const cv::Mat& coverage,
+std::vector<PartialPixel> PartialPixelsIn(const cv::Rect& region,
+                                          const cv::Mat& coverage,
                                           const render::FrameComposite& composite) {
   std::vector<PartialPixel> partial;
   for (int y = 0; y < region.height; ++y) {
@@ -85,9 +85,13 @@ std::vector<PartialPixel> PartialPixelsIn(const cv::Rect& region, const cv::Mat&
 // rest by reverse soft z (section 6), after exemplar inpainting of the large holes when `inpaint`
 // (offline, section 10; not at the image border: patches guess worse outside the sources' view);
 // then the soft edges' `partial` colours go back over the fill.
-HoleCounts FillHolesIn(const cv::Rect& region, bool inpaint, const RenderOptions& options,
-                       const render::SoftZ& soft_z, const cv::Mat& known_in_frame,
-                       const std::vector<PartialPixel>& partial, render::FrameComposite* composite) {
+HoleCounts FillHolesIn(const cv::Rect& region,
+                       bool inpaint,
+                       const RenderOptions& options,
+                       const render::SoftZ& soft_z,
+                       const cv::Mat& known_in_frame,
+                       const std::vector<PartialPixel>& partial,
+                       render::FrameComposite* composite) {
   HoleCounts counts;
   const int radius = options.hole_window_radius_px;
   cv::Mat known = known_in_frame(region).clone();
@@ -109,8 +113,8 @@ HoleCounts FillHolesIn(const cv::Rect& region, bool inpaint, const RenderOptions
       counts.propagated = inpainted.fallback_pixels;
     }
     if (options.border_holes.enabled) {
-      render::FillBorderHoles(render::SidesOnFrameBorder(region, known_in_frame.size()), options.border_holes, &known,
-                              &colour, &depth);
+      render::FillBorderHoles(
+          render::SidesOnFrameBorder(region, known_in_frame.size()), options.border_holes, &known, &colour, &depth);
     }
     const render::HoleFillReport rest = render::FillHolesReverseSoftZ(soft_z, radius, 0, &known, &colour, &depth);
     if (!inpaint) counts.small = rest.first_pass;
@@ -188,8 +192,10 @@ StatusOr<std::unique_ptr<CpuSceneRenderer>> CpuSceneRenderer::Create(const std::
   PX_ASSIGN_OR_RETURN(render::LayeredScene scene, render::LayeredScene::Create(views, layers, options));
   const auto log = Logger("render");
   for (const std::string& warning : scene.warnings()) log->warn("{}", warning);
-  log->debug("cpu renderer: {} views in the mesh, {} triangles, depth range {:.3f} m", scene.views().size(),
-             scene.mesh().triangles().size(), scene.depth_range_m());
+  log->debug("cpu renderer: {} views in the mesh, {} triangles, depth range {:.3f} m",
+             scene.views().size(),
+             scene.mesh().triangles().size(),
+             scene.depth_range_m());
   const Clock::time_point start = Clock::now();
   std::unique_ptr<render::LayeredScene> coarse = MakeCoarseScene(views, layers, options);
   // The coarse scene must take the same views in the same order (the mesh indexes them).
@@ -200,8 +206,7 @@ StatusOr<std::unique_ptr<CpuSceneRenderer>> CpuSceneRenderer::Create(const std::
     const double focal = std::min(view.camera.fx, view.camera.fy);
     min_focal_px = min_focal_px == 0 ? focal : std::min(min_focal_px, focal);
   }
-  auto renderer =
-      std::unique_ptr<CpuSceneRenderer>(new CpuSceneRenderer(std::move(scene), std::move(coarse), options));
+  auto renderer = std::unique_ptr<CpuSceneRenderer>(new CpuSceneRenderer(std::move(scene), std::move(coarse), options));
   renderer->min_source_focal_px_ = min_focal_px;
   return renderer;
 }
@@ -220,8 +225,10 @@ Status CpuSceneRenderer::CheckCamera(const CameraModel& camera, const Rigid3& ca
   return OkStatus();
 }
 
-CpuSceneRenderer::Core CpuSceneRenderer::RenderCore(const CameraModel& camera, const Rigid3& cam_from_world,
-                                                    const std::vector<ColorEffect>& effects, RenderQuality quality,
+CpuSceneRenderer::Core CpuSceneRenderer::RenderCore(const CameraModel& camera,
+                                                    const Rigid3& cam_from_world,
+                                                    const std::vector<ColorEffect>& effects,
+                                                    RenderQuality quality,
                                                     bool inpaint) {
   const int width = camera.width, height = camera.height;
   Clock::time_point start = Clock::now();
@@ -253,8 +260,8 @@ CpuSceneRenderer::Core CpuSceneRenderer::RenderCore(const CameraModel& camera, c
     rules.colour_apart_levels = static_cast<float>(blend.colour_apart_levels);
     rules.measure_double_images = options_.measure_double_images;
     const bool contested = rules.consistent || rules.measure_double_images;
-    render::CompositePreview(scene_, frame_views, slots_, width, height, true, &composite,
-                             contested ? &rules : nullptr);
+    render::CompositePreview(
+        scene_, frame_views, slots_, width, height, true, &composite, contested ? &rules : nullptr);
   }
   stats_.composite_ms += MsSince(start);
   stats_.fragments += composite.fragments;
@@ -268,10 +275,10 @@ CpuSceneRenderer::Core CpuSceneRenderer::RenderCore(const CameraModel& camera, c
   // and the distances to covered pixels all lie inside them, so the result is the whole frame's;
   // exemplar inpainting searches wider: the whole frame), the boxes in parallel, with H(V), which
   // reads the coverage only, beside them.
-  const std::vector<cv::Rect> regions =
-      stats_.hole_pixels == 0 ? std::vector<cv::Rect>()
-      : inpaint               ? std::vector<cv::Rect>{cv::Rect(0, 0, width, height)}
-                              : render::HoleRegions(core.coverage, std::max(radius, kHoleScoreMarginPx));
+  const std::vector<cv::Rect> regions = stats_.hole_pixels == 0 ? std::vector<cv::Rect>()
+                                        : inpaint
+                                            ? std::vector<cv::Rect>{cv::Rect(0, 0, width, height)}
+                                            : render::HoleRegions(core.coverage, std::max(radius, kHoleScoreMarginPx));
   const int num_regions = static_cast<int>(regions.size());
   std::vector<std::vector<PartialPixel>> partial(regions.size());
   for (int i = 0; i < num_regions; ++i) partial[i] = PartialPixelsIn(regions[i], core.coverage, composite);
@@ -282,9 +289,15 @@ CpuSceneRenderer::Core CpuSceneRenderer::RenderCore(const CameraModel& camera, c
     known = core.coverage.clone();
     // The preview leaves holes under 2 radius + 1 px across to its 7x7 fill (the paper's rule).
     const int small_radius = quality == RenderQuality::kPreview ? radius : 0;
-    stats_.other_view_pixels = render::CoverHolesFromOtherViews(scene_, camera, cam_from_world, slots_, quality,
-                                                                options_.covered_alpha, options_.texture_stretch,
-                                                                small_radius, &known,
+    stats_.other_view_pixels = render::CoverHolesFromOtherViews(scene_,
+                                                                camera,
+                                                                cam_from_world,
+                                                                slots_,
+                                                                quality,
+                                                                options_.covered_alpha,
+                                                                options_.texture_stretch,
+                                                                small_radius,
+                                                                &known,
                                                                 &composite)
                                    .covered;
   }
@@ -292,8 +305,8 @@ CpuSceneRenderer::Core CpuSceneRenderer::RenderCore(const CameraModel& camera, c
   cv::parallel_for_(cv::Range(0, num_regions + 1), [&](const cv::Range& range) {
     for (int i = range.start; i < range.end; ++i) {
       if (i == num_regions) {
-        core.holes = MeasureCoverage(core.coverage, inpaint ? render::HoleRegions(core.coverage, kHoleScoreMarginPx)
-                                                            : regions);
+        core.holes =
+            MeasureCoverage(core.coverage, inpaint ? render::HoleRegions(core.coverage, kHoleScoreMarginPx) : regions);
       } else {
         counts[i] = FillHolesIn(regions[i], inpaint, options_, scene_.soft_z(), known, partial[i], &composite);
       }
@@ -356,9 +369,18 @@ StatusOr<FrameRender> CpuSceneRenderer::Render(const VirtualCamera& camera) {
   Logger("render")->debug(
       "cpu {} frame {}x{}: {} views, {} segments; weights {:.1f} ms, setup {:.1f} ms, composite {:.1f} ms, "
       "holes {:.1f} ms ({:.2f}%), effects {:.1f} ms; {:.1f} ms in all",
-      RenderQualityName(options_.quality), camera.camera.width, camera.camera.height, stats_.views_drawn,
-      stats_.segments_drawn, stats_.weights_ms, stats_.setup_ms, stats_.composite_ms, stats_.holes_ms,
-      100 * frame.holes.hole_ratio, stats_.effects_ms, stats_.total_ms);
+      RenderQualityName(options_.quality),
+      camera.camera.width,
+      camera.camera.height,
+      stats_.views_drawn,
+      stats_.segments_drawn,
+      stats_.weights_ms,
+      stats_.setup_ms,
+      stats_.composite_ms,
+      stats_.holes_ms,
+      100 * frame.holes.hole_ratio,
+      stats_.effects_ms,
+      stats_.total_ms);
   return frame;
 }
 

@@ -13,9 +13,9 @@
 
 #include "pipeline/core/layered_depth.h"
 #include "pipeline/core/view.h"
+#include "pipeline/render/compositor.h"
 #include "pipeline/render/layered_scene.h"
 #include "pipeline/render/render_options.h"
-#include "pipeline/render/compositor.h"
 #include "pipeline/render/scene_renderer.h"
 #include "pipeline/render/segment_raster.h"
 
@@ -63,21 +63,25 @@ class CpuSceneRenderer final : public SceneRenderer {
   const render::LayeredScene* coarse_scene() const { return coarse_scene_.get(); }
 
  private:
-  CpuSceneRenderer(render::LayeredScene scene, std::unique_ptr<render::LayeredScene> coarse_scene,
+  CpuSceneRenderer(render::LayeredScene scene,
+                   std::unique_ptr<render::LayeredScene> coarse_scene,
                    const RenderOptions& options)
       : scene_(std::move(scene)), coarse_scene_(std::move(coarse_scene)), options_(options) {}
 
-  struct Core {  // one pinhole render: colour after hole filling and effects
-    cv::Mat colour;    // CV_32FC3
-    cv::Mat depth;     // CV_32F
-    cv::Mat coverage;  // CV_8U
+  struct Core {            // one pinhole render: colour after hole filling and effects
+    cv::Mat colour;        // CV_32FC3
+    cv::Mat depth;         // CV_32F
+    cv::Mat coverage;      // CV_8U
     CoverageReport holes;  // of `coverage`
     std::vector<ViewId> sources;
     cv::Mat double_image;  // CV_8U when measured (RenderOptions::measure_double_images)
   };
   Status CheckCamera(const CameraModel& camera, const Rigid3& cam_from_world) const;
-  Core RenderCore(const CameraModel& camera, const Rigid3& cam_from_world, const std::vector<ColorEffect>& effects,
-                  RenderQuality quality, bool inpaint);
+  Core RenderCore(const CameraModel& camera,
+                  const Rigid3& cam_from_world,
+                  const std::vector<ColorEffect>& effects,
+                  RenderQuality quality,
+                  bool inpaint);
 
   render::LayeredScene scene_;
   std::unique_ptr<render::LayeredScene> coarse_scene_;  // for reduced-size Coverage()

@@ -56,7 +56,8 @@ void BM_RenderFrame(benchmark::State& state) {
   state.counters["fps"] = benchmark::Counter(static_cast<double>(frame), benchmark::Counter::kIsRate);
   state.counters["hole_ratio"] = holes / std::max(frame, 1);
   state.counters["composite_ms"] = composite_ms / std::max(frame, 1);
-  state.counters["fragments_per_pixel"] = fragments / std::max(frame, 1) / static_cast<double>(shot.camera.width * shot.camera.height);
+  state.counters["fragments_per_pixel"] =
+      fragments / std::max(frame, 1) / static_cast<double>(shot.camera.width * shot.camera.height);
   state.counters["segments"] = segments / std::max(frame, 1);
 }
 BENCHMARK(BM_RenderFrame)
@@ -87,8 +88,8 @@ void BM_Coverage(benchmark::State& state) {
   double score = 0;
   for (auto _ : state) {
     const double t = (call++ % 64) / 63.0;
-    auto report = (*renderer)->Coverage(small, Rigid3(Eigen::Quaterniond::Identity(),
-                                                      -Eigen::Vector3d(-0.05 + 0.1 * t, 0.01, 0.05 * t)));
+    auto report = (*renderer)->Coverage(
+        small, Rigid3(Eigen::Quaterniond::Identity(), -Eigen::Vector3d(-0.05 + 0.1 * t, 0.01, 0.05 * t)));
     if (!report.ok()) {
       state.SkipWithError(report.status().ToString().c_str());
       return;

@@ -1,15 +1,15 @@
 #include "pipeline/render/cpu_scene_renderer.h"
 
+#include <gtest/gtest.h>
+
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <limits>
+#include <opencv2/core/utility.hpp>
 #include <thread>
 #include <utility>
 #include <vector>
-
-#include <gtest/gtest.h>
-#include <opencv2/core/utility.hpp>
 
 #include "pipeline/render/render_test_util.h"
 
@@ -66,10 +66,19 @@ TEST_F(CpuSceneRendererTest, ViewBetweenSourcesMatchesTheExactRender) {
     const double psnr_interior = MaskedPsnr(frame->bgr, want_bgr, interior);
     const double psnr_all = MaskedPsnr(frame->bgr, want_bgr);
     const CpuFrameStats& st = renderer->last_frame();
-    std::printf("weights %.1f setup %.1f composite %.1f holes %.1f effects %.1f segs %d views %d\n", st.weights_ms,
-                st.setup_ms, st.composite_ms, st.holes_ms, st.effects_ms, st.segments_drawn, st.views_drawn);
+    std::printf("weights %.1f setup %.1f composite %.1f holes %.1f effects %.1f segs %d views %d\n",
+                st.weights_ms,
+                st.setup_ms,
+                st.composite_ms,
+                st.holes_ms,
+                st.effects_ms,
+                st.segments_drawn,
+                st.views_drawn);
     std::printf("%s: between sources PSNR %.2f dB interior, %.2f dB all, holes %.4f, %.1f ms\n",
-                std::string(RenderQualityName(quality)).c_str(), psnr_interior, psnr_all, frame->holes.hole_ratio,
+                std::string(RenderQualityName(quality)).c_str(),
+                psnr_interior,
+                psnr_all,
+                frame->holes.hole_ratio,
                 renderer->last_frame().total_ms);
     EXPECT_GT(psnr_interior, 44.0);
     EXPECT_GT(psnr_all, 35.0);
@@ -129,7 +138,9 @@ TEST_F(CpuSceneRendererTest, OfflineKeepsEachViewsBoundaryMatteAsThePreviewDoes)
     ASSERT_TRUE(frame.ok()) << frame.status().ToString();
     const double psnr = MaskedPsnr(frame->bgr, centre.image, band);
     std::printf("%s at the centre lens: PSNR %.2f dB on its %d matte pixels\n",
-                std::string(RenderQualityName(quality)).c_str(), psnr, cv::countNonZero(band));
+                std::string(RenderQualityName(quality)).c_str(),
+                psnr,
+                cv::countNonZero(band));
     EXPECT_GT(psnr, 40.0) << RenderQualityName(quality);
   }
 }
@@ -159,21 +170,25 @@ TEST_F(CpuSceneRendererTest, CoverageAgreesWithRenderAndIsCheapAtReducedSize) {
   EXPECT_EQ(small->width, 40);
   EXPECT_NEAR(small->hole_ratio, full->hole_ratio, 0.02);
   std::printf("coverage: full %.4f H %.3f; 1/8 %.4f H %.5f (x512 = %.3f); segments %zu, coarse %zu\n",
-              full->hole_ratio, full->hole_score, small->hole_ratio, small->hole_score, 512 * small->hole_score,
-              fine_segments, coarse_segments);
+              full->hole_ratio,
+              full->hole_score,
+              small->hole_ratio,
+              small->hole_score,
+              512 * small->hole_score,
+              fine_segments,
+              coarse_segments);
 }
 
 // Coverage() keeps no state between calls: the direction stage's search calls it from two
-// threads at once (and a Render may run beside it; Render itself is not re-entrant). Viewpoints spread behind and across the
-// lattice, at full and 1/8 size, give the same reports concurrently as one after another.
+// threads at once (and a Render may run beside it; Render itself is not re-entrant). Viewpoints spread behind and
+// across the lattice, at full and 1/8 size, give the same reports concurrently as one after another.
 TEST_F(CpuSceneRendererTest, CoverageGivesTheSameReportsFromSeveralThreadsAtOnce) {
   auto renderer = Make();
   ASSERT_NE(renderer, nullptr);
   std::vector<std::pair<CameraModel, Rigid3>> probes;
   for (int i = 0; i < 24; ++i) {
     const Eigen::Vector3d centre(0.01 * (i % 5 - 2), 0.008 * (i % 3 - 1), -0.02 * (i % 7));
-    probes.emplace_back(i % 2 == 0 ? kCamera : kCamera.Scaled(0.125),
-                        Rigid3(Eigen::Quaterniond::Identity(), -centre));
+    probes.emplace_back(i % 2 == 0 ? kCamera : kCamera.Scaled(0.125), Rigid3(Eigen::Quaterniond::Identity(), -centre));
   }
   std::vector<CoverageReport> serial;
   for (const auto& [camera, pose] : probes) {
@@ -183,14 +198,18 @@ TEST_F(CpuSceneRendererTest, CoverageGivesTheSameReportsFromSeveralThreadsAtOnce
   }
   std::vector<StatusOr<CoverageReport>> concurrent(probes.size(), InternalError("not measured"));
   const auto measure = [&](size_t first) {
-    for (size_t i = first; i < probes.size(); i += 2) concurrent[i] = renderer->Coverage(probes[i].first, probes[i].second);
+    for (size_t i = first; i < probes.size(); i += 2)
+      concurrent[i] = renderer->Coverage(probes[i].first, probes[i].second);
   };
   // As the search runs its two chains: side by side in a cv::parallel_for_, whose nested loops
   // inside Coverage() then run on the calling thread; a Render on a thread of its own beside them.
   std::thread render([&] { ASSERT_TRUE(renderer->Render(At(kCamera, probes[3].second)).ok()); });
-  cv::parallel_for_(cv::Range(0, 2), [&](const cv::Range& range) {
-    for (int chain = range.start; chain < range.end; ++chain) measure(chain);
-  }, 2);
+  cv::parallel_for_(
+      cv::Range(0, 2),
+      [&](const cv::Range& range) {
+        for (int chain = range.start; chain < range.end; ++chain) measure(chain);
+      },
+      2);
   render.join();
   for (size_t i = 0; i < probes.size(); ++i) {
     ASSERT_TRUE(concurrent[i].ok()) << concurrent[i].status().ToString();
@@ -280,7 +299,8 @@ TEST_F(CpuSceneRendererTest, NanPlanesAndWeightsAreDroppedNotDrawn) {
   // Every pixel is finite and the holes were filled from the other views' segments.
   cv::Mat depth_ok = frame->depth_m == frame->depth_m;
   EXPECT_EQ(cv::countNonZero(depth_ok), kCamera.width * kCamera.height);
-  std::printf("half the centre view's planes NaN: holes %.4f, PSNR %.2f dB\n", frame->holes.hole_ratio,
+  std::printf("half the centre view's planes NaN: holes %.4f, PSNR %.2f dB\n",
+              frame->holes.hole_ratio,
               MaskedPsnr(frame->bgr, views_[4].image));
   EXPECT_GT(MaskedPsnr(frame->bgr, views_[4].image), 25.0);
 }

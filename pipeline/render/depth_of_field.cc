@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
-
 #include <opencv2/imgproc.hpp>
 
 namespace px::render {
@@ -27,8 +26,11 @@ class BlurStack {
       } else {
         const int scale = 1 << (j - 2);
         cv::Mat small;
-        cv::resize(colour, small,
-                   cv::Size(std::max(1, colour.cols / scale), std::max(1, colour.rows / scale)), 0, 0,
+        cv::resize(colour,
+                   small,
+                   cv::Size(std::max(1, colour.cols / scale), std::max(1, colour.rows / scale)),
+                   0,
+                   0,
                    cv::INTER_AREA);
         cv::GaussianBlur(small, level, cv::Size(0, 0), 2.0, 2.0, cv::BORDER_REPLICATE);
         scales_.push_back(static_cast<float>(colour.cols) / static_cast<float>(small.cols));
@@ -76,8 +78,8 @@ double CircleOfConfusionPx(double aperture_m, double focus_m, double focal_px, d
   return aperture_m * focal_px * std::abs(1.0 / z_m - 1.0 / focus_m);
 }
 
-DepthOfFieldReport ApplyPreviewDepthOfField(double aperture_m, double focus_m, double focal_px, const cv::Mat& depth,
-                                            cv::Mat* colour) {
+DepthOfFieldReport ApplyPreviewDepthOfField(
+    double aperture_m, double focus_m, double focal_px, const cv::Mat& depth, cv::Mat* colour) {
   DepthOfFieldReport report;
   if (!(aperture_m > 0) || colour->empty()) return report;
   const int width = colour->cols, height = colour->rows;
@@ -122,9 +124,8 @@ DepthOfFieldReport ApplyPreviewDepthOfField(double aperture_m, double focus_m, d
     *area = static_cast<double>(x1 - x0) * (y1 - y0);
     return sum.at<double>(y1, x1) - sum.at<double>(y0, x1) - sum.at<double>(y1, x0) + sum.at<double>(y0, x0);
   };
-  const int reach = std::isfinite(z_min)
-                        ? static_cast<int>(std::min(kMaxSigmaPx, std::ceil(coc(static_cast<float>(z_min)) / 2)))
-                        : 0;
+  const int reach =
+      std::isfinite(z_min) ? static_cast<int>(std::min(kMaxSigmaPx, std::ceil(coc(static_cast<float>(z_min)) / 2))) : 0;
   std::vector<int> corrected(height, 0);
   cv::parallel_for_(cv::Range(0, height), [&](const cv::Range& rows) {
     for (int y = rows.start; y < rows.end; ++y) {
@@ -156,8 +157,8 @@ DepthOfFieldReport ApplyPreviewDepthOfField(double aperture_m, double focus_m, d
   return report;
 }
 
-std::vector<ApertureViewpoint> ApertureViewpoints(const CameraModel& camera, const Rigid3& cam_from_world,
-                                                  double aperture_m, double focus_m, int count) {
+std::vector<ApertureViewpoint> ApertureViewpoints(
+    const CameraModel& camera, const Rigid3& cam_from_world, double aperture_m, double focus_m, int count) {
   std::vector<ApertureViewpoint> viewpoints;
   constexpr double kGoldenAngle = 2.39996322972865332;
   for (int i = 0; i < count; ++i) {

@@ -1,7 +1,7 @@
 // Colour effects, depth of field and exemplar inpainting: the frame passes after compositing.
-#include <cmath>
-
 #include <gtest/gtest.h>
+
+#include <cmath>
 
 #include "pipeline/render/color_effects.h"
 #include "pipeline/render/depth_of_field.h"
@@ -126,7 +126,8 @@ TEST(DepthOfFieldTest, ApertureViewpointsStayRegisteredOnTheFocalPlane) {
     const Eigen::Vector3d p = v.cam_from_world * on_focus, q = v.cam_from_world * off_focus;
     const double x = v.camera.fx * p.x() / p.z() + v.camera.cx;
     EXPECT_NEAR(x, camera.fx * 0.1 / 2.0 + camera.cx, 1e-9);
-    spread_off = std::max(spread_off, std::abs(v.camera.fx * q.x() / q.z() + v.camera.cx - (camera.fx * 0.1 + camera.cx)));
+    spread_off =
+        std::max(spread_off, std::abs(v.camera.fx * q.x() / q.z() + v.camera.cx - (camera.fx * 0.1 + camera.cx)));
   }
   EXPECT_GT(spread_off, 0.1);  // off the focal plane, the viewpoints disagree: that is the blur
 }
@@ -172,8 +173,8 @@ TEST(ExemplarInpaintTest, LeavesHolesAtTheImageBorderWhenAsked) {
   const int width = 80, height = 40;
   cv::Mat colour(height, width, CV_32FC3, cv::Scalar(40, 120, 200)), depth(height, width, CV_32F, cv::Scalar(2.0f));
   cv::Mat known(height, width, CV_8U, cv::Scalar(255));
-  known(cv::Rect(0, 0, 10, height)).setTo(0);    // border strip
-  known(cv::Rect(40, 15, 12, 12)).setTo(0);      // interior hole
+  known(cv::Rect(0, 0, 10, height)).setTo(0);  // border strip
+  known(cv::Rect(40, 15, 12, 12)).setTo(0);    // interior hole
   const cv::Mat target = known == 0;
   InpaintOptions options;
   options.fill_border_holes = false;

@@ -3,9 +3,8 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
-#include <vector>
-
 #include <opencv2/imgproc.hpp>
+#include <vector>
 
 #include "pipeline/core/check.h"
 
@@ -13,11 +12,11 @@ namespace px::render {
 namespace {
 
 enum : uint8_t {
-  kHole = 0,        // this component, not yet filled
-  kBackground = 1,  // originally known, background cluster
-  kForeground = 2,  // originally known, foreground cluster
-  kFilled = 3,      // filled by this run
-  kUnavailable = 4, // unknown and not this component (another hole): never read
+  kHole = 0,         // this component, not yet filled
+  kBackground = 1,   // originally known, background cluster
+  kForeground = 2,   // originally known, foreground cluster
+  kFilled = 3,       // filled by this run
+  kUnavailable = 4,  // unknown and not this component (another hole): never read
 };
 
 // 1D k-means with k = 2, initialised at the extremes: the two cluster means.
@@ -52,7 +51,11 @@ inline float Grey(const cv::Vec3f& c) { return 0.114f * c[0] + 0.587f * c[1] + 0
 // One connected hole, worked on inside a region of interest around it.
 class ComponentFill {
  public:
-  ComponentFill(const SoftZ& soft_z, const InpaintOptions& options, cv::Mat status, cv::Mat colour, cv::Mat depth,
+  ComponentFill(const SoftZ& soft_z,
+                const InpaintOptions& options,
+                cv::Mat status,
+                cv::Mat colour,
+                cv::Mat depth,
                 InpaintReport* report)
       : soft_z_(soft_z),
         options_(options),
@@ -68,8 +71,8 @@ class ComponentFill {
     // Valid source centres: the whole patch originally known background.
     cv::Mat background = status_ == kBackground;
     cv::Mat counts;
-    cv::boxFilter(background / 255, counts, CV_32F, cv::Size(side, side), cv::Point(-1, -1), false,
-                  cv::BORDER_CONSTANT);
+    cv::boxFilter(
+        background / 255, counts, CV_32F, cv::Size(side, side), cv::Point(-1, -1), false, cv::BORDER_CONSTANT);
     source_ok_ = counts >= static_cast<float>(side * side) - 0.5f;
     for (int y = 0; y < status_.rows; ++y) {
       uint8_t* ok = source_ok_.ptr<uint8_t>(y);
@@ -322,8 +325,12 @@ class ComponentFill {
 
 }  // namespace
 
-InpaintReport InpaintDepthAware(const SoftZ& soft_z, const InpaintOptions& options, const cv::Mat& target,
-                                cv::Mat* known, cv::Mat* colour, cv::Mat* depth) {
+InpaintReport InpaintDepthAware(const SoftZ& soft_z,
+                                const InpaintOptions& options,
+                                const cv::Mat& target,
+                                cv::Mat* known,
+                                cv::Mat* colour,
+                                cv::Mat* depth) {
   PX_CHECK(known != nullptr && colour != nullptr && depth != nullptr) << "InpaintDepthAware needs outputs";
   PX_CHECK(target.type() == CV_8U && known->type() == CV_8U && colour->type() == CV_32FC3 && depth->type() == CV_32F)
       << "InpaintDepthAware types";
@@ -332,10 +339,12 @@ InpaintReport InpaintDepthAware(const SoftZ& soft_z, const InpaintOptions& optio
   const int count = cv::connectedComponentsWithStats(target != 0, labels, stats, centroids, 8, CV_32S);
   const int margin = options.window_radius_px + options.patch_radius_px + 1;
   for (int label = 1; label < count; ++label) {
-    const cv::Rect box(stats.at<int>(label, cv::CC_STAT_LEFT), stats.at<int>(label, cv::CC_STAT_TOP),
-                       stats.at<int>(label, cv::CC_STAT_WIDTH), stats.at<int>(label, cv::CC_STAT_HEIGHT));
-    if (!options.fill_border_holes && (box.x == 0 || box.y == 0 || box.x + box.width == target.cols ||
-                                       box.y + box.height == target.rows)) {
+    const cv::Rect box(stats.at<int>(label, cv::CC_STAT_LEFT),
+                       stats.at<int>(label, cv::CC_STAT_TOP),
+                       stats.at<int>(label, cv::CC_STAT_WIDTH),
+                       stats.at<int>(label, cv::CC_STAT_HEIGHT));
+    if (!options.fill_border_holes &&
+        (box.x == 0 || box.y == 0 || box.x + box.width == target.cols || box.y + box.height == target.rows)) {
       ++report.border_components;
       continue;
     }

@@ -23,18 +23,22 @@ struct InpaintOptions {
 };
 
 struct InpaintReport {
-  int components = 0;          // connected holes filled
-  int border_components = 0;   // left alone: touching the image border (fill_border_holes false)
+  int components = 0;            // connected holes filled
+  int border_components = 0;     // left alone: touching the image border (fill_border_holes false)
   int two_layer_components = 0;  // whose boundary split into foreground and background
-  int pixels = 0;              // pixels filled
-  int patches = 0;             // patches copied
-  int fallback_pixels = 0;     // filled by the reverse soft z blend: no background source anywhere
+  int pixels = 0;                // pixels filled
+  int patches = 0;               // patches copied
+  int fallback_pixels = 0;       // filled by the reverse soft z blend: no background source anywhere
 };
 
 // Fills the pixels where `target` (CV_8U) is non-zero, each 8-connected part on its own. Known
 // pixels are those where `known` (CV_8U) is non-zero and `target` is zero; `colour` (CV_32FC3) and
 // `depth` (CV_32F) are read there and written on the targets; filled targets are marked in `known`.
-InpaintReport InpaintDepthAware(const SoftZ& soft_z, const InpaintOptions& options, const cv::Mat& target,
-                                cv::Mat* known, cv::Mat* colour, cv::Mat* depth);
+InpaintReport InpaintDepthAware(const SoftZ& soft_z,
+                                const InpaintOptions& options,
+                                const cv::Mat& target,
+                                cv::Mat* known,
+                                cv::Mat* colour,
+                                cv::Mat* depth);
 
 }  // namespace px::render

@@ -3,9 +3,8 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
-#include <vector>
-
 #include <opencv2/imgproc.hpp>
+#include <vector>
 
 #include "pipeline/core/check.h"
 
@@ -42,8 +41,13 @@ cv::Mat ChebyshevDistance(const cv::Mat& known) {
 
 }  // namespace
 
-HoleFillReport FillHolesReverseSoftZ(const SoftZ& soft_z, int radius_px, int max_passes, cv::Mat* known,
-                                     cv::Mat* colour, cv::Mat* depth, const cv::Mat* only) {
+HoleFillReport FillHolesReverseSoftZ(const SoftZ& soft_z,
+                                     int radius_px,
+                                     int max_passes,
+                                     cv::Mat* known,
+                                     cv::Mat* colour,
+                                     cv::Mat* depth,
+                                     const cv::Mat* only) {
   PX_CHECK(known != nullptr && colour != nullptr && depth != nullptr) << "FillHolesReverseSoftZ needs outputs";
   PX_CHECK(known->type() == CV_8U && colour->type() == CV_32FC3 && depth->type() == CV_32F)
       << "FillHolesReverseSoftZ types " << known->type() << " " << colour->type() << " " << depth->type();

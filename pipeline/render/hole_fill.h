@@ -15,11 +15,11 @@ namespace px::render {
 double HoleScore(const cv::Mat& coverage, double exponent = 3.0);
 
 struct HoleFillReport {
-  int hole_pixels = 0;  // unknown before filling
-  int first_pass = 0;   // filled by pass 1 (every hole under 2 radius + 1 px across is filled whole)
-  int later_passes = 0; // filled ring by ring inwards by the passes after it
-  int passes = 0;       // passes run
-  int unfilled = 0;     // left unknown (nothing known in the image, or max_passes reached)
+  int hole_pixels = 0;   // unknown before filling
+  int first_pass = 0;    // filled by pass 1 (every hole under 2 radius + 1 px across is filled whole)
+  int later_passes = 0;  // filled ring by ring inwards by the passes after it
+  int passes = 0;        // passes run
+  int unfilled = 0;      // left unknown (nothing known in the image, or max_passes reached)
 };
 
 // Fills unknown pixels of `colour` (CV_32FC3) and `depth` (CV_32F) where `known` (CV_8U) is 0, by
@@ -29,8 +29,13 @@ struct HoleFillReport {
 // reading only pixels known before it. max_passes = 0: until every pixel is filled; 1: small holes
 // and the rims of larger ones only. Filled pixels are marked 255 in `known`. `only` (CV_8U, may be
 // null): fill just the unknown pixels where it is non-zero; the other unknown ones are left alone.
-HoleFillReport FillHolesReverseSoftZ(const SoftZ& soft_z, int radius_px, int max_passes, cv::Mat* known,
-                                     cv::Mat* colour, cv::Mat* depth, const cv::Mat* only = nullptr);
+HoleFillReport FillHolesReverseSoftZ(const SoftZ& soft_z,
+                                     int radius_px,
+                                     int max_passes,
+                                     cv::Mat* known,
+                                     cv::Mat* colour,
+                                     cv::Mat* depth,
+                                     const cv::Mat* only = nullptr);
 
 // The hole pixels (known == 0) of connected holes (8-connected) that pass 1 fills completely,
 // i.e. every pixel within Chebyshev distance `radius_px` of a known pixel: CV_8U, 255 there.

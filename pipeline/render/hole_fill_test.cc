@@ -1,8 +1,8 @@
 #include "pipeline/render/hole_fill.h"
 
-#include <cmath>
-
 #include <gtest/gtest.h>
+
+#include <cmath>
 
 #include "pipeline/render/soft_z.h"
 

@@ -3,9 +3,8 @@
 // its borders and behind a few silhouettes: a fraction of a percent of its pixels.
 #pragma once
 
-#include <vector>
-
 #include <opencv2/core.hpp>
+#include <vector>
 
 namespace px::render {
 

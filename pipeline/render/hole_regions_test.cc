@@ -1,9 +1,9 @@
 #include "pipeline/render/hole_regions.h"
 
-#include <random>
-
 #include <gtest/gtest.h>
+
 #include <opencv2/imgproc.hpp>
+#include <random>
 
 #include "pipeline/render/hole_fill.h"
 

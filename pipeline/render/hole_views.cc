@@ -1,10 +1,9 @@
 #include "pipeline/render/hole_views.h"
 
-#include <algorithm>
-#include <array>
-
 #include <Eigen/Core>
 #include <Eigen/LU>
+#include <algorithm>
+#include <array>
 #include <opencv2/imgproc.hpp>
 
 #include "pipeline/core/check.h"
@@ -48,8 +47,9 @@ std::vector<ViewFromNovel> ViewsByDistance(const LayeredScene& scene, const Rigi
     out.camera = &view.camera;
     views.push_back(out);
   }
-  std::stable_sort(views.begin(), views.end(),
-                   [](const ViewFromNovel& a, const ViewFromNovel& b) { return a.distance_m < b.distance_m; });
+  std::stable_sort(views.begin(), views.end(), [](const ViewFromNovel& a, const ViewFromNovel& b) {
+    return a.distance_m < b.distance_m;
+  });
   return views;
 }
 
@@ -59,9 +59,12 @@ bool InSlots(const ViewSlots& slots, int view) {
 
 }  // namespace
 
-std::vector<ViewSlots> OtherViewSlots(const LayeredScene& scene, const CameraModel& camera,
-                                      const Rigid3& cam_from_world, const std::vector<ViewSlots>& slots,
-                                      const cv::Mat& holes, const cv::Rect& crop) {
+std::vector<ViewSlots> OtherViewSlots(const LayeredScene& scene,
+                                      const CameraModel& camera,
+                                      const Rigid3& cam_from_world,
+                                      const std::vector<ViewSlots>& slots,
+                                      const cv::Mat& holes,
+                                      const cv::Rect& crop) {
   PX_CHECK(holes.type() == CV_8U && holes.cols == camera.width && holes.rows == camera.height)
       << "OtherViewSlots: holes " << holes.cols << "x" << holes.rows;
   PX_CHECK((crop & cv::Rect(0, 0, camera.width, camera.height)) == crop) << "OtherViewSlots: crop outside the frame";
@@ -89,8 +92,7 @@ std::vector<ViewSlots> OtherViewSlots(const LayeredScene& scene, const CameraMod
         for (const ViewFromNovel& view : views) {
           if (used == 3) break;
           if (InSlots(frame_slots[x], view.view)) continue;
-          const bool sees = std::any_of(depths_m.begin(), depths_m.end(),
-                                        [&](double z) { return view.Sees(z * ray); });
+          const bool sees = std::any_of(depths_m.begin(), depths_m.end(), [&](double z) { return view.Sees(z * ray); });
           if (!sees) continue;
           s.view[used] = static_cast<uint8_t>(view.view);
           s.weight[used] = static_cast<float>(1.0 / std::max(view.distance_m, floor_m));
@@ -113,23 +115,33 @@ cv::Rect LargeHoles(const cv::Mat& known, int small_hole_radius_px, cv::Mat* hol
   // from every known pixel (outside the image is not known): tested by erosion first, which is
   // cheap, then SmallHoles on the holes' box.
   const int margin = small_hole_radius_px + 1;
-  const cv::Rect region = cv::Rect(crop.x - margin, crop.y - margin, crop.width + 2 * margin,
-                                   crop.height + 2 * margin) &
-                          cv::Rect(0, 0, known.cols, known.rows);
+  const cv::Rect region =
+      cv::Rect(crop.x - margin, crop.y - margin, crop.width + 2 * margin, crop.height + 2 * margin) &
+      cv::Rect(0, 0, known.cols, known.rows);
   cv::Mat deep;
   const int side = 2 * small_hole_radius_px + 1;
-  cv::erode((*holes)(region), deep, cv::getStructuringElement(cv::MORPH_RECT, cv::Size(side, side)),
-            cv::Point(-1, -1), 1, cv::BORDER_CONSTANT, cv::Scalar(255));
+  cv::erode((*holes)(region),
+            deep,
+            cv::getStructuringElement(cv::MORPH_RECT, cv::Size(side, side)),
+            cv::Point(-1, -1),
+            1,
+            cv::BORDER_CONSTANT,
+            cv::Scalar(255));
   if (cv::countNonZero(deep) == 0) return cv::Rect();
   (*holes)(region).setTo(0, SmallHoles(known(region), small_hole_radius_px));
   return cv::boundingRect(*holes);
 }
 
-OtherViewsReport CoverHolesFromOtherViews(const LayeredScene& scene, const CameraModel& camera,
-                                          const Rigid3& cam_from_world, const std::vector<ViewSlots>& slots,
-                                          RenderQuality quality, double covered_alpha,
+OtherViewsReport CoverHolesFromOtherViews(const LayeredScene& scene,
+                                          const CameraModel& camera,
+                                          const Rigid3& cam_from_world,
+                                          const std::vector<ViewSlots>& slots,
+                                          RenderQuality quality,
+                                          double covered_alpha,
                                           const TextureStretchOptions& stretch,
-                                          int small_hole_radius_px, cv::Mat* known, FrameComposite* composite) {
+                                          int small_hole_radius_px,
+                                          cv::Mat* known,
+                                          FrameComposite* composite) {
   PX_CHECK(known != nullptr && composite != nullptr) << "CoverHolesFromOtherViews needs outputs";
   OtherViewsReport report;
   if (scene.views().size() <= 1) return report;
@@ -139,20 +151,27 @@ OtherViewsReport CoverHolesFromOtherViews(const LayeredScene& scene, const Camer
   cv::Mat holes;
   const cv::Rect crop = LargeHoles(*known, small_hole_radius_px, &holes);
   if (crop.empty()) return report;
-  report.covered = CoverLargeHolesFromOtherViews(scene, camera, cam_from_world, slots, quality, covered_alpha, stretch, holes,
-                                                 crop, known, composite);
+  report.covered = CoverLargeHolesFromOtherViews(
+      scene, camera, cam_from_world, slots, quality, covered_alpha, stretch, holes, crop, known, composite);
   return report;
 }
 
-int CoverLargeHolesFromOtherViews(const LayeredScene& scene, const CameraModel& camera, const Rigid3& cam_from_world,
-                                  const std::vector<ViewSlots>& slots, RenderQuality quality, double covered_alpha,
-                                  const TextureStretchOptions& stretch, const cv::Mat& holes, const cv::Rect& crop, cv::Mat* known,
+int CoverLargeHolesFromOtherViews(const LayeredScene& scene,
+                                  const CameraModel& camera,
+                                  const Rigid3& cam_from_world,
+                                  const std::vector<ViewSlots>& slots,
+                                  RenderQuality quality,
+                                  double covered_alpha,
+                                  const TextureStretchOptions& stretch,
+                                  const cv::Mat& holes,
+                                  const cv::Rect& crop,
+                                  cv::Mat* known,
                                   FrameComposite* composite) {
   PX_CHECK(known != nullptr && composite != nullptr) << "CoverLargeHolesFromOtherViews needs outputs";
   if (crop.empty() || scene.views().size() <= 1) return 0;
   const std::vector<ViewSlots> crop_slots = OtherViewSlots(scene, camera, cam_from_world, slots, holes, crop);
-  if (std::none_of(crop_slots.begin(), crop_slots.end(),
-                   [](const ViewSlots& s) { return s.view[0] != ViewSlots::kNone; })) {
+  if (std::none_of(
+          crop_slots.begin(), crop_slots.end(), [](const ViewSlots& s) { return s.view[0] != ViewSlots::kNone; })) {
     return 0;
   }
   // The crop as a camera of its own: the same rays, the principal point moved.

@@ -8,9 +8,8 @@
 // holes pays little. What the other views do not cover stays a hole for the usual filling.
 #pragma once
 
-#include <vector>
-
 #include <opencv2/core.hpp>
+#include <vector>
 
 #include "pipeline/core/camera_model.h"
 #include "pipeline/core/rigid3.h"
@@ -26,9 +25,12 @@ namespace px::render {
 // (the frame's viewing weights, frame size) and whose image holds the pixel's ray somewhere
 // between the scene's near and far depths, nearest to the camera centre first, weighted by
 // inverse distance; elsewhere no view. Row-major, crop.width * crop.height entries.
-std::vector<ViewSlots> OtherViewSlots(const LayeredScene& scene, const CameraModel& camera,
-                                      const Rigid3& cam_from_world, const std::vector<ViewSlots>& slots,
-                                      const cv::Mat& holes, const cv::Rect& crop);
+std::vector<ViewSlots> OtherViewSlots(const LayeredScene& scene,
+                                      const CameraModel& camera,
+                                      const Rigid3& cam_from_world,
+                                      const std::vector<ViewSlots>& slots,
+                                      const cv::Mat& holes,
+                                      const cv::Rect& crop);
 
 // The holes of `known` (CV_8U, 0 = hole) that the reverse soft z's first pass with radius
 // small_hole_radius_px does not fill whole (SmallHoles, hole_fill.h; every hole when the radius
@@ -46,17 +48,29 @@ struct OtherViewsReport {
 // `composite` (colour, depth), marking them in `known`. `slots` are the frame's viewing weights.
 // small_hole_radius_px > 0: holes that the reverse soft z's first pass with this radius fills
 // whole (SmallHoles, hole_fill.h) are left alone, so frames with only small holes cost nothing.
-OtherViewsReport CoverHolesFromOtherViews(const LayeredScene& scene, const CameraModel& camera,
-                                          const Rigid3& cam_from_world, const std::vector<ViewSlots>& slots,
-                                          RenderQuality quality, double covered_alpha,
+OtherViewsReport CoverHolesFromOtherViews(const LayeredScene& scene,
+                                          const CameraModel& camera,
+                                          const Rigid3& cam_from_world,
+                                          const std::vector<ViewSlots>& slots,
+                                          RenderQuality quality,
+                                          double covered_alpha,
                                           const TextureStretchOptions& stretch,
-                                          int small_hole_radius_px, cv::Mat* known, FrameComposite* composite);
+                                          int small_hole_radius_px,
+                                          cv::Mat* known,
+                                          FrameComposite* composite);
 
 // The same for holes already found by LargeHoles (`holes`, `crop`): for a renderer that asked
 // first, before preparing the scene. Returns the pixels covered.
-int CoverLargeHolesFromOtherViews(const LayeredScene& scene, const CameraModel& camera, const Rigid3& cam_from_world,
-                                  const std::vector<ViewSlots>& slots, RenderQuality quality, double covered_alpha,
-                                  const TextureStretchOptions& stretch, const cv::Mat& holes, const cv::Rect& crop, cv::Mat* known,
+int CoverLargeHolesFromOtherViews(const LayeredScene& scene,
+                                  const CameraModel& camera,
+                                  const Rigid3& cam_from_world,
+                                  const std::vector<ViewSlots>& slots,
+                                  RenderQuality quality,
+                                  double covered_alpha,
+                                  const TextureStretchOptions& stretch,
+                                  const cv::Mat& holes,
+                                  const cv::Rect& crop,
+                                  cv::Mat* known,
                                   FrameComposite* composite);
 
 }  // namespace px::render

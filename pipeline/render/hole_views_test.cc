@@ -1,11 +1,11 @@
 #include "pipeline/render/hole_views.h"
 
+#include <gtest/gtest.h>
+
 #include <cmath>
 #include <memory>
-#include <vector>
-
-#include <gtest/gtest.h>
 #include <opencv2/imgproc.hpp>
+#include <vector>
 
 #include "pipeline/render/cpu_scene_renderer.h"
 #include "pipeline/render/render_test_util.h"
@@ -103,8 +103,11 @@ TEST_F(HoleViewsTest, OtherViewsCoverTheStripCloseToTheTruth) {
     const double psnr_off = testing::MaskedPsnr(off.bgr, truth_, holes);
     const double psnr_on = testing::MaskedPsnr(on.bgr, truth_, holes);
     std::printf("%s: holes %d px, %d from other views; PSNR over them %.2f dB filled, %.2f dB other views\n",
-                std::string(RenderQualityName(quality)).c_str(), cv::countNonZero(holes), on_stats.other_view_pixels,
-                psnr_off, psnr_on);
+                std::string(RenderQualityName(quality)).c_str(),
+                cv::countNonZero(holes),
+                on_stats.other_view_pixels,
+                psnr_off,
+                psnr_on);
     EXPECT_GT(psnr_on, psnr_off + 5.0);
     EXPECT_GT(psnr_on, 30.0);
     // Pixels the blended views covered are untouched.
@@ -137,7 +140,8 @@ TEST_F(HoleViewsTest, BorderHolesCarryTheStripsInnerEdgeOut) {
       ASSERT_GT(edge, 2) << "row " << y << " has no strip";
       const cv::Vec3b inner = frame->bgr.at<cv::Vec3b>(y, edge);
       bool same = true;
-      for (int x = 0; x < edge - 1; ++x) same = same && cv::norm(frame->bgr.at<cv::Vec3b>(y, x), inner, cv::NORM_INF) <= 1;
+      for (int x = 0; x < edge - 1; ++x)
+        same = same && cv::norm(frame->bgr.at<cv::Vec3b>(y, x), inner, cv::NORM_INF) <= 1;
       rows_carried += same ? 1 : 0;
     }
     // A row whose strip ends in a soft edge keeps that pixel's own share of colour.

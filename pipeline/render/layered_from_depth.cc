@@ -1,11 +1,10 @@
 #include "pipeline/render/layered_from_depth.h"
 
+#include <Eigen/Dense>
 #include <algorithm>
 #include <cmath>
 #include <string>
 #include <vector>
-
-#include <Eigen/Dense>
 
 namespace px {
 namespace {
@@ -44,7 +43,8 @@ DepthSegment FitPlane(const std::vector<BlockPixel>& pixels, const cv::Rect& box
       fitted.inv_depth_b = abc(1);
       fitted.inv_depth_c = abc(2) - abc(0) * cx - abc(1) * cy;
       bool positive = true;
-      for (const cv::Point corner : {extent.tl(), cv::Point(extent.br().x - 1, extent.y),
+      for (const cv::Point corner : {extent.tl(),
+                                     cv::Point(extent.br().x - 1, extent.y),
                                      cv::Point(extent.x, extent.br().y - 1),
                                      cv::Point(extent.br().x - 1, extent.br().y - 1)}) {
         positive = positive && fitted.InverseDepthAt(corner.x, corner.y) > 1e-3 * mean;
@@ -79,7 +79,8 @@ std::vector<std::pair<int, int>> SplitAtGaps(const std::vector<float>& sorted, d
 
 }  // namespace
 
-StatusOr<LayeredDepthView> LayeredDepthFromDepthMap(const View& view, const DepthMap& depth,
+StatusOr<LayeredDepthView> LayeredDepthFromDepthMap(const View& view,
+                                                    const DepthMap& depth,
                                                     const LayeredFromDepthOptions& options) {
   const std::string name = "layered depth of view " + std::to_string(view.id.value);
   if (options.block_px < 2 || options.block_px > 64) {
@@ -103,7 +104,8 @@ StatusOr<LayeredDepthView> LayeredDepthFromDepthMap(const View& view, const Dept
   if (depth.depth_m.type() != CV_32F || depth.depth_m.size() != view.image.size()) {
     return InvalidArgumentError(name + ": depth map must be CV_32F of the image's size");
   }
-  if (!depth.confidence.empty() && (depth.confidence.type() != CV_32F || depth.confidence.size() != view.image.size())) {
+  if (!depth.confidence.empty() &&
+      (depth.confidence.type() != CV_32F || depth.confidence.size() != view.image.size())) {
     return InvalidArgumentError(name + ": confidence must be CV_32F of the image's size, or empty");
   }
 
@@ -116,7 +118,8 @@ StatusOr<LayeredDepthView> LayeredDepthFromDepthMap(const View& view, const Dept
     layer.segment = cv::Mat(height, width, CV_32S, cv::Scalar(SegmentLayer::kNoSegment));
   }
   out.depth_m = cv::Mat::zeros(height, width, CV_32F);
-  out.confidence = depth.confidence.empty() ? cv::Mat(height, width, CV_32F, cv::Scalar(1.0f)) : depth.confidence.clone();
+  out.confidence =
+      depth.confidence.empty() ? cv::Mat(height, width, CV_32F, cv::Scalar(1.0f)) : depth.confidence.clone();
   cv::Mat cluster_of(height, width, CV_32S, cv::Scalar(-1));  // segment index per pixel
 
   const int b = options.block_px;
@@ -147,7 +150,8 @@ StatusOr<LayeredDepthView> LayeredDepthFromDepthMap(const View& view, const Dept
           box = box.area() == 0 ? cv::Rect(p.x, p.y, 1, 1) : (box | cv::Rect(p.x, p.y, 1, 1));
         }
         if (members.empty()) continue;
-        DepthSegment segment = FitPlane(members, box, cv::Rect(block.x - 1, block.y - 1, block.width + 2, block.height + 2));
+        DepthSegment segment =
+            FitPlane(members, box, cv::Rect(block.x - 1, block.y - 1, block.width + 2, block.height + 2));
         segment.bbox = box;
         segment.num_pixels = static_cast<int32_t>(members.size());
         const int index = out.NumSegments();

@@ -28,7 +28,8 @@ struct LayeredFromDepthOptions {
 // `view` gives the camera and colours (undistorted pinhole, CV_8UC3); `depth` its z in metres
 // (0, negative or non-finite = unknown, left uncovered) and confidence (CV_32F or empty = 1).
 // The result passes ValidateLayeredDepthView.
-StatusOr<LayeredDepthView> LayeredDepthFromDepthMap(const View& view, const DepthMap& depth,
+StatusOr<LayeredDepthView> LayeredDepthFromDepthMap(const View& view,
+                                                    const DepthMap& depth,
                                                     const LayeredFromDepthOptions& options = {});
 
 }  // namespace px

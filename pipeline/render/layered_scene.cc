@@ -2,9 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
-#include <string>
-
 #include <opencv2/core.hpp>
+#include <string>
 
 #include "pipeline/render/bilinear_prefilter.h"
 #include "pipeline/render/contradictions.h"
@@ -31,8 +30,8 @@ Status CheckImage(const cv::Mat& image, int type, const CameraModel& camera, con
 // The 3D point (world) of source pixel (u, v) on a segment's plane.
 Eigen::Vector3d Lift(const SceneView& view, const std::array<double, 3>& plane, double u, double v) {
   const double z = 1.0 / (plane[0] * u + plane[1] * v + plane[2]);
-  const Eigen::Vector3d p_in_cam(z * (u - view.camera.cx) / view.camera.fx, z * (v - view.camera.cy) / view.camera.fy,
-                                 z);
+  const Eigen::Vector3d p_in_cam(
+      z * (u - view.camera.cx) / view.camera.fx, z * (v - view.camera.cy) / view.camera.fy, z);
   return view.cam_from_world.rotation.conjugate() * (p_in_cam - view.cam_from_world.translation);
 }
 
@@ -51,12 +50,14 @@ SceneView PrepareView(const View& pose, const LayeredDepthView& layered, std::ve
     SceneSegment& out = view.segments[s];
     out.plane = {segment.inv_depth_a, segment.inv_depth_b, segment.inv_depth_c};
     const cv::Rect& b = segment.bbox;
-    if (!std::isfinite(out.plane[0]) || !std::isfinite(out.plane[1]) || !std::isfinite(out.plane[2]) ||
-        b.width <= 0 || b.height <= 0 || (b & cv::Rect(0, 0, width, height)) != b) {
+    if (!std::isfinite(out.plane[0]) || !std::isfinite(out.plane[1]) || !std::isfinite(out.plane[2]) || b.width <= 0 ||
+        b.height <= 0 || (b & cv::Rect(0, 0, width, height)) != b) {
       ++bad_plane;
       continue;
     }
-    out.rect = {static_cast<float>(b.x - 1), static_cast<float>(b.y - 1), static_cast<float>(b.x + b.width),
+    out.rect = {static_cast<float>(b.x - 1),
+                static_cast<float>(b.y - 1),
+                static_cast<float>(b.x + b.width),
                 static_cast<float>(b.y + b.height)};
     const std::array<std::array<double, 2>, 4> corners = {{{out.rect[0], out.rect[1]},
                                                            {out.rect[2], out.rect[1]},
@@ -128,9 +129,9 @@ SceneView PrepareView(const View& pose, const LayeredDepthView& layered, std::ve
 }
 
 struct DepthPercentiles {
-  double near_m = 0;   // 1st percentile
+  double near_m = 0;  // 1st percentile
   double median_m = 0;
-  double far_m = 0;    // 99th percentile
+  double far_m = 0;  // 99th percentile
 };
 
 // The 1st, 50th and 99th percentiles of the layer-0 depths of every view (every 4th pixel); all 1 m
@@ -159,7 +160,8 @@ DepthPercentiles SceneDepthPercentiles(const std::vector<SceneView>& views) {
 
 }  // namespace
 
-StatusOr<LayeredScene> LayeredScene::Create(const std::vector<View>& views, const std::vector<LayeredDepthView>& layers,
+StatusOr<LayeredScene> LayeredScene::Create(const std::vector<View>& views,
+                                            const std::vector<LayeredDepthView>& layers,
                                             const RenderOptions& options) {
   PX_RETURN_IF_ERROR(options.Validate());
   if (layers.empty()) return InvalidArgumentError("render: no layered depth views");
@@ -187,8 +189,10 @@ StatusOr<LayeredScene> LayeredScene::Create(const std::vector<View>& views, cons
       PX_RETURN_IF_ERROR(CheckImage(l.weight, CV_32F, layered.camera, what + " weight"));
       PX_RETURN_IF_ERROR(CheckImage(l.segment, CV_32S, layered.camera, what + " segment"));
     }
-    SceneView view = PrepareView(*pose, WithSeamSkirts(WithSeamPlanes(layered, options.seam_planes), options.seam_skirts), &scene.warnings_);
-    const bool any = std::any_of(view.segments.begin(), view.segments.end(), [](const SceneSegment& s) { return s.drawn; });
+    SceneView view = PrepareView(
+        *pose, WithSeamSkirts(WithSeamPlanes(layered, options.seam_planes), options.seam_skirts), &scene.warnings_);
+    const bool any =
+        std::any_of(view.segments.begin(), view.segments.end(), [](const SceneSegment& s) { return s.drawn; });
     if (!any) {
       scene.warnings_.push_back(ViewName(layered.id) + " has no valid depth (no drawable segment): left out");
       continue;
@@ -218,7 +222,8 @@ StatusOr<LayeredScene> LayeredScene::Create(const std::vector<View>& views, cons
                                                : std::max(depths.far_m - depths.near_m, 0.01 * depths.median_m);
   scene.soft_z_ = SoftZ(rho, options.soft_z_gamma_fraction);
   if (options.consistent_blend.enabled || options.measure_double_images) {
-    scene.contradicted_texels_ = FindContradictions(options.consistent_blend, scene.mesh_.SlotNeighbours(), &scene.views_);
+    scene.contradicted_texels_ =
+        FindContradictions(options.consistent_blend, scene.mesh_.SlotNeighbours(), &scene.views_);
   }
   return scene;
 }

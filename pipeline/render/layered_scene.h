@@ -8,13 +8,12 @@
 // segment gets no view-mesh vertex. Each such repair is named in warnings().
 #pragma once
 
+#include <Eigen/Core>
 #include <array>
 #include <cstddef>
 #include <cstdint>
 #include <string>
 #include <vector>
-
-#include <Eigen/Core>
 
 #include "pipeline/core/camera_model.h"
 #include "pipeline/core/layered_depth.h"
@@ -42,12 +41,12 @@ static_assert(sizeof(SegmentTexel) == 24, "three texels per 72 bytes; the sample
 
 // A segment drawn as the rectangle of its bbox grown by one pixel centre, on its plane.
 struct SceneSegment {
-  std::array<float, 4> rect{};           // u_min, v_min, u_max, v_max in source pixels
-  std::array<double, 3> plane{};         // inverse depth a, b, c: 1/z = a u + b v + c
+  std::array<float, 4> rect{};                      // u_min, v_min, u_max, v_max in source pixels
+  std::array<double, 3> plane{};                    // inverse depth a, b, c: 1/z = a u + b v + c
   std::array<Eigen::Vector3d, 4> corners_in_world;  // (u_min,v_min), (u_max,v_min), (u_max,v_max), (u_min,v_max)
   Eigen::Vector3d centre_in_world = Eigen::Vector3d::Zero();  // the bbox centre on the plane
-  bool drawn = false;                    // false: dropped (bad plane) or covering no pixel
-  bool contradicted = false;             // some texel of it is (SceneView::contradicted)
+  bool drawn = false;                                         // false: dropped (bad plane) or covering no pixel
+  bool contradicted = false;                                  // some texel of it is (SceneView::contradicted)
 };
 
 struct SceneView {
@@ -57,7 +56,7 @@ struct SceneView {
   // Row-major with an empty border of one texel on every side (so that a bilinear footprint
   // reaching one pixel past the image needs no bounds checks): (width + 2) x (height + 2).
   std::vector<SegmentTexel> texels;
-  std::vector<SceneSegment> segments;    // index = the LayeredDepthView's segment index
+  std::vector<SceneSegment> segments;  // index = the LayeredDepthView's segment index
   // Contradictions (contradictions.h), in the layout of `texels`: bit j of contradicted[i][layer]
   // is set when the view neighbours[j] (an index in LayeredScene::views()) sees free space of
   // another colour where that layer's surface lies. Empty when nothing is contradicted.
@@ -86,7 +85,8 @@ class LayeredScene {
   // views[i] gives the pose of the layered view with the same id (its image is not used). Every
   // layered view needs a view; sizes and types must match its camera (errors name the view and
   // the image); cameras must be undistorted pinholes.
-  static StatusOr<LayeredScene> Create(const std::vector<View>& views, const std::vector<LayeredDepthView>& layers,
+  static StatusOr<LayeredScene> Create(const std::vector<View>& views,
+                                       const std::vector<LayeredDepthView>& layers,
                                        const RenderOptions& options);
 
   // The views that take part (those with at least one drawable segment); the mesh's view index

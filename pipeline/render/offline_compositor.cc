@@ -22,8 +22,12 @@ constexpr float kReferenceShare = 0.5f;
 
 }  // namespace
 
-void CompositeOffline(const LayeredScene& scene, const std::vector<FrameView>& frame_views,
-                      const std::vector<ViewSlots>& slots, int width, int height, FrameComposite* out) {
+void CompositeOffline(const LayeredScene& scene,
+                      const std::vector<FrameView>& frame_views,
+                      const std::vector<ViewSlots>& slots,
+                      int width,
+                      int height,
+                      FrameComposite* out) {
   out->colour.create(height, width, CV_32FC3);
   out->alpha.create(height, width, CV_32F);
   out->depth.create(height, width, CV_32F);
@@ -39,13 +43,23 @@ void CompositeOffline(const LayeredScene& scene, const std::vector<FrameView>& f
       for (const BandEntry& entry : bands[band]) {
         const FrameView& fv = frame_views[entry.frame_view];
         const SceneView& view = scene.views()[fv.view];
-        RasterizeSegment(view, fv, fv.segments[entry.setup], slots, width, row_begin, row_end, true,
-                         [](int, int, int) { return false; },
-                         [&](int x, int y, int slot, float alpha, const float* bgr, float z) {
-                           const float inv = 1.0f / alpha;
-                           fragments.push_back({static_cast<int32_t>(((y - row_begin) * width + x) * 3 + slot), z,
-                                                alpha, {bgr[0] * inv, bgr[1] * inv, bgr[2] * inv}});
-                         });
+        RasterizeSegment(
+            view,
+            fv,
+            fv.segments[entry.setup],
+            slots,
+            width,
+            row_begin,
+            row_end,
+            true,
+            [](int, int, int) { return false; },
+            [&](int x, int y, int slot, float alpha, const float* bgr, float z) {
+              const float inv = 1.0f / alpha;
+              fragments.push_back({static_cast<int32_t>(((y - row_begin) * width + x) * 3 + slot),
+                                   z,
+                                   alpha,
+                                   {bgr[0] * inv, bgr[1] * inv, bgr[2] * inv}});
+            });
       }
       total += static_cast<long>(fragments.size());
       std::sort(fragments.begin(), fragments.end(), [](const Fragment& a, const Fragment& b) {

@@ -5,9 +5,8 @@
 #pragma once
 
 #include <cmath>
-#include <vector>
-
 #include <opencv2/core.hpp>
+#include <vector>
 
 #include "pipeline/core/camera_model.h"
 #include "pipeline/core/rigid3.h"
@@ -89,8 +88,13 @@ struct PlaneScene {
 
 // A rows x cols lattice rig in the rig frame (lens centres baseline_m apart, all looking down +z)
 // seeing `scene`, with exact depth maps of confidence 1.
-inline void MakeLatticeViews(const PlaneScene& scene, int rows, int cols, double baseline_m,
-                             const CameraModel& camera, std::vector<View>* views, std::vector<DepthMap>* depths) {
+inline void MakeLatticeViews(const PlaneScene& scene,
+                             int rows,
+                             int cols,
+                             double baseline_m,
+                             const CameraModel& camera,
+                             std::vector<View>* views,
+                             std::vector<DepthMap>* depths) {
   views->clear();
   depths->clear();
   for (int r = 0; r < rows; ++r) {

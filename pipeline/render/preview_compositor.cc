@@ -8,10 +8,9 @@
 // separate pass and nothing is allocated per frame.
 #include <algorithm>
 #include <atomic>
-#include <cstddef>
 #include <cmath>
+#include <cstddef>
 #include <limits>
-
 #include <opencv2/core/hal/intrin.hpp>
 #include <opencv2/imgproc.hpp>
 
@@ -55,9 +54,16 @@ BandBuffers& ThreadBandBuffers() {
 // Segment `s` of frame view `fv` into the band's rendering buffers (ALGORITHM.md section 4):
 // the same fragments, samples and saturating blend as RasterizeSegment + the preview's emit, with
 // the per-row terms hoisted. Returns the fragments generated.
-long CompositeSegment(const SceneView& view, const FrameView& fv, const SegmentSetup& s,
-                      const std::vector<ViewSlots>& slots, int width, int row_begin, int row_end, bool with_colour,
-                      bool contradictions, BandBuffers* band) {
+long CompositeSegment(const SceneView& view,
+                      const FrameView& fv,
+                      const SegmentSetup& s,
+                      const std::vector<ViewSlots>& slots,
+                      int width,
+                      int row_begin,
+                      int row_end,
+                      bool with_colour,
+                      bool contradictions,
+                      BandBuffers* band) {
   const int view_index = fv.view;
   const SceneSegment& segment = view.segments[s.segment];
   float* cells = band->cells.data();
@@ -71,8 +77,8 @@ long CompositeSegment(const SceneView& view, const FrameView& fv, const SegmentS
     const ViewSlots* slot_row = slots.data() + static_cast<size_t>(r.y) * width;
     // This row's cells and depth sums in each slot's plane.
     const size_t row_offset = static_cast<size_t>(r.y - row_begin) * width;
-    float* const row_cells[3] = {cells + 4 * row_offset, cells + 4 * (plane + row_offset),
-                                 cells + 4 * (2 * plane + row_offset)};
+    float* const row_cells[3] = {
+        cells + 4 * row_offset, cells + 4 * (plane + row_offset), cells + 4 * (2 * plane + row_offset)};
     float* const row_depths[3] = {depths + row_offset, depths + plane + row_offset, depths + 2 * plane + row_offset};
     for (int x = r.x_begin; x < r.x_end; ++x) {
       const int slot = SlotOf(slot_row[x], view_index);
@@ -124,8 +130,8 @@ long CompositeSegment(const SceneView& view, const FrameView& fv, const SegmentS
 
 // The blended pixel from the soft z sums: `sum` = (sum b_k C_k, sum b_k A_k), sum_b = sum b_k,
 // sum_w = sum w_k, sum_wz = sum w_k z_k. False (nothing written) when nothing was seen.
-inline bool WriteBlend(const cv::v_float32x4& sum, float sum_b, float sum_w, float sum_wz, float* alpha, float* depth,
-                       float* bgr) {
+inline bool WriteBlend(
+    const cv::v_float32x4& sum, float sum_b, float sum_w, float sum_wz, float* alpha, float* depth, float* bgr) {
   const float sum_ba = cv::v_extract_n<3>(sum);
   if (!(sum_b > 0) || !(sum_ba > 0)) return false;
   *alpha = sum_ba / sum_b;
@@ -145,8 +151,13 @@ inline bool WriteBlend(const cv::v_float32x4& sum, float sum_b, float sum_w, flo
 // alpha and depth, and the colour when `bgr` is not null. The slots taking part are a bit mask,
 // and the usual pixel (three weighted views that all saw something) takes a branch-free path;
 // the sums run over the slots in order either way, as the reference's loop adds them.
-inline void ResolvePixel(const float* const cells[3], const float depth_sums[3], const ViewSlots& slots,
-                         const SoftZ& soft_z, float* alpha, float* depth, float* bgr) {
+inline void ResolvePixel(const float* const cells[3],
+                         const float depth_sums[3],
+                         const ViewSlots& slots,
+                         const SoftZ& soft_z,
+                         float* alpha,
+                         float* depth,
+                         float* bgr) {
   const float a0 = cells[0][3], a1 = cells[1][3], a2 = cells[2][3];
   if (slots.view[0] != ViewSlots::kNone && slots.view[1] != ViewSlots::kNone && slots.view[2] != ViewSlots::kNone &&
       a0 > kSeenAlpha && a1 > kSeenAlpha && a2 > kSeenAlpha && slots.weight[0] > 0 && slots.weight[1] > 0 &&
@@ -238,7 +249,8 @@ void Trust(const ContestedSlots& p, const float (&contradicted)[3][3], float tru
       if (!p.TakesPart(k)) continue;
       float suppressed = 0;
       for (int j = 0; j < 3; ++j) {
-        if (j != k && p.TakesPart(j)) suppressed = std::max(suppressed, trust[j] * contradicted[k][j] * p.Dominance(j, k));
+        if (j != k && p.TakesPart(j))
+          suppressed = std::max(suppressed, trust[j] * contradicted[k][j] * p.Dominance(j, k));
       }
       next[k] = 1.0f - suppressed;
     }
@@ -250,8 +262,14 @@ void Trust(const ContestedSlots& p, const float (&contradicted)[3][3], float tru
 // the nearest surface looked for among the slots trusted at least half (all when none is).
 // Returns whether the pixel saw anything (else alpha, depth and colour stay 0); `share` gets each
 // slot's part of the blended colour.
-bool TrustedBlend(const float* const cells[3], const ContestedSlots& p, const float trust[3], const SoftZ& soft_z,
-                  float* alpha, float* depth, float* bgr, float share[3]) {
+bool TrustedBlend(const float* const cells[3],
+                  const ContestedSlots& p,
+                  const float trust[3],
+                  const SoftZ& soft_z,
+                  float* alpha,
+                  float* depth,
+                  float* bgr,
+                  float share[3]) {
   float z_near = std::numeric_limits<float>::infinity();
   for (int k = 0; k < 3; ++k) {
     if (p.TakesPart(k) && trust[k] >= 0.5f) z_near = std::min(z_near, p.z[k]);
@@ -288,7 +306,8 @@ bool ShowsDoubleImage(const ContestedSlots& p, const float share[3], const Blend
   for (int k = 0; k < 3; ++k) {
     if (!p.TakesPart(k) || share[k] < kVisibleShare) continue;
     for (int j = 0; j < 3; ++j) {
-      if (j == k || !p.TakesPart(j) || p.ColourDistance(j, k) <= static_cast<float>(rules.double_image_levels)) continue;
+      if (j == k || !p.TakesPart(j) || p.ColourDistance(j, k) <= static_cast<float>(rules.double_image_levels))
+        continue;
       const bool blended = share[j] >= kVisibleShare;
       const bool shown_against = p.view_weight[j] > p.view_weight[k] && p.contradicted[k][j] >= 0.5f;
       if (blended || shown_against) return true;
@@ -316,9 +335,17 @@ constexpr uint8_t kConsensusDouble = 2;
 // consensus on (rules.colour_apart_levels above colour_agree_levels), slots at close depths whose
 // colours disagree count as contradicting each other too; where that changes the pixel, the
 // result goes to `consensus` instead (when not null).
-void ResolveContestedPixel(const float* const cells[3], const float depth_sums[3], const float* contra,
-                           const ViewSlots& slots, const SoftZ& soft_z, const BlendRules& rules, float* alpha,
-                           float* depth, float* bgr, uint8_t* double_image, const ConsensusOut* consensus) {
+void ResolveContestedPixel(const float* const cells[3],
+                           const float depth_sums[3],
+                           const float* contra,
+                           const ViewSlots& slots,
+                           const SoftZ& soft_z,
+                           const BlendRules& rules,
+                           float* alpha,
+                           float* depth,
+                           float* bgr,
+                           uint8_t* double_image,
+                           const ConsensusOut* consensus) {
   ContestedSlots p;
   int seen = 0, weighted = 0;
   for (int k = 0; k < 3; ++k) {
@@ -367,7 +394,8 @@ void ResolveContestedPixel(const float* const cells[3], const float depth_sums[3
   if (!differs) return;
   Trust(p, apart, trust);
   if (!TrustedBlend(cells, p, trust, soft_z, consensus->alpha, consensus->depth, consensus->bgr, share)) return;
-  *consensus->mark = kConsensusDiffers | (double_image != nullptr && ShowsDoubleImage(p, share, rules) ? kConsensusDouble : 0);
+  *consensus->mark =
+      kConsensusDiffers | (double_image != nullptr && ShowsDoubleImage(p, share, rules) ? kConsensusDouble : 0);
 }
 
 // ResolvePixel for four pixels at once (x .. x + 3 of a row) when each has a tier-1 slot (a
@@ -376,22 +404,39 @@ void ResolveContestedPixel(const float* const cells[3], const float depth_sums[3
 // pixel x's. Lane by lane the same operations in the same order as ResolvePixel, the slots not
 // taking part adding exact zeros. False, with nothing written, when one of the four is not such
 // a pixel.
-inline bool ResolveFourUsualPixels(const float* const cells[3], const float* const depth_sums[3],
-                                   const ViewSlots* slots, float gamma, float agree_levels, float* alpha, float* depth,
+inline bool ResolveFourUsualPixels(const float* const cells[3],
+                                   const float* const depth_sums[3],
+                                   const ViewSlots* slots,
+                                   float gamma,
+                                   float agree_levels,
+                                   float* alpha,
+                                   float* depth,
                                    float* bgr) {
   using cv::v_float32x4;
   static_assert(sizeof(ViewSlots) == 16 && offsetof(ViewSlots, weight) == 4, "view bytes, then three weights");
   // Per slot: the four pixels' B, G, R, alpha and depth sums as lanes.
   v_float32x4 b[3], g[3], r[3], a[3], z[3];
   for (int k = 0; k < 3; ++k) {
-    cv::v_transpose4x4(cv::v_load(cells[k]), cv::v_load(cells[k] + 4), cv::v_load(cells[k] + 8),
-                       cv::v_load(cells[k] + 12), b[k], g[k], r[k], a[k]);
+    cv::v_transpose4x4(cv::v_load(cells[k]),
+                       cv::v_load(cells[k] + 4),
+                       cv::v_load(cells[k] + 8),
+                       cv::v_load(cells[k] + 12),
+                       b[k],
+                       g[k],
+                       r[k],
+                       a[k]);
     z[k] = cv::v_load(depth_sums[k]);
   }
   const float* slot_words = reinterpret_cast<const float*>(slots);
   v_float32x4 views, w[3];
-  cv::v_transpose4x4(cv::v_load(slot_words), cv::v_load(slot_words + 4), cv::v_load(slot_words + 8),
-                     cv::v_load(slot_words + 12), views, w[0], w[1], w[2]);
+  cv::v_transpose4x4(cv::v_load(slot_words),
+                     cv::v_load(slot_words + 4),
+                     cv::v_load(slot_words + 8),
+                     cv::v_load(slot_words + 12),
+                     views,
+                     w[0],
+                     w[1],
+                     w[2]);
   const cv::v_uint32x4 view_bytes = cv::v_reinterpret_as_u32(views), none = cv::v_setall_u32(ViewSlots::kNone);
   const v_float32x4 zero = cv::v_setzero_f32(), one = cv::v_setall_f32(1.0f), seen = cv::v_setall_f32(kSeenAlpha);
   const v_float32x4 infinity = cv::v_setall_f32(std::numeric_limits<float>::infinity());
@@ -444,7 +489,8 @@ inline bool ResolveFourUsualPixels(const float* const cells[3], const float* con
   cv::v_store(depth, (z[0] + z[1] + z[2]) / (count[0] + count[1] + count[2]));
   if (bgr != nullptr) {
     const v_float32x4 inv = one / sum_ba;
-    cv::v_store_interleave(bgr, (b[0] * v[0] + b[1] * v[1] + b[2] * v[2]) * inv,
+    cv::v_store_interleave(bgr,
+                           (b[0] * v[0] + b[1] * v[1] + b[2] * v[2]) * inv,
                            (g[0] * v[0] + g[1] * v[1] + g[2] * v[2]) * inv,
                            (r[0] * v[0] + r[1] * v[1] + r[2] * v[2]) * inv);
   }
@@ -453,8 +499,15 @@ inline bool ResolveFourUsualPixels(const float* const cells[3], const float* con
 
 // Rows [row_begin, row_end) of the band resolved into `out`; the band's cells cleared. `rules`
 // null: no pixel is contested.
-void ResolveBand(const std::vector<ViewSlots>& slots, const SoftZ& soft_z, int width, int row_begin, int row_end,
-                 bool with_colour, const BlendRules* rules, BandBuffers* band, FrameComposite* out) {
+void ResolveBand(const std::vector<ViewSlots>& slots,
+                 const SoftZ& soft_z,
+                 int width,
+                 int row_begin,
+                 int row_end,
+                 bool with_colour,
+                 const BlendRules* rules,
+                 BandBuffers* band,
+                 FrameComposite* out) {
   float* cells = band->cells.data();
   float* depths = band->depths.data();
   float* contra = band->contra.data();
@@ -475,8 +528,10 @@ void ResolveBand(const std::vector<ViewSlots>& slots, const SoftZ& soft_z, int w
     const bool with_consensus = consistent && with_colour && !out->consensus_mark.empty();
     const auto consensus_at = [&](int x) {
       if (!with_consensus) return ConsensusOut{nullptr, nullptr, nullptr, nullptr};
-      return ConsensusOut{out->consensus_alpha.ptr<float>(y) + x, out->consensus_depth.ptr<float>(y) + x,
-                          out->consensus_colour.ptr<float>(y) + 3 * x, out->consensus_mark.ptr<uint8_t>(y) + x};
+      return ConsensusOut{out->consensus_alpha.ptr<float>(y) + x,
+                          out->consensus_depth.ptr<float>(y) + x,
+                          out->consensus_colour.ptr<float>(y) + 3 * x,
+                          out->consensus_mark.ptr<uint8_t>(y) + x};
     };
     uint8_t* mark_row = with_consensus ? out->consensus_mark.ptr<uint8_t>(y) : nullptr;
     // Four pixels at a time; a group with an unusual pixel (or the row's last few) one by one.
@@ -490,7 +545,8 @@ void ResolveBand(const std::vector<ViewSlots>& slots, const SoftZ& soft_z, int w
       if (measure || contested_group) {
         for (int x = x0; x < x1; ++x) {
           const size_t index = row_offset + x;
-          const float* const cell[3] = {cells + 4 * index, cells + 4 * (plane + index), cells + 4 * (2 * plane + index)};
+          const float* const cell[3] = {
+              cells + 4 * index, cells + 4 * (plane + index), cells + 4 * (2 * plane + index)};
           const float sums[3] = {depths[index], depths[plane + index], depths[2 * plane + index]};
           float contra_sums[6];
           const bool is_contested = contested[index] != 0;
@@ -502,28 +558,53 @@ void ResolveBand(const std::vector<ViewSlots>& slots, const SoftZ& soft_z, int w
             contested[index] = 0;
           }
           const ConsensusOut consensus = consensus_at(x);
-          ResolveContestedPixel(cell, sums, is_contested ? contra_sums : nullptr, slot_row[x], soft_z, *rules,
-                                alpha_row + x, depth_row + x, colour_row != nullptr ? colour_row + 3 * x : nullptr,
+          ResolveContestedPixel(cell,
+                                sums,
+                                is_contested ? contra_sums : nullptr,
+                                slot_row[x],
+                                soft_z,
+                                *rules,
+                                alpha_row + x,
+                                depth_row + x,
+                                colour_row != nullptr ? colour_row + 3 * x : nullptr,
                                 double_row != nullptr ? double_row + x : nullptr,
                                 with_consensus ? &consensus : nullptr);
         }
-      } else if (x1 - x0 == 4 &&
-                 ResolveFourUsualPixels(group, group_depths, slot_row + x0, soft_z.gamma(), agree_levels,
-                                        alpha_row + x0, depth_row + x0,
-                                        colour_row != nullptr ? colour_row + 3 * x0 : nullptr)) {
+      } else if (x1 - x0 == 4 && ResolveFourUsualPixels(group,
+                                                        group_depths,
+                                                        slot_row + x0,
+                                                        soft_z.gamma(),
+                                                        agree_levels,
+                                                        alpha_row + x0,
+                                                        depth_row + x0,
+                                                        colour_row != nullptr ? colour_row + 3 * x0 : nullptr)) {
         if (mark_row != nullptr) std::fill(mark_row + x0, mark_row + x1, uint8_t{0});
       } else {
         for (int x = x0; x < x1; ++x) {
           const size_t index = row_offset + x;
-          const float* const cell[3] = {cells + 4 * index, cells + 4 * (plane + index), cells + 4 * (2 * plane + index)};
+          const float* const cell[3] = {
+              cells + 4 * index, cells + 4 * (plane + index), cells + 4 * (2 * plane + index)};
           const float sums[3] = {depths[index], depths[plane + index], depths[2 * plane + index]};
           if (consistent) {
             const ConsensusOut consensus = consensus_at(x);
-            ResolveContestedPixel(cell, sums, nullptr, slot_row[x], soft_z, *rules, alpha_row + x, depth_row + x,
-                                  colour_row != nullptr ? colour_row + 3 * x : nullptr, nullptr,
+            ResolveContestedPixel(cell,
+                                  sums,
+                                  nullptr,
+                                  slot_row[x],
+                                  soft_z,
+                                  *rules,
+                                  alpha_row + x,
+                                  depth_row + x,
+                                  colour_row != nullptr ? colour_row + 3 * x : nullptr,
+                                  nullptr,
                                   with_consensus ? &consensus : nullptr);
           } else {
-            ResolvePixel(cell, sums, slot_row[x], soft_z, alpha_row + x, depth_row + x,
+            ResolvePixel(cell,
+                         sums,
+                         slot_row[x],
+                         soft_z,
+                         alpha_row + x,
+                         depth_row + x,
                          colour_row != nullptr ? colour_row + 3 * x : nullptr);
           }
         }
@@ -560,9 +641,14 @@ void TakeRegionalConsensus(FrameComposite* out) {
 
 }  // namespace
 
-void CompositePreview(const LayeredScene& scene, const std::vector<FrameView>& frame_views,
-                      const std::vector<ViewSlots>& slots, int width, int height, bool with_colour,
-                      FrameComposite* out, const BlendRules* rules) {
+void CompositePreview(const LayeredScene& scene,
+                      const std::vector<FrameView>& frame_views,
+                      const std::vector<ViewSlots>& slots,
+                      int width,
+                      int height,
+                      bool with_colour,
+                      FrameComposite* out,
+                      const BlendRules* rules) {
   if (rules != nullptr && rules->measure_double_images) {
     out->double_image.create(height, width, CV_8U);
   } else {
@@ -594,8 +680,16 @@ void CompositePreview(const LayeredScene& scene, const std::vector<FrameView>& f
       const int row_begin = b * kBandRows, row_end = std::min(height, row_begin + kBandRows);
       for (const BandEntry& entry : bands[b]) {
         const FrameView& fv = frame_views[entry.frame_view];
-        count += CompositeSegment(scene.views()[fv.view], fv, fv.segments[entry.setup], slots, width, row_begin,
-                                  row_end, with_colour, rules != nullptr, &band);
+        count += CompositeSegment(scene.views()[fv.view],
+                                  fv,
+                                  fv.segments[entry.setup],
+                                  slots,
+                                  width,
+                                  row_begin,
+                                  row_end,
+                                  with_colour,
+                                  rules != nullptr,
+                                  &band);
       }
       ResolveBand(slots, soft_z, width, row_begin, row_end, with_colour, rules, &band, out);
     }

@@ -44,7 +44,8 @@ Status RenderOptions::Validate() const {
     error << "render.aperture_samples: " << aperture_samples << " is outside [1, 256]";
   } else if (!(seam_skirts.max_step >= 0 && seam_skirts.max_step < 1)) {
     error << "render.seam_skirts.max_step: " << seam_skirts.max_step << " is outside [0, 1)";
-  } else if (!(seam_skirts.min_step >= 0 && (seam_skirts.max_step == 0 || seam_skirts.min_step < seam_skirts.max_step))) {
+  } else if (!(seam_skirts.min_step >= 0 &&
+               (seam_skirts.max_step == 0 || seam_skirts.min_step < seam_skirts.max_step))) {
     error << "render.seam_skirts.min_step: " << seam_skirts.min_step << " is outside [0, max_step)";
   } else if (!(seam_skirts.weight > 0 && seam_skirts.weight <= 1)) {
     error << "render.seam_skirts.weight: " << seam_skirts.weight << " is outside (0, 1]";

@@ -7,11 +7,10 @@
 #include <cmath>
 #include <map>
 #include <memory>
-#include <utility>
-#include <vector>
-
 #include <opencv2/core.hpp>
 #include <opencv2/imgproc.hpp>
+#include <utility>
+#include <vector>
 
 #include "pipeline/core/layered_depth.h"
 #include "pipeline/core/view.h"
@@ -21,9 +20,14 @@
 namespace px::render::testing {
 
 // The views and their layered depth for a rows x cols lattice of `scene` (exact depth).
-inline void MakeLayeredLattice(const PlaneScene& scene, int rows, int cols, double baseline_m,
-                               const CameraModel& camera, std::vector<View>* views,
-                               std::vector<LayeredDepthView>* layers, const LayeredFromDepthOptions& options = {}) {
+inline void MakeLayeredLattice(const PlaneScene& scene,
+                               int rows,
+                               int cols,
+                               double baseline_m,
+                               const CameraModel& camera,
+                               std::vector<View>* views,
+                               std::vector<LayeredDepthView>* layers,
+                               const LayeredFromDepthOptions& options = {}) {
   std::vector<DepthMap> depths;
   MakeLatticeViews(scene, rows, cols, baseline_m, camera, views, &depths);
   layers->clear();

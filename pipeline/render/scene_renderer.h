@@ -6,10 +6,9 @@
 #pragma once
 
 #include <memory>
+#include <opencv2/core.hpp>
 #include <string_view>
 #include <vector>
-
-#include <opencv2/core.hpp>
 
 #include "pipeline/core/camera_model.h"
 #include "pipeline/core/coverage_report.h"
@@ -22,9 +21,9 @@
 namespace px {
 
 struct FrameRender {
-  cv::Mat bgr;             // CV_8UC3, the virtual camera's size: holes filled, effects applied
-  cv::Mat depth_m;         // CV_32F, z in the virtual camera; holes filled from the background
-  cv::Mat coverage;        // CV_8U, 255 where some source covered the pixel before hole filling
+  cv::Mat bgr;       // CV_8UC3, the virtual camera's size: holes filled, effects applied
+  cv::Mat depth_m;   // CV_32F, z in the virtual camera; holes filled from the background
+  cv::Mat coverage;  // CV_8U, 255 where some source covered the pixel before hole filling
   CoverageReport holes;
   std::vector<ViewId> sources;  // the input views that contributed, most weight first
   // CV_8U, 255 where the frame shows a double image: drawn from a view that a more heavily

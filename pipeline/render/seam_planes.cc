@@ -1,14 +1,13 @@
 #include "pipeline/render/seam_planes.h"
 
-#include <array>
+#include <Eigen/Core>
+#include <Eigen/SparseCholesky>
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <map>
 #include <utility>
 #include <vector>
-
-#include <Eigen/Core>
-#include <Eigen/SparseCholesky>
 
 namespace px::render {
 namespace {
@@ -34,22 +33,25 @@ bool PositiveOverRectangle(const DepthSegment& s) {
 
 }  // namespace
 
-LayeredDepthView WithSeamPlanes(const LayeredDepthView& view, const SeamPlaneOptions& options,
+LayeredDepthView WithSeamPlanes(const LayeredDepthView& view,
+                                const SeamPlaneOptions& options,
                                 SeamPlaneReport* report) {
   if (report != nullptr) *report = SeamPlaneReport();
   if (!(options.seam_weight > 0)) return view;
   const int width = view.camera.width, height = view.camera.height;
   const SegmentLayer& front = view.layers[0];
   const SegmentLayer& back = view.layers[1];
-  const auto sized = [&](const cv::Mat& m, int type) { return m.type() == type && m.cols == width && m.rows == height; };
+  const auto sized = [&](const cv::Mat& m, int type) {
+    return m.type() == type && m.cols == width && m.rows == height;
+  };
   if (!sized(front.weight, CV_32F) || !sized(front.segment, CV_32S) || !sized(back.weight, CV_32F) ||
       !sized(back.segment, CV_32S)) {
     return view;  // the renderer's own checks name what is wrong
   }
   const int n = view.NumSegments();
   const auto valid = [&](int32_t s) {
-    return s >= 0 && s < n && std::isfinite(view.segments[s].inv_depth_a) && std::isfinite(view.segments[s].inv_depth_b) &&
-           std::isfinite(view.segments[s].inv_depth_c);
+    return s >= 0 && s < n && std::isfinite(view.segments[s].inv_depth_a) &&
+           std::isfinite(view.segments[s].inv_depth_b) && std::isfinite(view.segments[s].inv_depth_c);
   };
   // Pure pixels (one segment, fully) are a segment's own; they set its centroid and its data term.
   const auto pure = [&](int x, int y) {
@@ -74,7 +76,7 @@ LayeredDepthView WithSeamPlanes(const LayeredDepthView& view, const SeamPlaneOpt
   // over seam pixel pairs of (plane_A - plane_B)^2 at the pair's midpoint.
   std::vector<Eigen::Matrix3d> data(n, Eigen::Matrix3d::Zero());      // own pixels and seams
   std::vector<Eigen::Matrix3d> own_data(n, Eigen::Matrix3d::Zero());  // own pixels
-  std::vector<Eigen::Vector3d> own(n, Eigen::Vector3d::Zero());  // the own plane in centred form
+  std::vector<Eigen::Vector3d> own(n, Eigen::Vector3d::Zero());       // the own plane in centred form
   for (int s = 0; s < n; ++s) {
     if (!valid(s)) continue;
     const DepthSegment& d = view.segments[s];

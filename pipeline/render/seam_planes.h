@@ -29,14 +29,15 @@ struct SeamPlaneOptions {
 namespace px::render {
 
 struct SeamPlaneReport {
-  int seam_pairs = 0;       // pixel pairs across same-surface seams
-  int planes_changed = 0;   // segments given the joint fit's plane
+  int seam_pairs = 0;      // pixel pairs across same-surface seams
+  int planes_changed = 0;  // segments given the joint fit's plane
 };
 
 // `view` with its planes refitted jointly (segments and depth_m copied, where a plane changed
 // depth_m follows it; the layers shared). A plane that the fit would make non-positive over its
 // bbox keeps its own. Off, or nothing to join: `view` as it is.
-LayeredDepthView WithSeamPlanes(const LayeredDepthView& view, const SeamPlaneOptions& options,
+LayeredDepthView WithSeamPlanes(const LayeredDepthView& view,
+                                const SeamPlaneOptions& options,
                                 SeamPlaneReport* report = nullptr);
 
 }  // namespace px::render

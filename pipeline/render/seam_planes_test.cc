@@ -18,8 +18,8 @@ LayeredDepthView ThreeSegments() {
     for (int x = 0; x < kCamera.width; ++x) labels.at<int32_t>(y, x) = x < 15 ? 0 : x < 25 ? 1 : 2;
   }
   const cv::Vec3b grey(90, 90, 90);
-  return testing::OneLayerView(kCamera, labels, {grey, grey, grey},
-                               {{{0, 0, 1.0}, {0.0004, 0, 1.0 / 1.02 - 0.0004 * 20}, {0, 0, 1.0 / 3.0}}});
+  return testing::OneLayerView(
+      kCamera, labels, {grey, grey, grey}, {{{0, 0, 1.0}, {0.0004, 0, 1.0 / 1.02 - 0.0004 * 20}, {0, 0, 1.0 / 3.0}}});
 }
 
 double StepAtSeam(const LayeredDepthView& view, double x) {
@@ -33,8 +33,11 @@ TEST(SeamPlanesTest, PlanesOfOneSurfaceAgreeAtTheirSeamAndDepthEdgesStay) {
   options.seam_weight = 16;
   const LayeredDepthView joined = WithSeamPlanes(view, options, &report);
   const double before = StepAtSeam(view, 14.5), after = StepAtSeam(joined, 14.5);
-  std::printf("step at the seam: %.2f mm before, %.2f mm after; %d seam pairs, %d planes changed\n", 1e3 * before,
-              1e3 * after, report.seam_pairs, report.planes_changed);
+  std::printf("step at the seam: %.2f mm before, %.2f mm after; %d seam pairs, %d planes changed\n",
+              1e3 * before,
+              1e3 * after,
+              report.seam_pairs,
+              report.planes_changed);
   EXPECT_EQ(report.seam_pairs, 30);  // one per row across x = 14 | 15; the wall's seam is a depth edge
   EXPECT_EQ(report.planes_changed, 2);
   EXPECT_GT(before, 0.015);

@@ -2,12 +2,12 @@
 
 #include <array>
 #include <cmath>
-
 #include <opencv2/imgproc.hpp>
 
 namespace px::render {
 
-LayeredDepthView WithSeamSkirts(const LayeredDepthView& view, const SeamSkirtOptions& options,
+LayeredDepthView WithSeamSkirts(const LayeredDepthView& view,
+                                const SeamSkirtOptions& options,
                                 SeamSkirtReport* report) {
   if (report != nullptr) *report = SeamSkirtReport();
   const double max_step = options.max_step;
@@ -15,7 +15,9 @@ LayeredDepthView WithSeamSkirts(const LayeredDepthView& view, const SeamSkirtOpt
   const int width = view.camera.width, height = view.camera.height;
   const SegmentLayer& front = view.layers[0];
   const SegmentLayer& back = view.layers[1];
-  const auto sized = [&](const cv::Mat& m, int type) { return m.type() == type && m.cols == width && m.rows == height; };
+  const auto sized = [&](const cv::Mat& m, int type) {
+    return m.type() == type && m.cols == width && m.rows == height;
+  };
   if (!sized(front.weight, CV_32F) || !sized(front.segment, CV_32S) || !sized(back.weight, CV_32F) ||
       !sized(back.segment, CV_32S) || !sized(back.colour, CV_8UC3) || !sized(front.colour, CV_8UC3)) {
     return view;  // the renderer's own checks name what is wrong

@@ -29,7 +29,8 @@ struct SeamSkirtReport {
 
 // `view` with skirts on its same-surface seams: layer 1 and the segments' bboxes (grown to their
 // skirts) are copies, the rest shared. options.max_step = 0: the view as it is.
-LayeredDepthView WithSeamSkirts(const LayeredDepthView& view, const SeamSkirtOptions& options,
+LayeredDepthView WithSeamSkirts(const LayeredDepthView& view,
+                                const SeamSkirtOptions& options,
                                 SeamSkirtReport* report = nullptr);
 
 }  // namespace px::render

@@ -1,9 +1,9 @@
 #include "pipeline/render/seam_skirts.h"
 
+#include <gtest/gtest.h>
+
 #include <array>
 #include <vector>
-
-#include <gtest/gtest.h>
 
 #include "pipeline/render/cpu_scene_renderer.h"
 #include "pipeline/render/seam_test_util.h"
@@ -25,7 +25,8 @@ LayeredDepthView CardOverWall(double right_depth_m) {
       labels.at<int32_t>(y, x) = !card ? kWall : x < 20 ? kCardLeft : kCardRight;
     }
   }
-  return testing::OneLayerView(kCamera, labels,
+  return testing::OneLayerView(kCamera,
+                               labels,
                                {cv::Vec3b(20, 20, 20), cv::Vec3b(100, 150, 200), cv::Vec3b(100, 150, 200)},
                                {{{0, 0, 1.0 / 3.0}, {0, 0, 1.0}, {0, 0, 1.0 / right_depth_m}}});
 }
@@ -49,8 +50,8 @@ int WallPixelsInsideTheCard(const SeamSkirtOptions& skirts) {
   EXPECT_TRUE(frame.ok()) << frame.status().ToString();
   if (!frame.ok()) return -1;
   int wall = 0;
-  for (int y = 10; y < 38; ++y) {    // rows well inside the card
-    for (int x = 2; x < 20; ++x) {   // around the seam, which lands near x = 8
+  for (int y = 10; y < 38; ++y) {   // rows well inside the card
+    for (int x = 2; x < 20; ++x) {  // around the seam, which lands near x = 8
       if (frame->depth_m.at<float>(y, x) > 0.6f) ++wall;
     }
   }
@@ -66,8 +67,12 @@ TEST(SeamSkirtsTest, ASeamBetweenTwoPlanesOfOneSurfaceDoesNotCrackInAMagnifiedVi
   const int with_default = WallPixelsInsideTheCard(SeamSkirtOptions());
   const int with_full = WallPixelsInsideTheCard(full);
   std::printf("card pixels showing the wall at the seam: %d without skirts, %d with (weight %.2f), %d (weight 1)\n",
-              without, with_default, SeamSkirtOptions().weight, with_full);
-  EXPECT_GE(without, 28) << "the seam must open (at least a pixel in each of the 28 rows) for this test to mean anything";
+              without,
+              with_default,
+              SeamSkirtOptions().weight,
+              with_full);
+  EXPECT_GE(without, 28)
+      << "the seam must open (at least a pixel in each of the 28 rows) for this test to mean anything";
   EXPECT_EQ(with_default, 0);
   EXPECT_EQ(with_full, 0);
 }
@@ -86,7 +91,7 @@ TEST(SeamSkirtsTest, SkirtsLieOnSameSurfaceSeamsOnlyAwayFromEdgesAndBorders) {
   EXPECT_EQ(skirted.layers[1].weight.at<float>(20, 20), 0.75f);
   EXPECT_EQ(skirted.layers[1].colour.at<cv::Vec3b>(20, 20), view.layers[0].colour.at<cv::Vec3b>(20, 20));
   EXPECT_EQ(skirted.layers[1].segment.at<int32_t>(20, 14), SegmentLayer::kNoSegment);
-  EXPECT_EQ(skirted.segments[kCardLeft].bbox, cv::Rect(14, 8, 7, 32));   // grown by its skirt column
+  EXPECT_EQ(skirted.segments[kCardLeft].bbox, cv::Rect(14, 8, 7, 32));  // grown by its skirt column
   EXPECT_EQ(skirted.segments[kCardRight].bbox, cv::Rect(19, 8, 31, 32));
   // The caller's view is not changed.
   EXPECT_EQ(view.layers[1].segment.at<int32_t>(20, 20), SegmentLayer::kNoSegment);

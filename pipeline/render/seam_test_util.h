@@ -3,9 +3,8 @@
 #pragma once
 
 #include <array>
-#include <vector>
-
 #include <opencv2/core.hpp>
+#include <vector>
 
 #include "pipeline/core/layered_depth.h"
 
@@ -13,7 +12,8 @@ namespace px::render::testing {
 
 // Segment s covers the pixels labelled s (CV_32S, the camera's size) with colour colours[s] and
 // inverse-depth plane planes[s] = {a, b, c}; layer 1 empty, depth_m 1 and confidence 1 everywhere.
-inline LayeredDepthView OneLayerView(const CameraModel& camera, const cv::Mat& labels,
+inline LayeredDepthView OneLayerView(const CameraModel& camera,
+                                     const cv::Mat& labels,
                                      const std::vector<cv::Vec3b>& colours,
                                      const std::vector<std::array<double, 3>>& planes) {
   LayeredDepthView view;

@@ -1,10 +1,9 @@
 #include "pipeline/render/segment_raster.h"
 
-#include <algorithm>
-#include <limits>
-
 #include <Eigen/Core>
 #include <Eigen/LU>
+#include <algorithm>
+#include <limits>
 
 namespace px::render {
 namespace {
@@ -17,9 +16,9 @@ constexpr double kNearM = 1e-3;
 // (a', b', c') = K_n^-T R^T K_s^T (a, b, c) / (1 - (a, b, c) . K_s t) is the plane's inverse depth
 // in novel pixels, and H = K_s R K_n^-1 + (K_s t) (a', b', c')^T maps novel pixels to source ones.
 struct ViewTransfer {
-  Eigen::Matrix3d plane_map;    // K_n^-T R^T K_s^T
-  Eigen::Vector3d ks_t;         // K_s t
-  Eigen::Matrix3d rotation_map; // K_s R K_n^-1
+  Eigen::Matrix3d plane_map;       // K_n^-T R^T K_s^T
+  Eigen::Vector3d ks_t;            // K_s t
+  Eigen::Matrix3d rotation_map;    // K_s R K_n^-1
   Eigen::Matrix3d novel_rotation;  // novel cam_from_world rotation
   Eigen::Vector3d novel_translation;
   Eigen::Matrix3d novel_k;
@@ -46,8 +45,11 @@ ViewTransfer MakeTransfer(const SceneView& view, const CameraModel& camera, cons
 }
 
 // Sets up one segment; false when it is culled.
-bool SetUpSegment(const SceneSegment& segment, const ViewTransfer& transfer, const cv::Rect& region,
-                  const TextureStretchOptions& stretch, SegmentSetup* out) {
+bool SetUpSegment(const SceneSegment& segment,
+                  const ViewTransfer& transfer,
+                  const cv::Rect& region,
+                  const TextureStretchOptions& stretch,
+                  SegmentSetup* out) {
   double x_lo = std::numeric_limits<double>::infinity(), x_hi = -x_lo, y_lo = x_lo, y_hi = -x_lo;
   for (int k = 0; k < 4; ++k) {
     const Eigen::Vector3d p = transfer.novel_rotation * segment.corners_in_world[k] + transfer.novel_translation;
@@ -90,8 +92,11 @@ bool SetUpSegment(const SceneSegment& segment, const ViewTransfer& transfer, con
 
 }  // namespace
 
-void SetUpFrame(const LayeredScene& scene, const CameraModel& camera, const Rigid3& cam_from_world,
-                const std::vector<ViewSlots>& slots, const TextureStretchOptions& stretch,
+void SetUpFrame(const LayeredScene& scene,
+                const CameraModel& camera,
+                const Rigid3& cam_from_world,
+                const std::vector<ViewSlots>& slots,
+                const TextureStretchOptions& stretch,
                 std::vector<FrameView>* out) {
   const int num_views = static_cast<int>(scene.views().size());
   const int width = camera.width, height = camera.height;

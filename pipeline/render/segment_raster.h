@@ -7,10 +7,9 @@
 #include <array>
 #include <cmath>
 #include <cstdint>
-#include <vector>
-
 #include <opencv2/core.hpp>
 #include <opencv2/core/hal/intrin.hpp>
+#include <vector>
 
 #include "pipeline/core/camera_model.h"
 #include "pipeline/core/rigid3.h"
@@ -22,30 +21,33 @@ namespace px::render {
 
 // Where one segment lands in the novel camera this frame.
 struct SegmentSetup {
-  int32_t segment = 0;                      // index in its SceneView
-  float key = 0;                            // novel depth of its centre (front-to-back order)
+  int32_t segment = 0;                               // index in its SceneView
+  float key = 0;                                     // novel depth of its centre (front-to-back order)
   int x_min = 0, x_max = -1, y_min = 0, y_max = -1;  // pixel bounds, clipped to its view's region
   std::array<std::array<float, 2>, 4> corners{};     // projected rectangle corners, novel pixels
-  std::array<float, 9> homography{};        // row-major, novel pixel (x, y, 1) -> source pixel
-  std::array<float, 3> inv_depth{};         // 1/z in the novel camera = a x + b y + c
-  float texture_weight = 1;                 // its fragments' alpha scale (texture_stretch.h), (0, 1]
+  std::array<float, 9> homography{};                 // row-major, novel pixel (x, y, 1) -> source pixel
+  std::array<float, 3> inv_depth{};                  // 1/z in the novel camera = a x + b y + c
+  float texture_weight = 1;                          // its fragments' alpha scale (texture_stretch.h), (0, 1]
 };
 
 // One view drawn this frame: the output pixels that hold it in a slot, and its segments.
 struct FrameView {
-  int view = 0;                             // index in LayeredScene::views() (= the mesh's view)
-  cv::Rect region;                          // bounding box of the pixels holding it in a slot
-  std::vector<std::array<int, 2>> rows;     // per output row: first and last x holding it (empty: x0 > x1)
-  double weight_sum = 0;                    // its viewing weight summed over the frame
-  std::vector<SegmentSetup> segments;       // front to back
+  int view = 0;                          // index in LayeredScene::views() (= the mesh's view)
+  cv::Rect region;                       // bounding box of the pixels holding it in a slot
+  std::vector<std::array<int, 2>> rows;  // per output row: first and last x holding it (empty: x0 > x1)
+  double weight_sum = 0;                 // its viewing weight summed over the frame
+  std::vector<SegmentSetup> segments;    // front to back
 };
 
 // The views the slots refer to and their segments, set up for one frame (parallel over views'
 // segments) into `frame_views`, whose storage is reused from the previous frame (a frame sets up
 // tens of thousands of segments). Views never referenced are absent. Segments stretched beyond
 // `stretch.fade_to` are culled, those beyond fade_from carry their texture_weight.
-void SetUpFrame(const LayeredScene& scene, const CameraModel& camera, const Rigid3& cam_from_world,
-                const std::vector<ViewSlots>& slots, const TextureStretchOptions& stretch,
+void SetUpFrame(const LayeredScene& scene,
+                const CameraModel& camera,
+                const Rigid3& cam_from_world,
+                const std::vector<ViewSlots>& slots,
+                const TextureStretchOptions& stretch,
                 std::vector<FrameView>* frame_views);
 
 // Pixels [*x_begin, *x_end) of row y whose centres lie in the segment's projected rectangle,

@@ -1,14 +1,14 @@
 #include "pipeline/render/texture_stretch.h"
 
+#include <Eigen/Core>
 #include <algorithm>
 #include <cmath>
 #include <limits>
 
-#include <Eigen/Core>
-
 namespace px::render {
 
-double TextureStretch(const Eigen::Matrix3d& novel_to_source, const Eigen::Vector2d& novel_px,
+double TextureStretch(const Eigen::Matrix3d& novel_to_source,
+                      const Eigen::Vector2d& novel_px,
                       double uniform_magnification) {
   const Eigen::Matrix3d& h = novel_to_source;
   const Eigen::Vector3d q = h * Eigen::Vector3d(novel_px.x(), novel_px.y(), 1.0);

@@ -24,7 +24,8 @@ namespace render {
 // The stretch of a segment at output pixel `novel_px`: `novel_to_source` maps output pixels to the
 // segment's source pixels (its homography), `uniform_magnification` = (f_output / f_source) *
 // (z_source / z_output) at that point, what a face-on surface there would get. 1 = none.
-double TextureStretch(const Eigen::Matrix3d& novel_to_source, const Eigen::Vector2d& novel_px,
+double TextureStretch(const Eigen::Matrix3d& novel_to_source,
+                      const Eigen::Vector2d& novel_px,
                       double uniform_magnification);
 
 // The weight (0..1) a segment's fragments are drawn with at that stretch.

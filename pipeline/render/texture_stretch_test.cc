@@ -1,9 +1,9 @@
 #include "pipeline/render/texture_stretch.h"
 
-#include <cmath>
+#include <gtest/gtest.h>
 
 #include <Eigen/Geometry>
-#include <gtest/gtest.h>
+#include <cmath>
 
 namespace px::render {
 namespace {
@@ -42,9 +42,8 @@ PlaneViews FaceOnView(double tilt_rad, double distance, double source_focal, dou
   const Eigen::Matrix3d r = world_from_novel;
   const Eigen::Vector3d t = novel_centre;
   const double d = normal.dot(point);  // plane: normal . X_s = d
-  const Eigen::Matrix3d h =
-      Intrinsics(source_focal) * (r + t * normal.transpose() * r / (d - normal.dot(t))) *
-      Intrinsics(novel_focal).inverse();
+  const Eigen::Matrix3d h = Intrinsics(source_focal) * (r + t * normal.transpose() * r / (d - normal.dot(t))) *
+                            Intrinsics(novel_focal).inverse();
   const Eigen::Vector3d in_novel = r.transpose() * (point - t);
   PlaneViews views;
   views.novel_to_source = h;
@@ -71,8 +70,7 @@ TEST(TextureStretchTest, ASurfaceItsViewSawNearlyEdgeOnIsStretchedAndFaded) {
   EXPECT_NEAR(TextureWeight(stretch, options), (6 - stretch) / 3, 1e-5);
   // At 60 degrees the stretch is 2: drawn in full.
   const PlaneViews moderate = FaceOnView(60.0 * kPi / 180.0, 1.0, 500, 500);
-  EXPECT_NEAR(TextureStretch(moderate.novel_to_source, moderate.centre_px, moderate.uniform_magnification), 2.0,
-              1e-3);
+  EXPECT_NEAR(TextureStretch(moderate.novel_to_source, moderate.centre_px, moderate.uniform_magnification), 2.0, 1e-3);
   // Beyond fade_to nothing is drawn; with fade_from = 0 everything is.
   EXPECT_EQ(TextureWeight(8.0, options), 0.0f);
   options.fade_from = 0;

@@ -1,5 +1,7 @@
 #include "pipeline/render/view_mesh.h"
 
+#include <Eigen/Eigenvalues>
+#include <Eigen/LU>
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -7,14 +9,11 @@
 #include <functional>
 #include <limits>
 #include <map>
+#include <opencv2/core/hal/intrin.hpp>
+#include <opencv2/imgproc.hpp>
 #include <string>
 #include <utility>
 #include <vector>
-
-#include <Eigen/Eigenvalues>
-#include <Eigen/LU>
-#include <opencv2/core/hal/intrin.hpp>
-#include <opencv2/imgproc.hpp>
 
 namespace px::render {
 namespace {
@@ -60,11 +59,13 @@ ViewSlots Merge(std::array<int, 3> views, std::array<double, 3> weights) {
 // Subdiv2D's triangles on `scaled` points whose outer virtual vertices sit `outer` units from
 // the frame of the points: the real triangles (virtual vertices dropped), counter-clockwise.
 std::vector<std::array<int, 3>> SubdivTriangles(const std::vector<cv::Point2f>& scaled,
-                                                const std::vector<Eigen::Vector2d>& positions, int outer) {
+                                                const std::vector<Eigen::Vector2d>& positions,
+                                                int outer) {
   cv::Subdiv2D subdiv(cv::Rect(-10, -10, outer, outer));
   std::map<std::pair<float, float>, int> index_of;
   for (size_t i = 0; i < scaled.size(); ++i) {
-    if (index_of.emplace(std::make_pair(scaled[i].x, scaled[i].y), static_cast<int>(i)).second) subdiv.insert(scaled[i]);
+    if (index_of.emplace(std::make_pair(scaled[i].x, scaled[i].y), static_cast<int>(i)).second)
+      subdiv.insert(scaled[i]);
   }
   std::vector<cv::Vec6f> list;
   subdiv.getTriangleList(list);
@@ -116,7 +117,8 @@ StatusOr<std::vector<std::array<int, 3>>> DelaunayTriangles(const std::vector<Ei
   for (int outer = 102100; outer <= 102100000; outer *= 100) {
     triangles = SubdivTriangles(scaled, positions, outer);
     double area = 0;
-    for (const auto& tri : triangles) area += Cross2(positions[tri[1]] - positions[tri[0]], positions[tri[2]] - positions[tri[0]]) / 2;
+    for (const auto& tri : triangles)
+      area += Cross2(positions[tri[1]] - positions[tri[0]], positions[tri[2]] - positions[tri[0]]) / 2;
     if (!triangles.empty() && area >= (1 - 1e-4) * hull_area) return triangles;
   }
   if (triangles.empty()) {
@@ -190,8 +192,9 @@ StatusOr<ViewMesh> ViewMesh::Build(const std::vector<Eigen::Vector3d>& centres_i
     for (int i = 0; i < n; ++i) mesh.vertices_.push_back({mesh.ToPlane(centres_in_world[i]), i});
     mesh.line_order_.resize(n);
     for (int i = 0; i < n; ++i) mesh.line_order_[i] = i;
-    std::sort(mesh.line_order_.begin(), mesh.line_order_.end(),
-              [&](int a, int b) { return mesh.vertices_[a].position.x() < mesh.vertices_[b].position.x(); });
+    std::sort(mesh.line_order_.begin(), mesh.line_order_.end(), [&](int a, int b) {
+      return mesh.vertices_[a].position.x() < mesh.vertices_[b].position.x();
+    });
     return mesh;
   }
   Eigen::Vector3d normal = eigen.eigenvectors().col(0);
@@ -409,8 +412,8 @@ struct PixelToPlane {
   Eigen::Matrix<double, 2, 3> numerator;  // axes^T R^T K^-1
   Eigen::RowVector3d denominator;         // n^T R^T K^-1
   Eigen::Matrix3d k_inverse;
-  Eigen::Vector2d q_centre;               // the camera centre's projection onto the plane
-  double height = 0;                      // n . (o - m)
+  Eigen::Vector2d q_centre;  // the camera centre's projection onto the plane
+  double height = 0;         // n . (o - m)
 
   Eigen::Vector2d At(double x, double y) const {
     const Eigen::Vector3d pixel(x, y, 1.0);
@@ -437,12 +440,16 @@ PixelToPlane MakePixelToPlane(const ViewMesh& mesh, const CameraModel& camera, c
 
 }  // namespace
 
-Eigen::Vector2d ViewMesh::PlanePointOfPixel(const CameraModel& camera, const Rigid3& cam_from_world, double x,
+Eigen::Vector2d ViewMesh::PlanePointOfPixel(const CameraModel& camera,
+                                            const Rigid3& cam_from_world,
+                                            double x,
                                             double y) const {
   return MakePixelToPlane(*this, camera, cam_from_world).At(x, y);
 }
 
-void ViewMesh::ComputeWeights(const CameraModel& camera, const Rigid3& cam_from_world, std::vector<ViewSlots>* slots,
+void ViewMesh::ComputeWeights(const CameraModel& camera,
+                              const Rigid3& cam_from_world,
+                              std::vector<ViewSlots>* slots,
                               double exponent) const {
   const int width = camera.width, height = camera.height;
   slots->resize(static_cast<size_t>(width) * height);
@@ -463,7 +470,8 @@ void ViewMesh::ComputeWeights(const CameraModel& camera, const Rigid3& cam_from_
   const auto fill_outside = [&](int region, int x0, int y0, int x1, int y1) {
     if (region <= -2) {
       const ViewSlots vertex = Merge({vertices_[-2 - region].view, -1, -1}, {1, 0, 0});
-      for (int y = y0; y <= y1; ++y) std::fill_n(slots->data() + static_cast<size_t>(y) * width + x0, x1 - x0 + 1, vertex);
+      for (int y = y0; y <= y1; ++y)
+        std::fill_n(slots->data() + static_cast<size_t>(y) * width + x0, x1 - x0 + 1, vertex);
       return;
     }
     const auto& edge = outer_edges_[region];
@@ -545,8 +553,8 @@ void ViewMesh::ComputeWeights(const CameraModel& camera, const Rigid3& cam_from_
       const Eigen::Vector2d alpha = b.inverse * (map.q_centre - b.p0);
       const Eigen::Matrix<double, 2, 3> r = -map.height * (b.inverse * map.numerator);
       const auto& tri = triangles_[triangle];
-      const ViewSlots pattern = Merge({vertices_[tri[0]].view, vertices_[tri[1]].view, vertices_[tri[2]].view},
-                                      {1.0 / 3, 1.0 / 3, 1.0 / 3});
+      const ViewSlots pattern =
+          Merge({vertices_[tri[0]].view, vertices_[tri[1]].view, vertices_[tri[2]].view}, {1.0 / 3, 1.0 / 3, 1.0 / 3});
       std::array<int, 3> slot_of_vertex{};
       for (int k = 0; k < 3; ++k) {
         for (int j = 0; j < 3; ++j) {

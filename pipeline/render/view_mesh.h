@@ -8,12 +8,11 @@
 // render/gl/gl_agreement_test checks through the weights.
 #pragma once
 
+#include <Eigen/Core>
 #include <array>
 #include <cstdint>
 #include <utility>
 #include <vector>
-
-#include <Eigen/Core>
 
 #include "pipeline/core/camera_model.h"
 #include "pipeline/core/rigid3.h"
@@ -68,11 +67,12 @@ class ViewMesh {
   // search from, updated to the one found (or -1 outside the mesh).
   ViewSlots WeightsAt(const Eigen::Vector2d& q, int* hint = nullptr) const;
   // The point of the mesh plane where pixel (x, y)'s line meets it (section 3).
-  Eigen::Vector2d PlanePointOfPixel(const CameraModel& camera, const Rigid3& cam_from_world, double x,
-                                    double y) const;
+  Eigen::Vector2d PlanePointOfPixel(const CameraModel& camera, const Rigid3& cam_from_world, double x, double y) const;
   // Weights for every pixel of a pinhole camera, row-major (width * height entries), rows in
   // parallel; raised to `exponent` (FlattenViewingWeights) as each band of rows is made.
-  void ComputeWeights(const CameraModel& camera, const Rigid3& cam_from_world, std::vector<ViewSlots>* slots,
+  void ComputeWeights(const CameraModel& camera,
+                      const Rigid3& cam_from_world,
+                      std::vector<ViewSlots>* slots,
                       double exponent = 1.0) const;
 
  private:
@@ -104,11 +104,11 @@ class ViewMesh {
   std::vector<Vertex> vertices_;
   std::vector<std::array<int, 3>> triangles_;
   int num_delaunay_triangles_ = 0;
-  std::vector<Barycentric> barycentric_;             // per triangle
-  std::vector<std::array<int, 3>> neighbours_;       // per triangle: across the edge opposite vertex k
-  std::vector<std::array<int, 2>> outer_edges_;      // vertex pairs on the extended mesh's boundary
-  bool outline_convex_ = false;                      // every outer vertex on or inside every outer edge
-  std::vector<int> line_order_;                      // kLine: views sorted along axis_u
+  std::vector<Barycentric> barycentric_;         // per triangle
+  std::vector<std::array<int, 3>> neighbours_;   // per triangle: across the edge opposite vertex k
+  std::vector<std::array<int, 2>> outer_edges_;  // vertex pairs on the extended mesh's boundary
+  bool outline_convex_ = false;                  // every outer vertex on or inside every outer edge
+  std::vector<int> line_order_;                  // kLine: views sorted along axis_u
 };
 
 // Raises every slot's weight to `exponent` in (0, 1] and renormalises the three to sum 1

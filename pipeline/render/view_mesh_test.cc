@@ -1,10 +1,10 @@
 #include "pipeline/render/view_mesh.h"
 
+#include <gtest/gtest.h>
+
 #include <algorithm>
 #include <cmath>
 #include <set>
-
-#include <gtest/gtest.h>
 
 #include "pipeline/core/camera_model.h"
 #include "pipeline/core/rigid3.h"
@@ -106,8 +106,8 @@ TEST(ViewMeshTest, ComputeWeightsMatchesThePixelByPixelWeights) {
           const ViewSlots& tile = tiles[static_cast<size_t>(y) * camera.width + x];
           for (int view = 0; view < 9; ++view) {
             ASSERT_NEAR(WeightOf(tile, view), WeightOf(pixel, view), 2e-5)
-                << "view " << view << " at pixel " << x << "," << y << ", centre " << centre.transpose()
-                << ", turned " << turn;
+                << "view " << view << " at pixel " << x << "," << y << ", centre " << centre.transpose() << ", turned "
+                << turn;
           }
           ++compared;
         }
@@ -148,9 +148,10 @@ TEST(ViewMeshTest, DegenerateSetsStillGiveWeightsThatSumToOne) {
   EXPECT_EQ(one.kind(), ViewMesh::Kind::kPoint);
   EXPECT_NEAR(WeightOf(one.WeightsAt(Eigen::Vector2d(3, 4)), 0), 1.0, 1e-9);
   // A row of three: linear along the line.
-  const ViewMesh line = ViewMesh::Build({Eigen::Vector3d(-0.1, 0, 0), Eigen::Vector3d(0, 0, 0), Eigen::Vector3d(0.1, 0, 0)},
-                                        std::vector<Eigen::Matrix3d>(3, Eigen::Matrix3d::Identity()))
-                            .value();
+  const ViewMesh line =
+      ViewMesh::Build({Eigen::Vector3d(-0.1, 0, 0), Eigen::Vector3d(0, 0, 0), Eigen::Vector3d(0.1, 0, 0)},
+                      std::vector<Eigen::Matrix3d>(3, Eigen::Matrix3d::Identity()))
+          .value();
   EXPECT_EQ(line.kind(), ViewMesh::Kind::kLine);
   const ViewSlots s = line.WeightsAt(Eigen::Vector2d(0.025, 0.3));
   EXPECT_NEAR(Sum(s), 1.0, 1e-9);

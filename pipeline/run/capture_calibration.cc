@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <cmath>
-
 #include <opencv2/imgproc.hpp>
 
 #include "pipeline/calib/incremental_sfm.h"
@@ -48,14 +47,15 @@ LatticeLayout CheckedLattice(const cv::Mat& sensor, const RigCalibration& rig, s
   }
   if (!moved.Validate().ok()) return rig.lattice;
   char text[240];
-  std::snprintf(text, sizeof(text),
+  std::snprintf(text,
+                sizeof(text),
                 "lattice moved: tiles found up to %.1f px from the rig calibration's layout (confidence %.2f); "
                 "cut at the found positions with the calibrated intrinsics",
-                found->report.max_prior_shift_px, found->report.confidence);
+                found->report.max_prior_shift_px,
+                found->report.confidence);
   warnings->push_back(text);
   return moved;
 }
-
 
 // The error for a lattice frame that cannot be used, by what went wrong with it.
 Status UnusableFrameError(const FrameSet& capture, size_t index) {
@@ -78,7 +78,10 @@ Status UnusableFrameError(const FrameSet& capture, size_t index) {
 // When no frame is ok, the one that can still honestly be used (frame_salvage.h): a frame at the
 // sensor's size in another pixel format (it decodes as what it says it is), else a truncated one
 // (its whole rows). Sets *bgr and *complete_rows and says so in a warning; frames.size() if none.
-size_t SalvageFrame(const FrameSet& capture, const LatticeLayout& lattice, cv::Mat* bgr, int* complete_rows,
+size_t SalvageFrame(const FrameSet& capture,
+                    const LatticeLayout& lattice,
+                    cv::Mat* bgr,
+                    int* complete_rows,
                     std::vector<std::string>* warnings) {
   for (size_t i = 0; i < capture.frames.size(); ++i) {
     const Frame& frame = capture.frames[i];
@@ -115,8 +118,10 @@ size_t SalvageFrame(const FrameSet& capture, const LatticeLayout& lattice, cv::M
 
 // Refines the factory calibration from the tiles when enabled; the factory's otherwise or
 // when refinement is not trustworthy (the reason in `warnings`).
-RigCalibration RefinedRig(const std::vector<cv::Mat>& tiles, const RigCalibration& rig,
-                          const calib::RigRefinementOptions& refinement, std::vector<std::string>* warnings,
+RigCalibration RefinedRig(const std::vector<cv::Mat>& tiles,
+                          const RigCalibration& rig,
+                          const calib::RigRefinementOptions& refinement,
+                          std::vector<std::string>* warnings,
                           CalibratedViews* out) {
   out->calibration = "factory";
   out->metric_scale = true;  // the rig's baselines are measured
@@ -131,12 +136,20 @@ RigCalibration RefinedRig(const std::vector<cv::Mat>& tiles, const RigCalibratio
   }
   const calib::RigRefinementReport& report = refined->report;
   char text[256];
-  std::snprintf(text, sizeof(text),
+  std::snprintf(text,
+                sizeof(text),
                 "%d lens pairs, %d matches, %d inliers, %d tracks, reprojection RMS %.2f -> %.2f px, max change "
                 "%.3f deg, %.2f mm, focal %.2f %%, %.0f ms",
-                report.num_pairs, report.num_matches, report.num_inliers, report.num_tracks, report.rms_before_px,
-                report.rms_after_px, report.max_rotation_change_deg, 1000 * report.max_centre_change_m,
-                100 * report.max_focal_change_relative, report.total_ms);
+                report.num_pairs,
+                report.num_matches,
+                report.num_inliers,
+                report.num_tracks,
+                report.rms_before_px,
+                report.rms_after_px,
+                report.max_rotation_change_deg,
+                1000 * report.max_centre_change_m,
+                100 * report.max_focal_change_relative,
+                report.total_ms);
   out->summary = text;
   if (report.factory_fits) {
     out->calibration = "factory (confirmed by refinement)";
@@ -157,9 +170,12 @@ RigCalibration RefinedRig(const std::vector<cv::Mat>& tiles, const RigCalibratio
 
 // Views of `images` (ids `view_ids`, named `image_names` in warnings) posed by structure from
 // motion; unregistered images are named in `warnings` and dropped.
-StatusOr<CalibratedViews> SfmViews(const std::string& name, const std::vector<calib::SfmImage>& images,
-                                   const std::vector<size_t>& view_ids, const std::vector<std::string>& image_names,
-                                   const CalibOptions& calib_options, const calib::SfmOptions& sfm,
+StatusOr<CalibratedViews> SfmViews(const std::string& name,
+                                   const std::vector<calib::SfmImage>& images,
+                                   const std::vector<size_t>& view_ids,
+                                   const std::vector<std::string>& image_names,
+                                   const CalibOptions& calib_options,
+                                   const calib::SfmOptions& sfm,
                                    std::vector<std::string>* warnings) {
   PX_ASSIGN_OR_RETURN(calib::SfmResult sfm_result, calib::RunIncrementalSfm(images, sfm));
   const calib::SfmReport& report = sfm_result.report;
@@ -170,9 +186,16 @@ StatusOr<CalibratedViews> SfmViews(const std::string& name, const std::vector<ca
   CalibratedViews out;
   out.calibration = "structure from motion";
   char text[256];
-  std::snprintf(text, sizeof(text), "%d of %d images registered, %d points, reprojection RMS %.2f px, focal %s%s, %.0f ms",
-                report.num_registered, report.num_images, report.num_points, report.rms_px,
-                report.focal_source.c_str(), report.focal_observable ? "" : " (unobservable)", report.total_ms);
+  std::snprintf(text,
+                sizeof(text),
+                "%d of %d images registered, %d points, reprojection RMS %.2f px, focal %s%s, %.0f ms",
+                report.num_registered,
+                report.num_images,
+                report.num_points,
+                report.rms_px,
+                report.focal_source.c_str(),
+                report.focal_observable ? "" : " (unobservable)",
+                report.total_ms);
   out.summary = text;
   std::vector<double> nears, fars;
   UndistortCache cache;
@@ -182,8 +205,13 @@ StatusOr<CalibratedViews> SfmViews(const std::string& name, const std::vector<ca
       warnings->push_back(image_names[i] + " not registered: " + sfm_view.note + "; dropped");
       continue;
     }
-    PX_ASSIGN_OR_RETURN(View view, MakeView(ViewId{static_cast<int>(view_ids[i])}, images[i].image, sfm_view.camera,
-                                            sfm_view.cam_from_world, calib_options, &cache));
+    PX_ASSIGN_OR_RETURN(View view,
+                        MakeView(ViewId{static_cast<int>(view_ids[i])},
+                                 images[i].image,
+                                 sfm_view.camera,
+                                 sfm_view.cam_from_world,
+                                 calib_options,
+                                 &cache));
     out.views.push_back(std::move(view));
     if (sfm_view.depth_near > 0) nears.push_back(sfm_view.depth_near);
     if (sfm_view.depth_far > 0) fars.push_back(sfm_view.depth_far);
@@ -201,13 +229,16 @@ StatusOr<CalibratedViews> SfmViews(const std::string& name, const std::vector<ca
 
 // An image set's views: poses and focal lengths from structure from motion. Images that
 // cannot be used (bad frames, unregistered) are named in `warnings`.
-StatusOr<CalibratedViews> ImageSetViews(const FrameSet& capture, const RigCalibration& rig,
-                                        const CalibOptions& calib_options, const calib::SfmOptions& sfm,
-                                        std::vector<std::string>* warnings, std::vector<StageTiming>* timings) {
+StatusOr<CalibratedViews> ImageSetViews(const FrameSet& capture,
+                                        const RigCalibration& rig,
+                                        const CalibOptions& calib_options,
+                                        const calib::SfmOptions& sfm,
+                                        std::vector<std::string>* warnings,
+                                        std::vector<StageTiming>* timings) {
   const std::string name = "capture " + std::to_string(capture.capture_id);
   if (capture.frames.size() < 2) {
     return FailedPreconditionError(name + ": an image set needs at least 2 images, got " +
-                                std::to_string(capture.frames.size()));
+                                   std::to_string(capture.frames.size()));
   }
   const Clock::time_point start = Clock::now();
   std::vector<calib::SfmImage> images;
@@ -215,8 +246,8 @@ StatusOr<CalibratedViews> ImageSetViews(const FrameSet& capture, const RigCalibr
   int with_exif_focal = 0;
   for (size_t i = 0; i < capture.frames.size(); ++i) {
     const Frame& frame = capture.frames[i];
-    StatusOr<cv::Mat> bgr = frame.status == FrameStatus::kOk ? ToBgr(frame.image) : StatusOr<cv::Mat>(
-                                                                    UnusableFrameError(capture, i));
+    StatusOr<cv::Mat> bgr =
+        frame.status == FrameStatus::kOk ? ToBgr(frame.image) : StatusOr<cv::Mat>(UnusableFrameError(capture, i));
     if (!bgr.ok()) {
       warnings->push_back(FrameName(capture, i) + " skipped: " + bgr.status().ToString());
       continue;
@@ -244,8 +275,8 @@ StatusOr<CalibratedViews> ImageSetViews(const FrameSet& capture, const RigCalibr
   std::vector<std::string> image_names;
   for (size_t frame : frame_of_image) image_names.push_back(FrameName(capture, frame));
   const Clock::time_point calib_start = Clock::now();
-  PX_ASSIGN_OR_RETURN(CalibratedViews out, SfmViews(name, images, frame_of_image, image_names, calib_options, sfm,
-                                                    warnings));
+  PX_ASSIGN_OR_RETURN(CalibratedViews out,
+                      SfmViews(name, images, frame_of_image, image_names, calib_options, sfm, warnings));
   if (with_exif_focal > 0) {
     out.summary += "; focal length of " + std::to_string(with_exif_focal) + " of " + std::to_string(images.size()) +
                    " images from their metadata (" + capture.frames[frame_of_image[0]].focal_length_source + ")";
@@ -258,9 +289,12 @@ StatusOr<CalibratedViews> ImageSetViews(const FrameSet& capture, const RigCalibr
 // blind and the tiles are calibrated as an image set by structure from motion, with the lenses'
 // intrinsics as metadata when the calibration has them for tiles of that size (else the focal
 // length is self-calibrated: unobservable on a lattice of parallel lenses, which the report says).
-StatusOr<CalibratedViews> BlindLatticeViews(const FrameSet& capture, const RigCalibration& rig,
-                                            const CalibOptions& calib_options, const calib::SfmOptions& sfm,
-                                            const LatticeOptions& lattice, std::vector<std::string>* warnings,
+StatusOr<CalibratedViews> BlindLatticeViews(const FrameSet& capture,
+                                            const RigCalibration& rig,
+                                            const CalibOptions& calib_options,
+                                            const calib::SfmOptions& sfm,
+                                            const LatticeOptions& lattice,
+                                            std::vector<std::string>* warnings,
                                             std::vector<StageTiming>* timings) {
   const Clock::time_point lattice_start = Clock::now();
   size_t chosen = capture.frames.size();
@@ -272,8 +306,8 @@ StatusOr<CalibratedViews> BlindLatticeViews(const FrameSet& capture, const RigCa
   PX_ASSIGN_OR_RETURN(cv::Mat sensor, ToBgr(capture.frames[chosen].image));
   StatusOr<LatticeDetection> found = DetectLattice(sensor, lattice);
   if (!found.ok()) {
-    return FailedPreconditionError(name + ": no rig calibration, and the lattice cannot be found blind: " +
-                                   found.status().message());
+    return FailedPreconditionError(
+        name + ": no rig calibration, and the lattice cannot be found blind: " + found.status().message());
   }
   PX_ASSIGN_OR_RETURN(std::vector<cv::Mat> tiles, SplitLattice(sensor, found->layout));
   timings->push_back({"lattice", MsSince(lattice_start)});
@@ -332,10 +366,14 @@ std::string FrameName(const FrameSet& capture, size_t index) {
 
 // Splits the lattice frame and makes the views, timing both stages. Image sets go through
 // structure from motion instead.
-StatusOr<CalibratedViews> CalibrateCapture(const FrameSet& capture, const RigCalibration& rig,
-                                           const CalibOptions& calib, const calib::RigRefinementOptions& refinement,
-                                           const calib::SfmOptions& sfm, std::vector<std::string>* warnings,
-                                           std::vector<StageTiming>* timings, const LatticeOptions& blind_lattice) {
+StatusOr<CalibratedViews> CalibrateCapture(const FrameSet& capture,
+                                           const RigCalibration& rig,
+                                           const CalibOptions& calib,
+                                           const calib::RigRefinementOptions& refinement,
+                                           const calib::SfmOptions& sfm,
+                                           std::vector<std::string>* warnings,
+                                           std::vector<StageTiming>* timings,
+                                           const LatticeOptions& blind_lattice) {
   if (capture.kind == FrameSetKind::kImageSet) {
     return ImageSetViews(capture, rig, calib, sfm, warnings, timings);
   }
@@ -361,12 +399,11 @@ StatusOr<CalibratedViews> CalibrateCapture(const FrameSet& capture, const RigCal
   }
   for (size_t i = 0; i < capture.frames.size(); ++i) {
     if (i == chosen) continue;
-    warnings->push_back(FrameName(capture, i) + " skipped: a lattice capture needs one frame, used frame " +
-                        std::to_string(chosen) +
-                        (capture.frames[i].status == FrameStatus::kOk
-                             ? ""
-                             : std::string(" (this one is ") + std::string(FrameStatusName(capture.frames[i].status)) +
-                                   ")"));
+    warnings->push_back(
+        FrameName(capture, i) + " skipped: a lattice capture needs one frame, used frame " + std::to_string(chosen) +
+        (capture.frames[i].status == FrameStatus::kOk
+             ? ""
+             : std::string(" (this one is ") + std::string(FrameStatusName(capture.frames[i].status)) + ")"));
   }
   StatusOr<cv::Mat> sensor = salvaged.empty() ? ToBgr(capture.frames[chosen].image) : StatusOr<cv::Mat>(salvaged);
   if (!sensor.ok()) return sensor.status().WithContext(FrameName(capture, chosen));
@@ -399,8 +436,12 @@ StatusOr<CalibratedViews> CalibrateCapture(const FrameSet& capture, const RigCal
     cv::meanStdDev(grey, mean, stddev);
     if (stddev[0] < kBlankTileStddev) {
       char text[160];
-      std::snprintf(text, sizeof(text), "view %d is blank (grey mean %.1f, stddev %.2f): lens covered or dead",
-                    view.id.value, mean[0], stddev[0]);
+      std::snprintf(text,
+                    sizeof(text),
+                    "view %d is blank (grey mean %.1f, stddev %.2f): lens covered or dead",
+                    view.id.value,
+                    mean[0],
+                    stddev[0]);
       blank.push_back(text);
     } else {
       usable.push_back(std::move(view));

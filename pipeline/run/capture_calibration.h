@@ -35,10 +35,14 @@ struct CalibratedViews {
 // `timings`); image sets go through structure from motion instead. A lattice frame without a rig
 // calibration has its lattice found blind with `lattice` (its size when known, its tiles'
 // orientation). What was worked around is in `warnings`.
-StatusOr<CalibratedViews> CalibrateCapture(const FrameSet& capture, const RigCalibration& rig,
-                                           const CalibOptions& calib, const calib::RigRefinementOptions& refinement,
-                                           const calib::SfmOptions& sfm, std::vector<std::string>* warnings,
-                                           std::vector<StageTiming>* timings, const LatticeOptions& lattice = {});
+StatusOr<CalibratedViews> CalibrateCapture(const FrameSet& capture,
+                                           const RigCalibration& rig,
+                                           const CalibOptions& calib,
+                                           const calib::RigRefinementOptions& refinement,
+                                           const calib::SfmOptions& sfm,
+                                           std::vector<std::string>* warnings,
+                                           std::vector<StageTiming>* timings,
+                                           const LatticeOptions& lattice = {});
 
 // "frame i" or the frame's file name, for warnings that name a frame.
 std::string FrameName(const FrameSet& capture, size_t index);

@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <cmath>
-
 #include <opencv2/imgproc.hpp>
 
 #include "pipeline/core/pixel_format.h"
@@ -18,8 +17,9 @@ bool NeedsScaling(const Frame& frame, int max_side_px) {
 
 std::optional<WorkingImageSet> ImageSetAtWorkingSize(int max_side_px, const FrameSet& shot, const RigCalibration& rig) {
   if (max_side_px <= 0 || shot.kind != FrameSetKind::kImageSet ||
-      std::none_of(shot.frames.begin(), shot.frames.end(),
-                   [&](const Frame& frame) { return NeedsScaling(frame, max_side_px); })) {
+      std::none_of(shot.frames.begin(), shot.frames.end(), [&](const Frame& frame) {
+        return NeedsScaling(frame, max_side_px);
+      })) {
     return std::nullopt;
   }
   WorkingImageSet out;
@@ -37,7 +37,8 @@ std::optional<WorkingImageSet> ImageSetAtWorkingSize(int max_side_px, const Fram
       continue;
     }
     const double factor = static_cast<double>(max_side_px) / std::max(bgr->cols, bgr->rows);
-    const cv::Size size(static_cast<int>(std::lround(bgr->cols * factor)), static_cast<int>(std::lround(bgr->rows * factor)));
+    const cv::Size size(static_cast<int>(std::lround(bgr->cols * factor)),
+                        static_cast<int>(std::lround(bgr->rows * factor)));
     cv::Mat small;
     cv::resize(*bgr, small, size, 0, 0, cv::INTER_AREA);
     StatusOr<RawImage> image = FromBgr(small, PixelFormat::kBgr888);

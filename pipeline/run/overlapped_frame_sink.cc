@@ -45,7 +45,7 @@ void OverlappedFrameSink::Run() {
     if (queue_.empty()) return;  // closing, and every frame consumed
     std::pair<int, cv::Mat> frame = std::move(queue_.front());
     queue_.pop_front();
-    changed_.notify_all();  // room in the queue
+    changed_.notify_all();       // room in the queue
     if (!error_.ok()) continue;  // drop the frames after an error
     lock.unlock();
     const Clock::time_point start = Clock::now();

@@ -9,10 +9,9 @@
 #include <condition_variable>
 #include <deque>
 #include <mutex>
+#include <opencv2/core.hpp>
 #include <thread>
 #include <utility>
-
-#include <opencv2/core.hpp>
 
 #include "pipeline/core/status.h"
 #include "pipeline/run/pipeline.h"
@@ -50,8 +49,8 @@ class OverlappedFrameSink final : public FrameSink {
   std::deque<std::pair<int, cv::Mat>> queue_;
   bool closing_ = false;
   Status error_;
-  double sink_ms_ = 0;     // written by the worker under mutex_
-  double wait_ms_ = 0;     // the caller's thread only
+  double sink_ms_ = 0;  // written by the worker under mutex_
+  double wait_ms_ = 0;  // the caller's thread only
   std::thread worker_;
 };
 

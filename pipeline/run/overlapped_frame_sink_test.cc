@@ -1,12 +1,12 @@
 #include "pipeline/run/overlapped_frame_sink.h"
 
+#include <gtest/gtest.h>
+
 #include <atomic>
 #include <chrono>
 #include <stdexcept>
 #include <thread>
 #include <vector>
-
-#include <gtest/gtest.h>
 
 namespace px {
 namespace {

@@ -4,22 +4,21 @@
 #include <cmath>
 #include <cstdio>
 #include <future>
+#include <opencv2/imgproc.hpp>
 #include <optional>
 
-#include <opencv2/imgproc.hpp>
-
+#include "pipeline/calib/photometric.h"
 #include "pipeline/core/log.h"
 #include "pipeline/core/pixel_format.h"
 #include "pipeline/core/stage_clock.h"
-#include "pipeline/calib/photometric.h"
 #include "pipeline/depth/depth_stage.h"
 #include "pipeline/direct/pan_zoom_2d.h"
 #include "pipeline/direct/plan_camera_path.h"
 #include "pipeline/direct/scene_geometry.h"
 #include "pipeline/run/capture_calibration.h"
 #include "pipeline/run/image_set_scale.h"
-#include "pipeline/run/repeated_frames.h"
 #include "pipeline/run/overlapped_frame_sink.h"
+#include "pipeline/run/repeated_frames.h"
 
 namespace px {
 
@@ -63,13 +62,23 @@ void LogDirection(const PipelineReport& report, std::vector<std::string>* warnin
   const auto log = Logger("pipeline");
   const DirectionReport& d = report.direction;
   log->info("direct: {} ({}), {} frames; subjects: {} ({}); {} coverage probes in {:.0f} ms; {:.1f} ms in all",
-            report.path.move, report.path.effect, report.path.NumFrames(), d.num_subjects, d.detector,
-            d.coverage_probes, d.coverage_ms, report.timings.back().ms);
+            report.path.move,
+            report.path.effect,
+            report.path.NumFrames(),
+            d.num_subjects,
+            d.detector,
+            d.coverage_probes,
+            d.coverage_ms,
+            report.timings.back().ms);
   log->info("direct: {}", report.path.reason);
   if (report.path.output_scale > 1.05) {  // 5 %: below that, resampling hides it
     char text[160];
-    std::snprintf(text, sizeof(text), "direct: the %dx%d frame is upsampled %.2fx beyond the capture's detail",
-                  report.path.width, report.path.height, report.path.output_scale);
+    std::snprintf(text,
+                  sizeof(text),
+                  "direct: the %dx%d frame is upsampled %.2fx beyond the capture's detail",
+                  report.path.width,
+                  report.path.height,
+                  report.path.output_scale);
     log->warn("{}", text);
     warnings->push_back(text);
   }
@@ -84,8 +93,11 @@ void LogDirection(const PipelineReport& report, std::vector<std::string>* warnin
 }
 
 // Renders every frame of report->path (novel views, a morph or a flat pan and zoom) into `sink`.
-Status RenderFrames(const std::vector<View>& views, SceneRenderer* renderer, FrameSink* sink,
-                    const std::function<Status(const char*, double)>& report_progress, PipelineObserver* observer,
+Status RenderFrames(const std::vector<View>& views,
+                    SceneRenderer* renderer,
+                    FrameSink* sink,
+                    const std::function<Status(const char*, double)>& report_progress,
+                    PipelineObserver* observer,
                     PipelineReport* report) {
   const auto log = Logger("pipeline");
   const Clock::time_point start = Clock::now();
@@ -145,9 +157,12 @@ Status RenderFrames(const std::vector<View>& views, SceneRenderer* renderer, Fra
           bgr = CutToFrame(report->direction.morph->FrameAt(t), path.width, path.height);
           break;
         case PathKind::kPanZoom2d:
-          cv::warpPerspective(flat_source->image, bgr,
+          cv::warpPerspective(flat_source->image,
+                              bgr,
                               direct::FlatFrameHomography(*flat_source, path.CameraAt(t), path.PoseAt(t)),
-                              cv::Size(path.width, path.height), cv::INTER_LINEAR, cv::BORDER_REPLICATE);
+                              cv::Size(path.width, path.height),
+                              cv::INTER_LINEAR,
+                              cv::BORDER_REPLICATE);
           break;
       }
       repeated.Keep(i, bgr, holes);
@@ -167,16 +182,26 @@ Status RenderFrames(const std::vector<View>& views, SceneRenderer* renderer, Fra
   report->timings.push_back({"encode", sink_ms});
   report->frames_reused = repeated.reused();
   const int drawn = std::max(1, num_frames - report->frames_reused);
-  log->info("render ({}): {} frames of {}x{} ({}, {} {}), {} drawn at {:.1f} ms each, {} reused, {:.2f}% holes on "
-            "average; sink {:.0f} ms",
-            renderer != nullptr ? std::string(renderer->BackendName()) : std::string("2d"), num_frames,
-            path.width, path.height, PathKindName(path.kind), ClipStyleName(path.timing.style),
-            ClipEaseName(path.timing.ease), num_frames - report->frames_reused,
-            report->timings[report->timings.size() - 2].ms / drawn, report->frames_reused,
-            100 * report->mean_hole_ratio, sink_ms);
+  log->info(
+      "render ({}): {} frames of {}x{} ({}, {} {}), {} drawn at {:.1f} ms each, {} reused, {:.2f}% holes on "
+      "average; sink {:.0f} ms",
+      renderer != nullptr ? std::string(renderer->BackendName()) : std::string("2d"),
+      num_frames,
+      path.width,
+      path.height,
+      PathKindName(path.kind),
+      ClipStyleName(path.timing.style),
+      ClipEaseName(path.timing.ease),
+      num_frames - report->frames_reused,
+      report->timings[report->timings.size() - 2].ms / drawn,
+      report->frames_reused,
+      100 * report->mean_hole_ratio,
+      sink_ms);
   if (report->mean_hole_ratio > kHighHoleRatio) {
     char text[160];
-    std::snprintf(text, sizeof(text), "render: %.1f%% of each frame on average was inpainted (no source saw it)",
+    std::snprintf(text,
+                  sizeof(text),
+                  "render: %.1f%% of each frame on average was inpainted (no source saw it)",
                   100 * report->mean_hole_ratio);
     report->warnings.push_back(text);
     log->warn("{}", text);
@@ -189,7 +214,9 @@ Status RenderFrames(const std::vector<View>& views, SceneRenderer* renderer, Fra
 // whose lattice cannot be found or posed is one such image.
 // The views' exposure, colour cast and vignetting brought to views[reference]'s. A failure
 // leaves the views as they were: it costs seams, never the clip.
-void EqualiseViews(const calib::PhotometricOptions& options, int reference, std::vector<View>* views,
+void EqualiseViews(const calib::PhotometricOptions& options,
+                   int reference,
+                   std::vector<View>* views,
                    PipelineReport* report) {
   if (!options.enabled || views->size() < 2) return;
   const auto log = Logger("calib");
@@ -203,7 +230,9 @@ void EqualiseViews(const calib::PhotometricOptions& options, int reference, std:
   log->info("photometric: {}", report->photometric);
 }
 
-StatusOr<PipelineReport> RunUncalibrated(const FrameSet& capture, const Status& why, const PipelineOptions& options,
+StatusOr<PipelineReport> RunUncalibrated(const FrameSet& capture,
+                                         const Status& why,
+                                         const PipelineOptions& options,
                                          FrameSink* sink,
                                          const std::function<Status(const char*, double)>& report_progress,
                                          PipelineReport report) {
@@ -233,7 +262,9 @@ StatusOr<PipelineReport> RunUncalibrated(const FrameSet& capture, const Status& 
     view.camera = CameraModel::Pinhole(view.image.cols, view.image.rows, std::max(view.image.cols, view.image.rows));
     views.push_back(std::move(view));
   }
-  if (views.empty()) return FailedPreconditionError("capture " + std::to_string(capture.capture_id) + ": no usable image; " + why.message());
+  if (views.empty())
+    return FailedPreconditionError("capture " + std::to_string(capture.capture_id) + ": no usable image; " +
+                                   why.message());
   report.num_views = static_cast<int>(views.size());
   EqualiseViews(options.photometric, static_cast<int>(views.size() / 2), &views, &report);
   report.timings.push_back({"decode", MsSince(start)});
@@ -277,8 +308,10 @@ Status PipelineOptions::Validate() const {
   return OkStatus();
 }
 
-StatusOr<std::vector<View>> MakeViewsFromCapture(const FrameSet& capture, const RigCalibration& rig,
-                                                 std::vector<std::string>* warnings, const CalibOptions& calib,
+StatusOr<std::vector<View>> MakeViewsFromCapture(const FrameSet& capture,
+                                                 const RigCalibration& rig,
+                                                 std::vector<std::string>* warnings,
+                                                 const CalibOptions& calib,
                                                  const calib::RigRefinementOptions& refinement,
                                                  const calib::SfmOptions& sfm) {
   std::vector<std::string> ignored;
@@ -286,13 +319,16 @@ StatusOr<std::vector<View>> MakeViewsFromCapture(const FrameSet& capture, const 
   PX_RETURN_IF_ERROR(calib.Validate());
   PX_RETURN_IF_ERROR(refinement.Validate().WithContext("refinement"));
   PX_RETURN_IF_ERROR(sfm.Validate().WithContext("sfm"));
-  PX_ASSIGN_OR_RETURN(CalibratedViews out, CalibrateCapture(capture, rig, calib, refinement, sfm,
-                                                            warnings != nullptr ? warnings : &ignored, &timings));
+  PX_ASSIGN_OR_RETURN(
+      CalibratedViews out,
+      CalibrateCapture(capture, rig, calib, refinement, sfm, warnings != nullptr ? warnings : &ignored, &timings));
   return std::move(out.views);
 }
 
-StatusOr<PipelineReport> RunPipeline(const FrameSet& shot, const RigCalibration& shot_rig,
-                                     const PipelineOptions& options, FrameSink* sink,
+StatusOr<PipelineReport> RunPipeline(const FrameSet& shot,
+                                     const RigCalibration& shot_rig,
+                                     const PipelineOptions& options,
+                                     FrameSink* sink,
                                      const ProgressCallback& progress) {
   PX_RETURN_IF_ERROR(options.Validate());
   if (sink == nullptr) return InvalidArgumentError("pipeline: no frame sink");
@@ -304,15 +340,16 @@ StatusOr<PipelineReport> RunPipeline(const FrameSet& shot, const RigCalibration&
   const RigCalibration& rig = working ? working->rig : shot_rig;
   const ThreadCountScope threads(options.num_threads);
   const auto report_progress = [&](const char* stage, double fraction) -> Status {
-    if (progress && !progress(stage, fraction)) return CancelledError(std::string("pipeline cancelled during ") + stage);
+    if (progress && !progress(stage, fraction))
+      return CancelledError(std::string("pipeline cancelled during ") + stage);
     return OkStatus();
   };
   PipelineReport report;
 
   // Stages 1 and 2: lattice and calibrated views.
   PX_RETURN_IF_ERROR(report_progress("lattice", 0));
-  StatusOr<CalibratedViews> made = CalibrateCapture(capture, rig, options.calib, options.refinement, options.sfm,
-                                                    &report.warnings, &report.timings, options.lattice);
+  StatusOr<CalibratedViews> made = CalibrateCapture(
+      capture, rig, options.calib, options.refinement, options.sfm, &report.warnings, &report.timings, options.lattice);
   const bool blind_lattice = capture.kind == FrameSetKind::kLatticeFrame && rig.lattice.rows == 0;
   if (!made.ok() && (capture.kind == FrameSetKind::kImageSet || blind_lattice) &&
       (made.status().code() == StatusCode::kUnimplemented || made.status().code() == StatusCode::kFailedPrecondition)) {
@@ -326,8 +363,12 @@ StatusOr<PipelineReport> RunPipeline(const FrameSet& shot, const RigCalibration&
   report.num_views = static_cast<int>(views.size());
   report.calibration = calibrated.calibration;
   report.calibration_summary = calibrated.summary;
-  log->info("lattice: {} views of {}x{} in {:.0f} ms, calib in {:.0f} ms", views.size(), views.front().camera.width,
-            views.front().camera.height, report.timings[0].ms, report.timings[1].ms);
+  log->info("lattice: {} views of {}x{} in {:.0f} ms, calib in {:.0f} ms",
+            views.size(),
+            views.front().camera.width,
+            views.front().camera.height,
+            report.timings[0].ms,
+            report.timings[1].ms);
   EqualiseViews(options.photometric, direct::CentreViewIndex(views), &views, &report);
   PX_RETURN_IF_ERROR(report_progress("calib", 1));
 
@@ -365,11 +406,16 @@ StatusOr<PipelineReport> RunPipeline(const FrameSet& shot, const RigCalibration&
   direction.metric_scale = calibrated.metric_scale;
   {
     const double fraction = depth->report.confident_fraction;
-    log->info("depth: {} layered views, {:.0f} to {:.2f} m, {:.0f}% confident, in {:.0f} ms", depth->maps.size(),
-              depth_options.min_depth_m, depth_options.max_depth_m, 100 * fraction, report.timings.back().ms);
+    log->info("depth: {} layered views, {:.0f} to {:.2f} m, {:.0f}% confident, in {:.0f} ms",
+              depth->maps.size(),
+              depth_options.min_depth_m,
+              depth_options.max_depth_m,
+              100 * fraction,
+              report.timings.back().ms);
     if (fraction < kLowConfidentDepthFraction) {
       char text[160];
-      std::snprintf(text, sizeof(text),
+      std::snprintf(text,
+                    sizeof(text),
                     "depth: only %.0f%% of pixels have confident depth (textureless or blurred scene?)",
                     100 * fraction);
       report.warnings.push_back(text);
@@ -378,7 +424,10 @@ StatusOr<PipelineReport> RunPipeline(const FrameSet& shot, const RigCalibration&
     if (fraction < options.direct.min_confident_fraction) {
       direction.depth_trusted = false;
       char text[160];
-      std::snprintf(text, sizeof(text), "%.0f%% of the depth is confident, want %.0f%%", 100 * fraction,
+      std::snprintf(text,
+                    sizeof(text),
+                    "%.0f%% of the depth is confident, want %.0f%%",
+                    100 * fraction,
                     100 * options.direct.min_confident_fraction);
       direction.distrust_reason = text;
     }
@@ -387,8 +436,7 @@ StatusOr<PipelineReport> RunPipeline(const FrameSet& shot, const RigCalibration&
   // frame) would paint wrong colour at wrong depth: drop them while two views remain.
   std::vector<DepthMap> depth_maps = std::move(depth->maps);
   std::vector<LayeredDepthView> layers = std::move(depth->layered);
-  if (!depth->report.disagreeing_views.empty() &&
-      views.size() - depth->report.disagreeing_views.size() >= 2) {
+  if (!depth->report.disagreeing_views.empty() && views.size() - depth->report.disagreeing_views.size() >= 2) {
     std::vector<View> kept_views;
     std::vector<DepthMap> kept_maps;
     std::vector<LayeredDepthView> kept_layers;
@@ -439,8 +487,9 @@ StatusOr<PipelineReport> RunPipeline(const FrameSet& shot, const RigCalibration&
   // Stage 5: render every frame and hand it on.
   PX_RETURN_IF_ERROR(RenderFrames(views, renderer.get(), sink, report_progress, options.observer, &report));
   if (renderer->cpu_fallback_frames() > 0) {
-    report.warnings.push_back("render: " + std::to_string(renderer->cpu_fallback_frames()) + " frame(s) drawn on the cpu, " +
-                              report.render_backend + " failed on them: " + renderer->cpu_fallback_reason());
+    report.warnings.push_back("render: " + std::to_string(renderer->cpu_fallback_frames()) +
+                              " frame(s) drawn on the cpu, " + report.render_backend +
+                              " failed on them: " + renderer->cpu_fallback_reason());
   }
   return report;
 }

@@ -5,16 +5,15 @@
 
 #include <functional>
 #include <memory>
+#include <opencv2/core.hpp>
 #include <string>
 #include <vector>
 
-#include <opencv2/core.hpp>
-
 #include "pipeline/calib/calib_options.h"
 #include "pipeline/calib/photometric.h"
-#include "pipeline/core/coverage_report.h"
 #include "pipeline/calib/rig_refinement_options.h"
 #include "pipeline/calib/sfm_options.h"
+#include "pipeline/core/coverage_report.h"
 #include "pipeline/core/frame_set.h"
 #include "pipeline/core/rig_calibration.h"
 #include "pipeline/core/view.h"
@@ -48,9 +47,9 @@ class PipelineObserver {
 };
 
 struct PipelineOptions {
-  CalibOptions calib;     // undistortion
+  CalibOptions calib;                      // undistortion
   calib::RigRefinementOptions refinement;  // per-shot refinement of a lattice shot
-  calib::SfmOptions sfm;  // structure from motion for image sets (hand-held)
+  calib::SfmOptions sfm;                   // structure from motion for image sets (hand-held)
   // Each view's exposure, colour cast and vignetting brought to the centre view's before depth,
   // direction and rendering (a morph included).
   calib::PhotometricOptions photometric;
@@ -58,21 +57,21 @@ struct PipelineOptions {
   // (0 = found blind) and how its tiles lie (upright for a photo of a lattice; the recording's
   // source.lattice says, see device/clip_job.h).
   LatticeOptions lattice;
-  DepthOptions depth;     // depth range 0 = the rig's nominal range
-  DirectOptions direct;   // move, effect, seed, duration, fps, subjects, search
+  DepthOptions depth;    // depth range 0 = the rig's nominal range
+  DirectOptions direct;  // move, effect, seed, duration, fps, subjects, search
   RenderOptions render;
   // Which renderer draws the clip: auto (GL on a GPU, else the faster one here: the CPU), cpu,
   // egl or osmesa; a GL back end that cannot start or draw falls back to the CPU with the reason.
   render::gl::RenderBackendOptions render_backend;
-  int num_threads = 0;    // 0 = all cores
+  int num_threads = 0;  // 0 = all cores
   // Hand-held photos (an image set) larger than this on their longer side are scaled down to it
   // before calibration, depth and rendering, so the clip is this size too (image_set_scale.h).
   // 1200: a 3:2 photo gives a 1200x800 clip. 0 = full size, else [64, 16384].
   int image_set_max_side_px = 1200;
   // Loaded by device/ (the pipeline opens no files) and shared between runs.
   std::shared_ptr<const direct::FaceDetector> face_detector;  // null: no face detection
-  std::shared_ptr<const direct::Shot> shot;                    // null: the taxonomy chooses
-  PipelineObserver* observer = nullptr;  // not owned; null: nobody watches
+  std::shared_ptr<const direct::Shot> shot;                   // null: the taxonomy chooses
+  PipelineObserver* observer = nullptr;                       // not owned; null: nobody watches
   Status Validate() const;
 };
 
@@ -87,28 +86,29 @@ class FrameSink {
 };
 
 struct StageTiming {
-  std::string stage;   // "lattice", "calib", "depth", "direct", "render", "encode"
+  std::string stage;  // "lattice", "calib", "depth", "direct", "render", "encode"
   double ms = 0;
 };
 
 struct PipelineReport {
-  int num_views = 0;            // usable views after splitting and checks
+  int num_views = 0;  // usable views after splitting and checks
   // Calibration: "factory", "factory (confirmed by refinement)", "refined" (per-shot
-  // refinement) or "structure from motion"; the refinement's or SfM's figures in one line (matches, inliers, RMS before and after).
+  // refinement) or "structure from motion"; the refinement's or SfM's figures in one line (matches, inliers, RMS before
+  // and after).
   std::string calibration;
   std::string calibration_summary;
-  std::string photometric;  // what the photometric equalisation changed, per view
+  std::string photometric;            // what the photometric equalisation changed, per view
   std::vector<std::string> warnings;  // degraded results, for the log and the clip's JSON
   // Per stage, wall time. "encode" is the frame sink's own time on its thread (it overlaps
   // "render", which leaves out the waits for the sink).
   std::vector<StageTiming> timings;
-  CameraPath path;              // the path rendered
-  DirectionReport direction;    // subjects, the move's choice, fallbacks, search figures
-  int frames_rendered = 0;     // frames given to the sink
-  int frames_reused = 0;       // of which shown again from an earlier drawing (a hold, a way back)
-  double mean_hole_ratio = 0;   // fraction of pixels no source covered, before filling
+  CameraPath path;                             // the path rendered
+  DirectionReport direction;                   // subjects, the move's choice, fallbacks, search figures
+  int frames_rendered = 0;                     // frames given to the sink
+  int frames_reused = 0;                       // of which shown again from an earlier drawing (a hold, a way back)
+  double mean_hole_ratio = 0;                  // fraction of pixels no source covered, before filling
   std::vector<CoverageReport> frame_coverage;  // per rendered frame: hole ratio and H(V) before filling
-  DepthReport depth;            // per view: confident fraction, low-confidence mask, disagreement
+  DepthReport depth;                           // per view: confident fraction, low-confidence mask, disagreement
   // The scene renderer's back end ("cpu", "gl-osmesa", "gl-egl"; empty for an image set that
   // could not be calibrated), which drew the coverage probes and any novel-view frames, and why
   // (asked for, found, or the fallback's reason).
@@ -128,7 +128,8 @@ using ProgressCallback = std::function<bool(const std::string& stage, double fra
 // `rig` then gives intrinsics only when it has one lens per image of the image's size; a set
 // that cannot be reconstructed fails with FAILED_PRECONDITION and the reason.
 // (RunPipeline then morphs between two images or pans over one: see below).
-StatusOr<std::vector<View>> MakeViewsFromCapture(const FrameSet& capture, const RigCalibration& rig,
+StatusOr<std::vector<View>> MakeViewsFromCapture(const FrameSet& capture,
+                                                 const RigCalibration& rig,
                                                  std::vector<std::string>* warnings,
                                                  const CalibOptions& calib = {},
                                                  const calib::RigRefinementOptions& refinement = NoRefinement(),
@@ -141,8 +142,10 @@ StatusOr<std::vector<View>> MakeViewsFromCapture(const FrameSet& capture, const 
 // and zoom, and the report's warnings say why.
 // progress is called at each stage's start and end and after each rendered frame; returning
 // false stops the run with CANCELLED.
-StatusOr<PipelineReport> RunPipeline(const FrameSet& capture, const RigCalibration& rig,
-                                     const PipelineOptions& options, FrameSink* sink,
+StatusOr<PipelineReport> RunPipeline(const FrameSet& capture,
+                                     const RigCalibration& rig,
+                                     const PipelineOptions& options,
+                                     FrameSink* sink,
                                      const ProgressCallback& progress = {});
 
 }  // namespace px

@@ -1,10 +1,10 @@
 #include "pipeline/run/pipeline.h"
 
+#include <gtest/gtest.h>
+
 #include <algorithm>
 #include <cmath>
 #include <map>
-
-#include <gtest/gtest.h>
 #include <opencv2/imgproc.hpp>
 
 #include "pipeline/render/plane_scene_testing.h"
@@ -298,7 +298,8 @@ TEST_F(PipelineTest, RendersOnGlOrFallsBackToTheCpuWithTheReason) {
     EXPECT_EQ(report->frames_rendered, 10);
     if (missing) {
       EXPECT_EQ(report->render_backend, "cpu");
-      EXPECT_NE(report->render_backend_reason.find("cpu: GL failed"), std::string::npos) << report->render_backend_reason;
+      EXPECT_NE(report->render_backend_reason.find("cpu: GL failed"), std::string::npos)
+          << report->render_backend_reason;
       EXPECT_NE(report->render_backend_reason.find("libOSMesa-not-here.so.8"), std::string::npos)
           << report->render_backend_reason;
     } else {
@@ -319,8 +320,9 @@ TEST_F(PipelineTest, RendersOnGlOrFallsBackToTheCpuWithTheReason) {
 TEST_F(PipelineTest, CancelsWhenProgressSaysSo) {
   CollectingSink sink;
   StatusOr<PipelineReport> report =
-      RunPipeline(Capture(sensor_), rig_, ShortClip(), &sink,
-                  [](const std::string& stage, double fraction) { return !(stage == "render" && fraction >= 0.3); });
+      RunPipeline(Capture(sensor_), rig_, ShortClip(), &sink, [](const std::string& stage, double fraction) {
+        return !(stage == "render" && fraction >= 0.3);
+      });
   EXPECT_EQ(report.status().code(), StatusCode::kCancelled);
   EXPECT_NE(report.status().message().find("render"), std::string::npos);
   EXPECT_EQ(sink.frames.size(), 3u);  // stopped after the frame that reached 30 %
@@ -537,7 +539,6 @@ TEST_F(PipelineTest, RejectsWhatItCannotDo) {
   options.render.aperture_samples = 0;
   EXPECT_NE(RunPipeline(Capture(sensor_), rig_, options, &sink).status().message().find("render.aperture_samples"),
             std::string::npos);
-
 }
 
 // Lens intrinsics but no lattice layout: the lattice is found blind and the tiles are posed by

@@ -6,9 +6,8 @@
 
 #include <cstddef>
 #include <map>
-#include <optional>
-
 #include <opencv2/core.hpp>
+#include <optional>
 
 #include "pipeline/core/coverage_report.h"
 #include "pipeline/direct/camera_path.h"

@@ -87,8 +87,8 @@ StatusOr<FaultSpec> FaultSpecFromJson(const nlohmann::json& j, const std::string
     if (std::find(allowed.begin(), allowed.end(), key) != allowed.end()) continue;
     std::string list;
     for (const std::string& k : allowed) list += (list.empty() ? "" : ", ") + k;
-    return InvalidArgumentError(json::FieldPath(field, key) + ": unknown field for a " + info.name + " fault (known: " +
-                                list + ")");
+    return InvalidArgumentError(json::FieldPath(field, key) + ": unknown field for a " + info.name +
+                                " fault (known: " + list + ")");
   }
   PX_ASSIGN_OR_RETURN(int64_t capture, json::GetIntegerOr(j, "capture", field, spec.capture));
   PX_ASSIGN_OR_RETURN(int64_t seed, json::GetIntegerOr(j, "seed", field, 1));
@@ -118,7 +118,8 @@ StatusOr<FaultSpec> FaultSpecFromJson(const nlohmann::json& j, const std::string
   PX_RETURN_IF_ERROR(in_int("bytes", bytes));
   PX_RETURN_IF_ERROR(in_int("width", width));
   PX_RETURN_IF_ERROR(in_int("height", height));
-  if (seed < 0) return InvalidArgumentError(json::FieldPath(field, "seed") + ": " + std::to_string(seed) + " is negative");
+  if (seed < 0)
+    return InvalidArgumentError(json::FieldPath(field, "seed") + ": " + std::to_string(seed) + " is negative");
   spec.capture = static_cast<int>(capture);
   spec.view = static_cast<int>(view);
   spec.bytes = static_cast<int>(bytes);

@@ -33,13 +33,13 @@ StatusOr<FaultKind> ParseFaultKind(std::string_view name);
 
 struct FaultSpec {
   FaultKind kind = FaultKind::kTruncate;
-  int capture = 1;     // the Next() call it fires on, from 1; 0 = every call
-  int view = 0;        // image of an image set; on a lattice: the tile (drop) or the frame, 0 (others)
-  double keep = 0.5;   // truncate: fraction of the bytes that arrive, [0, 1)
-  int bytes = 64;      // garble: bytes changed, >= 1
-  bool flagged = true; // garble: the driver flags the buffer (status corrupt); false: silent damage
+  int capture = 1;      // the Next() call it fires on, from 1; 0 = every call
+  int view = 0;         // image of an image set; on a lattice: the tile (drop) or the frame, 0 (others)
+  double keep = 0.5;    // truncate: fraction of the bytes that arrive, [0, 1)
+  int bytes = 64;       // garble: bytes changed, >= 1
+  bool flagged = true;  // garble: the driver flags the buffer (status corrupt); false: silent damage
   std::optional<PixelFormat> pixel_format;  // reformat: the format delivered (absent: unchanged)
-  int width = 0;       // reformat: the size delivered, 0 = unchanged
+  int width = 0;                            // reformat: the size delivered, 0 = unchanged
   int height = 0;
   bool forever = false;  // vanish: Configure fails too; the camera never comes back
   uint64_t seed = 1;     // garble offsets and values, reorder permutation

@@ -15,7 +15,9 @@ namespace {
 
 class FaultySource final : public FrameSource {
  public:
-  FaultySource(std::unique_ptr<FrameSource> inner, std::vector<FaultSpec> plan, std::string field,
+  FaultySource(std::unique_ptr<FrameSource> inner,
+               std::vector<FaultSpec> plan,
+               std::string field,
                std::optional<LatticeLayout> lattice)
       : inner_(std::move(inner)), plan_(std::move(plan)), field_(std::move(field)), lattice_(std::move(lattice)) {}
 

@@ -14,8 +14,8 @@
 namespace px {
 namespace {
 
-using ::testing::HasSubstr;
 using std::chrono::milliseconds;
+using ::testing::HasSubstr;
 
 // Five 32x24 BGR images per frame set, image k a gradient offset by k, sequences counting up.
 class ImageSetSource final : public FrameSource {
@@ -101,7 +101,7 @@ TEST(FaultySourceTest, GarbleChangesBytesDeterministicallyAndFlagsWhenAsked) {
   FrameSet c = silent.source->Next(milliseconds(1000)).value();
   EXPECT_EQ(a.frames[0].status, FrameStatus::kCorrupt);
   EXPECT_THAT(a.frames[0].status_detail, HasSubstr("garbled"));
-  EXPECT_EQ(c.frames[0].status, FrameStatus::kOk);  // silent damage: the camera cannot tell
+  EXPECT_EQ(c.frames[0].status, FrameStatus::kOk);              // silent damage: the camera cannot tell
   EXPECT_EQ(a.frames[0].image.bytes, b.frames[0].image.bytes);  // same seed, same damage
   EXPECT_EQ(a.frames[0].image.bytes, c.frames[0].image.bytes);
   // Compare with an undamaged capture of the same (deterministic) sensor.
@@ -109,7 +109,8 @@ TEST(FaultySourceTest, GarbleChangesBytesDeterministicallyAndFlagsWhenAsked) {
   FrameSet d = clean.source->Next(milliseconds(1000)).value();
   ASSERT_EQ(a.frames[0].image.bytes.size(), d.frames[0].image.bytes.size());
   int changed = 0;
-  for (size_t i = 0; i < d.frames[0].image.bytes.size(); ++i) changed += a.frames[0].image.bytes[i] != d.frames[0].image.bytes[i];
+  for (size_t i = 0; i < d.frames[0].image.bytes.size(); ++i)
+    changed += a.frames[0].image.bytes[i] != d.frames[0].image.bytes[i];
   EXPECT_GT(changed, 40);  // 50 draws; a repeated offset may cancel out, seldom
   EXPECT_LE(changed, 50);
 }
@@ -136,8 +137,12 @@ TEST(FaultySourceTest, BlankRectIsFlatInEveryPixelFormat) {
   cv::Mat bgr(48, 64, CV_8UC3);
   cv::randu(bgr, 0, 255);
   const cv::Rect rect(10, 8, 30, 20);
-  for (PixelFormat format : {PixelFormat::kRgb888, PixelFormat::kBgr888, PixelFormat::kGray8, PixelFormat::kYuyv,
-                             PixelFormat::kNv12, PixelFormat::kBayerRggb8}) {
+  for (PixelFormat format : {PixelFormat::kRgb888,
+                             PixelFormat::kBgr888,
+                             PixelFormat::kGray8,
+                             PixelFormat::kYuyv,
+                             PixelFormat::kNv12,
+                             PixelFormat::kBayerRggb8}) {
     RawImage raw = FromBgr(bgr, format).value();
     ASSERT_TRUE(faults::BlankRect(rect, &raw).ok()) << PixelFormatName(format);
     cv::Mat back = ToBgr(raw).value();

@@ -1,15 +1,14 @@
 #include "sim/faults/frame_damage.h"
 
 #include <algorithm>
+#include <opencv2/imgproc.hpp>
 #include <random>
 #include <string>
-
-#include <opencv2/imgproc.hpp>
 
 namespace px::faults {
 namespace {
 
-constexpr uint8_t kDarkLevel = 12;      // a covered lens: near black, flat
+constexpr uint8_t kDarkLevel = 12;       // a covered lens: near black, flat
 constexpr uint8_t kNeutralChroma = 128;  // YUV: no colour
 
 }  // namespace
@@ -19,8 +18,8 @@ void TruncateFrame(double keep, Frame* frame) {
   const size_t kept = static_cast<size_t>(keep * static_cast<double>(total));
   frame->image.bytes.resize(kept);
   frame->status = FrameStatus::kCorrupt;
-  frame->status_detail = "truncated: " + std::to_string(kept) + " of " + std::to_string(total) +
-                         " bytes arrived (injected fault)";
+  frame->status_detail =
+      "truncated: " + std::to_string(kept) + " of " + std::to_string(total) + " bytes arrived (injected fault)";
 }
 
 void GarbleFrame(int count, bool flagged, uint64_t seed, Frame* frame) {
@@ -82,7 +81,8 @@ Status BlankRect(const cv::Rect& rect, RawImage* image) {
       }
       uint8_t* uv = data + size_t(w) * h;
       for (int y = rect.y / 2; y < (rect.br().y + 1) / 2; ++y) {
-        std::fill(uv + size_t(y) * w + (rect.x & ~1), uv + size_t(y) * w + std::min(w, (rect.br().x + 1) & ~1),
+        std::fill(uv + size_t(y) * w + (rect.x & ~1),
+                  uv + size_t(y) * w + std::min(w, (rect.br().x + 1) & ~1),
                   kNeutralChroma);
       }
       break;

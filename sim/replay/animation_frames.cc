@@ -1,11 +1,11 @@
 #include "sim/replay/animation_frames.h"
 
+#include <webp/demux.h>
+
 #include <fstream>
 #include <iterator>
 #include <memory>
-
 #include <opencv2/imgproc.hpp>
-#include <webp/demux.h>
 
 extern "C" {
 #include <libavcodec/avcodec.h>
@@ -104,11 +104,20 @@ StatusOr<std::vector<cv::Mat>> GifFrames(const std::filesystem::path& file) {
           !WithinPixelBudget(frames, frame->width, frame->height)) {
         continue;
       }
-      SwsContext* context = sws_getCachedContext(sws.release(), frame->width, frame->height,
-                                                 static_cast<AVPixelFormat>(frame->format), frame->width,
-                                                 frame->height, AV_PIX_FMT_BGR24, SWS_POINT, nullptr, nullptr, nullptr);
+      SwsContext* context = sws_getCachedContext(sws.release(),
+                                                 frame->width,
+                                                 frame->height,
+                                                 static_cast<AVPixelFormat>(frame->format),
+                                                 frame->width,
+                                                 frame->height,
+                                                 AV_PIX_FMT_BGR24,
+                                                 SWS_POINT,
+                                                 nullptr,
+                                                 nullptr,
+                                                 nullptr);
       sws.reset(context);
-      if (context == nullptr) return DataLossError(file.string() + ": a GIF frame in a pixel format FFmpeg cannot convert");
+      if (context == nullptr)
+        return DataLossError(file.string() + ": a GIF frame in a pixel format FFmpeg cannot convert");
       cv::Mat bgr(frame->height, frame->width, CV_8UC3);
       uint8_t* planes[1] = {bgr.data};
       const int strides[1] = {static_cast<int>(bgr.step)};

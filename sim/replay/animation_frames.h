@@ -5,9 +5,8 @@
 
 #include <cstdint>
 #include <filesystem>
-#include <vector>
-
 #include <opencv2/core.hpp>
+#include <vector>
 
 #include "pipeline/core/status.h"
 

@@ -3,11 +3,11 @@
 #include <algorithm>
 #include <array>
 #include <cstring>
-
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
 #include "pipeline/core/image_file.h"
+#include "pipeline/core/size_text.h"
 
 namespace px::replay {
 namespace {
@@ -20,8 +20,6 @@ constexpr std::array<uint8_t, 8> kPngSignature = {0x89, 'P', 'N', 'G', '\r', '\n
 constexpr int kPngCompressionLevel = 1;
 
 int ChannelsOf(PixelFormat format) { return format == PixelFormat::kGray8 ? 1 : 3; }
-
-std::string SizeText(int width, int height) { return std::to_string(width) + "x" + std::to_string(height); }
 
 }  // namespace
 
@@ -59,14 +57,17 @@ StatusOr<FrameFileType> FrameFileTypeOf(std::string_view file_name) {
 
 StatusOr<std::vector<uint8_t>> EncodeFrameFile(const RawImage& image, FrameFileType type) {
   if (type == FrameFileType::kRaw) return image.bytes;
-  if (type == FrameFileType::kJpeg) return InvalidArgumentError("a JPEG frame file is the camera's own, not encoded here");
+  if (type == FrameFileType::kJpeg)
+    return InvalidArgumentError("a JPEG frame file is the camera's own, not encoded here");
   if (!PngCanHold(image.format)) {
     return InvalidArgumentError(std::string(PixelFormatName(image.format)) + " cannot be stored as PNG");
   }
   PX_RETURN_IF_ERROR(image.Validate());
   try {
     // The header borrows the bytes; imencode only reads them.
-    const cv::Mat packed(image.height, image.width, ChannelsOf(image.format) == 1 ? CV_8UC1 : CV_8UC3,
+    const cv::Mat packed(image.height,
+                         image.width,
+                         ChannelsOf(image.format) == 1 ? CV_8UC1 : CV_8UC3,
                          const_cast<uint8_t*>(image.bytes.data()));
     // imencode takes BGR: RGB bytes are swapped (into a new buffer; the image is const) so the
     // PNG shows true colours in any viewer.
@@ -77,8 +78,13 @@ StatusOr<std::vector<uint8_t>> EncodeFrameFile(const RawImage& image, FrameFileT
       to_encode = packed;
     }
     std::vector<uint8_t> file;
-    if (!cv::imencode(".png", to_encode, file, {cv::IMWRITE_PNG_COMPRESSION, kPngCompressionLevel, cv::IMWRITE_PNG_STRATEGY,
-                                         cv::IMWRITE_PNG_STRATEGY_RLE})) {
+    if (!cv::imencode(".png",
+                      to_encode,
+                      file,
+                      {cv::IMWRITE_PNG_COMPRESSION,
+                       kPngCompressionLevel,
+                       cv::IMWRITE_PNG_STRATEGY,
+                       cv::IMWRITE_PNG_STRATEGY_RLE})) {
       return InternalError("PNG encoder refused a " + SizeText(image.width, image.height) + " image");
     }
     return file;
@@ -87,7 +93,9 @@ StatusOr<std::vector<uint8_t>> EncodeFrameFile(const RawImage& image, FrameFileT
   }
 }
 
-StatusOr<std::vector<uint8_t>> DecodePngFrame(std::span<const uint8_t> file, PixelFormat format, int width,
+StatusOr<std::vector<uint8_t>> DecodePngFrame(std::span<const uint8_t> file,
+                                              PixelFormat format,
+                                              int width,
                                               int height) {
   if (!PngCanHold(format)) {
     return InvalidArgumentError(std::string(PixelFormatName(format)) + " frames are stored as .raw, not PNG");

@@ -32,8 +32,7 @@ StatusOr<std::vector<uint8_t>> EncodeFrameFile(const RawImage& image, FrameFileT
 // Decodes a PNG file back into the tightly packed bytes of a `format` image of the given size.
 // Errors (without the file name; the caller adds it) say what is wrong: not a PNG, truncated,
 // wrong channel count or depth, or a size differing from width x height.
-StatusOr<std::vector<uint8_t>> DecodePngFrame(std::span<const uint8_t> file, PixelFormat format, int width,
-                                              int height);
+StatusOr<std::vector<uint8_t>> DecodePngFrame(std::span<const uint8_t> file, PixelFormat format, int width, int height);
 
 // Decodes a JPEG frame file into the tightly packed RGB888 bytes of a width x height image, upright
 // by its EXIF orientation. Errors as DecodePngFrame's.

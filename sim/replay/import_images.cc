@@ -3,9 +3,8 @@
 #include <algorithm>
 #include <cctype>
 #include <cstdio>
-#include <string>
-
 #include <opencv2/imgproc.hpp>
+#include <string>
 
 #include "pipeline/core/exif.h"
 #include "pipeline/core/image_file.h"
@@ -72,7 +71,8 @@ Status AddMpoFrames(const std::filesystem::path& file, std::vector<std::string>*
     if (exif.ok()) {
       frame.focal_length_px = exif->FocalPx(bgr.cols, bgr.rows, &frame.focal_length_source);
     } else {
-      warnings->push_back(name + ": EXIF unreadable (" + exif.status().message() + "); its focal length will be self-calibrated");
+      warnings->push_back(name + ": EXIF unreadable (" + exif.status().message() +
+                          "); its focal length will be self-calibrated");
     }
     frame.jpeg = std::move(images[i]);
     frame.sequence = recording->frames.frames.size();
@@ -87,7 +87,8 @@ Status AddAnimationFrames(const std::filesystem::path& file, std::vector<std::st
   const std::vector<cv::Mat> views = WithoutRepeatedFrames(frames);
   if (views.size() < frames.size()) {
     warnings->push_back(file.string() + ": " + std::to_string(frames.size() - views.size()) + " of its " +
-                        std::to_string(frames.size()) + " frames repeat earlier ones (a back-and-forth loop): left out");
+                        std::to_string(frames.size()) +
+                        " frames repeat earlier ones (a back-and-forth loop): left out");
   }
   for (const cv::Mat& bgr : views) {
     Frame frame;
@@ -114,7 +115,8 @@ StatusOr<std::vector<std::filesystem::path>> ListImages(const std::vector<std::f
       std::sort(found.begin(), found.end());
       files.insert(files.end(), found.begin(), found.end());
     } else if (std::filesystem::is_regular_file(input, ec)) {
-      if (!IsImage(input)) return InvalidArgumentError(input.string() + ": not a JPEG, PNG, MPO, GIF or WebP file (by its name)");
+      if (!IsImage(input))
+        return InvalidArgumentError(input.string() + ": not a JPEG, PNG, MPO, GIF or WebP file (by its name)");
       files.push_back(input);
     } else {
       return NotFoundError(input.string() + ": no such file or folder");
@@ -150,13 +152,15 @@ StatusOr<Recording> RecordingFromImages(const std::vector<std::filesystem::path>
     recording.frames.frames.push_back(std::move(frame));
   }
   if (recording.frames.frames.size() < 2) {
-    return FailedPreconditionError(files.front().string() + ": holds " + std::to_string(recording.frames.frames.size()) +
+    return FailedPreconditionError(files.front().string() + ": holds " +
+                                   std::to_string(recording.frames.frames.size()) +
                                    " view; an image set needs at least 2 from different places");
   }
   return recording;
 }
 
-StatusOr<Recording> RecordingFromLatticePhoto(const std::filesystem::path& file, const LatticeHint& hint,
+StatusOr<Recording> RecordingFromLatticePhoto(const std::filesystem::path& file,
+                                              const LatticeHint& hint,
                                               std::vector<std::string>* warnings) {
   std::error_code error;
   if (!std::filesystem::is_regular_file(file, error)) return NotFoundError(file.string() + ": no such file");
@@ -178,7 +182,8 @@ StatusOr<LatticeHint> ParseLatticeSize(const std::string& text) {
   char x = 0, extra = 0;
   if (std::sscanf(text.c_str(), "%d%c%d%c", &rows, &x, &cols, &extra) != 3 || (x != 'x' && x != 'X') || rows < 1 ||
       cols < 1 || rows > 16 || cols > 16 || rows * cols < 2) {
-    return InvalidArgumentError("lattice '" + text + "' is neither auto nor RxC (rows x columns, 1..16 each, 2 tiles at least)");
+    return InvalidArgumentError("lattice '" + text +
+                                "' is neither auto nor RxC (rows x columns, 1..16 each, 2 tiles at least)");
   }
   hint.rows = rows;
   hint.cols = cols;

@@ -31,7 +31,8 @@ StatusOr<Recording> RecordingFromImages(const std::vector<std::filesystem::path>
 // recording without a rig calibration: the photo upright (EXIF orientation), its focal length from
 // EXIF, and `hint` (the lattice's size when known, 0 = found blind; its tiles upright) for the
 // pipeline to split it. Errors name the file: missing, undecodable.
-StatusOr<Recording> RecordingFromLatticePhoto(const std::filesystem::path& file, const LatticeHint& hint,
+StatusOr<Recording> RecordingFromLatticePhoto(const std::filesystem::path& file,
+                                              const LatticeHint& hint,
                                               std::vector<std::string>* warnings);
 
 // "auto" (0x0: found blind) or "RxC" (rows x columns, each 1..16, at least 2 tiles).

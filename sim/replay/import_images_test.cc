@@ -2,9 +2,9 @@
 // phone photos (../shared/data/handheld, skipped without it), and errors that name the file.
 #include "sim/replay/import_images.h"
 
-#include <fstream>
-
 #include <gtest/gtest.h>
+
+#include <fstream>
 #include <opencv2/imgcodecs.hpp>
 
 #include "sim/replay/recording_test_util.h"
@@ -95,8 +95,10 @@ TEST(ImportImagesTest, AJpegsExifFocalLengthComesThrough) {
   std::vector<uint8_t> jpeg;
   ASSERT_TRUE(cv::imencode(".jpg", bgr, jpeg));
   const std::vector<uint8_t> with_exif = px::testing::WithExifFocalLength(jpeg, 140.0, 96, 64);
-  { std::ofstream(dir.path() / "a.jpg", std::ios::binary).write(reinterpret_cast<const char*>(with_exif.data()),
-                                                                static_cast<std::streamsize>(with_exif.size())); }
+  {
+    std::ofstream(dir.path() / "a.jpg", std::ios::binary)
+        .write(reinterpret_cast<const char*>(with_exif.data()), static_cast<std::streamsize>(with_exif.size()));
+  }
   const std::filesystem::path b = WriteImage(dir.path() / "b.png", bgr);
   std::vector<std::string> warnings;
   StatusOr<Recording> recording = RecordingFromImages({dir.path() / "a.jpg", b}, &warnings);

@@ -1,17 +1,16 @@
 #include "sim/replay/recording.h"
 
 #include <chrono>
+#include <nlohmann/json.hpp>
 #include <string>
 #include <system_error>
 #include <utility>
 #include <vector>
 
-#include <nlohmann/json.hpp>
-
-#include "pipeline/core/json_fields.h"
-#include "pipeline/core/log.h"
 #include "pipeline/core/durable_file.h"
 #include "pipeline/core/image_file.h"
+#include "pipeline/core/json_fields.h"
+#include "pipeline/core/log.h"
 #include "sim/replay/frame_file.h"
 #include "sim/replay/recording_manifest.h"
 #include "sim/replay/sha256.h"
@@ -97,8 +96,7 @@ bool JpegHoldsImage(const Frame& frame) {
 StatusOr<Manifest> PlanManifest(const Recording& recording) {
   if (recording.frames.kind != recording.source.kind) {
     return InvalidArgumentError("frames.kind " + std::string(FrameSetKindName(recording.frames.kind)) +
-                                " differs from source.kind " +
-                                std::string(FrameSetKindName(recording.source.kind)));
+                                " differs from source.kind " + std::string(FrameSetKindName(recording.source.kind)));
   }
   Manifest manifest;
   manifest.created_by = recording.created_by;
@@ -142,7 +140,9 @@ StatusOr<Manifest> PlanManifest(const Recording& recording) {
 
 // Reads, checks and decodes frame file `index` (a JPEG's own bytes into `jpeg`); errors name the file
 // and the manifest field.
-StatusOr<std::vector<uint8_t>> LoadFrameFile(const fs::path& dir, const FrameEntry& entry, size_t index,
+StatusOr<std::vector<uint8_t>> LoadFrameFile(const fs::path& dir,
+                                             const FrameEntry& entry,
+                                             size_t index,
                                              std::vector<uint8_t>* jpeg) {
   const fs::path path = dir / *entry.file;
   const std::string field = "manifest.json frames[" + std::to_string(index) + "]";
@@ -166,8 +166,9 @@ StatusOr<std::vector<uint8_t>> LoadFrameFile(const fs::path& dir, const FrameEnt
   PX_ASSIGN_OR_RETURN(replay::FrameFileType type, replay::FrameFileTypeOf(*entry.file));
   if (type == replay::FrameFileType::kRaw) return std::move(file).value();
   StatusOr<std::vector<uint8_t>> decoded =
-      type == replay::FrameFileType::kJpeg ? replay::DecodeJpegFrame(*file, entry.width, entry.height)
-                                           : replay::DecodePngFrame(*file, entry.pixel_format, entry.width, entry.height);
+      type == replay::FrameFileType::kJpeg
+          ? replay::DecodeJpegFrame(*file, entry.width, entry.height)
+          : replay::DecodePngFrame(*file, entry.pixel_format, entry.width, entry.height);
   if (!decoded.ok()) {
     return Status(decoded.status().code(), path.string() + ": " + decoded.status().message() + " (" + field + ")");
   }
@@ -207,9 +208,8 @@ Status WriteRecording(const fs::path& dir, const Recording& recording, const Bef
       if (!made.ok()) return made.status().WithContext((dir / *entry.file).string());
       encoded = std::move(made).value();
     }
-    const std::span<const uint8_t> bytes = type == replay::FrameFileType::kJpeg
-                                               ? std::span<const uint8_t>(frame.jpeg)
-                                               : std::span<const uint8_t>(encoded);
+    const std::span<const uint8_t> bytes =
+        type == replay::FrameFileType::kJpeg ? std::span<const uint8_t>(frame.jpeg) : std::span<const uint8_t>(encoded);
     entry.bytes = bytes.size();
     entry.sha256 = replay::Sha256Hex(bytes);
     PX_RETURN_IF_ERROR(commit(dir / *entry.file, bytes));
@@ -226,8 +226,10 @@ Status WriteRecording(const fs::path& dir, const Recording& recording, const Bef
   PX_RETURN_IF_ERROR(FsyncDir(parent));
   cleanup.Commit();
 
-  Logger("replay")->info("wrote recording {} ({} frames, {:.1f} MB) in {:.0f} ms", dir.string(),
-                         manifest.frames.size(), static_cast<double>(total_bytes + text.size()) / 1e6,
+  Logger("replay")->info("wrote recording {} ({} frames, {:.1f} MB) in {:.0f} ms",
+                         dir.string(),
+                         manifest.frames.size(),
+                         static_cast<double>(total_bytes + text.size()) / 1e6,
                          MillisecondsSince(start));
   return OkStatus();
 }
@@ -244,8 +246,7 @@ StatusOr<Recording> ReadRecording(const fs::path& dir) {
     }
     return text.status();
   }
-  PX_ASSIGN_OR_RETURN(nlohmann::json j,
-                      json::Parse(std::string(text->begin(), text->end()), manifest_path.string()));
+  PX_ASSIGN_OR_RETURN(nlohmann::json j, json::Parse(std::string(text->begin(), text->end()), manifest_path.string()));
   StatusOr<Manifest> parsed = replay::ManifestFromJson(j);
   if (!parsed.ok()) return parsed.status().WithContext(manifest_path.string());
   const Manifest& manifest = *parsed;
@@ -275,8 +276,10 @@ StatusOr<Recording> ReadRecording(const fs::path& dir) {
     }
     recording.frames.frames.push_back(std::move(frame));
   }
-  Logger("replay")->debug("read recording {} ({} frames, {:.1f} MB) in {:.0f} ms", dir.string(),
-                          recording.frames.frames.size(), static_cast<double>(total_bytes) / 1e6,
+  Logger("replay")->debug("read recording {} ({} frames, {:.1f} MB) in {:.0f} ms",
+                          dir.string(),
+                          recording.frames.frames.size(),
+                          static_cast<double>(total_bytes) / 1e6,
                           MillisecondsSince(start));
   return recording;
 }

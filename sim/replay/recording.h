@@ -33,7 +33,8 @@ Status WriteRecording(const std::filesystem::path& dir, const Recording& recordi
 // A non-OK result aborts the write as an I/O error would. For tests (a crash at that point
 // leaves the folder as it is then) and for progress reporting.
 using BeforeCommitHook = std::function<Status(const std::filesystem::path& final_path)>;
-Status WriteRecording(const std::filesystem::path& dir, const Recording& recording,
+Status WriteRecording(const std::filesystem::path& dir,
+                      const Recording& recording,
                       const BeforeCommitHook& before_commit);
 
 // Loads and validates everything: the manifest's fields and types, each frame file's existence,

@@ -1,12 +1,11 @@
 // Write and read times of one full-size lattice frame (4056x3040, a 12 MP sensor) per stored
 // format: PNG (BGR888) and raw (SRGGB8, NV12). Figures only; nothing is asserted.
+#include <benchmark/benchmark.h>
 #include <stdlib.h>
 
 #include <filesystem>
-#include <string>
-
-#include <benchmark/benchmark.h>
 #include <opencv2/core.hpp>
+#include <string>
 
 #include "sim/replay/recording.h"
 

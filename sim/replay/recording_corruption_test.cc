@@ -1,12 +1,12 @@
 // Bad recordings: each must be refused with an error that names the file and the field, and
 // never crash. Frames whose manifest status is not ok are loaded as they are.
-#include <functional>
-#include <string>
-#include <vector>
-
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
+
+#include <functional>
 #include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
 
 #include "sim/replay/recording.h"
 #include "sim/replay/recording_test_util.h"
@@ -77,16 +77,17 @@ TEST_F(CorruptionTest, TruncatedPng) {
   WriteText(png_dir_ / "frame_0000.png", png.substr(0, png.size() / 2));
   Status status = Read(png_dir_);
   EXPECT_EQ(status.code(), StatusCode::kDataLoss);
-  EXPECT_THAT(status.message(), AllOf(HasSubstr((png_dir_ / "frame_0000.png").string() + ": truncated"),
-                                      HasSubstr("frames[0].bytes says " + std::to_string(png.size()))));
+  EXPECT_THAT(status.message(),
+              AllOf(HasSubstr((png_dir_ / "frame_0000.png").string() + ": truncated"),
+                    HasSubstr("frames[0].bytes says " + std::to_string(png.size()))));
 
   // Even when the manifest was written for the truncated file, the decoder catches it.
   ResealFrame(png_dir_, "frame_0000.png");
   status = Read(png_dir_);
   EXPECT_EQ(status.code(), StatusCode::kDataLoss);
-  EXPECT_THAT(status.message(),
-              AllOf(HasSubstr((png_dir_ / "frame_0000.png").string() + ": truncated or not a PNG"),
-                    HasSubstr("frames[0]")));
+  EXPECT_THAT(
+      status.message(),
+      AllOf(HasSubstr((png_dir_ / "frame_0000.png").string() + ": truncated or not a PNG"), HasSubstr("frames[0]")));
 }
 
 TEST_F(CorruptionTest, GarbledPngBytes) {
@@ -115,17 +116,19 @@ TEST_F(CorruptionTest, RawFileOfTheWrongLength) {
   WriteText(raw_dir_ / "frame_0000.raw", raw + "xyz");
   Status status = Read(raw_dir_);
   EXPECT_EQ(status.code(), StatusCode::kDataLoss);
-  EXPECT_THAT(status.message(), AllOf(HasSubstr((raw_dir_ / "frame_0000.raw").string()),
-                                      HasSubstr("has " + std::to_string(raw.size() + 3) + " bytes"),
-                                      HasSubstr("frames[0].bytes says " + std::to_string(raw.size()))));
+  EXPECT_THAT(status.message(),
+              AllOf(HasSubstr((raw_dir_ / "frame_0000.raw").string()),
+                    HasSubstr("has " + std::to_string(raw.size() + 3) + " bytes"),
+                    HasSubstr("frames[0].bytes says " + std::to_string(raw.size()))));
 
   // A manifest that agrees with the long file still contradicts the frame's size and format.
   ResealFrame(raw_dir_, "frame_0000.raw");
   status = Read(raw_dir_);
   EXPECT_EQ(status.code(), StatusCode::kInvalidArgument);
-  EXPECT_THAT(status.message(), AllOf(HasSubstr(raw_manifest_), HasSubstr("frames[0].bytes: " +
-                                                                          std::to_string(raw.size() + 3)),
-                                      HasSubstr("136x106 YUYV frame has " + std::to_string(raw.size()))));
+  EXPECT_THAT(status.message(),
+              AllOf(HasSubstr(raw_manifest_),
+                    HasSubstr("frames[0].bytes: " + std::to_string(raw.size() + 3)),
+                    HasSubstr("136x106 YUYV frame has " + std::to_string(raw.size()))));
 }
 
 TEST_F(CorruptionTest, WrongDimensionsInTheManifest) {
@@ -139,9 +142,10 @@ TEST_F(CorruptionTest, WrongDimensionsInTheManifest) {
   SetManifest(dir, j);
   Status status = Read(dir);
   EXPECT_EQ(status.code(), StatusCode::kDataLoss);
-  EXPECT_THAT(status.message(), AllOf(HasSubstr((dir / "frame_0000.png").string()),
-                                      HasSubstr("decodes to 136x106, the manifest says 138x106"),
-                                      HasSubstr("frames[0]")));
+  EXPECT_THAT(status.message(),
+              AllOf(HasSubstr((dir / "frame_0000.png").string()),
+                    HasSubstr("decodes to 136x106, the manifest says 138x106"),
+                    HasSubstr("frames[0]")));
 
   // A raw frame: the byte count no longer fits the size.
   j = Manifest(raw_dir_);
@@ -157,13 +161,15 @@ TEST_F(CorruptionTest, LatticeInconsistentWithTheFrameSize) {
   Status status = Read(png_dir_);
   EXPECT_EQ(status.code(), StatusCode::kInvalidArgument);
   EXPECT_THAT(status.message(),
-              AllOf(HasSubstr(png_manifest_), HasSubstr("frames[0].width, height: 136x106 differs"),
+              AllOf(HasSubstr(png_manifest_),
+                    HasSubstr("frames[0].width, height: 136x106 differs"),
                     HasSubstr("source.rig_calibration.lattice.sensor_width")));
 
   j["source"]["rig_calibration"]["lattice"]["sensor_width"] = 100;  // a tile now leaves the sensor
   SetManifest(png_dir_, j);
-  EXPECT_THAT(Read(png_dir_).message(), AllOf(HasSubstr(png_manifest_), HasSubstr("source.rig_calibration"),
-                                              HasSubstr("leaves the 100x106 sensor")));
+  EXPECT_THAT(
+      Read(png_dir_).message(),
+      AllOf(HasSubstr(png_manifest_), HasSubstr("source.rig_calibration"), HasSubstr("leaves the 100x106 sensor")));
 }
 
 TEST_F(CorruptionTest, UnknownPixelFormat) {
@@ -172,9 +178,10 @@ TEST_F(CorruptionTest, UnknownPixelFormat) {
   SetManifest(png_dir_, j);
   Status status = Read(png_dir_);
   EXPECT_EQ(status.code(), StatusCode::kInvalidArgument);
-  EXPECT_EQ(status.message(), png_manifest_ +
-                                  ": frames[0].pixel_format: 'MJPG' is not one of RGB888, BGR888, GRAY8, YUYV, "
-                                  "NV12, SRGGB8");
+  EXPECT_EQ(status.message(),
+            png_manifest_ +
+                ": frames[0].pixel_format: 'MJPG' is not one of RGB888, BGR888, GRAY8, YUYV, "
+                "NV12, SRGGB8");
 }
 
 TEST_F(CorruptionTest, MalformedJson) {
@@ -209,8 +216,10 @@ TEST_F(CorruptionTest, MissingOrMistypedFields) {
       {[](auto& j) { j["frames"] = nlohmann::json::array(); }, "frames: empty"},
       {[](auto& j) { j["frames"][0]["status"] = "fine"; }, "frames[0].status: frame status 'fine' is not one of"},
       {[](auto& j) { j["frames"][0]["sha256"] = "abc"; }, "frames[0].sha256: 'abc' is not 64 lowercase hex digits"},
-      {[](auto& j) { j["frames"][0]["file"] = "../../etc/passwd"; }, "frames[0].file: '../../etc/passwd' is not a plain"},
-      {[](auto& j) { j["frames"][0]["file"] = nullptr; }, "frames[0].file: a frame has both a file and its sha256, or neither"},
+      {[](auto& j) { j["frames"][0]["file"] = "../../etc/passwd"; },
+       "frames[0].file: '../../etc/passwd' is not a plain"},
+      {[](auto& j) { j["frames"][0]["file"] = nullptr; },
+       "frames[0].file: a frame has both a file and its sha256, or neither"},
       {[](auto& j) { j["source"]["rig_calibration"]["lenses"][3]["camera"].erase("fx"); },
        "source.rig_calibration.lenses[3].camera.fx: missing"},
       {[](auto& j) { j["created_at"] = "yesterday"; }, "created_at: 'yesterday' is not UTC ISO 8601"},
@@ -268,8 +277,8 @@ TEST_F(CorruptionTest, ACorruptFrameIsLoadedAsRecordedButOnlyIfItsFileIsIntact) 
   std::string raw = ReadText(dir / "frame_0000.raw");
   raw[10] = static_cast<char>(raw[10] ^ 1);
   WriteText(dir / "frame_0000.raw", raw);
-  EXPECT_THAT(Read(dir).message(), AllOf(HasSubstr((dir / "frame_0000.raw").string() + ": garbled"),
-                                         HasSubstr("frames[0].sha256")));
+  EXPECT_THAT(Read(dir).message(),
+              AllOf(HasSubstr((dir / "frame_0000.raw").string() + ": garbled"), HasSubstr("frames[0].sha256")));
 }
 
 }  // namespace

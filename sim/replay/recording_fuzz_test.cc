@@ -1,14 +1,14 @@
 // Robustness: 200 seeded random mutations of a valid manifest. ReadRecording must never crash,
 // must name the manifest or a frame file when it refuses, and must never accept a manifest
 // whose frames no longer match the pictures that were recorded.
+#include <gtest/gtest.h>
+
 #include <array>
 #include <iostream>
+#include <nlohmann/json.hpp>
 #include <random>
 #include <string>
 #include <vector>
-
-#include <gtest/gtest.h>
-#include <nlohmann/json.hpp>
 
 #include "sim/replay/recording.h"
 #include "sim/replay/recording_test_util.h"
@@ -20,8 +20,8 @@ namespace fs = std::filesystem;
 using Json = nlohmann::json;
 
 enum Mutation { kTruncate, kFlipByte, kDeleteKey, kChangeType, kChangeNumber, kSwapString, kNumMutations };
-constexpr std::array<const char*, kNumMutations> kMutationNames = {"truncate",      "flip byte",     "delete key",
-                                                                   "change type",   "change number", "swap string"};
+constexpr std::array<const char*, kNumMutations> kMutationNames = {
+    "truncate", "flip byte", "delete key", "change type", "change number", "swap string"};
 
 // Every value's JSON pointer below the root, parents before children.
 void CollectPointers(const Json& j, const Json::json_pointer& at, std::vector<Json::json_pointer>* out) {
@@ -89,9 +89,22 @@ std::string Mutate(const std::string& text, Mutation mutation, std::mt19937_64& 
     for (const auto& p : pointers) {
       if (j[p].is_string()) strings.push_back(p);
     }
-    const std::vector<std::string> vocabulary = {
-        "RGB888", "BGR888", "GRAY8", "YUYV", "NV12", "SRGGB8", "ok", "corrupt", "dropped", "wrong_format",
-        "frame_0000.png", "frame_0001.raw", "frame_0002.png", "image_set", "lattice_frame", "manifest.json"};
+    const std::vector<std::string> vocabulary = {"RGB888",
+                                                 "BGR888",
+                                                 "GRAY8",
+                                                 "YUYV",
+                                                 "NV12",
+                                                 "SRGGB8",
+                                                 "ok",
+                                                 "corrupt",
+                                                 "dropped",
+                                                 "wrong_format",
+                                                 "frame_0000.png",
+                                                 "frame_0001.raw",
+                                                 "frame_0002.png",
+                                                 "image_set",
+                                                 "lattice_frame",
+                                                 "manifest.json"};
     j[Pick(strings, rng)] = Pick(vocabulary, rng);
   }
   return j.dump(2);

@@ -1,15 +1,14 @@
 #include "sim/replay/recording_manifest.h"
 
 #include <cctype>
-#include <cmath>
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <ctime>
 #include <limits>
+#include <nlohmann/json.hpp>
 #include <set>
 #include <utility>
-
-#include <nlohmann/json.hpp>
 
 #include "pipeline/core/json_fields.h"
 #include "pipeline/core/rig_calibration_json.h"
@@ -59,7 +58,8 @@ StatusOr<int> GetSide(const Json& object, const std::string& key, const std::str
 }
 
 // A string, or null (absent) for the optional file and checksum of a frame.
-StatusOr<std::optional<std::string>> GetStringOrNull(const Json& object, const std::string& key,
+StatusOr<std::optional<std::string>> GetStringOrNull(const Json& object,
+                                                     const std::string& key,
                                                      const std::string& parent) {
   PX_ASSIGN_OR_RETURN(const Json* value, json::GetField(object, key, parent));
   if (value->is_null()) return std::optional<std::string>();
@@ -69,8 +69,12 @@ StatusOr<std::optional<std::string>> GetStringOrNull(const Json& object, const s
 
 std::string AllPixelFormatNames() {
   std::string names;
-  for (PixelFormat f : {PixelFormat::kRgb888, PixelFormat::kBgr888, PixelFormat::kGray8, PixelFormat::kYuyv,
-                        PixelFormat::kNv12, PixelFormat::kBayerRggb8}) {
+  for (PixelFormat f : {PixelFormat::kRgb888,
+                        PixelFormat::kBgr888,
+                        PixelFormat::kGray8,
+                        PixelFormat::kYuyv,
+                        PixelFormat::kNv12,
+                        PixelFormat::kBayerRggb8}) {
     names += (names.empty() ? "" : ", ") + std::string(PixelFormatName(f));
   }
   return names;
@@ -155,8 +159,7 @@ Status ValidateFrameEntry(const FrameEntry& entry, const std::string& path) {
                                 ": a frame has both a file and its sha256, or neither");
   }
   if (entry.sha256 && !IsSha256Hex(*entry.sha256)) {
-    return InvalidArgumentError(FieldPath(path, "sha256") + ": '" + *entry.sha256 +
-                                "' is not 64 lowercase hex digits");
+    return InvalidArgumentError(FieldPath(path, "sha256") + ": '" + *entry.sha256 + "' is not 64 lowercase hex digits");
   }
   if (!entry.file) {
     if (entry.status == FrameStatus::kOk) {
@@ -235,8 +238,8 @@ Status ValidateRigAgainstFrames(const Manifest& manifest) {
     const FrameEntry& frame = manifest.frames[i];
     const CameraModel& camera = rig.lenses[i].camera;
     if (frame.status == FrameStatus::kOk && (frame.width != camera.width || frame.height != camera.height)) {
-      return InvalidArgumentError(FieldPath(IndexPath("frames", i), "width") + ", height: " +
-                                  std::to_string(frame.width) + "x" + std::to_string(frame.height) +
+      return InvalidArgumentError(FieldPath(IndexPath("frames", i), "width") +
+                                  ", height: " + std::to_string(frame.width) + "x" + std::to_string(frame.height) +
                                   " differs from " + IndexPath(rig_path + ".lenses", i) + ".camera's " +
                                   std::to_string(camera.width) + "x" + std::to_string(camera.height));
     }
@@ -328,8 +331,7 @@ StatusOr<Manifest> ManifestFromJson(const Json& j) {
   PX_ASSIGN_OR_RETURN(manifest.created_by, json::GetString(j, "created_by", ""));
   PX_ASSIGN_OR_RETURN(manifest.created_at, json::GetString(j, "created_at", ""));
   if (!IsUtcIso8601(manifest.created_at)) {
-    return InvalidArgumentError("created_at: '" + manifest.created_at +
-                                "' is not UTC ISO 8601 (YYYY-MM-DDTHH:MM:SSZ)");
+    return InvalidArgumentError("created_at: '" + manifest.created_at + "' is not UTC ISO 8601 (YYYY-MM-DDTHH:MM:SSZ)");
   }
 
   PX_ASSIGN_OR_RETURN(const Json* source, json::GetField(j, "source", ""));
@@ -345,7 +347,7 @@ StatusOr<Manifest> ManifestFromJson(const Json& j) {
     if (!rig.ok()) {
       const Status error = rig.status();
       return error.message().rfind("source.rig_calibration", 0) == 0 ? error
-                                                                      : error.WithContext("source.rig_calibration");
+                                                                     : error.WithContext("source.rig_calibration");
     }
     manifest.source.rig = *std::move(rig);
   }

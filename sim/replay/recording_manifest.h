@@ -4,12 +4,11 @@
 #pragma once
 
 #include <cstdint>
+#include <nlohmann/json_fwd.hpp>
 #include <optional>
 #include <string>
 #include <string_view>
 #include <vector>
-
-#include <nlohmann/json_fwd.hpp>
 
 #include "drivers/source/frame_source.h"
 #include "pipeline/core/frame_set.h"
@@ -22,21 +21,21 @@ inline constexpr std::string_view kRecordingFormatName = "parallax.recording";
 struct FrameEntry {
   std::optional<std::string> file;  // file name inside the folder; none when no bytes were captured
   PixelFormat pixel_format = PixelFormat::kBgr888;
-  int width = 0;                    // pixels
+  int width = 0;  // pixels
   int height = 0;
   uint64_t sequence = 0;
   int64_t timestamp_ns = 0;
   FrameStatus status = FrameStatus::kOk;
   std::string status_detail;
-  double focal_length_px = 0;       // from the image's metadata (Frame::focal_length_px); 0 = unknown
+  double focal_length_px = 0;  // from the image's metadata (Frame::focal_length_px); 0 = unknown
   std::string focal_length_source;
-  uint64_t bytes = 0;               // size of `file` in bytes (0 without a file)
+  uint64_t bytes = 0;                 // size of `file` in bytes (0 without a file)
   std::optional<std::string> sha256;  // lowercase hex of the file's SHA-256; set iff `file` is
 };
 
 struct Manifest {
   std::string created_by;
-  std::string created_at;           // UTC ISO 8601, "2025-03-01T12:00:00Z"
+  std::string created_at;  // UTC ISO 8601, "2025-03-01T12:00:00Z"
   SourceDescription source;
   uint64_t capture_id = 0;
   std::vector<FrameEntry> frames;

@@ -2,17 +2,16 @@
 // recording_corruption_test.cc, random manifest damage in recording_fuzz_test.cc.
 #include "sim/replay/recording.h"
 
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
 #include <signal.h>
 #include <sys/resource.h>
 
 #include <cerrno>
-#include <string>
-#include <vector>
-
-#include <gmock/gmock.h>
-#include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 #include <opencv2/imgcodecs.hpp>
+#include <string>
+#include <vector>
 
 #include "pipeline/core/durable_file.h"
 #include "sim/replay/recording_manifest.h"
@@ -49,8 +48,8 @@ TEST_P(RoundTripTest, LatticeFrameComesBackExactly) {
   const Recording recording = LatticeRecording(GetParam(), 3);
   ASSERT_TRUE(WriteRecording(dir, recording).ok());
 
-  const bool png = GetParam() == PixelFormat::kRgb888 || GetParam() == PixelFormat::kBgr888 ||
-                   GetParam() == PixelFormat::kGray8;
+  const bool png =
+      GetParam() == PixelFormat::kRgb888 || GetParam() == PixelFormat::kBgr888 || GetParam() == PixelFormat::kGray8;
   EXPECT_TRUE(fs::exists(dir / (png ? "frame_0000.png" : "frame_0000.raw")));
   EXPECT_TRUE(fs::exists(dir / "manifest.json"));
   // Nothing but the frame and the manifest: no temporary files left over.
@@ -61,9 +60,14 @@ TEST_P(RoundTripTest, LatticeFrameComesBackExactly) {
   replay::testing::ExpectSameRecording(recording, *back);
 }
 
-INSTANTIATE_TEST_SUITE_P(EveryPixelFormat, RoundTripTest,
-                         ::testing::Values(PixelFormat::kRgb888, PixelFormat::kBgr888, PixelFormat::kGray8,
-                                           PixelFormat::kYuyv, PixelFormat::kNv12, PixelFormat::kBayerRggb8),
+INSTANTIATE_TEST_SUITE_P(EveryPixelFormat,
+                         RoundTripTest,
+                         ::testing::Values(PixelFormat::kRgb888,
+                                           PixelFormat::kBgr888,
+                                           PixelFormat::kGray8,
+                                           PixelFormat::kYuyv,
+                                           PixelFormat::kNv12,
+                                           PixelFormat::kBayerRggb8),
                          [](const auto& param_info) { return std::string(PixelFormatName(param_info.param)); });
 
 TEST(RecordingTest, ColourPngShowsTheTrueColoursInOtherTools) {
@@ -314,13 +318,13 @@ TEST(RecordingTest, ManifestIsCommittedLastSoAnInterruptedWriteIsNeverARecording
 
 TEST(RecordingTest, FailureHalfWayIntoAnExistingFolderLeavesItEmpty) {
   ScratchDir scratch;
-  Status status = WriteRecording(scratch.path(), ImageSetRecording(3, PixelFormat::kGray8),
-                                 [](const fs::path& final_path) -> Status {
-                                   if (final_path.filename() == "frame_0001.png") {
-                                     return ResourceExhaustedError("simulated full disk");
-                                   }
-                                   return OkStatus();
-                                 });
+  Status status = WriteRecording(
+      scratch.path(), ImageSetRecording(3, PixelFormat::kGray8), [](const fs::path& final_path) -> Status {
+        if (final_path.filename() == "frame_0001.png") {
+          return ResourceExhaustedError("simulated full disk");
+        }
+        return OkStatus();
+      });
   EXPECT_EQ(status.code(), StatusCode::kResourceExhausted);
   EXPECT_TRUE(fs::exists(scratch.path()));  // not ours to remove
   EXPECT_TRUE(fs::is_empty(scratch.path()));
@@ -336,7 +340,8 @@ TEST(RecordingTest, RealWriteFailureHalfWayIsResourceExhaustedAndLeavesNothing) 
 
   rlimit saved{};
   ASSERT_EQ(getrlimit(RLIMIT_FSIZE, &saved), 0);
-  struct sigaction ignore {}, previous {};
+  struct sigaction ignore {
+  }, previous{};
   ignore.sa_handler = SIG_IGN;
   ASSERT_EQ(sigaction(SIGXFSZ, &ignore, &previous), 0);
   rlimit tight = saved;

@@ -1,11 +1,11 @@
 #include "sim/replay/recording_test_util.h"
 
+#include <gtest/gtest.h>
+
 #include <fstream>
+#include <nlohmann/json.hpp>
 #include <sstream>
 #include <system_error>
-
-#include <gtest/gtest.h>
-#include <nlohmann/json.hpp>
 
 #include "pipeline/core/rig_calibration_json.h"
 
@@ -46,9 +46,9 @@ RigCalibration SmallPop9Rig() {
       lens.camera = CameraModel::Pinhole(40, 30, 37.5 + 0.1 * (3 * r + c));
       lens.camera.distortion = {-0.031 * r, 0.0123, 1e-4 * c, -2e-4, 0.001};
       // Awkward angles and offsets so any loss of precision in the JSON round trip shows.
-      lens.cam_from_rig = Rigid3(Eigen::Quaterniond(Eigen::AngleAxisd(0.0123 * c - 0.007 * r,
-                                                                      Eigen::Vector3d(0.3, 1, 0.1).normalized())),
-                                 {-0.0213 * (c - 1), -0.0197 * (r - 1), 1e-4 / 3});
+      lens.cam_from_rig = Rigid3(
+          Eigen::Quaterniond(Eigen::AngleAxisd(0.0123 * c - 0.007 * r, Eigen::Vector3d(0.3, 1, 0.1).normalized())),
+          {-0.0213 * (c - 1), -0.0197 * (r - 1), 1e-4 / 3});
       rig.lenses.push_back(lens);
     }
   }

@@ -4,9 +4,8 @@
 
 #include <cstdint>
 #include <filesystem>
-#include <string>
-
 #include <opencv2/core.hpp>
+#include <string>
 
 #include "sim/replay/recording.h"
 #include "tests/testing/temp_dir.h"

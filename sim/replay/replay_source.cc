@@ -49,8 +49,11 @@ bool GrantsWhatWasWanted(const SourceConfig& wanted, const SourceConfig& granted
 
 class ReplaySource final : public FrameSource {
  public:
-  ReplaySource(std::string model, std::vector<ReplayEntry> entries, SourceDescription description,
-               SourceConfig native, bool loop)
+  ReplaySource(std::string model,
+               std::vector<ReplayEntry> entries,
+               SourceDescription description,
+               SourceConfig native,
+               bool loop)
       : entries_(std::move(entries)), description_(std::move(description)), native_(native), loop_(loop) {
     description_.model = std::move(model);
   }
@@ -64,13 +67,16 @@ class ReplaySource final : public FrameSource {
     configured_ = true;
     next_ = 0;
     if (GrantsWhatWasWanted(wanted, native_)) return ConfigureResult::kValid;
-    Logger("replay")->debug("{}: asked for {}, replaying the recorded {}", description_.model,
-                            DescribeConfig(wanted), DescribeConfig(native_));
+    Logger("replay")->debug("{}: asked for {}, replaying the recorded {}",
+                            description_.model,
+                            DescribeConfig(wanted),
+                            DescribeConfig(native_));
     return ConfigureResult::kAdjusted;
   }
 
   StatusOr<FrameSet> Next(std::chrono::milliseconds /*timeout*/) override {
-    if (!configured_) return FailedPreconditionError(description_.model + ": Next() before Configure() or after Stop()");
+    if (!configured_)
+      return FailedPreconditionError(description_.model + ": Next() before Configure() or after Stop()");
     if (next_ == entries_.size()) {
       if (!loop_) {
         return OutOfRangeError(description_.model + ": all " + std::to_string(entries_.size()) +
@@ -86,8 +92,7 @@ class ReplaySource final : public FrameSource {
       // Read again: it was readable at open, so a failure now means it changed on disk.
       StatusOr<Recording> recording = ReadRecording(entry.dir);
       if (!recording.ok()) {
-        return UnavailableError(description_.model + ": recording became unreadable: " +
-                                recording.status().message());
+        return UnavailableError(description_.model + ": recording became unreadable: " + recording.status().message());
       }
       frames = std::move(recording->frames);
     }
@@ -157,8 +162,12 @@ StatusOr<std::unique_ptr<FrameSource>> OpenReplaySource(const fs::path& path, co
       native = recorded;
     } else if (recorded != native || recording->source.kind != description->kind) {
       log->warn("replay {}: {} was captured as {} {}, the first recording as {} {}; its frames will be marked",
-                path.string(), dir.string(), FrameSetKindName(recording->source.kind), DescribeConfig(recorded),
-                FrameSetKindName(description->kind), DescribeConfig(native));
+                path.string(),
+                dir.string(),
+                FrameSetKindName(recording->source.kind),
+                DescribeConfig(recorded),
+                FrameSetKindName(description->kind),
+                DescribeConfig(native));
     }
     ReplayEntry entry{dir, std::nullopt};
     const uint64_t bytes = RecordingBytes(*recording);
@@ -169,13 +178,15 @@ StatusOr<std::unique_ptr<FrameSource>> OpenReplaySource(const fs::path& path, co
     entries.push_back(std::move(entry));
   }
   if (entries.empty()) {
-    return Status(first_error.code(), path.string() + ": none of " + std::to_string(dirs.size()) +
-                                          " recording folder(s) is readable; first error: " + first_error.message());
+    return Status(first_error.code(),
+                  path.string() + ": none of " + std::to_string(dirs.size()) +
+                      " recording folder(s) is readable; first error: " + first_error.message());
   }
-  log->info("replay {}: {} recording(s), {} skipped, {} in memory, {} in {:.0f} ms", path.string(), entries.size(),
-            dirs.size() - entries.size(), std::count_if(entries.begin(), entries.end(), [](const ReplayEntry& e) {
-              return e.cached.has_value();
-            }),
+  log->info("replay {}: {} recording(s), {} skipped, {} in memory, {} in {:.0f} ms",
+            path.string(),
+            entries.size(),
+            dirs.size() - entries.size(),
+            std::count_if(entries.begin(), entries.end(), [](const ReplayEntry& e) { return e.cached.has_value(); }),
             DescribeConfig(native),
             std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count());
   return std::unique_ptr<FrameSource>(

@@ -1,15 +1,15 @@
 #include "sim/replay/replay_source.h"
 
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+#include <spdlog/sinks/base_sink.h>
+
 #include <algorithm>
 #include <memory>
 #include <mutex>
+#include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
-
-#include <gmock/gmock.h>
-#include <gtest/gtest.h>
-#include <nlohmann/json.hpp>
-#include <spdlog/sinks/base_sink.h>
 
 #include "pipeline/core/log.h"
 #include "pipeline/core/rig_calibration_json.h"
@@ -193,10 +193,11 @@ TEST(ReplaySourceTest, SkipsUnreadableRecordingsWithAWarning) {
   CapturedLog log;
   auto source = Open(scratch.path());
   ASSERT_NE(source, nullptr);
-  EXPECT_THAT(log.Text(), AllOf(HasSubstr("skipping " + (scratch.path() / "shot_1").string()),
-                                HasSubstr((scratch.path() / "shot_1" / "frame_0000.png").string() + ": missing"),
-                                HasSubstr("skipping " + (scratch.path() / "notes").string()),
-                                HasSubstr("manifest.json: missing")));
+  EXPECT_THAT(log.Text(),
+              AllOf(HasSubstr("skipping " + (scratch.path() / "shot_1").string()),
+                    HasSubstr((scratch.path() / "shot_1" / "frame_0000.png").string() + ": missing"),
+                    HasSubstr("skipping " + (scratch.path() / "notes").string()),
+                    HasSubstr("manifest.json: missing")));
   SourceConfig granted;
   ASSERT_TRUE(source->Configure({PixelFormat::kBgr888}, &granted).ok());
   EXPECT_EQ(source->Next(kTimeout)->capture_id, 100u);

@@ -61,8 +61,8 @@ void Compress(std::array<uint32_t, 8>* state, const uint8_t* block) {
 }  // namespace
 
 std::string Sha256Hex(std::span<const uint8_t> bytes) {
-  std::array<uint32_t, 8> state = {0x6a09e667, 0xbb67ae85, 0x3c6ef372, 0xa54ff53a,
-                                   0x510e527f, 0x9b05688c, 0x1f83d9ab, 0x5be0cd19};
+  std::array<uint32_t, 8> state = {
+      0x6a09e667, 0xbb67ae85, 0x3c6ef372, 0xa54ff53a, 0x510e527f, 0x9b05688c, 0x1f83d9ab, 0x5be0cd19};
   const size_t full_blocks = bytes.size() / 64;
   for (size_t i = 0; i < full_blocks; ++i) Compress(&state, bytes.data() + 64 * i);
 

@@ -1,9 +1,8 @@
 #include "sim/synthetic/board_scene.h"
 
+#include <Eigen/Geometry>
 #include <cmath>
 #include <sstream>
-
-#include <Eigen/Geometry>
 
 #include "sim/synthetic/sim_sensor.h"
 
@@ -56,8 +55,8 @@ Scene MakeBoardScene(const SimBoard& board, const Rigid3& rig_from_board) {
   backdrop.scale_m = 0.5;
   scene.materials = {checker, card, backdrop};
   // The squares' centre (a corner, both counts even) sits at the middle inner corner.
-  const Eigen::Vector3d centre_on_board(0.5 * (board.inner_cols - 1) * board.square_m,
-                                        0.5 * (board.inner_rows - 1) * board.square_m, 0.0);
+  const Eigen::Vector3d centre_on_board(
+      0.5 * (board.inner_cols - 1) * board.square_m, 0.5 * (board.inner_rows - 1) * board.square_m, 0.0);
   const Eigen::Matrix3d r = rig_from_board.RotationMatrix();
   Plane squares;
   squares.name = "squares";
@@ -83,8 +82,8 @@ std::vector<Rigid3> BoardPoses(const SimBoard& board, const SimCameraSpec& spec,
   cv::RNG rng(seed * 7919 + 13);
   const double board_width_m = (board.inner_cols + 1) * board.square_m;
   const double view_width_per_m = spec.tile_width / spec.focal_px;  // metres of view per metre of depth
-  const Eigen::Vector3d centre_on_board(0.5 * (board.inner_cols - 1) * board.square_m,
-                                        0.5 * (board.inner_rows - 1) * board.square_m, 0.0);
+  const Eigen::Vector3d centre_on_board(
+      0.5 * (board.inner_cols - 1) * board.square_m, 0.5 * (board.inner_rows - 1) * board.square_m, 0.0);
   std::vector<Rigid3> poses;
   for (int k = 0; k < count; ++k) {
     const double deg = CV_PI / 180.0;
@@ -100,8 +99,10 @@ std::vector<Rigid3> BoardPoses(const SimBoard& board, const SimCameraSpec& spec,
   return poses;
 }
 
-StatusOr<std::vector<BoardCapture>> RenderBoardCaptures(const SimCameraSpec& spec, const SimBoard& board,
-                                                        const std::vector<Rigid3>& rig_from_board, uint64_t seed) {
+StatusOr<std::vector<BoardCapture>> RenderBoardCaptures(const SimCameraSpec& spec,
+                                                        const SimBoard& board,
+                                                        const std::vector<Rigid3>& rig_from_board,
+                                                        uint64_t seed) {
   PX_RETURN_IF_ERROR(board.Validate());
   std::vector<BoardCapture> captures;
   for (size_t k = 0; k < rig_from_board.size(); ++k) {

@@ -4,9 +4,8 @@
 #pragma once
 
 #include <cstdint>
-#include <vector>
-
 #include <opencv2/core.hpp>
+#include <vector>
 
 #include "pipeline/core/rigid3.h"
 #include "pipeline/core/status.h"
@@ -39,12 +38,14 @@ Scene MakeBoardScene(const SimBoard& board, const Rigid3& rig_from_board);
 std::vector<Rigid3> BoardPoses(const SimBoard& board, const SimCameraSpec& spec, int count, uint64_t seed);
 
 struct BoardCapture {
-  cv::Mat sensor_bgr;      // the whole sensor frame, CV_8UC3
-  Rigid3 rig_from_board;   // truth
+  cv::Mat sensor_bgr;     // the whole sensor frame, CV_8UC3
+  Rigid3 rig_from_board;  // truth
 };
 
 // Renders one sensor frame per pose through `spec` (vignetting, noise, distortion as it says).
-StatusOr<std::vector<BoardCapture>> RenderBoardCaptures(const SimCameraSpec& spec, const SimBoard& board,
-                                                        const std::vector<Rigid3>& rig_from_board, uint64_t seed);
+StatusOr<std::vector<BoardCapture>> RenderBoardCaptures(const SimCameraSpec& spec,
+                                                        const SimBoard& board,
+                                                        const std::vector<Rigid3>& rig_from_board,
+                                                        uint64_t seed);
 
 }  // namespace px::sim

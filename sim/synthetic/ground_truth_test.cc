@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "pipeline/core/order_statistics.h"
 #include "sim/synthetic/scene_json.h"
 #include "sim/synthetic/sim_sensor.h"
 #include "sim/synthetic/sim_test_util.h"
@@ -40,13 +41,6 @@ T Bilinear(const cv::Mat& image, double x, double y) {
   const T a = image.at<T>(y0, x0), b = image.at<T>(y0, x0 + 1);
   const T c = image.at<T>(y0 + 1, x0), d = image.at<T>(y0 + 1, x0 + 1);
   return (a * (1 - ax) + b * ax) * (1 - ay) + (c * (1 - ax) + d * ax) * ay;
-}
-
-double Percentile(std::vector<double> values, double fraction) {
-  if (values.empty()) return 0;
-  const size_t k = std::min(values.size() - 1, static_cast<size_t>(fraction * values.size()));
-  std::nth_element(values.begin(), values.begin() + k, values.end());
-  return values[k];
 }
 
 struct Agreement {
@@ -168,7 +162,8 @@ INSTANTIATE_TEST_SUITE_P(Lattices,
                                            Case{"pop9_distorted", Distorted(SimCameraSpec::Pop9())},
                                            Case{"integral5x4", SimCameraSpec::Integral5x4()},
                                            Case{"integral5x4_distorted", Distorted(SimCameraSpec::Integral5x4())},
-                                           Case{"pop9_perturbed_distorted", Perturbed(Distorted(SimCameraSpec::Pop9()))}),
+                                           Case{"pop9_perturbed_distorted",
+                                                Perturbed(Distorted(SimCameraSpec::Pop9()))}),
                          [](const auto& param_info) { return param_info.param.name; });
 
 // With perturbed lenses the views are rendered through the true lenses, which the factory
@@ -209,11 +204,13 @@ TEST(PerturbedLensesTest, DrawsAreSeededAndWithinTheMagnitudes) {
     EXPECT_NE(a.lenses[i].camera.fx, c.lenses[i].camera.fx);
     EXPECT_EQ(a.lenses[i].camera.fy / a.lenses[i].camera.fx, factory.lenses[i].camera.fy / factory.lenses[i].camera.fx);
     max_focal = std::max(max_focal, std::abs(a.lenses[i].camera.fx / factory.lenses[i].camera.fx - 1));
-    max_pp = std::max({max_pp, std::abs(a.lenses[i].camera.cx - factory.lenses[i].camera.cx),
+    max_pp = std::max({max_pp,
+                       std::abs(a.lenses[i].camera.cx - factory.lenses[i].camera.cx),
                        std::abs(a.lenses[i].camera.cy - factory.lenses[i].camera.cy)});
     max_rotation = std::max(max_rotation, RotationErrorDeg(a.lenses[i].cam_from_rig, factory.lenses[i].cam_from_rig));
-    max_centre = std::max(max_centre, (CameraCentre(a.lenses[i].cam_from_rig) -
-                                       CameraCentre(factory.lenses[i].cam_from_rig)).cwiseAbs().maxCoeff());
+    max_centre = std::max(
+        max_centre,
+        (CameraCentre(a.lenses[i].cam_from_rig) - CameraCentre(factory.lenses[i].cam_from_rig)).cwiseAbs().maxCoeff());
   }
   EXPECT_LE(max_focal, magnitudes.focal_relative);
   EXPECT_GT(max_focal, 0.3 * magnitudes.focal_relative);

@@ -2,9 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
-#include <sstream>
-
 #include <opencv2/imgproc.hpp>
+#include <sstream>
 
 #include "pipeline/core/check.h"
 
@@ -30,10 +29,14 @@ cv::Rect2d TurnedBounds(const Tile& tile, double margin_px) {
 
 Status LatticeVariation::Validate() const {
   std::ostringstream error;
-  if (!(max_offset_px >= 0 && max_offset_px <= 64)) error << "max_offset_px " << max_offset_px << " is outside [0, 64]";
-  else if (!(max_size_change >= 0 && max_size_change <= 0.2)) error << "max_size_change " << max_size_change << " is outside [0, 0.2]";
-  else if (!(max_rotation_deg >= 0 && max_rotation_deg <= 5)) error << "max_rotation_deg " << max_rotation_deg << " is outside [0, 5]";
-  else if (outer_margin_px < -1) error << "outer_margin_px " << outer_margin_px << " is below -1";
+  if (!(max_offset_px >= 0 && max_offset_px <= 64))
+    error << "max_offset_px " << max_offset_px << " is outside [0, 64]";
+  else if (!(max_size_change >= 0 && max_size_change <= 0.2))
+    error << "max_size_change " << max_size_change << " is outside [0, 0.2]";
+  else if (!(max_rotation_deg >= 0 && max_rotation_deg <= 5))
+    error << "max_rotation_deg " << max_rotation_deg << " is outside [0, 5]";
+  else if (outer_margin_px < -1)
+    error << "outer_margin_px " << outer_margin_px << " is below -1";
   if (error.str().empty()) return OkStatus();
   return InvalidArgumentError("lattice variation: " + error.str());
 }
@@ -50,9 +53,12 @@ StatusOr<LatticeLayout> VariedLayout(const SimCameraSpec& spec, const LatticeVar
   for (Tile& tile : layout.tiles) {
     const double cx = tile.rect.x + shift + 0.5 * tile.rect.width + rng.uniform(-1.0, 1.0) * variation.max_offset_px;
     const double cy = tile.rect.y + shift + 0.5 * tile.rect.height + rng.uniform(-1.0, 1.0) * variation.max_offset_px;
-    const int w = static_cast<int>(std::lround(tile.rect.width * (1 + rng.uniform(-1.0, 1.0) * variation.max_size_change)));
-    const int h = static_cast<int>(std::lround(tile.rect.height * (1 + rng.uniform(-1.0, 1.0) * variation.max_size_change)));
-    tile.rect = cv::Rect(static_cast<int>(std::lround(cx - 0.5 * w)), static_cast<int>(std::lround(cy - 0.5 * h)), w, h);
+    const int w =
+        static_cast<int>(std::lround(tile.rect.width * (1 + rng.uniform(-1.0, 1.0) * variation.max_size_change)));
+    const int h =
+        static_cast<int>(std::lround(tile.rect.height * (1 + rng.uniform(-1.0, 1.0) * variation.max_size_change)));
+    tile.rect =
+        cv::Rect(static_cast<int>(std::lround(cx - 0.5 * w)), static_cast<int>(std::lround(cy - 0.5 * h)), w, h);
     tile.rotation_deg = rng.uniform(-1.0, 1.0) * variation.max_rotation_deg;
   }
   const Status valid = layout.Validate();
@@ -76,8 +82,10 @@ StatusOr<LatticeLayout> VariedLayout(const SimCameraSpec& spec, const LatticeVar
   return layout;
 }
 
-cv::Mat ComposeSensorOnLayout(const SimCameraSpec& spec, const LatticeLayout& layout,
-                              const std::vector<ViewTruth>& views, const std::vector<double>& exposure_gains,
+cv::Mat ComposeSensorOnLayout(const SimCameraSpec& spec,
+                              const LatticeLayout& layout,
+                              const std::vector<ViewTruth>& views,
+                              const std::vector<double>& exposure_gains,
                               uint64_t noise_seed) {
   PX_CHECK(static_cast<int>(views.size()) == layout.NumViews() &&
            static_cast<int>(exposure_gains.size()) == layout.NumViews())
@@ -103,8 +111,13 @@ cv::Mat ComposeSensorOnLayout(const SimCameraSpec& spec, const LatticeLayout& la
     // blending by the warped coverage gives a sub-pixel (anti-aliased) edge.
     cv::Mat value, coverage;
     cv::warpAffine(stored, value, cv::Mat(m), roi.size(), cv::INTER_LINEAR, cv::BORDER_CONSTANT, cv::Scalar::all(0));
-    cv::warpAffine(cv::Mat(stored.size(), CV_32FC3, cv::Scalar::all(1)), coverage, cv::Mat(m), roi.size(),
-                   cv::INTER_LINEAR, cv::BORDER_CONSTANT, cv::Scalar::all(0));
+    cv::warpAffine(cv::Mat(stored.size(), CV_32FC3, cv::Scalar::all(1)),
+                   coverage,
+                   cv::Mat(m),
+                   roi.size(),
+                   cv::INTER_LINEAR,
+                   cv::BORDER_CONSTANT,
+                   cv::Scalar::all(0));
     cv::Mat background = sensor(roi);
     cv::Mat blended = background.mul(cv::Scalar::all(1) - coverage) + value;
     blended.copyTo(background);

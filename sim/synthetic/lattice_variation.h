@@ -4,9 +4,8 @@
 #pragma once
 
 #include <cstdint>
-#include <vector>
-
 #include <opencv2/core.hpp>
+#include <vector>
 
 #include "pipeline/core/lattice_layout.h"
 #include "pipeline/core/status.h"
@@ -16,10 +15,10 @@
 namespace px::sim {
 
 struct LatticeVariation {
-  double max_offset_px = 0;      // each tile's centre moves by up to this in x and y, [0, gap_px / 2)
-  double max_size_change = 0;    // each tile's width and height scale by up to +- this fraction, [0, 0.2]
-  double max_rotation_deg = 0;   // each tile turns by up to +- this, [0, 5]
-  int outer_margin_px = -1;      // the margin around the lattice; -1 = the spec's gap_px
+  double max_offset_px = 0;     // each tile's centre moves by up to this in x and y, [0, gap_px / 2)
+  double max_size_change = 0;   // each tile's width and height scale by up to +- this fraction, [0, 0.2]
+  double max_rotation_deg = 0;  // each tile turns by up to +- this, [0, 5]
+  int outer_margin_px = -1;     // the margin around the lattice; -1 = the spec's gap_px
   uint64_t seed = 1;
 
   Status Validate() const;
@@ -35,8 +34,10 @@ StatusOr<LatticeLayout> VariedLayout(const SimCameraSpec& spec, const LatticeVar
 // (with exposure gain, vignetting and noise) is resized to the tile's rect, put in its
 // orientation and turned by its rotation_deg about the rect's centre (bilinear); the rest of the
 // sensor is the spec's gap level with its noise.
-cv::Mat ComposeSensorOnLayout(const SimCameraSpec& spec, const LatticeLayout& layout,
-                              const std::vector<ViewTruth>& views, const std::vector<double>& exposure_gains,
+cv::Mat ComposeSensorOnLayout(const SimCameraSpec& spec,
+                              const LatticeLayout& layout,
+                              const std::vector<ViewTruth>& views,
+                              const std::vector<double>& exposure_gains,
                               uint64_t noise_seed);
 
 }  // namespace px::sim

@@ -1,11 +1,10 @@
 #include "sim/synthetic/lens_perturbation.h"
 
+#include <Eigen/Geometry>
 #include <cmath>
+#include <opencv2/core.hpp>
 #include <sstream>
 #include <string>
-
-#include <Eigen/Geometry>
-#include <opencv2/core.hpp>
 
 namespace px {
 namespace {
@@ -46,9 +45,9 @@ RigCalibration PerturbLenses(const RigCalibration& factory, const LensPerturbati
     const Eigen::Quaterniond turn(Eigen::AngleAxisd(rx * k, Eigen::Vector3d::UnitX()) *
                                   Eigen::AngleAxisd(ry * k, Eigen::Vector3d::UnitY()) *
                                   Eigen::AngleAxisd(rz * k, Eigen::Vector3d::UnitZ()));
-    const Eigen::Vector3d centre = CameraCentre(lens.cam_from_rig) +
-                                   Eigen::Vector3d(draw(magnitudes.centre_m), draw(magnitudes.centre_m),
-                                                   draw(magnitudes.centre_m));
+    const Eigen::Vector3d centre =
+        CameraCentre(lens.cam_from_rig) +
+        Eigen::Vector3d(draw(magnitudes.centre_m), draw(magnitudes.centre_m), draw(magnitudes.centre_m));
     const Eigen::Quaterniond rotation = (turn * lens.cam_from_rig.rotation).normalized();
     lens.cam_from_rig = Rigid3(rotation, -(rotation * centre));
   }

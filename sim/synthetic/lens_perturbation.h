@@ -13,10 +13,10 @@ namespace px {
 
 // Each quantity is drawn uniformly in [-magnitude, +magnitude], independently per lens.
 struct LensPerturbation {
-  double focal_relative = 0.01;    // fx and fy scaled together by 1 + u, [0, 0.2]
-  double principal_point_px = 2.0; // cx and cy shifted by u pixels each, [0, 50]
-  double rotation_deg = 0.3;       // rotation about each of the lens's x, y, z axes, [0, 10]
-  double centre_m = 0.0005;        // centre moved along each rig axis, metres, [0, 0.05]
+  double focal_relative = 0.01;     // fx and fy scaled together by 1 + u, [0, 0.2]
+  double principal_point_px = 2.0;  // cx and cy shifted by u pixels each, [0, 50]
+  double rotation_deg = 0.3;        // rotation about each of the lens's x, y, z axes, [0, 10]
+  double centre_m = 0.0005;         // centre moved along each rig axis, metres, [0, 0.05]
 
   Status Validate() const;
 };

@@ -506,7 +506,8 @@ RenderedView RenderView(const Scene& scene, const CameraRays& rays, const Rigid3
               for (int k = 0; k < kEdgeSupersampling * kEdgeSupersampling; ++k) {
                 const double ox = CameraRays::StratumOffset(k % kEdgeSupersampling, kEdgeSupersampling);
                 const double oy = CameraRays::StratumOffset(k / kEdgeSupersampling, kEdgeSupersampling);
-                const Vec3 dir = world_from_cam * (centre_cam + Vec3(jx[0] * ox + jy[0] * oy, jx[1] * ox + jy[1] * oy, 0));
+                const Vec3 dir =
+                    world_from_cam * (centre_cam + Vec3(jx[0] * ox + jy[0] * oy, jx[1] * ox + jy[1] * oy, 0));
                 const Hit hit = tracer.Trace(dir, candidates);
                 sum += hit.kind == HitKind::kNone ? scene.background_bgr
                                                   : tracer.Shade(hit, dir, edge_sample_spacing, mip_bias);

@@ -130,8 +130,10 @@ TEST(RayCasterTest, SilhouettePixelsRecordTheirCoverage) {
     }
   }
   ASSERT_GT(edge_pixels, 500);
-  std::printf("%d silhouette pixels: coverage error mean %.2f, max %.1f levels\n", edge_pixels,
-              sum_error / edge_pixels, max_error);
+  std::printf("%d silhouette pixels: coverage error mean %.2f, max %.1f levels\n",
+              edge_pixels,
+              sum_error / edge_pixels,
+              max_error);
   // Measured: mean 1.71, max 10.5 levels (8x8 rays: steps of 4). The 2x2 rays alone (steps of
   // 64, and pixels missed where the edge passes between the rays) gave mean 18.2, max 58.0.
   EXPECT_LT(sum_error / edge_pixels, 4.0);

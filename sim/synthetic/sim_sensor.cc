@@ -75,9 +75,8 @@ StatusOr<std::vector<ViewTruth>> RenderLatticeViews(const Scene& scene, const Si
   std::vector<ViewTruth> views;
   for (int i = 0; i < rig.NumViews(); ++i) {
     const CameraModel& camera = rig.lenses[i].camera;
-    if (!rays || rays->camera().fx != camera.fx || rays->camera().fy != camera.fy ||
-        rays->camera().cx != camera.cx || rays->camera().cy != camera.cy ||
-        rays->camera().distortion != camera.distortion) {
+    if (!rays || rays->camera().fx != camera.fx || rays->camera().fy != camera.fy || rays->camera().cx != camera.cx ||
+        rays->camera().cy != camera.cy || rays->camera().distortion != camera.distortion) {
       PX_ASSIGN_OR_RETURN(CameraRays table, CameraRays::Make(camera, spec.supersampling));
       rays = std::move(table);
     }

@@ -10,12 +10,12 @@
 // returning a Status with code UNAVAILABLE from `make`.
 #pragma once
 
+#include <gtest/gtest.h>
+
 #include <filesystem>
 #include <functional>
 #include <memory>
 #include <string>
-
-#include <gtest/gtest.h>
 
 #include "drivers/source/clock.h"
 #include "drivers/source/frame_source.h"

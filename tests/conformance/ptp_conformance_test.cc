@@ -50,11 +50,12 @@ StatusOr<std::unique_ptr<FrameSource>> MakeUsbPtp(Clock* clock) {
   return std::unique_ptr<FrameSource>(std::make_unique<UsbCameraSource>(std::move(camera), std::move(source)));
 }
 
-INSTANTIATE_TEST_SUITE_P(Ptp, FrameSourceConformance,
-                         ::testing::Values(SourceCase{"ptp_simulated", [](const auto&, Clock* c) { return MakeSimulatedPtp(c); }},
-                                           SourceCase{"ptp_libusb_umockdev",
-                                                      [](const auto&, Clock* c) { return MakeUsbPtp(c); }}),
-                         SourceCaseName);
+INSTANTIATE_TEST_SUITE_P(
+    Ptp,
+    FrameSourceConformance,
+    ::testing::Values(SourceCase{"ptp_simulated", [](const auto&, Clock* c) { return MakeSimulatedPtp(c); }},
+                      SourceCase{"ptp_libusb_umockdev", [](const auto&, Clock* c) { return MakeUsbPtp(c); }}),
+    SourceCaseName);
 
 }  // namespace
 }  // namespace px::conformance

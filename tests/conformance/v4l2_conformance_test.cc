@@ -33,8 +33,9 @@ class EmulatedV4l2Source final : public FrameSource {
   std::unique_ptr<V4l2Source> source_;
 };
 
-StatusOr<std::unique_ptr<FrameSource>> MakeEmulated(const std::filesystem::path& dir, std::vector<uint32_t> fourccs,
-                                                     bool with_rig) {
+StatusOr<std::unique_ptr<FrameSource>> MakeEmulated(const std::filesystem::path& dir,
+                                                    std::vector<uint32_t> fourccs,
+                                                    bool with_rig) {
   PX_ASSIGN_OR_RETURN(auto testbed, testing::EmulatedV4l2Testbed::Create());  // UNAVAILABLE skips
   PX_ASSIGN_OR_RETURN(cv::Mat frame, testing::SmallPop9FrameBgr());
   testing::EmulatedCameraOptions camera;
@@ -53,7 +54,8 @@ StatusOr<std::unique_ptr<FrameSource>> MakeEmulated(const std::filesystem::path&
 std::vector<SourceCase> AllSources() {
   return {
       {"v4l2_bgr24_rig", [](const auto& dir, Clock*) { return MakeEmulated(dir, {V4L2_PIX_FMT_BGR24}, true); }},
-      {"v4l2_yuyv_nv12", [](const auto& dir, Clock*) {
+      {"v4l2_yuyv_nv12",
+       [](const auto& dir, Clock*) {
          return MakeEmulated(dir, {V4L2_PIX_FMT_YUYV, V4L2_PIX_FMT_NV12}, false);
        }},
       {"v4l2_mjpeg_rig", [](const auto& dir, Clock*) { return MakeEmulated(dir, {V4L2_PIX_FMT_MJPEG}, true); }},

@@ -1,10 +1,10 @@
 #include "tests/drivers/emulated_v4l2_device.h"
 
 #include <fcntl.h>
-#include <unistd.h>
-#include <umockdev.h>
-
+#include <gtest/gtest.h>
 #include <linux/version.h>
+#include <umockdev.h>
+#include <unistd.h>
 
 #include <algorithm>
 #include <cerrno>
@@ -12,12 +12,10 @@
 #include <cstring>
 #include <ctime>
 #include <fstream>
-#include <optional>
-#include <utility>
-
-#include <gtest/gtest.h>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
+#include <optional>
+#include <utility>
 
 #include "pipeline/core/pixel_format.h"
 
@@ -103,7 +101,8 @@ EmulatedV4l2Camera::EmulatedV4l2Camera(const EmulatedCameraOptions& options, cv:
     v4l2_queryctrl auto_exposure = IntegerControl(V4L2_CID_EXPOSURE_AUTO, "Auto Exposure", 0, 3, V4L2_EXPOSURE_AUTO);
     auto_exposure.type = V4L2_CTRL_TYPE_MENU;
     controls_[V4L2_CID_EXPOSURE_AUTO] = {auto_exposure, V4L2_EXPOSURE_AUTO};
-    controls_[V4L2_CID_EXPOSURE_ABSOLUTE] = {IntegerControl(V4L2_CID_EXPOSURE_ABSOLUTE, "Exposure Time, Absolute", 1, 5000, 156), 156};
+    controls_[V4L2_CID_EXPOSURE_ABSOLUTE] = {
+        IntegerControl(V4L2_CID_EXPOSURE_ABSOLUTE, "Exposure Time, Absolute", 1, 5000, 156), 156};
     controls_[V4L2_CID_GAIN] = {IntegerControl(V4L2_CID_GAIN, "Gain", 0, 255, 32), 32};
   }
   // The first format at the first size, as a driver starts.
@@ -408,8 +407,8 @@ EmulatedV4l2Camera::Answer EmulatedV4l2Camera::Dispatch(UMockdevIoctlClient* cli
       auto it = controls_.find(query->id);
       if (it == controls_.end()) return Fail(EINVAL);
       *query = it->second.query;
-      const bool manual = controls_.count(V4L2_CID_EXPOSURE_AUTO) &&
-                          controls_.at(V4L2_CID_EXPOSURE_AUTO).value == V4L2_EXPOSURE_MANUAL;
+      const bool manual =
+          controls_.count(V4L2_CID_EXPOSURE_AUTO) && controls_.at(V4L2_CID_EXPOSURE_AUTO).value == V4L2_EXPOSURE_MANUAL;
       if (query->id == V4L2_CID_EXPOSURE_ABSOLUTE && !manual) query->flags |= V4L2_CTRL_FLAG_INACTIVE;
       return Ok();
     }
@@ -429,7 +428,8 @@ EmulatedV4l2Camera::Answer EmulatedV4l2Camera::Dispatch(UMockdevIoctlClient* cli
         return Fail(EINVAL);  // like many webcams: only auto and manual
       }
       // uvcvideo refuses a fixed exposure while auto exposure is on.
-      if (control->id == V4L2_CID_EXPOSURE_ABSOLUTE && controls_[V4L2_CID_EXPOSURE_AUTO].value != V4L2_EXPOSURE_MANUAL) {
+      if (control->id == V4L2_CID_EXPOSURE_ABSOLUTE &&
+          controls_[V4L2_CID_EXPOSURE_AUTO].value != V4L2_EXPOSURE_MANUAL) {
         return Fail(EACCES);
       }
       it->second.value = control->value;
@@ -478,13 +478,14 @@ Status EmulatedV4l2Testbed::AddPlainNode(const std::string& node) { return AddNo
 
 StatusOr<EmulatedV4l2Camera*> EmulatedV4l2Testbed::AddCamera(const EmulatedCameraOptions& options,
                                                              const cv::Mat& frame_bgr) {
-  if (frame_bgr.type() != CV_8UC3 || frame_bgr.empty()) return InvalidArgumentError("emulated camera: want a BGR image");
+  if (frame_bgr.type() != CV_8UC3 || frame_bgr.empty())
+    return InvalidArgumentError("emulated camera: want a BGR image");
   PX_RETURN_IF_ERROR(AddNode(options.node));
   auto camera = std::make_unique<EmulatedV4l2Camera>(options, frame_bgr, root_ + "/dev/" + options.node);
   GError* error = nullptr;
   if (!umockdev_testbed_attach_ioctl(testbed_, camera->DevicePath().c_str(), camera->handler(), &error)) {
-    Status status = InternalError("umockdev: cannot attach to " + camera->DevicePath() + ": " +
-                                  (error ? error->message : "?"));
+    Status status =
+        InternalError("umockdev: cannot attach to " + camera->DevicePath() + ": " + (error ? error->message : "?"));
     if (error != nullptr) g_error_free(error);
     return status;
   }

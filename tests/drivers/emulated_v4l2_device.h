@@ -16,10 +16,9 @@
 #include <map>
 #include <memory>
 #include <mutex>
+#include <opencv2/core.hpp>
 #include <string>
 #include <vector>
-
-#include <opencv2/core.hpp>
 
 #include "pipeline/core/status.h"
 
@@ -30,14 +29,18 @@ typedef struct _UMockdevIoctlClient UMockdevIoctlClient;
 namespace px::testing {
 
 struct EmulatedCameraOptions {
-  std::string node = "video0";  // appears as /dev/<node>
+  std::string node = "video0";                  // appears as /dev/<node>
   std::string card = "Parallax emulated Pop9";  // QUERYCAP's card holds 31 characters
   std::string driver = "px_emulated";
   std::string bus_info = "platform:px-emulated";
   uint32_t device_caps = V4L2_CAP_VIDEO_CAPTURE | V4L2_CAP_STREAMING;
   // Offered formats, in ENUM_FMT order.
-  std::vector<uint32_t> fourccs = {V4L2_PIX_FMT_YUYV, V4L2_PIX_FMT_NV12,  V4L2_PIX_FMT_MJPEG, V4L2_PIX_FMT_SRGGB8,
-                                   V4L2_PIX_FMT_BGR24, V4L2_PIX_FMT_GREY};
+  std::vector<uint32_t> fourccs = {V4L2_PIX_FMT_YUYV,
+                                   V4L2_PIX_FMT_NV12,
+                                   V4L2_PIX_FMT_MJPEG,
+                                   V4L2_PIX_FMT_SRGGB8,
+                                   V4L2_PIX_FMT_BGR24,
+                                   V4L2_PIX_FMT_GREY};
   std::vector<cv::Size> sizes;  // discrete sizes for every format; empty = the served image's size only
   int row_padding = 24;         // bytes after each row (bytesperline > packed row), filled with 0xEE
   bool controls = true;         // auto exposure, exposure (1..5000) and gain (0..255)
@@ -52,20 +55,20 @@ class EmulatedV4l2Camera {
   std::string DevicePath() const { return "/dev/" + options_.node; }
 
   // Faults, effective from the next ioctl.
-  void SetVanished(bool vanished);               // every ioctl fails with ENODEV (unplugged)
-  void SetStalled(bool stalled);                 // DQBUF answers EAGAIN: no frame arrives
-  void ShortenFrames(uint32_t bytes_used);       // frames carry only this many bytes (0 = whole again)
-  void SetDriverFourccOverride(uint32_t fourcc); // S_FMT grants this fourcc whatever was asked (0 = off)
+  void SetVanished(bool vanished);                // every ioctl fails with ENODEV (unplugged)
+  void SetStalled(bool stalled);                  // DQBUF answers EAGAIN: no frame arrives
+  void ShortenFrames(uint32_t bytes_used);        // frames carry only this many bytes (0 = whole again)
+  void SetDriverFourccOverride(uint32_t fourcc);  // S_FMT grants this fourcc whatever was asked (0 = off)
 
   // What the client negotiated and what it was served.
   uint32_t Fourcc() const;
   cv::Size Size() const;
   uint32_t BytesPerLine() const;
-  cv::Mat SourceBgr() const;              // the served image at the negotiated size (BGR)
+  cv::Mat SourceBgr() const;                 // the served image at the negotiated size (BGR)
   std::vector<uint8_t> PackedFrame() const;  // that image encoded in the negotiated format, rows unpadded
   uint64_t FramesServed() const;
   bool Streaming() const;
-  int32_t Control(uint32_t id) const;     // current value of a control
+  int32_t Control(uint32_t id) const;           // current value of a control
   std::vector<uint32_t> ControlWrites() const;  // ids written with S_CTRL, in order
 
   // The handler (umockdev's thread); public for the C callback.
@@ -87,7 +90,7 @@ class EmulatedV4l2Camera {
 
   Answer Dispatch(UMockdevIoctlClient* client, unsigned long request, void* arg);
   void Adjust(v4l2_pix_format* pix) const;  // what TRY_FMT and S_FMT grant
-  void PrepareFrame();                       // encodes the image for the current format
+  void PrepareFrame();                      // encodes the image for the current format
   void ReleaseBuffers();
   bool Owned(UMockdevIoctlClient* client) const { return owner_ == nullptr || owner_ == client; }
 
@@ -99,8 +102,8 @@ class EmulatedV4l2Camera {
   mutable std::mutex mutex_;
   v4l2_pix_format format_{};
   cv::Mat sized_bgr_;
-  std::vector<uint8_t> packed_;   // unpadded encoding
-  std::vector<uint8_t> frame_;    // what DQBUF writes (padded rows, or the JPEG)
+  std::vector<uint8_t> packed_;           // unpadded encoding
+  std::vector<uint8_t> frame_;            // what DQBUF writes (padded rows, or the JPEG)
   UMockdevIoctlClient* owner_ = nullptr;  // the file handle that holds the buffers (vb2's owner)
   uint32_t buffer_count_ = 0;
   uint32_t buffer_size_ = 0;

@@ -1,12 +1,13 @@
 // PTP containers, strings, arrays and datasets: round trips, exact bytes, and garbled input
 // that must fail with an error naming the field (never a crash or an over-read).
+#include "drivers/ptp/ptp_container.h"
+
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
 #include <random>
 
 #include "drivers/ptp/ptp_bytes.h"
-#include "drivers/ptp/ptp_container.h"
 #include "drivers/ptp/ptp_datasets.h"
 
 namespace px::ptp {
@@ -50,7 +51,8 @@ TEST(PtpContainer, CommandEncodesToTheExactBytes) {
   Container command{ContainerType::kCommand, op::kGetObject, 0x01020304, {0xAABBCCDD}, {}};
   auto bytes = EncodeContainer(command);
   ASSERT_TRUE(bytes.ok()) << bytes.status().ToString();
-  const std::vector<uint8_t> want = {0x10, 0, 0, 0, 0x01, 0x00, 0x09, 0x10, 0x04, 0x03, 0x02, 0x01, 0xDD, 0xCC, 0xBB, 0xAA};
+  const std::vector<uint8_t> want = {
+      0x10, 0, 0, 0, 0x01, 0x00, 0x09, 0x10, 0x04, 0x03, 0x02, 0x01, 0xDD, 0xCC, 0xBB, 0xAA};
   EXPECT_EQ(*bytes, want);
 }
 

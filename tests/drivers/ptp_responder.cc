@@ -1,9 +1,8 @@
 #include "tests/drivers/ptp_responder.h"
 
 #include <cstdio>
-#include <thread>
-
 #include <opencv2/imgcodecs.hpp>
+#include <thread>
 
 #include "drivers/ptp/ptp_codes.h"
 #include "sim/synthetic/data_paths.h"
@@ -19,22 +18,37 @@ using std::chrono::steady_clock;
 struct Le {
   std::vector<uint8_t> b;
   void u8(uint8_t v) { b.push_back(v); }
-  void u16(uint16_t v) { u8(v & 0xff); u8(v >> 8); }
-  void u32(uint32_t v) { u16(v & 0xffff); u16(v >> 16); }
+  void u16(uint16_t v) {
+    u8(v & 0xff);
+    u8(v >> 8);
+  }
+  void u32(uint32_t v) {
+    u16(v & 0xffff);
+    u16(v >> 16);
+  }
   void str(const std::string& s) {
-    if (s.empty()) { u8(0); return; }
+    if (s.empty()) {
+      u8(0);
+      return;
+    }
     u8(static_cast<uint8_t>(s.size() + 1));
     for (char c : s) u16(static_cast<uint8_t>(c));
     u16(0);
   }
-  void a16(const std::vector<uint16_t>& v) { u32(static_cast<uint32_t>(v.size())); for (auto x : v) u16(x); }
+  void a16(const std::vector<uint16_t>& v) {
+    u32(static_cast<uint32_t>(v.size()));
+    for (auto x : v) u16(x);
+  }
 };
 
 uint32_t Get32(const uint8_t* p) { return p[0] | (p[1] << 8) | (p[2] << 16) | (static_cast<uint32_t>(p[3]) << 24); }
 uint16_t Get16(const uint8_t* p) { return static_cast<uint16_t>(p[0] | (p[1] << 8)); }
 
-std::vector<uint8_t> MakeContainer(uint16_t type, uint16_t code, uint32_t transaction,
-                                   const std::vector<uint32_t>& params, const std::vector<uint8_t>* payload) {
+std::vector<uint8_t> MakeContainer(uint16_t type,
+                                   uint16_t code,
+                                   uint32_t transaction,
+                                   const std::vector<uint32_t>& params,
+                                   const std::vector<uint8_t>* payload) {
   Le out;
   const size_t length = 12 + 4 * params.size() + (payload ? payload->size() : 0);
   out.u32(static_cast<uint32_t>(length));
@@ -48,7 +62,8 @@ std::vector<uint8_t> MakeContainer(uint16_t type, uint16_t code, uint32_t transa
 
 }  // namespace
 
-PtpResponder::PtpResponder(ResponderOptions options) : options_(std::move(options)), busy_left_(options_.busy_replies) {}
+PtpResponder::PtpResponder(ResponderOptions options)
+    : options_(std::move(options)), busy_left_(options_.busy_replies) {}
 
 std::string PtpResponder::DeviceName() const {
   char text[48];
@@ -80,7 +95,10 @@ void PtpResponder::QueueBulkIn(std::vector<uint8_t> container) {
   activity_.notify_all();
 }
 
-void PtpResponder::Answer(uint16_t code, uint32_t transaction, const std::vector<uint8_t>* data, uint16_t response,
+void PtpResponder::Answer(uint16_t code,
+                          uint32_t transaction,
+                          const std::vector<uint8_t>* data,
+                          uint16_t response,
                           std::vector<uint32_t> response_params) {
   if (data) QueueBulkIn(MakeContainer(2, code, transaction, {}, data));
   QueueBulkIn(MakeContainer(3, response, transaction, response_params, nullptr));
@@ -256,8 +274,14 @@ std::vector<uint8_t> PtpResponder::DeviceInfoDataset() const {
   out.u16(0);
   out.str("");
   out.u16(0);  // FunctionalMode
-  out.a16({op::kGetDeviceInfo, op::kOpenSession, op::kCloseSession, op::kGetObjectInfo, op::kGetObject,
-           op::kDeleteObject, op::kInitiateCapture, op::kGetDevicePropValue});
+  out.a16({op::kGetDeviceInfo,
+           op::kOpenSession,
+           op::kCloseSession,
+           op::kGetObjectInfo,
+           op::kGetObject,
+           op::kDeleteObject,
+           op::kInitiateCapture,
+           op::kGetDevicePropValue});
   std::vector<uint16_t> events = {ev::kObjectAdded};
   if (options_.capture_complete_event) events.push_back(ev::kCaptureComplete);
   out.a16(events);

@@ -16,12 +16,11 @@
 #include <map>
 #include <memory>
 #include <mutex>
+#include <opencv2/core.hpp>
 #include <optional>
 #include <span>
 #include <string>
 #include <vector>
-
-#include <opencv2/core.hpp>
 
 #include "drivers/ptp/ptp_transport.h"
 
@@ -30,12 +29,12 @@ namespace px::ptp::testing {
 struct ResponderOptions {
   std::string manufacturer = "Parallax Sim";
   std::string model = "Handheld PTP";
-  uint16_t vendor_id = 0x1d6b;   // for the device name, "sim-ptp (1d6b:0104)"
+  uint16_t vendor_id = 0x1d6b;  // for the device name, "sim-ptp (1d6b:0104)"
   uint16_t product_id = 0x0104;
   std::vector<std::vector<uint8_t>> jpegs;  // served in turn, one per capture (cycled)
-  int image_width = 0;           // reported ImageSize; 0 = do not support the property
+  int image_width = 0;                      // reported ImageSize; 0 = do not support the property
   int image_height = 0;
-  size_t max_packet = 512;       // bulk-in wMaxPacketSize
+  size_t max_packet = 512;  // bulk-in wMaxPacketSize
   bool capture_complete_event = true;
   std::chrono::milliseconds event_delay{0};  // between InitiateCapture's response and ObjectAdded
 
@@ -66,14 +65,14 @@ class PtpResponder {
 
   // What happened, for assertions.
   struct Stats {
-    int captures = 0;            // InitiateCapture answered OK
+    int captures = 0;  // InitiateCapture answered OK
     int busy_answers = 0;
-    int objects_sent = 0;        // GetObject data phases
+    int objects_sent = 0;  // GetObject data phases
     int objects_deleted = 0;
     int sessions_opened = 0;
     int sessions_closed = 0;
-    std::vector<uint16_t> operations;        // in order received
-    std::vector<uint32_t> transaction_ids;   // in order received
+    std::vector<uint16_t> operations;       // in order received
+    std::vector<uint32_t> transaction_ids;  // in order received
     int bulk_in_transfers = 0;
     int zero_length_packets = 0;
   };
@@ -85,7 +84,10 @@ class PtpResponder {
     std::string filename;
   };
 
-  void Answer(uint16_t code, uint32_t transaction, const std::vector<uint8_t>* data, uint16_t response,
+  void Answer(uint16_t code,
+              uint32_t transaction,
+              const std::vector<uint8_t>* data,
+              uint16_t response,
               std::vector<uint32_t> response_params = {});
   void QueueBulkIn(std::vector<uint8_t> container);
   void Handle(uint16_t code, uint32_t transaction, const std::vector<uint32_t>& params);

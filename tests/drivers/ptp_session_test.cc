@@ -1,9 +1,10 @@
 // The PTP session against the simulated camera: transactions, multi-transfer data phases,
 // zero-length packets, DeviceBusy retries, event deadlines, non-OK responses, a lost device.
+#include "drivers/ptp/ptp_session.h"
+
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
-#include "drivers/ptp/ptp_session.h"
 #include "tests/drivers/ptp_responder.h"
 
 namespace px::ptp::testing {
@@ -45,8 +46,8 @@ TEST(PtpSession, DeviceInfoThenSessionWithTransactionIds) {
   ASSERT_TRUE(f.session->InitiateCapture().ok());
   ASSERT_TRUE(f.session->CloseSession().ok());
   const auto stats = f.responder->stats();
-  EXPECT_EQ(stats.operations, (std::vector<uint16_t>{op::kGetDeviceInfo, op::kOpenSession, op::kInitiateCapture,
-                                                     op::kCloseSession}));
+  EXPECT_EQ(stats.operations,
+            (std::vector<uint16_t>{op::kGetDeviceInfo, op::kOpenSession, op::kInitiateCapture, op::kCloseSession}));
   // OpenSession is transaction 0; numbering restarts at 1 within the session.
   EXPECT_EQ(stats.transaction_ids, (std::vector<uint32_t>{0, 0, 1, 2}));
   EXPECT_EQ(stats.sessions_closed, 1);

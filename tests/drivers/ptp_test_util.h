@@ -1,9 +1,9 @@
 // Shared set-up for the PTP tests: a simulated camera serving hand-held shots of a small Pop9.
 #pragma once
 
-#include <memory>
-
 #include <gtest/gtest.h>
+
+#include <memory>
 
 #include "drivers/ptp/ptp_source.h"
 #include "tests/drivers/ptp_responder.h"

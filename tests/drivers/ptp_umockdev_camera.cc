@@ -26,15 +26,65 @@ std::vector<uint8_t> Descriptors(const PtpResponder& responder, uint16_t vendor,
   auto lo = [](uint16_t v) { return static_cast<uint8_t>(v & 0xff); };
   auto hi = [](uint16_t v) { return static_cast<uint8_t>(v >> 8); };
   std::vector<uint8_t> d = {
-      18, 1, 0x00, 0x02, 0, 0, 0, 64, lo(vendor), hi(vendor), lo(product), hi(product), 0x00, 0x01, 0, 0, 0, 1,
+      18,
+      1,
+      0x00,
+      0x02,
+      0,
+      0,
+      0,
+      64,
+      lo(vendor),
+      hi(vendor),
+      lo(product),
+      hi(product),
+      0x00,
+      0x01,
+      0,
+      0,
+      0,
+      1,
       // configuration: 9 + 9 + 3 * 7 = 39 bytes
-      9, 2, 39, 0, 1, 1, 0, 0xC0, 50,
+      9,
+      2,
+      39,
+      0,
+      1,
+      1,
+      0,
+      0xC0,
+      50,
       // interface 0: still image (6/1/1) or vendor specific
-      9, 4, 0, 0, 3, static_cast<uint8_t>(ptp_class ? 6 : 0xFF), static_cast<uint8_t>(ptp_class ? 1 : 0xFF),
-      static_cast<uint8_t>(ptp_class ? 1 : 0xFF), 0,
-      7, 5, kBulkIn, 2, lo(packet), hi(packet), 0,
-      7, 5, kBulkOut, 2, lo(packet), hi(packet), 0,
-      7, 5, kInterruptIn, 3, lo(kInterruptPacket), hi(kInterruptPacket), 8,
+      9,
+      4,
+      0,
+      0,
+      3,
+      static_cast<uint8_t>(ptp_class ? 6 : 0xFF),
+      static_cast<uint8_t>(ptp_class ? 1 : 0xFF),
+      static_cast<uint8_t>(ptp_class ? 1 : 0xFF),
+      0,
+      7,
+      5,
+      kBulkIn,
+      2,
+      lo(packet),
+      hi(packet),
+      0,
+      7,
+      5,
+      kBulkOut,
+      2,
+      lo(packet),
+      hi(packet),
+      0,
+      7,
+      5,
+      kInterruptIn,
+      3,
+      lo(kInterruptPacket),
+      hi(kInterruptPacket),
+      8,
   };
   return d;
 }
@@ -106,8 +156,8 @@ struct UmockdevPtpCamera::Impl {
         it->status = -ENODEV;
       } else {
         const int length = reinterpret_cast<usbdevfs_urb*>(it->urb->data)->buffer_length;
-        auto bytes = it->endpoint == kInterruptIn ? responder->TakeEvent()
-                                                  : responder->TakeBulkIn(static_cast<size_t>(length));
+        auto bytes =
+            it->endpoint == kInterruptIn ? responder->TakeEvent() : responder->TakeBulkIn(static_cast<size_t>(length));
         if (!bytes) {
           ++it;
           continue;
@@ -181,14 +231,14 @@ struct UmockdevPtpCamera::Impl {
         urb.urb = umockdev_ioctl_data_resolve(arg, 0, sizeof(usbdevfs_urb), nullptr);
         auto* raw = reinterpret_cast<usbdevfs_urb*>(urb.urb->data);
         urb.endpoint = raw->endpoint;
-        urb.buffer = raw->buffer_length > 0
-                         ? umockdev_ioctl_data_resolve(urb.urb, offsetof(usbdevfs_urb, buffer),
-                                                       static_cast<size_t>(raw->buffer_length), nullptr)
-                         : nullptr;
+        urb.buffer =
+            raw->buffer_length > 0
+                ? umockdev_ioctl_data_resolve(
+                      urb.urb, offsetof(usbdevfs_urb, buffer), static_cast<size_t>(raw->buffer_length), nullptr)
+                : nullptr;
         if (urb.endpoint == kBulkOut) {
-          const bool accepted = responder->HandleBulkOut(
-              std::span<const uint8_t>(urb.buffer ? urb.buffer->data : nullptr,
-                                       static_cast<size_t>(raw->buffer_length)));
+          const bool accepted = responder->HandleBulkOut(std::span<const uint8_t>(
+              urb.buffer ? urb.buffer->data : nullptr, static_cast<size_t>(raw->buffer_length)));
           urb.status = accepted ? 0 : -ENODEV;
           urb.actual = accepted ? raw->buffer_length : 0;
           completed.push_back(urb);
@@ -237,10 +287,10 @@ struct UmockdevPtpCamera::Impl {
         completed.pop_front();
         int status = urb.status;
         int actual = urb.actual;
-        umockdev_ioctl_data_update(urb.urb, offsetof(usbdevfs_urb, status), reinterpret_cast<guint8*>(&status),
-                                   sizeof(status));
-        umockdev_ioctl_data_update(urb.urb, offsetof(usbdevfs_urb, actual_length), reinterpret_cast<guint8*>(&actual),
-                                   sizeof(actual));
+        umockdev_ioctl_data_update(
+            urb.urb, offsetof(usbdevfs_urb, status), reinterpret_cast<guint8*>(&status), sizeof(status));
+        umockdev_ioctl_data_update(
+            urb.urb, offsetof(usbdevfs_urb, actual_length), reinterpret_cast<guint8*>(&actual), sizeof(actual));
         UMockdevIoctlData* data = umockdev_ioctl_data_resolve(arg, 0, sizeof(void*), nullptr);
         umockdev_ioctl_data_set_ptr(data, 0, urb.urb);
         g_object_unref(data);
@@ -280,7 +330,7 @@ UmockdevPtpCamera::Counters UmockdevPtpCamera::counters() const {
 }
 
 StatusOr<std::unique_ptr<UmockdevPtpCamera>> UmockdevPtpCamera::Create(std::shared_ptr<PtpResponder> responder,
-                                                                      UmockdevCameraOptions options) {
+                                                                       UmockdevCameraOptions options) {
   PX_RETURN_IF_ERROR(CheckUmockdevEnvironment());
   auto impl = std::make_unique<Impl>();
   impl->responder = responder;
@@ -303,17 +353,14 @@ StatusOr<std::unique_ptr<UmockdevPtpCamera>> UmockdevPtpCamera::Create(std::shar
   const std::string sysname = std::to_string(options.bus) + "-1";
   impl->syspath = "/sys/devices/pci0000:00/0000:00:14.0/usb" + std::to_string(options.bus) + "/" + sysname;
   const std::string record =
-      "P: /devices/pci0000:00/0000:00:14.0/usb" + std::to_string(options.bus) + "/" + sysname + "\n" +
-      "N: bus/usb/" + bus + "/" + address + "=" + descriptors + "\n" +
-      "E: DEVNAME=" + impl->node + "\n" +
-      "E: DEVTYPE=usb_device\nE: DRIVER=usb\nE: SUBSYSTEM=usb\n" +
-      "E: BUSNUM=" + bus + "\nE: DEVNUM=" + address + "\n" +
-      "E: PRODUCT=" + std::string(ids).replace(4, 1, "/") + "/100\n" +
+      "P: /devices/pci0000:00/0000:00:14.0/usb" + std::to_string(options.bus) + "/" + sysname + "\n" + "N: bus/usb/" +
+      bus + "/" + address + "=" + descriptors + "\n" + "E: DEVNAME=" + impl->node + "\n" +
+      "E: DEVTYPE=usb_device\nE: DRIVER=usb\nE: SUBSYSTEM=usb\n" + "E: BUSNUM=" + bus + "\nE: DEVNUM=" + address +
+      "\n" + "E: PRODUCT=" + std::string(ids).replace(4, 1, "/") + "/100\n" +
       // Attribute values end in a newline, as sysfs files do (the record escapes it as \n).
       "A: busnum=" + std::to_string(options.bus) + "\\n\nA: devnum=" + std::to_string(options.address) + "\\n\n" +
-      "A: speed=480\\n\nA: bConfigurationValue=1\\n\nA: bNumInterfaces= 1\\n\n" +
-      "A: idVendor=" + std::string(ids, 4) + "\\n\nA: idProduct=" + std::string(ids + 5, 4) + "\\n\n" +
-      "H: descriptors=" + descriptors + "\n";
+      "A: speed=480\\n\nA: bConfigurationValue=1\\n\nA: bNumInterfaces= 1\\n\n" + "A: idVendor=" + std::string(ids, 4) +
+      "\\n\nA: idProduct=" + std::string(ids + 5, 4) + "\\n\n" + "H: descriptors=" + descriptors + "\n";
   GError* error = nullptr;
   if (!umockdev_testbed_add_from_string(impl->testbed, record.c_str(), &error)) {
     std::string message = error ? error->message : "unknown error";

@@ -3,7 +3,6 @@
 #pragma once
 
 #include <filesystem>
-
 #include <opencv2/core.hpp>
 
 #include "pipeline/core/rig_calibration.h"

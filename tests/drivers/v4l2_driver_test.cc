@@ -1,11 +1,11 @@
 // The V4L2 driver against an emulated camera (umockdev) that serves a real simulated Pop9
 // lattice frame: discovery, format negotiation, mmap streaming, conversion of every format back
 // to the source image, short buffers, a camera that vanishes or stalls, a busy device, controls.
+#include <gtest/gtest.h>
+
 #include <chrono>
 #include <filesystem>
 #include <fstream>
-
-#include <gtest/gtest.h>
 #include <opencv2/core.hpp>
 #include <opencv2/imgproc.hpp>
 
@@ -22,8 +22,8 @@ using std::chrono::milliseconds;
 using testing::EmulatedCameraOptions;
 using testing::EmulatedV4l2Camera;
 
-constexpr int kSensorWidth = 504;  // 3 x 160 + 4 x 6
-constexpr int kSensorHeight = 384; // 3 x 120 + 4 x 6
+constexpr int kSensorWidth = 504;   // 3 x 160 + 4 x 6
+constexpr int kSensorHeight = 384;  // 3 x 120 + 4 x 6
 
 double Psnr(const cv::Mat& a, const cv::Mat& b) { return cv::PSNR(a, b); }
 
@@ -304,8 +304,8 @@ struct ConversionCase {
   const char* name;
   uint32_t device_fourcc;
   PixelFormat wanted;
-  bool exact_bytes;   // the image is the device's encoding, rows unpadded
-  double min_psnr_db; // decoded to BGR, against the served image
+  bool exact_bytes;    // the image is the device's encoding, rows unpadded
+  double min_psnr_db;  // decoded to BGR, against the served image
 };
 
 class V4l2ConversionTest : public V4l2DriverTest, public ::testing::WithParamInterface<ConversionCase> {};
@@ -351,7 +351,8 @@ TEST_P(V4l2ConversionTest, DeliversTheSourceImage) {
 }
 
 INSTANTIATE_TEST_SUITE_P(
-    Formats, V4l2ConversionTest,
+    Formats,
+    V4l2ConversionTest,
     ::testing::Values(ConversionCase{"yuyv", V4L2_PIX_FMT_YUYV, PixelFormat::kYuyv, true, 30},
                       ConversionCase{"nv12", V4L2_PIX_FMT_NV12, PixelFormat::kNv12, true, 28},
                       ConversionCase{"bayer_rggb8", V4L2_PIX_FMT_SRGGB8, PixelFormat::kBayerRggb8, true, 24},

@@ -1,8 +1,8 @@
 // Simulated capture -> recording -> clip, through the same job the daemon runs, checked the
 // way a player sees the result.
-#include <fstream>
-
 #include <gtest/gtest.h>
+
+#include <fstream>
 #include <nlohmann/json.hpp>
 
 #include "device/clip_job.h"
@@ -62,7 +62,8 @@ TEST_P(CaptureToClipTest, ClipDecodesWithTheExpectedFramesSizeAndDuration) {
   EXPECT_TRUE(ReadRecording(dir.path() / "capture").ok());
 }
 
-INSTANTIATE_TEST_SUITE_P(SensorFormats, CaptureToClipTest,
+INSTANTIATE_TEST_SUITE_P(SensorFormats,
+                         CaptureToClipTest,
                          ::testing::Values(PixelFormat::kRgb888, PixelFormat::kNv12, PixelFormat::kBayerRggb8),
                          [](const auto& param_info) { return std::string(PixelFormatName(param_info.param)); });
 

@@ -77,8 +77,8 @@ void BM_PlanCameraPath(benchmark::State& state) {
     why = path->reason;
     for (const std::string& note : path->notes) why += "\n    " + note;
   }
-  std::fprintf(stderr, "  %s (%s search): %s\n", kScenes[state.range(0)], state.range(1) ? "splat" : "renderer",
-               why.c_str());
+  std::fprintf(
+      stderr, "  %s (%s search): %s\n", kScenes[state.range(0)], state.range(1) ? "splat" : "renderer", why.c_str());
   state.counters["faces_ms"] = faces.ms;  // the detection beside depth, not part of planning
   // Planning (placing the faces found, choosing and checking the path): wall, and the process's
   // CPU time over all threads, per plan.
@@ -121,8 +121,8 @@ void BM_SearchProbeAgreement(benchmark::State& state) {
   options.search.grid_size = 6;
   const direct::ZLimits z = direct::SearchLimits(*scene, options.search);
   const std::vector<Eigen::Vector2d> grid = direct::GridPositions(*scene, options.search).value();
-  const direct::SplatCoverage splat = direct::SplatCoverage::FromDepths(
-      shot->views, shot->depths, options.search.search_scale, kSplatStride);
+  const direct::SplatCoverage splat =
+      direct::SplatCoverage::FromDepths(shot->views, shot->depths, options.search.search_scale, kSplatStride);
   const CoverageFunction splat_function = splat.AsFunction(), renderer = shot->Coverage();
   direct::CoverageProbe splat_probe(&splat_function, 1.0, 2.0);
   direct::CoverageProbe small_probe(&renderer, options.search.search_scale, 2.0);
@@ -150,17 +150,30 @@ void BM_SearchProbeAgreement(benchmark::State& state) {
   std::fprintf(stderr,
                "  %s: %d viewpoints (%d valid at 640x480): splat agrees %.0f%% (%d read valid wrongly), %.2f ms a "
                "probe; renderer at 1/8 agrees %.0f%% (%d read valid wrongly), %.2f ms a probe; full size %.1f ms\n",
-               kScenes[state.range(0)], samples, full_valid, 100.0 * splat_agrees / samples, splat_optimistic,
-               splat_probe.ms() / splat_probe.calls(), 100.0 * small_agrees / samples, small_optimistic,
-               small_probe.ms() / small_probe.calls(), full_probe.ms() / full_probe.calls());
+               kScenes[state.range(0)],
+               samples,
+               full_valid,
+               100.0 * splat_agrees / samples,
+               splat_optimistic,
+               splat_probe.ms() / splat_probe.calls(),
+               100.0 * small_agrees / samples,
+               small_optimistic,
+               small_probe.ms() / small_probe.calls(),
+               full_probe.ms() / full_probe.calls());
   state.counters["splat_agree_pct"] = 100.0 * splat_agrees / samples;
   state.counters["small_agree_pct"] = 100.0 * small_agrees / samples;
   state.counters["splat_ms"] = splat_probe.ms() / splat_probe.calls();
   state.counters["small_ms"] = small_probe.ms() / small_probe.calls();
   state.SetLabel(kScenes[state.range(0)]);
 }
-BENCHMARK(BM_SearchProbeAgreement)->ArgNames({"faces"})->Arg(0)->Arg(1)->Arg(2)->Iterations(1)
-    ->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(BM_SearchProbeAgreement)
+    ->ArgNames({"faces"})
+    ->Arg(0)
+    ->Arg(1)
+    ->Arg(2)
+    ->Iterations(1)
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
 
 }  // namespace
 }  // namespace px

@@ -3,11 +3,11 @@
 // when two uncalibrated views come in (no trusted depth: a morph, or a flat pan and zoom). Checks
 // that a face is found, becomes the subject, and stays wholly inside every frame of the clip;
 // prints what the stage did ("[figures]" lines).
+#include <gtest/gtest.h>
+
 #include <algorithm>
 #include <cstdio>
 #include <filesystem>
-
-#include <gtest/gtest.h>
 
 #include "device/face_cascades.h"
 #include "eval/datasets/image_folder.h"
@@ -27,8 +27,8 @@ double MinFaceMarginPx(const CameraPath& path, const DirectionReport& report, co
   for (int frame = 0; frame < path.NumFrames(); ++frame) {
     const double t = path.FrameTime(frame);
     if (path.kind == PathKind::kMorph) {
-      for (const cv::Point2d corner : {box.tl(), box.br(), cv::Point2d(box.x + box.width, box.y),
-                                       cv::Point2d(box.x, box.y + box.height)}) {
+      for (const cv::Point2d corner :
+           {box.tl(), box.br(), cv::Point2d(box.x + box.width, box.y), cv::Point2d(box.x, box.y + box.height)}) {
         const cv::Point2d p = report.morph->TrackFromA(corner, t);
         margin = std::min({margin, p.x, p.y, path.width - 1 - p.x, path.height - 1 - p.y});
       }
@@ -75,9 +75,15 @@ void CheckDirection(const std::string& folder) {
   auto path = PlanCameraPath(views, {}, options, context, &report);
   ASSERT_TRUE(path.ok()) << path.status().ToString();
   std::printf("[figures] %s: %dx%d; detector %s: %d face(s) found, %d subject(s); %s (%s) over %d frames\n",
-              folder.c_str(), views[0].image.cols, views[0].image.rows, report.detector.c_str(),
-              report.faces_detected, report.num_subjects, std::string(PathKindName(path->kind)).c_str(),
-              path->move.c_str(), path->NumFrames());
+              folder.c_str(),
+              views[0].image.cols,
+              views[0].image.rows,
+              report.detector.c_str(),
+              report.faces_detected,
+              report.num_subjects,
+              std::string(PathKindName(path->kind)).c_str(),
+              path->move.c_str(),
+              path->NumFrames());
   for (const std::string& note : path->notes) std::printf("[figures]   note: %s\n", note.c_str());
   ASSERT_GE(report.faces_detected, 1) << folder << ": no face found";
   ASSERT_FALSE(path->subjects.empty()) << folder << ": the face did not become a subject";
@@ -88,7 +94,11 @@ void CheckDirection(const std::string& folder) {
   for (const Subject& face : path->subjects) {
     const double margin = MinFaceMarginPx(*path, report, face);
     std::printf("[figures]   face %.0fx%.0f at (%.0f, %.0f): min margin to the frame edge over every frame %.1f px\n",
-                face.box_px.width, face.box_px.height, face.box_px.x, face.box_px.y, margin);
+                face.box_px.width,
+                face.box_px.height,
+                face.box_px.x,
+                face.box_px.y,
+                margin);
     EXPECT_GE(margin, 0) << folder << ": the face leaves the frame";
   }
 }

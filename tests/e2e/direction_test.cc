@@ -3,12 +3,12 @@
 // chosen path (rendered for real at the output size), every face wholly inside every frame, the
 // dolly zoom holding the subject's size, and more parallax than the straight path between the
 // two nearest input views. Depth is the simulator's truth, so the checks measure direction alone.
+#include <gtest/gtest.h>
+
 #include <cmath>
 #include <filesystem>
 #include <map>
 #include <memory>
-
-#include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
 #include "device/face_cascades.h"
@@ -38,7 +38,9 @@ struct Planned {
   DirectionReport report;
 };
 
-Planned Plan(Shot* shot, const direct::FaceDetector* detector, const std::string& move,
+Planned Plan(Shot* shot,
+             const direct::FaceDetector* detector,
+             const std::string& move,
              const std::string& effect = "none") {
   DirectOptions options;
   options.fps = 10;
@@ -86,26 +88,35 @@ void CheckPath(Shot* shot, const Planned& planned, int subjects_expected, int su
   for (const View& view : shot->views) {
     if (&view == &centre) continue;
     const double d = (CameraCentre(view.cam_from_world) - CameraCentre(centre.cam_from_world)).norm();
-    if (nearest == nullptr || d < (CameraCentre(nearest->cam_from_world) - CameraCentre(centre.cam_from_world)).norm()) {
+    if (nearest == nullptr ||
+        d < (CameraCentre(nearest->cam_from_world) - CameraCentre(centre.cam_from_world)).norm()) {
       nearest = &view;
     }
   }
   const CameraModel small = centre.camera.WithoutDistortion().Scaled(0.25);
   const double input_parallax =
       direct::ParallaxScore(samples, small, centre.cam_from_world, small, nearest->cam_from_world);
-  const double chosen_parallax = direct::ParallaxScore(samples, path.CameraAt(0).Scaled(0.25), path.PoseAt(0),
-                                                       path.CameraAt(1).Scaled(0.25), path.PoseAt(1));
+  const double chosen_parallax = direct::ParallaxScore(
+      samples, path.CameraAt(0).Scaled(0.25), path.PoseAt(0), path.CameraAt(1).Scaled(0.25), path.PoseAt(1));
   EXPECT_GE(chosen_parallax, input_parallax);
-  std::printf("[figures] %s (%d subjects): max H(V) %.3f over %d frames; parallax %.4f vs %.4f between the nearest "
-              "views; %d coverage probes in %.0f ms, subjects %.0f ms, %.0f ms in all\n",
-              path.move.c_str(), subjects_expected, worst_hole_score, path.NumFrames(), chosen_parallax,
-              input_parallax, planned.report.coverage_probes, planned.report.coverage_ms, planned.report.subjects_ms,
-              planned.report.total_ms);
+  std::printf(
+      "[figures] %s (%d subjects): max H(V) %.3f over %d frames; parallax %.4f vs %.4f between the nearest "
+      "views; %d coverage probes in %.0f ms, subjects %.0f ms, %.0f ms in all\n",
+      path.move.c_str(),
+      subjects_expected,
+      worst_hole_score,
+      path.NumFrames(),
+      chosen_parallax,
+      input_parallax,
+      planned.report.coverage_probes,
+      planned.report.coverage_ms,
+      planned.report.subjects_ms,
+      planned.report.total_ms);
 }
 
 // Every corner of the aperture's box around `key` is a valid viewpoint at the output size (4.3).
-void ExpectApertureCornersValid(Shot* shot, const CameraPath& path, const CameraKeyframe& key, double aperture_m,
-                                const std::string& what) {
+void ExpectApertureCornersValid(
+    Shot* shot, const CameraPath& path, const CameraKeyframe& key, double aperture_m, const std::string& what) {
   direct::Framing end;
   end.centre_in_world = key.centre_in_world;
   end.cam_from_world = key.CamFromWorld();
@@ -147,11 +158,15 @@ double FaceAboveCentreFraction(const CameraPath& path, const Subject& face, doub
 // raised by less than half its own height, whatever the zoom).
 void ExpectFaceSlightlyAboveCentre(const CameraPath& path, const Subject& face, double t) {
   const double above = FaceAboveCentreFraction(path, face, t);
-  const double face_height = direct::ProjectedHeightPx(face, path.CameraAt(t), path.PoseAt(t)) / path.CameraAt(t).height;
+  const double face_height =
+      direct::ProjectedHeightPx(face, path.CameraAt(t), path.PoseAt(t)) / path.CameraAt(t).height;
   EXPECT_GT(above, 0.0) << path.move << " at t " << t << ": the face is not above centre";
   EXPECT_LT(above, 0.5 * face_height) << path.move << " at t " << t << ": the face is raised by over half its height";
   std::printf("[figures] %s at t %.0f: face centre %.1f %% of the frame height above centre (face %.1f %% high)\n",
-              path.move.c_str(), t, 100 * above, 100 * face_height);
+              path.move.c_str(),
+              t,
+              100 * above,
+              100 * face_height);
 }
 
 // A dolly zoom keeps its subject's projected height: each frame's within 3 % of the first's.
@@ -198,8 +213,10 @@ TEST_F(DirectionTest, OneFaceTakesARowOneMoveAndTheDollyZoomHoldsItsSize) {
   const double worst = WorstDollyZoomSizeChange(zoom.path, face);
   const double travel_m = (CameraCentre(zoom.path.PoseAt(0)) - CameraCentre(zoom.path.PoseAt(1))).norm();
   EXPECT_GT(travel_m, 0.01) << "a dolly zoom that does not move";
-  std::printf("[figures] dolly zoom: subject height within %.2f%% over %d frames, %.0f mm of travel\n", 100 * worst,
-              zoom.path.NumFrames(), 1000 * travel_m);
+  std::printf("[figures] dolly zoom: subject height within %.2f%% over %d frames, %.0f mm of travel\n",
+              100 * worst,
+              zoom.path.NumFrames(),
+              1000 * travel_m);
 }
 
 // The product's size (9 views of 640x480): H(V) is not scale-free (a hole twice as many pixels
@@ -224,8 +241,11 @@ TEST_F(DirectionTest, AFaceIsNotJudgedByAMetricSizeWhenTheScaleIsNotMetric) {
     ASSERT_GE(found->detections, 1);
     std::string notes;
     for (const std::string& note : found->notes) notes += note + "; ";
-    std::printf("[figures] metric scale %d: %d face(s), %zu subject(s): %s\n", metric, found->detections,
-                found->subjects.size(), notes.c_str());
+    std::printf("[figures] metric scale %d: %d face(s), %zu subject(s): %s\n",
+                metric,
+                found->detections,
+                found->subjects.size(),
+                notes.c_str());
     EXPECT_EQ(found->subjects.empty(), metric) << notes;
     EXPECT_NE(notes.find(metric ? "m wide at" : "not metric"), std::string::npos) << notes;
   }
@@ -287,9 +307,13 @@ TEST_F(DirectionTest, TwoFacesDollyZoomOnAnOffAxisFaceLooksAlongTheAxis) {
   }
   const double travel_m = (CameraCentre(zoom.path.PoseAt(0)) - CameraCentre(zoom.path.PoseAt(1))).norm();
   EXPECT_GT(travel_m, 0.05) << "a dolly zoom that hardly moves";
-  std::printf("[figures] dolly zoom on the off-axis face: height within %.2f%%, place within %.1f px over %d frames, "
-              "%.0f mm of travel\n",
-              100 * worst_size, worst_shift_px, zoom.path.NumFrames(), 1000 * travel_m);
+  std::printf(
+      "[figures] dolly zoom on the off-axis face: height within %.2f%%, place within %.1f px over %d frames, "
+      "%.0f mm of travel\n",
+      100 * worst_size,
+      worst_shift_px,
+      zoom.path.NumFrames(),
+      1000 * travel_m);
 }
 
 // Effects (4.3) on the two-subject dolly: the focus pull's aperture keeps both ends valid at the
@@ -313,11 +337,15 @@ TEST_F(DirectionTest, TwoFacesDollyPullsFocusWithTheLargestValidAperture) {
     ExpectApertureCornersValid(shot.get(), path, *key, aperture, "the end at t = " + std::to_string(key->t));
   }
   EXPECT_NEAR(path.keyframes.front().focus_depth_m,
-              direct::SubjectDepthIn(path.subjects[0], path.keyframes.front().CamFromWorld()), 1e-6);
+              direct::SubjectDepthIn(path.subjects[0], path.keyframes.front().CamFromWorld()),
+              1e-6);
   EXPECT_NEAR(path.keyframes.back().focus_depth_m,
-              direct::SubjectDepthIn(path.subjects[1], path.keyframes.back().CamFromWorld()), 1e-6);
-  std::printf("[figures] dolly with focus pull: aperture %.1f mm; focus %.2f m -> %.2f m\n", 1000 * aperture,
-              path.keyframes.front().focus_depth_m, path.keyframes.back().focus_depth_m);
+              direct::SubjectDepthIn(path.subjects[1], path.keyframes.back().CamFromWorld()),
+              1e-6);
+  std::printf("[figures] dolly with focus pull: aperture %.1f mm; focus %.2f m -> %.2f m\n",
+              1000 * aperture,
+              path.keyframes.front().focus_depth_m,
+              path.keyframes.back().focus_depth_m);
 }
 
 // A depth-of-field change (4.3): the two-subject dolly opens from a pinhole to the largest aperture
@@ -351,7 +379,8 @@ TEST_F(DirectionTest, TwoFacesDollyRampsTheApertureFromPinholeToTheLargestValid)
   EXPECT_NEAR(previous, aperture, 1e-9);
   ExpectApertureCornersValid(shot.get(), path, end, aperture, "the end");
   std::printf("[figures] dolly with a depth-of-field change: aperture 0 -> %.1f mm over %d frames\n",
-              1000 * aperture, path.NumFrames());
+              1000 * aperture,
+              path.NumFrames());
 }
 
 // The one-face dolly in with a depth-of-field change: the aperture opens towards the close-up,
@@ -369,7 +398,8 @@ TEST_F(DirectionTest, OneFaceDollyInOpensTheApertureOnTheCloseUp) {
   EXPECT_GT(end.aperture_m, 1e-4);
   EXPECT_DOUBLE_EQ(path.keyframes.front().aperture_m, 0.0);
   ExpectApertureCornersValid(shot.get(), path, end, end.aperture_m, "the close-up");
-  std::printf("[figures] one-face dolly in with a depth-of-field change: aperture 0 -> %.1f mm\n", 1000 * end.aperture_m);
+  std::printf("[figures] one-face dolly in with a depth-of-field change: aperture 0 -> %.1f mm\n",
+              1000 * end.aperture_m);
 }
 
 // A saturation layer on the subject (4.3), keyframed from unchanged to its target.

@@ -17,9 +17,7 @@ SimCameraSpec Pop9Spec(double tile_scale, PixelFormat format) {
   return spec;
 }
 
-std::filesystem::path ScenePath(const std::string& name) {
-  return sim::ScenesDir() / (name + ".json");
-}
+std::filesystem::path ScenePath(const std::string& name) { return sim::ScenesDir() / (name + ".json"); }
 
 StatusOr<SimulatedShot> CaptureShot(const SimCameraSpec& spec, const std::string& scene, uint64_t seed) {
   SimulatedShot shot;

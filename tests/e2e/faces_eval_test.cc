@@ -4,13 +4,14 @@
 // of 500 px images); before tuning precision was 14/20 = 0.70. The bounds allow one more miss and
 // two more false faces than measured on this small set (recall >= 0.75, precision >= 0.80), so a
 // change that brings back the old false faces fails.
-#include <cstdio>
-#include <filesystem>
+#include "eval/faces/faces_eval.h"
 
 #include <gtest/gtest.h>
 
+#include <cstdio>
+#include <filesystem>
+
 #include "device/face_cascades.h"
-#include "eval/faces/faces_eval.h"
 #include "eval/faces/sim_face_scenes.h"
 
 namespace px {
@@ -24,9 +25,15 @@ TEST(FacesEvalTest, PascalVocFacesMeetTheBounds) {
   auto result = eval::RunFacesEval(**detector, eval::FacesEvalOptions{});
   ASSERT_TRUE(result.ok()) << result.status().ToString();
   const eval::FaceMatch& t = result->total;
-  std::printf("[figures] faces_dlib_pascalvoc: %d faces, %d detections, %d hits at IoU >= 0.5: precision %.2f, "
-              "recall %.2f, %.0f ms per image\n",
-              t.truth, t.detections, t.true_positives, t.Precision(), t.Recall(), result->mean_ms);
+  std::printf(
+      "[figures] faces_dlib_pascalvoc: %d faces, %d detections, %d hits at IoU >= 0.5: precision %.2f, "
+      "recall %.2f, %.0f ms per image\n",
+      t.truth,
+      t.detections,
+      t.true_positives,
+      t.Precision(),
+      t.Recall(),
+      result->mean_ms);
   EXPECT_EQ(t.truth, 18);
   EXPECT_GE(t.Recall(), 0.75);
   EXPECT_GE(t.Precision(), 0.80);
@@ -43,8 +50,11 @@ TEST(FacesEvalTest, SimFaceScenesHaveTheirFacesAndNoOthers) {
   }
   ASSERT_TRUE(scenes.ok()) << scenes.status().ToString();
   for (const eval::FaceImageResult& scene : *scenes) {
-    std::printf("[figures] %s: %d faces, %d detections, %d hits\n", scene.file.c_str(), scene.match.truth,
-                scene.match.detections, scene.match.true_positives);
+    std::printf("[figures] %s: %d faces, %d detections, %d hits\n",
+                scene.file.c_str(),
+                scene.match.truth,
+                scene.match.detections,
+                scene.match.true_positives);
     EXPECT_EQ(scene.match.true_positives, scene.match.truth) << scene.file;
     EXPECT_EQ(scene.match.detections, scene.match.truth) << scene.file;
   }

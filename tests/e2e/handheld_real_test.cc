@@ -3,13 +3,13 @@
 // every set gives a clip, never a failed button. Prints per set the working size, the move and
 // why, the stage times. The office set (a sideways sweep, its centres nearly on a line) once
 // failed in the view mesh; the 8 MP excavator took 68 s and 4.5 GB at full size.
+#include <gtest/gtest.h>
+
 #include <algorithm>
 #include <cctype>
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
-
-#include <gtest/gtest.h>
 
 #include "pipeline/run/pipeline.h"
 #include "sim/replay/import_images.h"
@@ -49,17 +49,26 @@ TEST_P(HandheldRealTest, MakesAClipAtTheWorkingSize) {
   if (report->path.kind != PathKind::kNovelView) {
     EXPECT_FALSE(report->path.reason.empty());
   }
-  std::printf("[figures] %s: %zu photos of %dx%d -> %dx%d clip; %s (%s); %.0f%% depth confident; %.1f s "
-              "(5 frames)\n",
-              GetParam().set, files->size(), recording->frames.frames[0].image.width,
-              recording->frames.frames[0].image.height, sink.size.width, sink.size.height, report->path.move.c_str(),
-              report->calibration.c_str(), 100 * report->depth.confident_fraction, seconds);
+  std::printf(
+      "[figures] %s: %zu photos of %dx%d -> %dx%d clip; %s (%s); %.0f%% depth confident; %.1f s "
+      "(5 frames)\n",
+      GetParam().set,
+      files->size(),
+      recording->frames.frames[0].image.width,
+      recording->frames.frames[0].image.height,
+      sink.size.width,
+      sink.size.height,
+      report->path.move.c_str(),
+      report->calibration.c_str(),
+      100 * report->depth.confident_fraction,
+      seconds);
 }
 
 // Which sets hold a 3D move is measured, not wished: the excavator's wide turns and the
 // portrait's two different people leave no trusted depth; the French press's plain wall leaves a
 // quarter of its depth confident, enough (its held-out views: eval real).
-INSTANTIATE_TEST_SUITE_P(Sets, HandheldRealTest,
+INSTANTIATE_TEST_SUITE_P(Sets,
+                         HandheldRealTest,
                          ::testing::Values(Expected{"kpankov_office_4views", true},
                                            Expected{"kpankov_frenchpress_4views", true},
                                            Expected{"ddd_seattle_portrait_2views", false},

@@ -3,9 +3,9 @@
 // differently) and a 2x2 of abutting, vignetted views (a multi-lens frame whose tiles touch),
 // written as JPEG, imported without a rig calibration, split blind (or evenly at the size given)
 // and posed by structure from motion into a 3D move; a photo of no lattice still gives a clip.
-#include <filesystem>
-
 #include <gtest/gtest.h>
+
+#include <filesystem>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
@@ -39,7 +39,9 @@ std::vector<cv::Mat> RowOfViews(int count) {
 cv::Mat Strip(const std::vector<cv::Mat>& views) {
   constexpr int kGap = 14;
   const double gains[] = {0.85, 1.0, 1.1, 0.93};
-  cv::Mat frame(kTile.height + 2 * kGap, static_cast<int>(views.size()) * (kTile.width + kGap) + kGap, CV_8UC3,
+  cv::Mat frame(kTile.height + 2 * kGap,
+                static_cast<int>(views.size()) * (kTile.width + kGap) + kGap,
+                CV_8UC3,
                 cv::Scalar(8, 8, 8));
   for (size_t i = 0; i < views.size(); ++i) {
     cv::Mat exposed;
@@ -98,9 +100,9 @@ TEST_F(LatticePhotoTest, AbuttingTilesOfAGivenSizeAreCutEvenly) {
   StatusOr<device::ClipJobReport> report = Clip(AbuttingSquare(RowOfViews(4)), "2x2");
   ASSERT_TRUE(report.ok()) << report.status().ToString();
   EXPECT_EQ(report->pipeline.num_views, 4);
-  EXPECT_TRUE(std::any_of(report->pipeline.warnings.begin(), report->pipeline.warnings.end(),
-                          [](const std::string& w) { return w.find("cut evenly") != std::string::npos; }))
-      << ::testing::PrintToString(report->pipeline.warnings);
+  EXPECT_TRUE(std::any_of(report->pipeline.warnings.begin(), report->pipeline.warnings.end(), [](const std::string& w) {
+    return w.find("cut evenly") != std::string::npos;
+  })) << ::testing::PrintToString(report->pipeline.warnings);
 }
 
 TEST_F(LatticePhotoTest, APhotoOfNoLatticeStillGivesAClipAndSaysWhy) {

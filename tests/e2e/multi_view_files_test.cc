@@ -2,9 +2,9 @@
 // wigglegram's animated GIF or WebP (animation_frames.h, written by the clip writers), made here
 // with known views and read from the real files in ../shared/data (skipped without it); damaged
 // ones fail naming the file.
-#include <fstream>
-
 #include <gtest/gtest.h>
+
+#include <fstream>
 #include <opencv2/imgcodecs.hpp>
 
 #include "pipeline/clip/clip_writer.h"
@@ -43,9 +43,18 @@ std::vector<uint8_t> MakeMpo(const std::vector<std::vector<uint8_t>>& images) {
   Put32(&tiff, 8);  // the IFD
   Put16(&tiff, 3);  // three entries
   const uint32_t entries_offset = 8 + 2 + 3 * 12 + 4;
-  Put16(&tiff, 0xB000); Put16(&tiff, 7); Put32(&tiff, 4); tiff.insert(tiff.end(), {'0', '1', '0', '0'});
-  Put16(&tiff, 0xB001); Put16(&tiff, 4); Put32(&tiff, 1); Put32(&tiff, static_cast<uint32_t>(count));
-  Put16(&tiff, 0xB002); Put16(&tiff, 7); Put32(&tiff, static_cast<uint32_t>(16 * count)); Put32(&tiff, entries_offset);
+  Put16(&tiff, 0xB000);
+  Put16(&tiff, 7);
+  Put32(&tiff, 4);
+  tiff.insert(tiff.end(), {'0', '1', '0', '0'});
+  Put16(&tiff, 0xB001);
+  Put16(&tiff, 4);
+  Put32(&tiff, 1);
+  Put32(&tiff, static_cast<uint32_t>(count));
+  Put16(&tiff, 0xB002);
+  Put16(&tiff, 7);
+  Put32(&tiff, static_cast<uint32_t>(16 * count));
+  Put32(&tiff, entries_offset);
   Put32(&tiff, 0);  // no next IFD
   const size_t segment = 2 + 4 + tiff.size() + 16 * count;
   const size_t header_at = 2 + 4 + 4;  // SOI, APP2 marker and length, "MPF\0"
@@ -132,8 +141,8 @@ fs::path WriteAnimation(const fs::path& path, clip::ClipFormat format, const std
 TEST(AnimationFramesTest, EachViewOnceInPlayingOrder) {
   ScratchDir dir;
   for (clip::ClipFormat format : {clip::ClipFormat::kGif, clip::ClipFormat::kWebp}) {
-    const fs::path file = WriteAnimation(dir.path() / ("wiggle" + std::string(clip::ClipFormatExtension(format))),
-                                         format, PingPong());
+    const fs::path file =
+        WriteAnimation(dir.path() / ("wiggle" + std::string(clip::ClipFormatExtension(format))), format, PingPong());
     StatusOr<std::vector<cv::Mat>> frames = ReadAnimationFrames(file);
     ASSERT_TRUE(frames.ok()) << frames.status().ToString();
     ASSERT_EQ(frames->size(), 6u) << file;
@@ -188,12 +197,12 @@ TEST(MultiViewFilesTest, RealStereoCamerasAndWigglegrams) {
     int width;
     bool focal;
   };
-  const Case cases[] = {{"mpo/nintendo3ds_mpo/sugarshack.mpo", 2, 640, false},
-                        {"mpo/nintendo3ds_mpo/3DS-big-endian.mpo", 2, 640, false},
-                        {"mpo/panasonic_gx8_3dlens_mpo/Panasonic-DMC-GX8.mpo", 2, 1824, true},
-                        {"multicam/actionsampler_onomichi_4frames/onomichi.gif", 4, 711, false},
-                        {"multicam/photobooth_pi_4cam_person/wigglegram-example-charuco-calibrated.webp", 4, 1200,
-                         false}};
+  const Case cases[] = {
+      {"mpo/nintendo3ds_mpo/sugarshack.mpo", 2, 640, false},
+      {"mpo/nintendo3ds_mpo/3DS-big-endian.mpo", 2, 640, false},
+      {"mpo/panasonic_gx8_3dlens_mpo/Panasonic-DMC-GX8.mpo", 2, 1824, true},
+      {"multicam/actionsampler_onomichi_4frames/onomichi.gif", 4, 711, false},
+      {"multicam/photobooth_pi_4cam_person/wigglegram-example-charuco-calibrated.webp", 4, 1200, false}};
   for (const Case& c : cases) {
     std::vector<std::string> warnings;
     StatusOr<Recording> recording = RecordingFromImages({data / c.file}, &warnings);

@@ -1,11 +1,11 @@
 // The pipeline against the simulator's ground truth, at the product's size (Pop9, 640x480):
 // depth from the depth stage, and novel views from the renderer, each compared with what the
 // ray caster says the scene really looks like.
+#include <gtest/gtest.h>
+
 #include <algorithm>
 #include <cmath>
 #include <memory>
-
-#include <gtest/gtest.h>
 
 #include "pipeline/core/log.h"
 #include "pipeline/depth/depth_stage.h"
@@ -94,13 +94,14 @@ TEST_F(NovelViewTest, DepthAgreesWithGroundTruth) {
     }
   }
   ASSERT_FALSE(relative_errors.empty());
-  std::nth_element(relative_errors.begin(), relative_errors.begin() + relative_errors.size() / 2,
-                   relative_errors.end());
+  std::nth_element(
+      relative_errors.begin(), relative_errors.begin() + relative_errors.size() / 2, relative_errors.end());
   const double median = relative_errors[relative_errors.size() / 2];
   const double bad_ratio = static_cast<double>(bad) / relative_errors.size();
   RecordProperty("median_relative_depth_error", std::to_string(median));
   RecordProperty("bad_5_percent_ratio", std::to_string(bad_ratio));
-  std::printf("centre view depth: median relative error %.4f, %.2f %% of pixels off by more than 5 %%\n", median,
+  std::printf("centre view depth: median relative error %.4f, %.2f %% of pixels off by more than 5 %%\n",
+              median,
               100.0 * bad_ratio);
   // A plane sweep with 25 mm baselines resolves depth to about 1 % over 0.8-4 m; errors
   // concentrate at occlusion edges. Measured: median 0.8 %, 11.4 % of pixels off by more than 5 %
@@ -118,8 +119,10 @@ TEST_F(NovelViewTest, LeftOutInputViewIsRecoveredFromItsNeighbours) {
   const double psnr_vs_input = cv::PSNR(result->bgr, centre.image);
   const double psnr_vs_truth = cv::PSNR(result->bgr, shot_->truth.views[kCentre].bgr);
   RecordProperty("leave_one_out_psnr_db", std::to_string(psnr_vs_input));
-  std::printf("leave-one-out centre view: PSNR %.2f dB vs input, %.2f dB vs truth, holes %.4f\n", psnr_vs_input,
-              psnr_vs_truth, result->holes.hole_ratio);
+  std::printf("leave-one-out centre view: PSNR %.2f dB vs input, %.2f dB vs truth, holes %.4f\n",
+              psnr_vs_input,
+              psnr_vs_truth,
+              result->holes.hole_ratio);
   // What a renderer that ignored depth would score: the nearest neighbour's image as is.
   const double psnr_without_depth = cv::PSNR((*views_)[kCentre + 1].image, centre.image);
   std::printf("  (the right neighbour's image unwarped scores %.2f dB)\n", psnr_without_depth);
@@ -148,8 +151,8 @@ TEST_F(NovelViewTest, NovelViewBetweenLensesMatchesTheRayCaster) {
   ASSERT_TRUE(truth.ok()) << truth.status().ToString();
   const double psnr = cv::PSNR(rendered->bgr, truth->bgr);
   RecordProperty("novel_view_psnr_db", std::to_string(psnr));
-  std::printf("novel view between lenses: PSNR %.2f dB vs ray-cast truth, holes %.4f\n", psnr,
-              rendered->holes.hole_ratio);
+  std::printf(
+      "novel view between lenses: PSNR %.2f dB vs ray-cast truth, holes %.4f\n", psnr, rendered->holes.hole_ratio);
   EXPECT_GT(psnr, 28.0);
 }
 

@@ -40,7 +40,8 @@ std::map<std::string, bool> ReplayCorpus(const std::string& target,
 }
 
 TEST(CorpusReplayTest, ControlRequest) {
-  auto accepted = ReplayCorpus("control_request", [](const uint8_t* d, size_t n) { return FuzzControlRequest(d, n).ok(); });
+  auto accepted =
+      ReplayCorpus("control_request", [](const uint8_t* d, size_t n) { return FuzzControlRequest(d, n).ok(); });
   for (const char* seed : {"capture", "status", "list", "wait", "fetch_inline", "set_move", "cancel", "quit_drain"}) {
     EXPECT_TRUE(accepted[seed]) << seed;
   }
@@ -60,8 +61,13 @@ TEST(CorpusReplayTest, Recording) {
 
 TEST(CorpusReplayTest, Ptp) {
   auto accepted = ReplayCorpus("ptp", [](const uint8_t* d, size_t n) { return FuzzPtp(d, n) > 0; });
-  for (const char* seed : {"open_session", "response_ok", "event_object_added", "device_info", "data_device_info",
-                           "object_info", "data_object_info"}) {
+  for (const char* seed : {"open_session",
+                           "response_ok",
+                           "event_object_added",
+                           "device_info",
+                           "data_device_info",
+                           "object_info",
+                           "data_object_info"}) {
     EXPECT_TRUE(accepted[seed]) << seed;
   }
   EXPECT_FALSE(accepted["short_header"]);
@@ -78,8 +84,8 @@ TEST(CorpusReplayTest, Photo) {
   for (const char* seed : {"jpeg_ok", "png_ok", "gif_ok", "webp_ok_anim"}) EXPECT_GE(decodes(seed), 1) << seed;
   EXPECT_EQ(decodes("mpo_ok"), 2);  // its first image as a JPEG, and both through the MP index
   EXPECT_LT(decodes("mpo_index_past_end"), 2);
-  for (const char* seed : {"png_claims_40000x40000", "png_claims_4000x3000_short_data", "not_an_image",
-                           "gif_claims_65535x65535"}) {
+  for (const char* seed :
+       {"png_claims_40000x40000", "png_claims_4000x3000_short_data", "not_an_image", "gif_claims_65535x65535"}) {
     EXPECT_EQ(decodes(seed), 0) << seed;
   }
 }

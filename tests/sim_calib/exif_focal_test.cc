@@ -2,10 +2,10 @@
 // camera) serves JPEGs of the simulated hand-held set with or without EXIF; the source reads the
 // focal length from the JPEG, a recording carries it, and structure from motion uses it (or,
 // without it, self-calibrates).
+#include <gtest/gtest.h>
+
 #include <chrono>
 #include <cstdio>
-
-#include <gtest/gtest.h>
 #include <opencv2/imgcodecs.hpp>
 
 #include "pipeline/run/capture_calibration.h"
@@ -26,9 +26,8 @@ FrameSet CaptureAndReplay(const ImageSet& set, bool with_exif) {
   for (const calib::SfmImage& image : set.images) {
     std::vector<uint8_t> jpeg;
     EXPECT_TRUE(cv::imencode(".jpg", image.image, jpeg, {cv::IMWRITE_JPEG_QUALITY, 95}));
-    camera.jpegs.push_back(with_exif ? px::testing::WithExifFocalLength(jpeg, set.camera.fx, set.camera.width,
-                                                                         set.camera.height)
-                                     : jpeg);
+    camera.jpegs.push_back(
+        with_exif ? px::testing::WithExifFocalLength(jpeg, set.camera.fx, set.camera.width, set.camera.height) : jpeg);
   }
   auto responder = std::make_shared<ptp::testing::PtpResponder>(camera);
   StatusOr<std::unique_ptr<FrameSource>> source = MakePtpSource(ptp::testing::ResponderSourceOptions(responder));
@@ -65,8 +64,8 @@ StatusOr<CalibratedViews> Calibrate(const FrameSet& capture, std::vector<std::st
   calib::SfmOptions sfm;
   sfm.focal_sweep_steps = 8;  // enough for the self-calibrated run; faster under load
   std::vector<StageTiming> timings;
-  return CalibrateCapture(capture, RigCalibration{}, CalibOptions(), calib::RigRefinementOptions(), sfm, warnings,
-                          &timings);
+  return CalibrateCapture(
+      capture, RigCalibration{}, CalibOptions(), calib::RigRefinementOptions(), sfm, warnings, &timings);
 }
 
 TEST(ExifFocalTest, ATetheredSetWithExifReachesStructureFromMotionWithItsFocalLength) {

@@ -5,11 +5,11 @@
 // Through the whole pipeline: sim_calib/sfm_pipeline_test.
 #include "pipeline/calib/incremental_sfm.h"
 
+#include <gtest/gtest.h>
+
 #include <algorithm>
 #include <cstdio>
 #include <filesystem>
-
-#include <gtest/gtest.h>
 
 #include "eval/calib/sim_lattice_shot.h"
 #include "tests/sim_calib/sim_image_set.h"
@@ -59,12 +59,17 @@ TEST(IncrementalSfmSimTest, TinyBaselineSelfCalibrated) {
 // the range's end is no minimum: the set starts from a normal lens, and the adjustment with
 // every view finds the focal.
 TEST(IncrementalSfmSimTest, ASweepWithoutAMinimumStartsFromANormalLens) {
-  const ImageSet set = Render("still_life",
-                              {{-0.12, 0.0, 0.0}, {-0.04, 0.01, 0.005}, {0.04, -0.005, -0.01}, {0.12, 0.008, 0.0},
-                               {0.0, 0.002, 0.0}, {-0.02, 0.0, 0.05}, {0.02, 0.0, 0.0}},
-                              {{0.5, 1.5, -0.3}, {-0.8, 0.4, 0.6}, {1.2, -1.0, 0.2}, {-0.3, -2.0, -0.7},
-                               {0, 0, 0}, {0, 0, 0}, {0, 2, 0}},
-                              /*known_focal=*/false);
+  const ImageSet set = Render(
+      "still_life",
+      {{-0.12, 0.0, 0.0},
+       {-0.04, 0.01, 0.005},
+       {0.04, -0.005, -0.01},
+       {0.12, 0.008, 0.0},
+       {0.0, 0.002, 0.0},
+       {-0.02, 0.0, 0.05},
+       {0.02, 0.0, 0.0}},
+      {{0.5, 1.5, -0.3}, {-0.8, 0.4, 0.6}, {1.2, -1.0, 0.2}, {-0.3, -2.0, -0.7}, {0, 0, 0}, {0, 0, 0}, {0, 2, 0}},
+      /*known_focal=*/false);
   StatusOr<calib::SfmResult> result = calib::RunIncrementalSfm(set.images, calib::SfmOptions());
   ASSERT_TRUE(result.ok()) << result.status().ToString();
   ASSERT_TRUE(result->report.success) << result->report.failure;
@@ -103,8 +108,10 @@ TEST(IncrementalSfmSimTest, PureTranslationReportsTheFocalLengthUnobservable) {
 }
 
 TEST(IncrementalSfmSimTest, PureRotationFailsWithNoParallax) {
-  const ImageSet set = Render("still_life", std::vector<Eigen::Vector3d>(3, Eigen::Vector3d::Zero()),
-                              {{0, -3, 0}, {1, 0, 0.5}, {0, 3, -0.5}}, /*known_focal=*/true);
+  const ImageSet set = Render("still_life",
+                              std::vector<Eigen::Vector3d>(3, Eigen::Vector3d::Zero()),
+                              {{0, -3, 0}, {1, 0, 0.5}, {0, 3, -0.5}},
+                              /*known_focal=*/true);
   StatusOr<calib::SfmResult> result = calib::RunIncrementalSfm(set.images, calib::SfmOptions());
   ASSERT_TRUE(result.ok()) << result.status().ToString();
   EXPECT_FALSE(result->report.success);

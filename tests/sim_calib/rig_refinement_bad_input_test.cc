@@ -1,14 +1,13 @@
 // Per-shot refinement on simulated lattice shots that cannot support it, in part or at all
 // (a blank or overexposed lens, a lens seeing another scene, a textureless scene, a planar or
 // distant wall) and contradictory input: each keeps the best honest calibration, with a reason.
-#include "pipeline/calib/rig_refinement.h"
+#include <gtest/gtest.h>
 
 #include <cstdio>
 
-#include <gtest/gtest.h>
-
 #include "eval/calib/pose_alignment.h"
 #include "eval/calib/sim_lattice_shot.h"
+#include "pipeline/calib/rig_refinement.h"
 #include "tests/testing/temp_dir.h"
 
 namespace px::sim_calib {
@@ -26,7 +25,8 @@ using eval::WritePlaneScene;
 class RigRefinementBadInputTest : public ::testing::Test {
  protected:
   static LatticeShot Shot(const std::string& scene, uint64_t perturb_seed = 3) {
-    StatusOr<LatticeShot> shot = CaptureLatticeShot(HalfSize(RealisticSpec(SimCameraSpec::Pop9(), perturb_seed)), scene);
+    StatusOr<LatticeShot> shot =
+        CaptureLatticeShot(HalfSize(RealisticSpec(SimCameraSpec::Pop9(), perturb_seed)), scene);
     EXPECT_TRUE(shot.ok()) << shot.status().ToString();
     return shot.ok() ? *shot : LatticeShot{};
   }
@@ -48,7 +48,7 @@ class RigRefinementBadInputTest : public ::testing::Test {
 
 TEST_F(RigRefinementBadInputTest, BlankAndOverexposedViewsKeepTheFactoryCalibration) {
   LatticeShot shot = Shot("still_life");
-  shot.tiles[4].setTo(cv::Scalar(0, 0, 0));       // a covered lens
+  shot.tiles[4].setTo(cv::Scalar(0, 0, 0));        // a covered lens
   shot.tiles[7].setTo(cv::Scalar(255, 255, 255));  // a lens staring into the sun
   const calib::RigRefinementResult result = Refine(shot);
   ASSERT_TRUE(result.report.refined) << result.report.fallback_reason;
@@ -80,8 +80,7 @@ TEST_F(RigRefinementBadInputTest, TexturelessSceneFallsBackToTheFactoryCalibrati
   const LatticeShot shot = Shot(scene.string());
   const calib::RigRefinementResult result = Refine(shot);
   EXPECT_FALSE(result.report.refined);
-  EXPECT_NE(result.report.fallback_reason.find("too few features"), std::string::npos)
-      << result.report.fallback_reason;
+  EXPECT_NE(result.report.fallback_reason.find("too few features"), std::string::npos) << result.report.fallback_reason;
   for (int i = 0; i < shot.factory.NumViews(); ++i) EXPECT_TRUE(IsFactory(result.rig, shot.factory, i));
 }
 
@@ -94,8 +93,11 @@ TEST_F(RigRefinementBadInputTest, PlanarAndDistantScenesHoldLensCentres) {
           "persistence": 0.7, "contrast": 2.0, "seed": 3})";
   for (double distance : {1.5, 200.0}) {
     const std::filesystem::path scene = temp_.path() / ("wall_" + std::to_string(distance) + ".json");
-    WritePlaneScene(scene, distance, distance > 10 ? R"({"type": "noise", "rgb_a": [220, 200, 160], "rgb_b": [40, 50, 70],
-        "scale_m": 60, "octaves": 8, "persistence": 0.7, "contrast": 2.0, "seed": 3})" : noise);
+    WritePlaneScene(scene,
+                    distance,
+                    distance > 10 ? R"({"type": "noise", "rgb_a": [220, 200, 160], "rgb_b": [40, 50, 70],
+        "scale_m": 60, "octaves": 8, "persistence": 0.7, "contrast": 2.0, "seed": 3})"
+                                  : noise);
     const LatticeShot shot = Shot(scene.string());
     const calib::RigRefinementResult result = Refine(shot);
     ASSERT_TRUE(result.report.refined) << "wall at " << distance << " m: " << result.report.fallback_reason;
@@ -103,17 +105,20 @@ TEST_F(RigRefinementBadInputTest, PlanarAndDistantScenesHoldLensCentres) {
     ASSERT_FALSE(result.report.warnings.empty());
     EXPECT_NE(result.report.warnings.back().find("planar or too far"), std::string::npos);
     for (int i = 0; i < shot.factory.NumViews(); ++i) {
-      EXPECT_LT((CameraCentre(result.rig.lenses[i].cam_from_rig) - CameraCentre(shot.factory.lenses[i].cam_from_rig))
-                    .norm(),
-                1e-9);
+      EXPECT_LT(
+          (CameraCentre(result.rig.lenses[i].cam_from_rig) - CameraCentre(shot.factory.lenses[i].cam_from_rig)).norm(),
+          1e-9);
     }
     const StatusOr<eval::PoseErrors> after = eval::CompareRigs(result.rig, shot.truth);
     const StatusOr<eval::PoseErrors> before = eval::CompareRigs(shot.factory, shot.truth);
     ASSERT_TRUE(after.ok() && before.ok());
     const double rotation_before = eval::PoseErrors::Max(before->rotation_deg);
     const double rotation_after = eval::PoseErrors::Max(after->rotation_deg);
-    std::printf("wall at %.0f m: rotation %.3f -> %.3f deg, focal %.2f -> %.2f %%\n", distance, rotation_before,
-                rotation_after, 100 * eval::PoseErrors::Max(before->focal_relative),
+    std::printf("wall at %.0f m: rotation %.3f -> %.3f deg, focal %.2f -> %.2f %%\n",
+                distance,
+                rotation_before,
+                rotation_after,
+                100 * eval::PoseErrors::Max(before->focal_relative),
                 100 * eval::PoseErrors::Max(after->focal_relative));
     EXPECT_LT(rotation_after, rotation_before);
   }

@@ -4,9 +4,9 @@
 // focal <= 1 %). Shots that cannot support refinement: sim_calib/rig_refinement_bad_input_test.
 #include "pipeline/calib/rig_refinement.h"
 
-#include <cstdio>
-
 #include <gtest/gtest.h>
+
+#include <cstdio>
 
 #include "eval/calib/pose_alignment.h"
 #include "eval/calib/sim_lattice_shot.h"
@@ -28,7 +28,8 @@ Errors Compare(const RigCalibration& estimate, const RigCalibration& truth) {
   StatusOr<eval::PoseErrors> errors = eval::CompareRigs(estimate, truth);
   EXPECT_TRUE(errors.ok()) << errors.status().ToString();
   if (!errors.ok()) return {};
-  return {eval::PoseErrors::Max(errors->rotation_deg), eval::PoseErrors::Max(errors->centre_relative),
+  return {eval::PoseErrors::Max(errors->rotation_deg),
+          eval::PoseErrors::Max(errors->centre_relative),
           eval::PoseErrors::Max(errors->focal_relative)};
 }
 
@@ -50,13 +51,28 @@ TEST_P(RigRefinementSimTest, RecoversPerturbedLenses) {
   const calib::RigRefinementReport& report = result->report;
   const Errors before = Compare(shot->factory, shot->truth);
   const Errors after = Compare(result->rig, shot->truth);
-  std::printf("%s: %d pairs, %d matches, %d inliers, %d tracks, RMS %.3f -> %.3f px, %.0f ms (features %.0f, "
-              "matching %.0f, adjustment %.0f in %d iterations)\n"
-              "  rotation %.3f -> %.3f deg, centre %.3f -> %.3f baselines, focal %.2f -> %.2f %%\n",
-              c.name.c_str(), report.num_pairs, report.num_matches, report.num_inliers, report.num_tracks,
-              report.rms_before_px, report.rms_after_px, report.total_ms, report.features_ms, report.matching_ms,
-              report.adjustment_ms, report.adjustment_iterations, before.max_rotation_deg, after.max_rotation_deg, before.max_centre_relative,
-              after.max_centre_relative, 100 * before.max_focal_relative, 100 * after.max_focal_relative);
+  std::printf(
+      "%s: %d pairs, %d matches, %d inliers, %d tracks, RMS %.3f -> %.3f px, %.0f ms (features %.0f, "
+      "matching %.0f, adjustment %.0f in %d iterations)\n"
+      "  rotation %.3f -> %.3f deg, centre %.3f -> %.3f baselines, focal %.2f -> %.2f %%\n",
+      c.name.c_str(),
+      report.num_pairs,
+      report.num_matches,
+      report.num_inliers,
+      report.num_tracks,
+      report.rms_before_px,
+      report.rms_after_px,
+      report.total_ms,
+      report.features_ms,
+      report.matching_ms,
+      report.adjustment_ms,
+      report.adjustment_iterations,
+      before.max_rotation_deg,
+      after.max_rotation_deg,
+      before.max_centre_relative,
+      after.max_centre_relative,
+      100 * before.max_focal_relative,
+      100 * after.max_focal_relative);
   for (const std::string& warning : report.warnings) std::printf("  warning: %s\n", warning.c_str());
   ASSERT_TRUE(report.refined) << report.fallback_reason;
   // The 5x4's 12 mm baseline at f = 280 px gives under 4 px of disparity at 1 m: one homography
@@ -73,7 +89,8 @@ TEST_P(RigRefinementSimTest, RecoversPerturbedLenses) {
   for (const calib::ViewRefinement& view : report.views) EXPECT_TRUE(view.refined) << view.note;
 }
 
-INSTANTIATE_TEST_SUITE_P(Rigs, RigRefinementSimTest,
+INSTANTIATE_TEST_SUITE_P(Rigs,
+                         RigRefinementSimTest,
                          ::testing::Values(Case{"pop9", SimCameraSpec::Pop9(), 3},
                                            Case{"integral5x4", SimCameraSpec::Integral5x4(), 5}),
                          [](const auto& param) { return param.param.name; });

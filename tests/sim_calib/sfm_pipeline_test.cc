@@ -1,10 +1,10 @@
 // Image sets and lattice frames through the whole pipeline, calibrated by structure from
 // motion: a tethered hand-held set (intrinsics from a calibration, no poses) and a lattice frame
 // with no rig calibration at all (lattice found blind).
+#include <gtest/gtest.h>
+
 #include <algorithm>
 #include <cstdio>
-
-#include <gtest/gtest.h>
 
 #include "eval/calib/sim_lattice_shot.h"
 #include "pipeline/core/pixel_format.h"
@@ -71,7 +71,9 @@ TEST(IncrementalSfmSimTest, LargePhotosAreProcessedAtTheWorkingSize) {
   CountingSink sink;
   StatusOr<PipelineReport> report = RunPipeline(capture, intrinsics, options, &sink);
   ASSERT_TRUE(report.ok()) << report.status().ToString();
-  std::printf("pipeline at 400 px: %s: %s; %s\n", report->calibration.c_str(), report->calibration_summary.c_str(),
+  std::printf("pipeline at 400 px: %s: %s; %s\n",
+              report->calibration.c_str(),
+              report->calibration_summary.c_str(),
               report->path.move.c_str());
   EXPECT_NE(report->calibration_summary.find("4 of 4 images registered"), std::string::npos);
   // The lenses' intrinsics scaled with the photos: still used as metadata, not self-calibrated.
@@ -110,8 +112,9 @@ TEST(IncrementalSfmSimTest, LatticeFrameWithoutRigCalibrationMakesAClip) {
   EXPECT_EQ(report->num_views, 9);
   EXPECT_EQ(sink.frames, 5);
   const auto warned = [&](const std::string& text) {
-    return std::any_of(report->warnings.begin(), report->warnings.end(),
-                       [&](const std::string& w) { return w.find(text) != std::string::npos; });
+    return std::any_of(report->warnings.begin(), report->warnings.end(), [&](const std::string& w) {
+      return w.find(text) != std::string::npos;
+    });
   };
   EXPECT_TRUE(warned("no factory rig calibration: lattice found blind (3x3"));
   EXPECT_TRUE(warned("focal length is unobservable"));

@@ -1,9 +1,9 @@
 #include "tests/sim_calib/sim_image_set.h"
 
+#include <gtest/gtest.h>
+
 #include <cstdio>
 #include <filesystem>
-
-#include <gtest/gtest.h>
 #include <opencv2/core.hpp>
 
 #include "eval/calib/pose_alignment.h"
@@ -25,8 +25,10 @@ Eigen::Quaterniond Turn(double rx_deg, double ry_deg, double rz_deg) {
 
 }  // namespace
 
-ImageSet Render(const std::string& scene_name, const std::vector<Eigen::Vector3d>& centres_m,
-                const std::vector<Eigen::Vector3d>& turns_deg, bool known_focal) {
+ImageSet Render(const std::string& scene_name,
+                const std::vector<Eigen::Vector3d>& centres_m,
+                const std::vector<Eigen::Vector3d>& turns_deg,
+                bool known_focal) {
   std::vector<Rigid3> poses;
   for (size_t i = 0; i < centres_m.size(); ++i) {
     const Eigen::Quaterniond rotation = Turn(turns_deg[i].x(), turns_deg[i].y(), turns_deg[i].z());
@@ -36,13 +38,15 @@ ImageSet Render(const std::string& scene_name, const std::vector<Eigen::Vector3d
   return RenderCameras(scene_name, std::vector<CameraModel>(poses.size(), camera), poses, known_focal);
 }
 
-ImageSet RenderCameras(const std::string& scene_name, const std::vector<CameraModel>& cameras,
-                       const std::vector<Rigid3>& cam_from_world, bool known_intrinsics) {
+ImageSet RenderCameras(const std::string& scene_name,
+                       const std::vector<CameraModel>& cameras,
+                       const std::vector<Rigid3>& cam_from_world,
+                       bool known_intrinsics) {
   ImageSet set;
   set.camera = cameras.front();
-  StatusOr<sim::Scene> scene = sim::LoadScene(scene_name.find('/') != std::string::npos
-                                                   ? std::filesystem::path(scene_name)
-                                                   : sim::ScenesDir() / (scene_name + ".json"));
+  StatusOr<sim::Scene> scene =
+      sim::LoadScene(scene_name.find('/') != std::string::npos ? std::filesystem::path(scene_name)
+                                                               : sim::ScenesDir() / (scene_name + ".json"));
   EXPECT_TRUE(scene.ok()) << scene.status().ToString();
   if (!scene.ok()) return set;
   for (size_t i = 0; i < cameras.size(); ++i) {
@@ -77,7 +81,8 @@ ImageSet RenderCameras(const std::string& scene_name, const std::vector<CameraMo
 ImageSet HandHeld(bool known_focal, const std::string& scene) {
   return Render(scene,
                 {{-0.12, 0.0, 0.0}, {-0.04, 0.01, 0.005}, {0.04, -0.005, -0.01}, {0.12, 0.008, 0.0}},
-                {{0.5, 1.5, -0.3}, {-0.8, 0.4, 0.6}, {1.2, -1.0, 0.2}, {-0.3, -2.0, -0.7}}, known_focal);
+                {{0.5, 1.5, -0.3}, {-0.8, 0.4, 0.6}, {1.2, -1.0, 0.2}, {-0.3, -2.0, -0.7}},
+                known_focal);
 }
 
 Figures Compare(const calib::SfmResult& result, const ImageSet& set) {
@@ -91,17 +96,31 @@ Figures Compare(const calib::SfmResult& result, const ImageSet& set) {
   StatusOr<eval::PoseErrors> errors = eval::ComparePoses(est, set.truth, est_f, ref_f);
   EXPECT_TRUE(errors.ok()) << errors.status().ToString();
   if (!errors.ok()) return {};
-  return {eval::PoseErrors::Max(errors->rotation_deg), eval::PoseErrors::Max(errors->centre_relative),
+  return {eval::PoseErrors::Max(errors->rotation_deg),
+          eval::PoseErrors::Max(errors->centre_relative),
           eval::PoseErrors::Max(errors->focal_relative)};
 }
 
 void Print(const char* name, const calib::SfmResult& result, const Figures& figures) {
   const calib::SfmReport& r = result.report;
-  std::printf("%s: %d/%d registered, %d points, RMS %.3f px, initial pair %d-%d (parallax %.1f px, %.1fx noise), "
-              "focal %.1f px (%s), %.0f ms; rotation %.3f deg, centre %.3f baselines, focal %.2f %%\n",
-              name, r.num_registered, r.num_images, r.num_points, r.rms_px, r.initial_image_a, r.initial_image_b,
-              r.initial_parallax_px, r.initial_parallax_ratio, result.views[0].camera.fx, r.focal_source.c_str(),
-              r.total_ms, figures.rotation_deg, figures.centre, 100 * figures.focal);
+  std::printf(
+      "%s: %d/%d registered, %d points, RMS %.3f px, initial pair %d-%d (parallax %.1f px, %.1fx noise), "
+      "focal %.1f px (%s), %.0f ms; rotation %.3f deg, centre %.3f baselines, focal %.2f %%\n",
+      name,
+      r.num_registered,
+      r.num_images,
+      r.num_points,
+      r.rms_px,
+      r.initial_image_a,
+      r.initial_image_b,
+      r.initial_parallax_px,
+      r.initial_parallax_ratio,
+      result.views[0].camera.fx,
+      r.focal_source.c_str(),
+      r.total_ms,
+      figures.rotation_deg,
+      figures.centre,
+      100 * figures.focal);
   for (const std::string& warning : r.warnings) std::printf("  warning: %s\n", warning.c_str());
 }
 

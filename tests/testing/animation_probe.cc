@@ -1,11 +1,11 @@
 #include "tests/testing/animation_probe.h"
 
+#include <webp/demux.h>
+
 #include <cstring>
 #include <fstream>
 #include <iterator>
-
 #include <opencv2/imgproc.hpp>
-#include <webp/demux.h>
 
 #include "tests/testing/video_probe.h"
 

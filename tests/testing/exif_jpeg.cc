@@ -33,12 +33,12 @@ std::vector<uint8_t> WithExifFocalLength(const std::vector<uint8_t>& jpeg, doubl
   U16(&tiff, 1);
   Entry(&tiff, 0x8769, kLong, kExifIfd);
   U32(&tiff, 0);
-  U16(&tiff, 5);  // tags in ascending order
-  Entry(&tiff, 0x920A, kRational, kFocalAt);             // FocalLength, mm
-  Entry(&tiff, 0xA002, kLong, width);                    // PixelXDimension
-  Entry(&tiff, 0xA003, kLong, height);                   // PixelYDimension
-  Entry(&tiff, 0xA20E, kRational, kResolutionAt);        // FocalPlaneXResolution
-  Entry(&tiff, 0xA210, kShort, 3);                       // FocalPlaneResolutionUnit: cm
+  U16(&tiff, 5);                                   // tags in ascending order
+  Entry(&tiff, 0x920A, kRational, kFocalAt);       // FocalLength, mm
+  Entry(&tiff, 0xA002, kLong, width);              // PixelXDimension
+  Entry(&tiff, 0xA003, kLong, height);             // PixelYDimension
+  Entry(&tiff, 0xA20E, kRational, kResolutionAt);  // FocalPlaneXResolution
+  Entry(&tiff, 0xA210, kShort, 3);                 // FocalPlaneResolutionUnit: cm
   U32(&tiff, 0);
   U32(&tiff, static_cast<uint32_t>(std::lround(focal_px * 1000)));  // focal_px / 100 mm
   U32(&tiff, 100000);

@@ -1,9 +1,9 @@
 // A fresh temporary folder per test, removed afterwards (kept when PX_KEEP_TEST_DIRS is set).
 #pragma once
 
-#include <filesystem>
-
 #include <gtest/gtest.h>
+
+#include <filesystem>
 
 namespace px::testing {
 

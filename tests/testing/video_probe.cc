@@ -2,7 +2,6 @@
 
 #include <cstdint>
 #include <fstream>
-
 #include <opencv2/imgproc.hpp>
 
 extern "C" {
@@ -30,8 +29,8 @@ bool MoovBeforeMdat(const std::filesystem::path& path) {
     unsigned char header[16];
     in.seekg(static_cast<std::streamoff>(offset));
     if (!in.read(reinterpret_cast<char*>(header), 8)) return false;
-    uint64_t box_size = (uint64_t{header[0]} << 24) | (uint64_t{header[1]} << 16) | (uint64_t{header[2]} << 8) |
-                        uint64_t{header[3]};
+    uint64_t box_size =
+        (uint64_t{header[0]} << 24) | (uint64_t{header[1]} << 16) | (uint64_t{header[2]} << 8) | uint64_t{header[3]};
     const std::string type(reinterpret_cast<char*>(header + 4), 4);
     if (type == "moov") return true;
     if (type == "mdat") return false;
@@ -47,8 +46,16 @@ bool MoovBeforeMdat(const std::filesystem::path& path) {
 }
 
 cv::Mat ToBgr(const AVFrame* frame, SwsContext** sws) {
-  *sws = sws_getCachedContext(*sws, frame->width, frame->height, static_cast<AVPixelFormat>(frame->format),
-                              frame->width, frame->height, AV_PIX_FMT_BGR24, SWS_BILINEAR, nullptr, nullptr,
+  *sws = sws_getCachedContext(*sws,
+                              frame->width,
+                              frame->height,
+                              static_cast<AVPixelFormat>(frame->format),
+                              frame->width,
+                              frame->height,
+                              AV_PIX_FMT_BGR24,
+                              SWS_BILINEAR,
+                              nullptr,
+                              nullptr,
                               nullptr);
   cv::Mat bgr(frame->height, frame->width, CV_8UC3);
   uint8_t* dst[1] = {bgr.data};

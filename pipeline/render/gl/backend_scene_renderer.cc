@@ -15,7 +15,9 @@ Status RenderBackendOptions::Validate() const {
 }
 
 StatusOr<std::unique_ptr<BackendSceneRenderer>> BackendSceneRenderer::Create(
-    const std::vector<View>& views, const std::vector<LayeredDepthView>& layers, const RenderOptions& render,
+    const std::vector<View>& views,
+    const std::vector<LayeredDepthView>& layers,
+    const RenderOptions& render,
     const RenderBackendOptions& backend) {
   PX_RETURN_IF_ERROR(render.Validate());
   PX_RETURN_IF_ERROR(backend.Validate());
@@ -87,8 +89,8 @@ StatusOr<FrameRender> BackendSceneRenderer::Render(const VirtualCamera& camera) 
   if (!cpu_frame.ok()) return cpu_frame.status();
   if (cpu_fallback_frames_++ == 0) {
     cpu_fallback_reason_ = frame.status().message();
-    Logger("render")->warn("render: {} failed on a frame, drawn on the cpu instead: {}", primary_->BackendName(),
-                           cpu_fallback_reason_);
+    Logger("render")->warn(
+        "render: {} failed on a frame, drawn on the cpu instead: {}", primary_->BackendName(), cpu_fallback_reason_);
   }
   return cpu_frame;
 }

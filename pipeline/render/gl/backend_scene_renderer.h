@@ -51,11 +51,11 @@ class BackendSceneRenderer final : public SceneRenderer {
   BackendSceneRenderer() = default;
   StatusOr<SceneRenderer*> Cpu();  // the CPU reference, made on first use when GL is primary
 
-  std::vector<View> views_;                // kept for a late CPU fallback (shallow copies)
+  std::vector<View> views_;  // kept for a late CPU fallback (shallow copies)
   std::vector<LayeredDepthView> layers_;
   RenderOptions render_;
   std::unique_ptr<SceneRenderer> primary_;
-  std::unique_ptr<SceneRenderer> cpu_;     // set when the CPU is primary's fallback
+  std::unique_ptr<SceneRenderer> cpu_;  // set when the CPU is primary's fallback
   std::string reason_;
   std::vector<std::string> warnings_;
   int cpu_fallback_frames_ = 0;

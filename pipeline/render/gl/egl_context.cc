@@ -71,15 +71,24 @@ bool HasExtension(const char* extensions, std::string_view name) {
 
 std::string EglErrorName(EGLint error) {
   switch (error) {
-    case EGL_NOT_INITIALIZED: return "EGL_NOT_INITIALIZED";
-    case EGL_BAD_ACCESS: return "EGL_BAD_ACCESS";
-    case EGL_BAD_ALLOC: return "EGL_BAD_ALLOC";
-    case EGL_BAD_ATTRIBUTE: return "EGL_BAD_ATTRIBUTE";
-    case EGL_BAD_CONFIG: return "EGL_BAD_CONFIG";
-    case EGL_BAD_CONTEXT: return "EGL_BAD_CONTEXT";
-    case EGL_BAD_DISPLAY: return "EGL_BAD_DISPLAY";
-    case EGL_BAD_MATCH: return "EGL_BAD_MATCH";
-    case EGL_BAD_PARAMETER: return "EGL_BAD_PARAMETER";
+    case EGL_NOT_INITIALIZED:
+      return "EGL_NOT_INITIALIZED";
+    case EGL_BAD_ACCESS:
+      return "EGL_BAD_ACCESS";
+    case EGL_BAD_ALLOC:
+      return "EGL_BAD_ALLOC";
+    case EGL_BAD_ATTRIBUTE:
+      return "EGL_BAD_ATTRIBUTE";
+    case EGL_BAD_CONFIG:
+      return "EGL_BAD_CONFIG";
+    case EGL_BAD_CONTEXT:
+      return "EGL_BAD_CONTEXT";
+    case EGL_BAD_DISPLAY:
+      return "EGL_BAD_DISPLAY";
+    case EGL_BAD_MATCH:
+      return "EGL_BAD_MATCH";
+    case EGL_BAD_PARAMETER:
+      return "EGL_BAD_PARAMETER";
     default: {
       char text[32];
       std::snprintf(text, sizeof(text), "EGL error 0x%x", static_cast<unsigned>(error));
@@ -92,7 +101,8 @@ std::string EglErrorName(EGLint error) {
 // eglTerminate would pull the ground from under every other context on it.
 class EglContext final : public GlContext {
  public:
-  EglContext(EglLibrary egl, EGLDisplay display, EGLContext context) : egl_(egl), display_(display), context_(context) {}
+  EglContext(EglLibrary egl, EGLDisplay display, EGLContext context)
+      : egl_(egl), display_(display), context_(context) {}
   ~EglContext() override {
     ReleaseCurrent();
     egl_.destroy_context(display_, context_);
@@ -108,9 +118,7 @@ class EglContext final : public GlContext {
 
   Status Init(std::string platform, bool allow_software) {
     PX_RETURN_IF_ERROR(MakeCurrent());
-    auto resolve = [get = egl_.get_proc_address](const char* name) {
-      return reinterpret_cast<void*>(get(name));
-    };
+    auto resolve = [get = egl_.get_proc_address](const char* name) { return reinterpret_cast<void*>(get(name)); };
     return LoadFunctionsAndInfo(resolve, std::move(platform), allow_software);
   }
 
@@ -121,10 +129,12 @@ class EglContext final : public GlContext {
 };
 
 // Initialises `display` and creates a current, surfaceless desktop GL core context on it.
-StatusOr<std::unique_ptr<GlContext>> ContextOnDisplay(const EglLibrary& egl, EGLDisplay display,
+StatusOr<std::unique_ptr<GlContext>> ContextOnDisplay(const EglLibrary& egl,
+                                                      EGLDisplay display,
                                                       const std::string& platform,
                                                       const GlContextOptions& options) {
-  if (display == EGL_NO_DISPLAY) return UnavailableError(platform + ": no display (" + EglErrorName(egl.get_error()) + ")");
+  if (display == EGL_NO_DISPLAY)
+    return UnavailableError(platform + ": no display (" + EglErrorName(egl.get_error()) + ")");
   EGLint major = 0;
   EGLint minor = 0;
   if (!egl.initialize(display, &major, &minor)) {
@@ -135,12 +145,13 @@ StatusOr<std::unique_ptr<GlContext>> ContextOnDisplay(const EglLibrary& egl, EGL
     if (!HasExtension(extensions, needed)) return UnavailableError(platform + ": the display lacks " + needed);
   }
   // Without EGL_KHR_no_config_context a config is needed even for FBO-only rendering.
-  if (!HasExtension(extensions, "EGL_KHR_no_config_context") && !HasExtension(extensions, "EGL_MESA_configless_context")) {
+  if (!HasExtension(extensions, "EGL_KHR_no_config_context") &&
+      !HasExtension(extensions, "EGL_MESA_configless_context")) {
     return UnavailableError(platform + ": the display lacks EGL_KHR_no_config_context");
   }
   if (!egl.bind_api(EGL_OPENGL_API)) {
-    return UnavailableError(platform + ": desktop OpenGL is not offered (eglBindAPI: " +
-                            EglErrorName(egl.get_error()) + ")");
+    return UnavailableError(platform + ": desktop OpenGL is not offered (eglBindAPI: " + EglErrorName(egl.get_error()) +
+                            ")");
   }
   const EGLint attribs[] = {EGL_CONTEXT_MAJOR_VERSION,
                             options.gl_major,
@@ -152,8 +163,7 @@ StatusOr<std::unique_ptr<GlContext>> ContextOnDisplay(const EglLibrary& egl, EGL
   EGLContext context = egl.create_context(display, EGL_NO_CONFIG_KHR, EGL_NO_CONTEXT, attribs);
   if (context == EGL_NO_CONTEXT) {
     return UnavailableError(platform + ": eglCreateContext refused a GL " + std::to_string(options.gl_major) + "." +
-                            std::to_string(options.gl_minor) + " core context (" + EglErrorName(egl.get_error()) +
-                            ")");
+                            std::to_string(options.gl_minor) + " core context (" + EglErrorName(egl.get_error()) + ")");
   }
   auto made = std::make_unique<EglContext>(egl, display, context);
   PX_RETURN_IF_ERROR(made->Init(platform, options.allow_software));
@@ -177,11 +187,10 @@ StatusOr<std::unique_ptr<GlContext>> ContextOnGpuDevice(const EglLibrary& egl, c
     const char* device_extensions = egl.query_device_string(devices[i], EGL_EXTENSIONS);
     if (HasExtension(device_extensions, "EGL_MESA_device_software")) continue;  // llvmpipe: surfaceless does that
     EGLDisplay display = egl.get_platform_display(EGL_PLATFORM_DEVICE_EXT, devices[i], nullptr);
-    StatusOr<std::unique_ptr<GlContext>> context =
-        ContextOnDisplay(egl, display, "egl-device", options);
+    StatusOr<std::unique_ptr<GlContext>> context = ContextOnDisplay(egl, display, "egl-device", options);
     if (context.ok()) return context;
-    reasons += (reasons.empty() ? "" : "; ") + std::string("device ") + std::to_string(i) + ": " +
-               context.status().message();
+    reasons +=
+        (reasons.empty() ? "" : "; ") + std::string("device ") + std::to_string(i) + ": " + context.status().message();
   }
   return NotFoundError("egl-device: no GPU device gave a context" + (reasons.empty() ? "" : " (" + reasons + ")"));
 }

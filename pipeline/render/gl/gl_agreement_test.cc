@@ -4,15 +4,15 @@
 // both on OSMesa and on EGL (surfaceless here). Figures per camera: PSNR between the two frames,
 // max and mean colour difference away from depth edges, coverage masks, hole ratio and H(V).
 // Run `build/tests/render_gl_gl_agreement_test` (or ctest -V -R render/gl/gl_agreement) to print them.
+#include <gtest/gtest.h>
+
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <memory>
+#include <opencv2/imgproc.hpp>
 #include <string>
 #include <vector>
-
-#include <gtest/gtest.h>
-#include <opencv2/imgproc.hpp>
 
 #include "pipeline/render/cpu_scene_renderer.h"
 #include "pipeline/render/gl/gl_scene_renderer.h"
@@ -30,10 +30,10 @@ Rigid3 PoseAt(const Eigen::Vector3d& centre, double yaw_deg = 0) {
 }
 
 struct Agreement {
-  double psnr_db = 0;           // whole frame, GL against CPU
-  double max_diff = 0;          // colour levels, away from depth edges and holes
+  double psnr_db = 0;   // whole frame, GL against CPU
+  double max_diff = 0;  // colour levels, away from depth edges and holes
   double mean_diff = 0;
-  double coverage_disagree = 0; // fraction of pixels covered by one back end only
+  double coverage_disagree = 0;  // fraction of pixels covered by one back end only
   double hole_ratio_gl = 0, hole_ratio_cpu = 0;
   double hole_score_gl = 0, hole_score_cpu = 0;
 };
@@ -47,7 +47,11 @@ Agreement Compare(const FrameRender& gl, const FrameRender& cpu) {
   cv::absdiff(gl.bgr, cpu.bgr, diff);
   cv::Mat per_pixel;
   cv::transform(diff, per_pixel, cv::Matx13f(1, 1, 1));  // summed over channels, float
-  cv::minMaxLoc(diff.reshape(1, diff.rows), nullptr, &a.max_diff, nullptr, nullptr,
+  cv::minMaxLoc(diff.reshape(1, diff.rows),
+                nullptr,
+                &a.max_diff,
+                nullptr,
+                nullptr,
                 cv::Mat(cv::repeat(interior, 1, 3)).reshape(1, diff.rows));
   a.mean_diff = cv::mean(per_pixel, interior)[0] / 3;
   cv::Mat disagree;
@@ -102,11 +106,20 @@ class GlAgreementTest : public ::testing::TestWithParam<GlPlatform> {
       EXPECT_NE(std::find(cpu->sources.begin(), cpu->sources.end(), id), cpu->sources.end())
           << "view " << id.value << " has weight on GL only; gl: " << gl_sources << "cpu: " << cpu_sources;
     }
-    std::printf("%-10s %-22s PSNR %5.1f dB; interior colour diff max %3.0f mean %.2f; coverage differs on %.4f; "
-                "holes %.4f / %.4f, H(V) %.4f / %.4f (gl / cpu); sources %s\n",
-                std::string(gl_->BackendName()).c_str(), name.c_str(), a.psnr_db, a.max_diff, a.mean_diff,
-                a.coverage_disagree, a.hole_ratio_gl, a.hole_ratio_cpu, a.hole_score_gl, a.hole_score_cpu,
-                gl_sources.c_str());
+    std::printf(
+        "%-10s %-22s PSNR %5.1f dB; interior colour diff max %3.0f mean %.2f; coverage differs on %.4f; "
+        "holes %.4f / %.4f, H(V) %.4f / %.4f (gl / cpu); sources %s\n",
+        std::string(gl_->BackendName()).c_str(),
+        name.c_str(),
+        a.psnr_db,
+        a.max_diff,
+        a.mean_diff,
+        a.coverage_disagree,
+        a.hole_ratio_gl,
+        a.hole_ratio_cpu,
+        a.hole_score_gl,
+        a.hole_score_cpu,
+        gl_sources.c_str());
     return a;
   }
 
@@ -125,8 +138,12 @@ VirtualCamera Camera(const Rigid3& cam_from_world, double zoom = 1.0) {
   return camera;
 }
 
-ColorEffect Effect(ColorEffectKind kind, double amount, const Eigen::Vector3d& min_m, const Eigen::Vector3d& max_m,
-                   double falloff_m, bool invert) {
+ColorEffect Effect(ColorEffectKind kind,
+                   double amount,
+                   const Eigen::Vector3d& min_m,
+                   const Eigen::Vector3d& max_m,
+                   double falloff_m,
+                   bool invert) {
   ColorEffect effect;
   effect.kind = kind;
   effect.amount = amount;
@@ -176,13 +193,14 @@ TEST_P(GlAgreementTest, EffectsAndDepthOfFieldAgreeWithTheCpuReference) {
   // The background desaturated (the complement of a box around the foreground), and the
   // foreground's left half brighter, fading out over 5 cm.
   const ColorEffect grey = Effect(ColorEffectKind::kSaturation, 0.0, {-0.25, -0.15, 0.9}, {0.15, 0.15, 1.1}, 0.2, true);
-  const ColorEffect bright = Effect(ColorEffectKind::kBrightness, 1.4, {-0.2, -0.12, 0.9}, {-0.05, 0.12, 1.1}, 0.05, false);
+  const ColorEffect bright =
+      Effect(ColorEffectKind::kBrightness, 1.4, {-0.2, -0.12, 0.9}, {-0.05, 0.12, 1.1}, 0.05, false);
   effects.effects = {grey, bright};
   VirtualCamera focus_near = Camera(PoseAt(Eigen::Vector3d(0.004, -0.003, 0.0)));
   focus_near.aperture_m = 0.02;
   focus_near.focus_depth_m = 1.0;  // foreground sharp, background blurred by ~3.7 px
   VirtualCamera focus_far = focus_near;
-  focus_far.focus_depth_m = 3.0;   // background sharp, foreground blurred by ~11 px over it
+  focus_far.focus_depth_m = 3.0;  // background sharp, foreground blurred by ~11 px over it
   for (const auto& [name, camera] : {std::pair<const char*, VirtualCamera>{"colour effects", effects},
                                      {"focus on foreground", focus_near},
                                      {"focus on background", focus_far}}) {
@@ -213,8 +231,12 @@ TEST_P(GlAgreementTest, HolesAndTheirScoreAgree) {
   ASSERT_TRUE(gl.ok()) << gl.status().ToString();
   ASSERT_TRUE(cpu.ok()) << cpu.status().ToString();
   std::printf("%-10s %-22s coverage at 1/4: holes %.4f / %.4f, H(V) %.4f / %.4f (gl / cpu)\n",
-              std::string(gl_->BackendName()).c_str(), "outside the rig", gl->hole_ratio, cpu->hole_ratio,
-              gl->hole_score, cpu->hole_score);
+              std::string(gl_->BackendName()).c_str(),
+              "outside the rig",
+              gl->hole_ratio,
+              cpu->hole_ratio,
+              gl->hole_score,
+              cpu->hole_score);
   EXPECT_NEAR(gl->hole_ratio, cpu->hole_ratio, 0.002);
   EXPECT_NEAR(gl->hole_score, cpu->hole_score, 0.1 * std::max(cpu->hole_score, 0.1));
 }
@@ -232,7 +254,10 @@ TEST_P(GlAgreementTest, HolesFromOtherViewsAgreeWithTheCpuReference) {
   const int cpu_covered = cpu_->last_frame().other_view_pixels;
   const int gl_covered = gl_->last_frame().other_view_pixels;
   std::printf("%-10s %-22s hole pixels drawn from other views %d / %d (gl / cpu)\n",
-              std::string(gl_->BackendName()).c_str(), "holes, other views", gl_covered, cpu_covered);
+              std::string(gl_->BackendName()).c_str(),
+              "holes, other views",
+              gl_covered,
+              cpu_covered);
   EXPECT_GT(cpu_covered, kCamera.height * 5) << "the camera must leave holes other views cover";
   EXPECT_NEAR(gl_covered, cpu_covered, 0.01 * cpu_covered);
   EXPECT_GT(a.psnr_db, 50.0);
@@ -280,7 +305,9 @@ TEST_P(GlAgreementTest, OneDimensionalRigAgreesWithTheCpuReference) {
   }
 }
 
-INSTANTIATE_TEST_SUITE_P(Platforms, GlAgreementTest, ::testing::Values(GlPlatform::kOsmesa, GlPlatform::kEgl),
+INSTANTIATE_TEST_SUITE_P(Platforms,
+                         GlAgreementTest,
+                         ::testing::Values(GlPlatform::kOsmesa, GlPlatform::kEgl),
                          [](const auto& param_info) { return std::string(GlPlatformName(param_info.param)); });
 
 }  // namespace

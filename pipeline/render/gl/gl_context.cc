@@ -6,9 +6,12 @@ namespace px::render::gl {
 
 std::string_view GlPlatformName(GlPlatform platform) {
   switch (platform) {
-    case GlPlatform::kAuto: return "auto";
-    case GlPlatform::kEgl: return "egl";
-    case GlPlatform::kOsmesa: return "osmesa";
+    case GlPlatform::kAuto:
+      return "auto";
+    case GlPlatform::kEgl:
+      return "egl";
+    case GlPlatform::kOsmesa:
+      return "osmesa";
   }
   return "?";
 }
@@ -67,9 +70,12 @@ Status GlContext::LoadFunctionsAndInfo(const GlProcResolver& resolve, std::strin
 StatusOr<std::unique_ptr<GlContext>> CreateGlContext(const GlContextOptions& options) {
   PX_RETURN_IF_ERROR(options.Validate());
   switch (options.platform) {
-    case GlPlatform::kEgl: return CreateEglContext(options);
-    case GlPlatform::kOsmesa: return CreateOsmesaContext(options);
-    case GlPlatform::kAuto: break;
+    case GlPlatform::kEgl:
+      return CreateEglContext(options);
+    case GlPlatform::kOsmesa:
+      return CreateOsmesaContext(options);
+    case GlPlatform::kAuto:
+      break;
   }
   StatusOr<std::unique_ptr<GlContext>> egl = CreateEglContext(options);
   if (egl.ok()) return egl;

@@ -46,11 +46,11 @@ struct GlContextOptions {
 
 // What was created, for logs and reports.
 struct GlContextInfo {
-  std::string platform;  // "egl-device", "egl-surfaceless" or "osmesa"
-  std::string vendor;    // GL_VENDOR
-  std::string renderer;  // GL_RENDERER, e.g. "llvmpipe (LLVM 15.0.6, 256 bits)"
-  std::string version;   // GL_VERSION, e.g. "4.5 (Core Profile) Mesa 22.3.6"
-  bool software = false; // a CPU rasteriser (llvmpipe, softpipe, swrast)
+  std::string platform;   // "egl-device", "egl-surfaceless" or "osmesa"
+  std::string vendor;     // GL_VENDOR
+  std::string renderer;   // GL_RENDERER, e.g. "llvmpipe (LLVM 15.0.6, 256 bits)"
+  std::string version;    // GL_VERSION, e.g. "4.5 (Core Profile) Mesa 22.3.6"
+  bool software = false;  // a CPU rasteriser (llvmpipe, softpipe, swrast)
   int max_texture_size = 0;
   int max_array_texture_layers = 0;
   int max_draw_buffers = 0;

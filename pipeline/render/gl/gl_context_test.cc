@@ -1,13 +1,13 @@
 #include "pipeline/render/gl/gl_context.h"
 
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
 #include <array>
 #include <cmath>
 #include <string>
 #include <thread>
 #include <vector>
-
-#include <gmock/gmock.h>
-#include <gtest/gtest.h>
 
 #include "pipeline/render/gl/gl_objects.h"
 #include "pipeline/render/gl/gl_program.h"
@@ -102,9 +102,10 @@ TEST_P(GlContextPlatformTest, ShaderErrorsNameTheProgramStageAndLine) {
   EXPECT_THAT(broken.status().message(), HasSubstr("program broken: fragment shader does not compile"));
   EXPECT_THAT(broken.status().message(), HasSubstr("nope"));
   // Linking fails when the stages disagree on an interface variable's type.
-  StatusOr<GlObject> unlinked =
-      BuildProgram(gl, "mismatch", "out float v;\nvoid main() { v = 1.0; gl_Position = vec4(0.0); }\n",
-                   "in vec2 v;\nout vec4 c;\nvoid main() { c = vec4(v, 0.0, 1.0); }\n");
+  StatusOr<GlObject> unlinked = BuildProgram(gl,
+                                             "mismatch",
+                                             "out float v;\nvoid main() { v = 1.0; gl_Position = vec4(0.0); }\n",
+                                             "in vec2 v;\nout vec4 c;\nvoid main() { c = vec4(v, 0.0, 1.0); }\n");
   ASSERT_FALSE(unlinked.ok());
   EXPECT_THAT(unlinked.status().message(), HasSubstr("program mismatch: does not link"));
 }
@@ -145,7 +146,9 @@ TEST_P(GlContextPlatformTest, AnUnavailableVersionFailsWithTheVersion) {
   }
 }
 
-INSTANTIATE_TEST_SUITE_P(Platforms, GlContextPlatformTest, ::testing::Values(GlPlatform::kOsmesa, GlPlatform::kEgl),
+INSTANTIATE_TEST_SUITE_P(Platforms,
+                         GlContextPlatformTest,
+                         ::testing::Values(GlPlatform::kOsmesa, GlPlatform::kEgl),
                          [](const auto& param_info) { return std::string(GlPlatformName(param_info.param)); });
 
 TEST(GlContextTest, AMissingLibraryIsNamedWithItsPackage) {

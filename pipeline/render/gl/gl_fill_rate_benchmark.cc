@@ -6,7 +6,6 @@
 // design needs a weights pass, ~3.2 fragments a pixel of segments and a resolve. Prints
 // ns_per_pixel (process CPU per output pixel per pass); asserts nothing.
 #include <benchmark/benchmark.h>
-
 #include <time.h>
 
 #include <cstdlib>
@@ -96,7 +95,9 @@ void BM_GlPassFloor(benchmark::State& state) {
     auto fbo = MakeFramebuffer(gl, {target->id()}, "floor");
     auto source = MakeTexture2D(gl, format.internal_format, width + 2, height + 2, "floor source");
     const std::string fetch_shader = "#define FETCHES " + std::to_string(fetches) + "\n" + std::string(kFetchFragment);
-    auto program = BuildProgram(gl, "floor", tiles ? kTileVertex : kFullScreenVertexShader,
+    auto program = BuildProgram(gl,
+                                "floor",
+                                tiles ? kTileVertex : kFullScreenVertexShader,
                                 fetches > 0 ? std::string_view(fetch_shader) : kConstantFragment);
     if (!source.ok()) {
       state.SkipWithError(source.status().ToString().c_str());
@@ -145,8 +146,7 @@ void BM_GlPassFloor(benchmark::State& state) {
     }
     const double cpu_s = ProcessCpuSeconds() - cpu_start;
     state.counters["ns_per_pixel"] = 1e9 * cpu_s / std::max(passes, 1L) / (static_cast<double>(width) * height);
-    state.SetLabel(std::string(format.name) + (tiles ? " tiles" : " full-screen") +
-                   (read_back ? " + read-back" : "") +
+    state.SetLabel(std::string(format.name) + (tiles ? " tiles" : " full-screen") + (read_back ? " + read-back" : "") +
                    (fetches > 0 ? ", " + std::to_string(fetches) + " fetches" : std::string()) + ", " +
                    (*context)->info().renderer);
   }

@@ -6,11 +6,21 @@ namespace px::render::gl {
 
 GlObject::GlObject(const GlFunctions* gl, GlObjectKind kind) : gl_(gl), kind_(kind) {
   switch (kind) {
-    case GlObjectKind::kTexture: gl->GenTextures(1, &id_); break;
-    case GlObjectKind::kFramebuffer: gl->GenFramebuffers(1, &id_); break;
-    case GlObjectKind::kBuffer: gl->GenBuffers(1, &id_); break;
-    case GlObjectKind::kVertexArray: gl->GenVertexArrays(1, &id_); break;
-    case GlObjectKind::kProgram: id_ = gl->CreateProgram(); break;
+    case GlObjectKind::kTexture:
+      gl->GenTextures(1, &id_);
+      break;
+    case GlObjectKind::kFramebuffer:
+      gl->GenFramebuffers(1, &id_);
+      break;
+    case GlObjectKind::kBuffer:
+      gl->GenBuffers(1, &id_);
+      break;
+    case GlObjectKind::kVertexArray:
+      gl->GenVertexArrays(1, &id_);
+      break;
+    case GlObjectKind::kProgram:
+      id_ = gl->CreateProgram();
+      break;
   }
 }
 
@@ -25,17 +35,27 @@ GlObject GlObject::Adopt(const GlFunctions* gl, GlObjectKind kind, GLuint id) {
 void GlObject::Reset() {
   if (id_ == 0 || gl_ == nullptr) return;
   switch (kind_) {
-    case GlObjectKind::kTexture: gl_->DeleteTextures(1, &id_); break;
-    case GlObjectKind::kFramebuffer: gl_->DeleteFramebuffers(1, &id_); break;
-    case GlObjectKind::kBuffer: gl_->DeleteBuffers(1, &id_); break;
-    case GlObjectKind::kVertexArray: gl_->DeleteVertexArrays(1, &id_); break;
-    case GlObjectKind::kProgram: gl_->DeleteProgram(id_); break;
+    case GlObjectKind::kTexture:
+      gl_->DeleteTextures(1, &id_);
+      break;
+    case GlObjectKind::kFramebuffer:
+      gl_->DeleteFramebuffers(1, &id_);
+      break;
+    case GlObjectKind::kBuffer:
+      gl_->DeleteBuffers(1, &id_);
+      break;
+    case GlObjectKind::kVertexArray:
+      gl_->DeleteVertexArrays(1, &id_);
+      break;
+    case GlObjectKind::kProgram:
+      gl_->DeleteProgram(id_);
+      break;
   }
   id_ = 0;
 }
 
-StatusOr<GlObject> MakeTexture2D(const GlFunctions& gl, GLenum internal_format, int width, int height,
-                                 const std::string& what) {
+StatusOr<GlObject> MakeTexture2D(
+    const GlFunctions& gl, GLenum internal_format, int width, int height, const std::string& what) {
   GLint max_size = 0;
   gl.GetIntegerv(GL_MAX_TEXTURE_SIZE, &max_size);
   if (width < 1 || height < 1 || width > max_size || height > max_size) {
@@ -48,8 +68,15 @@ StatusOr<GlObject> MakeTexture2D(const GlFunctions& gl, GLenum internal_format, 
   // Storage format and type only matter for the (absent) initial data.
   const bool integer = internal_format == GL_R32I || internal_format == GL_RG32I || internal_format == GL_RGBA32I ||
                        internal_format == GL_RGBA32UI;
-  gl.TexImage2D(GL_TEXTURE_2D, 0, static_cast<GLint>(internal_format), width, height, 0,
-                integer ? GL_RED_INTEGER : GL_RED, integer ? GL_INT : GL_FLOAT, nullptr);
+  gl.TexImage2D(GL_TEXTURE_2D,
+                0,
+                static_cast<GLint>(internal_format),
+                width,
+                height,
+                0,
+                integer ? GL_RED_INTEGER : GL_RED,
+                integer ? GL_INT : GL_FLOAT,
+                nullptr);
   gl.TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
   gl.TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
   gl.TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
@@ -63,7 +90,8 @@ StatusOr<GlObject> MakeTexture2D(const GlFunctions& gl, GLenum internal_format, 
   return texture;
 }
 
-StatusOr<GlObject> MakeFramebuffer(const GlFunctions& gl, std::initializer_list<GLuint> colour_textures,
+StatusOr<GlObject> MakeFramebuffer(const GlFunctions& gl,
+                                   std::initializer_list<GLuint> colour_textures,
                                    const std::string& what) {
   GlObject framebuffer(&gl, GlObjectKind::kFramebuffer);
   gl.BindFramebuffer(GL_FRAMEBUFFER, framebuffer.id());
@@ -86,8 +114,8 @@ StatusOr<GlObject> MakeFramebuffer(const GlFunctions& gl, std::initializer_list<
   return framebuffer;
 }
 
-void ReadAttachment(const GlFunctions& gl, int attachment, int width, int height, GLenum format, GLenum type,
-                    void* out) {
+void ReadAttachment(
+    const GlFunctions& gl, int attachment, int width, int height, GLenum format, GLenum type, void* out) {
   gl.ReadBuffer(GL_COLOR_ATTACHMENT0 + attachment);
   gl.PixelStorei(GL_PACK_ALIGNMENT, 1);
   gl.ReadPixels(0, 0, width, height, format, type, out);

@@ -45,17 +45,18 @@ class GlObject {
 
 // A 2D texture of `internal_format` (GL_RGBA8, GL_RGBA32F, GL_R32F, ...) with nearest filtering
 // and clamped edges, uninitialised. Errors name `what` and the size.
-StatusOr<GlObject> MakeTexture2D(const GlFunctions& gl, GLenum internal_format, int width, int height,
-                                 const std::string& what);
+StatusOr<GlObject> MakeTexture2D(
+    const GlFunctions& gl, GLenum internal_format, int width, int height, const std::string& what);
 
 // A framebuffer with the given textures as colour attachments 0..n-1, checked complete.
-StatusOr<GlObject> MakeFramebuffer(const GlFunctions& gl, std::initializer_list<GLuint> colour_textures,
+StatusOr<GlObject> MakeFramebuffer(const GlFunctions& gl,
+                                   std::initializer_list<GLuint> colour_textures,
                                    const std::string& what);
 
 // Reads attachment `attachment` of the bound read framebuffer: `format`/`type` as glReadPixels
 // (GL_RGBA/GL_FLOAT, GL_RED/GL_FLOAT, GL_RGBA/GL_UNSIGNED_BYTE) into `out` (rows bottom-up as GL
 // stores them; the caller flips if it wants).
-void ReadAttachment(const GlFunctions& gl, int attachment, int width, int height, GLenum format, GLenum type,
-                    void* out);
+void ReadAttachment(
+    const GlFunctions& gl, int attachment, int width, int height, GLenum format, GLenum type, void* out);
 
 }  // namespace px::render::gl

@@ -29,15 +29,17 @@ StatusOr<GLuint> Compile(const GlFunctions& gl, GLenum stage, std::string_view p
     std::string log(static_cast<size_t>(std::max(length, 1)), '\0');
     gl.GetShaderInfoLog(shader, length, nullptr, log.data());
     gl.DeleteShader(shader);
-    return InternalError("program " + std::string(program) + ": " + stage_name + " does not compile: " +
-                         TrimLog(std::move(log)));
+    return InternalError("program " + std::string(program) + ": " + stage_name +
+                         " does not compile: " + TrimLog(std::move(log)));
   }
   return shader;
 }
 
 }  // namespace
 
-StatusOr<GlObject> BuildProgram(const GlFunctions& gl, std::string_view name, std::string_view vertex_source,
+StatusOr<GlObject> BuildProgram(const GlFunctions& gl,
+                                std::string_view name,
+                                std::string_view vertex_source,
                                 std::string_view fragment_source) {
   PX_ASSIGN_OR_RETURN(GLuint vertex, Compile(gl, GL_VERTEX_SHADER, name, vertex_source));
   StatusOr<GLuint> fragment = Compile(gl, GL_FRAGMENT_SHADER, name, fragment_source);

@@ -16,7 +16,9 @@ inline constexpr std::string_view kGlslVersion = "#version 330 core\n";
 
 // Compiles `vertex_source` and `fragment_source` (without the #version line) and links them.
 // Errors are INTERNAL: "program soft_z: fragment shader: 0:12(3): error: ...".
-StatusOr<GlObject> BuildProgram(const GlFunctions& gl, std::string_view name, std::string_view vertex_source,
+StatusOr<GlObject> BuildProgram(const GlFunctions& gl,
+                                std::string_view name,
+                                std::string_view vertex_source,
                                 std::string_view fragment_source);
 
 }  // namespace px::render::gl

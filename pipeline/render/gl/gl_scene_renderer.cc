@@ -1,20 +1,19 @@
 #include "pipeline/render/gl/gl_scene_renderer.h"
 
+#include <Eigen/Dense>
 #include <algorithm>
 #include <array>
 #include <cmath>
 #include <ctime>
-
-#include <Eigen/Dense>
 #include <opencv2/core.hpp>
 
 #include "pipeline/core/log.h"
-#include "pipeline/render/gl/gl_program.h"
-#include "pipeline/render/gl/gl_render_shaders.h"
 #include "pipeline/render/bilinear_prefilter.h"
 #include "pipeline/render/border_holes.h"
 #include "pipeline/render/color_effects.h"
 #include "pipeline/render/depth_of_field.h"
+#include "pipeline/render/gl/gl_program.h"
+#include "pipeline/render/gl/gl_render_shaders.h"
 #include "pipeline/render/hole_fill.h"
 #include "pipeline/render/hole_views.h"
 #include "pipeline/render/layered_scene.h"
@@ -87,7 +86,9 @@ void SetUniformMatrix3(const GlFunctions& gl, GLuint program, const char* name, 
   gl.UniformMatrix3fv(gl.GetUniformLocation(program, name), 1, GL_FALSE, f.data());
 }
 void SetUniform3(const GlFunctions& gl, GLuint program, const char* name, const Eigen::Vector3d& v) {
-  gl.Uniform3f(gl.GetUniformLocation(program, name), static_cast<float>(v.x()), static_cast<float>(v.y()),
+  gl.Uniform3f(gl.GetUniformLocation(program, name),
+               static_cast<float>(v.x()),
+               static_cast<float>(v.y()),
                static_cast<float>(v.z()));
 }
 void BindTextureUnit(const GlFunctions& gl, GLuint program, const char* name, int unit, GLuint texture) {
@@ -96,8 +97,12 @@ void BindTextureUnit(const GlFunctions& gl, GLuint program, const char* name, in
   gl.Uniform1i(gl.GetUniformLocation(program, name), unit);
 }
 
-StatusOr<GlObject> UploadTexture(const GlFunctions& gl, GLenum internal_format, GLenum format, GLenum type,
-                                 const cv::Mat& image, const std::string& what) {
+StatusOr<GlObject> UploadTexture(const GlFunctions& gl,
+                                 GLenum internal_format,
+                                 GLenum format,
+                                 GLenum type,
+                                 const cv::Mat& image,
+                                 const std::string& what) {
   PX_ASSIGN_OR_RETURN(GlObject texture, MakeTexture2D(gl, internal_format, image.cols, image.rows, what));
   const cv::Mat contiguous = image.isContinuous() ? image : image.clone();
   gl.BindTexture(GL_TEXTURE_2D, texture.id());
@@ -115,7 +120,8 @@ void SceneDepthRange(const std::vector<PosedLayeredView>& views, double* rho, do
   std::vector<float> depths;
   for (const PosedLayeredView& view : views) {
     const LayeredDepthView& d = view.depth;
-    if (d.depth_m.type() != CV_32F || d.layers[0].weight.type() != CV_32F || d.depth_m.size() != d.layers[0].weight.size()) {
+    if (d.depth_m.type() != CV_32F || d.layers[0].weight.type() != CV_32F ||
+        d.depth_m.size() != d.layers[0].weight.size()) {
       continue;
     }
     for (int y = 0; y < d.depth_m.rows; ++y) {
@@ -202,8 +208,10 @@ StatusOr<std::unique_ptr<GlSceneRenderer>> GlSceneRenderer::Create(std::vector<P
   PX_RETURN_IF_ERROR(current.status());
   PX_RETURN_IF_ERROR(renderer->Upload());
   Logger("render")->info("gl renderer on {}: {} views, {} mesh triangles, rho {:.3f} m{}",
-                         renderer->context_->info().ToString(), renderer->views_.size(),
-                         renderer->mesh_.triangles.size(), renderer->rho_m_,
+                         renderer->context_->info().ToString(),
+                         renderer->views_.size(),
+                         renderer->mesh_.triangles.size(),
+                         renderer->rho_m_,
                          renderer->warnings_.empty() ? "" : ", with warnings");
   for (const std::string& warning : renderer->warnings_) Logger("render")->warn("gl renderer: {}", warning);
   return renderer;
@@ -245,7 +253,8 @@ Status GlSceneRenderer::Upload() {
           layer.segment.size() != cv::Size(w, h)) {
         return InvalidArgumentError("gl renderer: " + name + " layer " + std::to_string(l) +
                                     ": colour, weight and segment must be CV_8UC3, CV_32F and CV_32S of the camera's "
-                                    "size " + std::to_string(w) + "x" + std::to_string(h));
+                                    "size " +
+                                    std::to_string(w) + "x" + std::to_string(h));
       }
     }
     ViewTextures textures;
@@ -255,8 +264,10 @@ Status GlSceneRenderer::Upload() {
     for (size_t s = 0; s < view.segments.size(); ++s) {
       if (view.segments[s].bbox.empty()) continue;  // covers no pixel: nothing to draw, nothing wrong
       usable[s] = SegmentUsable(view.segments[s]);
-      if (usable[s]) textures.kept_segments.push_back(static_cast<int>(s));
-      else ++dropped_segments;
+      if (usable[s])
+        textures.kept_segments.push_back(static_cast<int>(s));
+      else
+        ++dropped_segments;
     }
     int dropped_texels = 0;
     int kept_texels = 0;
@@ -297,8 +308,9 @@ Status GlSceneRenderer::Upload() {
       warnings_.push_back(name + ": no texel with depth (no usable segment or weight); the view is left out");
       textures.kept_segments.clear();
     }
-    PX_ASSIGN_OR_RETURN(textures.texels, UploadTexture(gl, GL_RGBA32UI, GL_RGBA_INTEGER, GL_UNSIGNED_INT, texels,
-                                                       name + " segment texels"));
+    PX_ASSIGN_OR_RETURN(
+        textures.texels,
+        UploadTexture(gl, GL_RGBA32UI, GL_RGBA_INTEGER, GL_UNSIGNED_INT, texels, name + " segment texels"));
     textures_.push_back(std::move(textures));
   }
   // The view mesh over the views that have something to draw; vertex views index views_.
@@ -318,8 +330,8 @@ Status GlSceneRenderer::Upload() {
   // ends. A loop over uniforms costs llvmpipe far less than one over texel fetches.
   auto corner = [&](int vertex) {
     const Eigen::Vector2d& p = mesh_.vertices[vertex];
-    return std::array<float, 4>{static_cast<float>(p.x()), static_cast<float>(p.y()),
-                                static_cast<float>(mesh_.vertex_view[vertex]), 0.0f};
+    return std::array<float, 4>{
+        static_cast<float>(p.x()), static_cast<float>(p.y()), static_cast<float>(mesh_.vertex_view[vertex]), 0.0f};
   };
   mesh_uniforms_.clear();
   for (const auto& triangle : mesh_.triangles) {
@@ -341,12 +353,12 @@ Status GlSceneRenderer::Upload() {
   }
   SceneDepthRange(views_, &rho_m_, &median_depth_m_);
 
-  const std::string weights_shader = "#define MESH_VECTORS " + std::to_string(mesh_uniforms_.size()) + "\n" +
-                                     std::string(kViewWeightsFragmentShader);
+  const std::string weights_shader =
+      "#define MESH_VECTORS " + std::to_string(mesh_uniforms_.size()) + "\n" + std::string(kViewWeightsFragmentShader);
   PX_ASSIGN_OR_RETURN(weights_program_, BuildProgram(gl, "view_weights", kFullScreenVertexShader, weights_shader));
   PX_ASSIGN_OR_RETURN(segment_program_, BuildProgram(gl, "segments", kSegmentVertexShader, kSegmentFragmentShader));
-  PX_ASSIGN_OR_RETURN(resolve_program_, BuildProgram(gl, "soft_z_resolve", kFullScreenVertexShader,
-                                                     kSoftZResolveFragmentShader));
+  PX_ASSIGN_OR_RETURN(resolve_program_,
+                      BuildProgram(gl, "soft_z_resolve", kFullScreenVertexShader, kSoftZResolveFragmentShader));
   empty_vertex_array_ = GlObject(&gl, GlObjectKind::kVertexArray);
   instance_vertex_array_ = GlObject(&gl, GlObjectKind::kVertexArray);
   instance_buffer_ = GlObject(&gl, GlObjectKind::kBuffer);
@@ -373,18 +385,20 @@ StatusOr<GlSceneRenderer::Targets*> GlSceneRenderer::TargetsFor(int width, int h
     PX_ASSIGN_OR_RETURN(t.depth[k], MakeTexture2D(gl, GL_RGBA16, width, height, "rendering buffer depth " + size));
   }
   for (int k = 0; k < 3; ++k) {
-    PX_ASSIGN_OR_RETURN(t.slot_fbo[k], MakeFramebuffer(gl, {t.colour[k].id(), t.depth[k].id()},
-                                                       "rendering buffer " + std::to_string(k) + " " + size));
+    PX_ASSIGN_OR_RETURN(
+        t.slot_fbo[k],
+        MakeFramebuffer(gl, {t.colour[k].id(), t.depth[k].id()}, "rendering buffer " + std::to_string(k) + " " + size));
   }
   PX_ASSIGN_OR_RETURN(t.resolved_colour, MakeTexture2D(gl, GL_RGBA32F, width, height, "resolved colour " + size));
   PX_ASSIGN_OR_RETURN(t.resolved_depth, MakeTexture2D(gl, GL_R32F, width, height, "resolved depth " + size));
-  PX_ASSIGN_OR_RETURN(t.resolve_fbo, MakeFramebuffer(gl, {t.resolved_colour.id(), t.resolved_depth.id()},
-                                                     "resolve " + size));
+  PX_ASSIGN_OR_RETURN(t.resolve_fbo,
+                      MakeFramebuffer(gl, {t.resolved_colour.id(), t.resolved_depth.id()}, "resolve " + size));
   return &targets_.emplace(std::make_pair(width, height), std::move(t)).first->second;
 }
 
 StatusOr<GlSceneRenderer::RawFrame> GlSceneRenderer::RenderRaw(const CameraModel& camera,
-                                                               const Rigid3& cam_from_world, bool with_slots,
+                                                               const Rigid3& cam_from_world,
+                                                               bool with_slots,
                                                                double weight_exponent) {
   const GlFunctions& gl = context_->gl();
   const int width = camera.width, height = camera.height;
@@ -407,17 +421,18 @@ StatusOr<GlSceneRenderer::RawFrame> GlSceneRenderer::RenderRaw(const CameraModel
   SetUniform3(gl, p, "mesh_normal", mesh_.normal);
   SetUniform3(gl, p, "mesh_axis1", mesh_.axis1);
   SetUniform3(gl, p, "mesh_axis2", mesh_.axis2);
-  gl.Uniform4fv(gl.GetUniformLocation(p, "mesh"), static_cast<GLsizei>(mesh_uniforms_.size()),
-                mesh_uniforms_.front().data());
+  gl.Uniform4fv(
+      gl.GetUniformLocation(p, "mesh"), static_cast<GLsizei>(mesh_uniforms_.size()), mesh_uniforms_.front().data());
   gl.Uniform1i(gl.GetUniformLocation(p, "num_triangles"), static_cast<int>(mesh_.triangles.size()));
   gl.Uniform1i(gl.GetUniformLocation(p, "num_edges"), static_cast<int>(mesh_.outer_edges.size()));
   gl.Uniform1i(gl.GetUniformLocation(p, "single_view"), mesh_.single_view ? mesh_.vertex_view[0] : -1);
   gl.Uniform1f(gl.GetUniformLocation(p, "weight_exponent"), static_cast<float>(weight_exponent));
   const Eigen::Vector3d frame_centre(camera.width / 2.0, camera.height / 2.0, 1.0);
-  gl.Uniform1i(gl.GetUniformLocation(p, "hint_triangle"),
-               mesh_.single_view ? -1
-                                 : TriangleAt(mesh_, MeshPointOfRay(mesh_, centre, rotation.transpose() *
-                                                                                     k_novel.inverse() * frame_centre)));
+  gl.Uniform1i(
+      gl.GetUniformLocation(p, "hint_triangle"),
+      mesh_.single_view
+          ? -1
+          : TriangleAt(mesh_, MeshPointOfRay(mesh_, centre, rotation.transpose() * k_novel.inverse() * frame_centre)));
   gl.BindVertexArray(empty_vertex_array_.id());
   gl.DrawArrays(GL_TRIANGLES, 0, 3);
 
@@ -446,7 +461,8 @@ StatusOr<GlSceneRenderer::RawFrame> GlSceneRenderer::RenderRaw(const CameraModel
     if (std::all_of(view_boxes[v].begin(), view_boxes[v].end(), [](const cv::Rect& r) { return r.empty(); })) continue;
     for (int s : textures_[v].kept_segments) {
       const DepthSegment& seg = view.segments[s];
-      const Eigen::Vector3d plane_source = k_source.transpose() * Eigen::Vector3d(seg.inv_depth_a, seg.inv_depth_b, seg.inv_depth_c);
+      const Eigen::Vector3d plane_source =
+          k_source.transpose() * Eigen::Vector3d(seg.inv_depth_a, seg.inv_depth_b, seg.inv_depth_c);
       const double denominator = 1.0 - plane_source.dot(t_rel);
       if (std::abs(denominator) < 1e-12) continue;  // the plane passes through the output camera
       const Eigen::Vector3d plane_novel = r_rel.transpose() * plane_source / denominator;
@@ -454,15 +470,15 @@ StatusOr<GlSceneRenderer::RawFrame> GlSceneRenderer::RenderRaw(const CameraModel
       const Eigen::Matrix3d h = k_source * (r_rel + t_rel * plane_novel.transpose()) * k_novel.inverse();
       const double x0 = seg.bbox.x - 1, x1 = seg.bbox.x + seg.bbox.width, y0 = seg.bbox.y - 1,
                    y1 = seg.bbox.y + seg.bbox.height;
-      const std::array<Eigen::Vector2d, 4> corners = {Eigen::Vector2d(x0, y0), Eigen::Vector2d(x1, y0),
-                                                      Eigen::Vector2d(x1, y1), Eigen::Vector2d(x0, y1)};
+      const std::array<Eigen::Vector2d, 4> corners = {
+          Eigen::Vector2d(x0, y0), Eigen::Vector2d(x1, y0), Eigen::Vector2d(x1, y1), Eigen::Vector2d(x0, y1)};
       Sorted item;
       item.segment = s;
       bool behind = false;
       for (int c = 0; c < 4 && !behind; ++c) {
         const double z_source = 1.0 / seg.InverseDepthAt(corners[c].x(), corners[c].y());
-        const Eigen::Vector3d point = novel_from_source * (z_source * k_source.inverse() *
-                                                           Eigen::Vector3d(corners[c].x(), corners[c].y(), 1.0));
+        const Eigen::Vector3d point =
+            novel_from_source * (z_source * k_source.inverse() * Eigen::Vector3d(corners[c].x(), corners[c].y(), 1.0));
         if (point.z() <= kNearDepthM) {
           behind = true;
           break;
@@ -491,8 +507,8 @@ StatusOr<GlSceneRenderer::RawFrame> GlSceneRenderer::RenderRaw(const CameraModel
       if (texture_stretch_.fade_from > 0) {
         const Eigen::Vector3d centre_px = k_novel * centre_novel;
         texture_weight = render::TextureWeight(
-            render::TextureStretch(h, centre_px.head<2>() / centre_px.z(),
-                                   k_novel(0, 0) / k_source(0, 0) * z_centre / centre_novel.z()),
+            render::TextureStretch(
+                h, centre_px.head<2>() / centre_px.z(), k_novel(0, 0) / k_source(0, 0) * z_centre / centre_novel.z()),
             texture_stretch_);
         if (texture_weight <= 0) continue;
       }
@@ -518,8 +534,8 @@ StatusOr<GlSceneRenderer::RawFrame> GlSceneRenderer::RenderRaw(const CameraModel
   gl.BlendEquation(GL_FUNC_ADD);
   gl.BlendFuncSeparate(GL_SRC_ALPHA_SATURATE, GL_ONE, GL_ONE, GL_ONE);
   if (segment_floor_ && segment_floor_program_.id() == 0) {
-    PX_ASSIGN_OR_RETURN(segment_floor_program_, BuildProgram(gl, "segments_floor", kSegmentVertexShader,
-                                                             kSegmentFloorFragmentShader));
+    PX_ASSIGN_OR_RETURN(segment_floor_program_,
+                        BuildProgram(gl, "segments_floor", kSegmentVertexShader, kSegmentFloorFragmentShader));
   }
   p = segment_floor_ ? segment_floor_program_.id() : segment_program_.id();
   gl.UseProgram(p);
@@ -528,7 +544,9 @@ StatusOr<GlSceneRenderer::RawFrame> GlSceneRenderer::RenderRaw(const CameraModel
   BindTextureUnit(gl, p, "slot_views", 3, t->slot_views.id());
   gl.BindVertexArray(instance_vertex_array_.id());
   gl.BindBuffer(GL_ARRAY_BUFFER, instance_buffer_.id());
-  gl.BufferData(GL_ARRAY_BUFFER, static_cast<GLsizeiptr>(all_instances.size() * sizeof(float)), all_instances.data(),
+  gl.BufferData(GL_ARRAY_BUFFER,
+                static_cast<GLsizeiptr>(all_instances.size() * sizeof(float)),
+                all_instances.data(),
                 GL_STREAM_DRAW);
   // Slot by slot (each rendering buffer its own two targets), each view drawn where it holds that
   // slot: a fragment blends into two targets, not six, and a view is rasterised only inside its
@@ -592,12 +610,14 @@ StatusOr<GlSceneRenderer::RawFrame> GlSceneRenderer::RenderRaw(const CameraModel
   gl.BindFramebuffer(GL_FRAMEBUFFER, 0);
   gl.BindVertexArray(0);
   const std::string errors = DrainGlErrors(gl);
-  if (!errors.empty()) return InternalError("gl renderer: a " + std::to_string(width) + "x" + std::to_string(height) +
-                                            " frame raised " + errors);
+  if (!errors.empty())
+    return InternalError("gl renderer: a " + std::to_string(width) + "x" + std::to_string(height) + " frame raised " +
+                         errors);
   return raw;
 }
 
-std::vector<GlSceneRenderer::SlotBoxes> GlSceneRenderer::ViewBoxes(const CameraModel& camera, const Rigid3& cam_from_world) const {
+std::vector<GlSceneRenderer::SlotBoxes> GlSceneRenderer::ViewBoxes(const CameraModel& camera,
+                                                                   const Rigid3& cam_from_world) const {
   constexpr int kGrid = 32;
   const Eigen::Matrix3d dir_from_pixel = cam_from_world.RotationMatrix().transpose() * camera.K().inverse();
   const Eigen::Vector3d centre = CameraCentre(cam_from_world);
@@ -606,12 +626,15 @@ std::vector<GlSceneRenderer::SlotBoxes> GlSceneRenderer::ViewBoxes(const CameraM
   const cv::Rect frame(0, 0, camera.width, camera.height);
   for (int gy = 0; gy <= kGrid; ++gy) {
     for (int gx = 0; gx <= kGrid; ++gx) {
-      const Eigen::Vector3d pixel(std::min(gx * cell_x, camera.width - 1.0), std::min(gy * cell_y, camera.height - 1.0), 1);
+      const Eigen::Vector3d pixel(
+          std::min(gx * cell_x, camera.width - 1.0), std::min(gy * cell_y, camera.height - 1.0), 1);
       const std::array<int, 3> slots = SlotViewsAt(mesh_, MeshPointOfRay(mesh_, centre, dir_from_pixel * pixel));
       for (int k = 0; k < 3; ++k) {
         if (slots[k] < 0) continue;
-        const cv::Rect cell(static_cast<int>(std::floor(pixel.x() - cell_x - 1)), static_cast<int>(std::floor(pixel.y() - cell_y - 1)),
-                            static_cast<int>(std::ceil(2 * cell_x + 3)), static_cast<int>(std::ceil(2 * cell_y + 3)));
+        const cv::Rect cell(static_cast<int>(std::floor(pixel.x() - cell_x - 1)),
+                            static_cast<int>(std::floor(pixel.y() - cell_y - 1)),
+                            static_cast<int>(std::ceil(2 * cell_x + 3)),
+                            static_cast<int>(std::ceil(2 * cell_y + 3)));
         cv::Rect& box = boxes[slots[k]][k];
         box = box.empty() ? (cell & frame) : ((box | cell) & frame);
       }
@@ -624,8 +647,8 @@ StatusOr<FrameRender> GlSceneRenderer::Render(const VirtualCamera& camera) {
   PX_RETURN_IF_ERROR(camera.Validate());
   ScopedCurrent current(context_.get());
   PX_RETURN_IF_ERROR(current.status());
-  PX_ASSIGN_OR_RETURN(RawFrame raw, RenderRaw(camera.camera, camera.cam_from_world, /*with_slots=*/true,
-                                                 viewing_weight_exponent_));
+  PX_ASSIGN_OR_RETURN(RawFrame raw,
+                      RenderRaw(camera.camera, camera.cam_from_world, /*with_slots=*/true, viewing_weight_exponent_));
   PassClock clock(context_->gl(), time_passes_);
   const int width = camera.camera.width, height = camera.camera.height;
   FrameRender frame;
@@ -673,8 +696,8 @@ StatusOr<FrameRender> GlSceneRenderer::Render(const VirtualCamera& camera) {
       stats_.other_view_pixels = CoverHolesFromOtherViews(camera, raw, &known, &colour, &frame.depth_m);
     }
     if (border_holes_.enabled) FillBorderHoles(FrameSides{}, border_holes_, &known, &colour, &frame.depth_m);
-    FillHolesReverseSoftZ(SoftZ(rho_m_, soft_z_gamma_fraction_), hole_window_radius_px_, 0, &known, &colour,
-                          &frame.depth_m);
+    FillHolesReverseSoftZ(
+        SoftZ(rho_m_, soft_z_gamma_fraction_), hole_window_radius_px_, 0, &known, &colour, &frame.depth_m);
   }
   // A soft edge with nothing behind it keeps its share over the fill (ALGORITHM.md 6).
   for (const Partial& p : partial) {
@@ -700,7 +723,7 @@ StatusOr<FrameRender> GlSceneRenderer::Render(const VirtualCamera& camera) {
 
 const LayeredScene* GlSceneRenderer::OtherViewsScene() {
   if (other_views_scene_ != nullptr || other_views_scene_failed_) return other_views_scene_.get();
-  std::vector<View> poses;  // LayeredScene reads the ids and poses only
+  std::vector<View> poses;               // LayeredScene reads the ids and poses only
   std::vector<LayeredDepthView> layers;  // shallow copies
   for (size_t v = 0; v < views_.size(); ++v) {
     poses.push_back({views_[v].depth.id, cv::Mat(), views_[v].depth.camera, views_[v].cam_from_world});
@@ -715,8 +738,10 @@ const LayeredScene* GlSceneRenderer::OtherViewsScene() {
   StatusOr<LayeredScene> scene = LayeredScene::Create(poses, layers, scene_options);
   if (!scene.ok()) {
     other_views_scene_failed_ = true;
-    const std::string warning = "holes are filled from their borders only: no CPU scene for drawing them from other "
-                                "views (" + scene.status().message() + ")";
+    const std::string warning =
+        "holes are filled from their borders only: no CPU scene for drawing them from other "
+        "views (" +
+        scene.status().message() + ")";
     Logger("render")->warn("gl renderer: {}", warning);
     warnings_.push_back(warning);
     return nullptr;
@@ -732,8 +757,8 @@ const LayeredScene* GlSceneRenderer::OtherViewsScene() {
   return other_views_scene_.get();
 }
 
-int GlSceneRenderer::CoverHolesFromOtherViews(const VirtualCamera& camera, const RawFrame& raw, cv::Mat* known,
-                                              cv::Mat* colour, cv::Mat* depth) {
+int GlSceneRenderer::CoverHolesFromOtherViews(
+    const VirtualCamera& camera, const RawFrame& raw, cv::Mat* known, cv::Mat* colour, cv::Mat* depth) {
   // Frames whose holes the reverse soft z's window closes whole need nothing, not even the scene.
   cv::Mat large;
   const cv::Rect crop = LargeHoles(*known, hole_window_radius_px_, &large);
@@ -762,9 +787,16 @@ int GlSceneRenderer::CoverHolesFromOtherViews(const VirtualCamera& camera, const
   FrameComposite composite;  // the read-back frame's colour and depth, drawn into in place
   composite.colour = *colour;
   composite.depth = *depth;
-  return CoverLargeHolesFromOtherViews(*scene, camera.camera, camera.cam_from_world, hole_slots_,
-                                       RenderQuality::kPreview, RenderOptions{}.covered_alpha, texture_stretch_, large,
-                                       crop, known,
+  return CoverLargeHolesFromOtherViews(*scene,
+                                       camera.camera,
+                                       camera.cam_from_world,
+                                       hole_slots_,
+                                       RenderQuality::kPreview,
+                                       RenderOptions{}.covered_alpha,
+                                       texture_stretch_,
+                                       large,
+                                       crop,
+                                       known,
                                        &composite);
 }
 
@@ -775,8 +807,11 @@ StatusOr<CoverageReport> GlSceneRenderer::Coverage(const CameraModel& camera, co
   PX_RETURN_IF_ERROR(check.Validate());
   ScopedCurrent current(context_.get());
   PX_RETURN_IF_ERROR(current.status());
-  PX_ASSIGN_OR_RETURN(RawFrame raw, RenderRaw(camera, cam_from_world, /*with_slots=*/false,
-                                                 /*weight_exponent=*/1.0));  // Coverage's weights: the paper's
+  PX_ASSIGN_OR_RETURN(RawFrame raw,
+                      RenderRaw(camera,
+                                cam_from_world,
+                                /*with_slots=*/false,
+                                /*weight_exponent=*/1.0));  // Coverage's weights: the paper's
   cv::Mat coverage(camera.height, camera.width, CV_8U);
   for (int y = 0; y < camera.height; ++y) {
     const cv::Vec4f* ca = raw.colour_alpha.ptr<cv::Vec4f>(y);

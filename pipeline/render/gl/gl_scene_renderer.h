@@ -132,13 +132,15 @@ class GlSceneRenderer final : public SceneRenderer {
   using SlotBoxes = std::array<cv::Rect, 3>;
   std::vector<SlotBoxes> ViewBoxes(const CameraModel& camera, const Rigid3& cam_from_world) const;
   // weight_exponent: the viewing weights' (FlattenViewingWeights); Coverage() passes 1.
-  StatusOr<RawFrame> RenderRaw(const CameraModel& camera, const Rigid3& cam_from_world, bool with_slots,
+  StatusOr<RawFrame> RenderRaw(const CameraModel& camera,
+                               const Rigid3& cam_from_world,
+                               bool with_slots,
                                double weight_exponent);
   // The CPU reference's step before hole filling (ALGORITHM.md 6, hole_views.h) on the read-back
   // frame: holes larger than the fill window drawn again from other views into `colour` and
   // `depth`, marked in `known`. Returns the pixels covered.
-  int CoverHolesFromOtherViews(const VirtualCamera& camera, const RawFrame& raw, cv::Mat* known, cv::Mat* colour,
-                               cv::Mat* depth);
+  int CoverHolesFromOtherViews(
+      const VirtualCamera& camera, const RawFrame& raw, cv::Mat* known, cv::Mat* colour, cv::Mat* depth);
   // The CPU scene for that step, made on first use (nullptr, once warned, when it cannot be).
   const LayeredScene* OtherViewsScene();
 

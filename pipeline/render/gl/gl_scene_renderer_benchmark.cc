@@ -10,16 +10,15 @@
 #include <benchmark/benchmark.h>
 
 #include <chrono>
-#include <ctime>
 #include <cstdlib>
+#include <ctime>
 #include <filesystem>
-
 #include <opencv2/core.hpp>
 
 #include "pipeline/clip/clip_writer.h"
+#include "pipeline/render/cpu_scene_renderer.h"
 #include "pipeline/render/gl/gl_scene_renderer.h"
 #include "pipeline/render/gl/layered_plane_scene_testing.h"
-#include "pipeline/render/cpu_scene_renderer.h"
 
 namespace px::render::gl {
 namespace {
@@ -56,8 +55,8 @@ bool WarmUp(GlSceneRenderer& renderer, const CameraModel& camera) {
 
 // The renderer over a rows x cols rig at `camera`, warmed up; null (and the benchmark skipped)
 // when it cannot start.
-std::unique_ptr<GlSceneRenderer> MakeRenderer(const CameraModel& camera, int rows, int cols, benchmark::State& state,
-                                              bool holes_from_other_views = true) {
+std::unique_ptr<GlSceneRenderer> MakeRenderer(
+    const CameraModel& camera, int rows, int cols, benchmark::State& state, bool holes_from_other_views = true) {
   GlSceneRendererOptions options = OptionsFromEnvironment();
   options.holes_from_other_views = holes_from_other_views;
   auto renderer = GlSceneRenderer::Create(
@@ -75,8 +74,8 @@ std::unique_ptr<GlSceneRenderer> MakeRenderer(const CameraModel& camera, int row
 }
 
 // Frame `frame` of the dolly at `camera`; false (and the benchmark skipped) when it fails.
-bool RenderDollyFrame(GlSceneRenderer& renderer, const CameraModel& camera, int frame, benchmark::State& state,
-                      double* hole_ratio) {
+bool RenderDollyFrame(
+    GlSceneRenderer& renderer, const CameraModel& camera, int frame, benchmark::State& state, double* hole_ratio) {
   VirtualCamera request;
   request.camera = camera;
   request.cam_from_world = DollyPose(frame, 150);
@@ -108,7 +107,11 @@ void BM_GlRenderFrame(benchmark::State& state) {
   state.counters["fps"] = benchmark::Counter(frame, benchmark::Counter::kIsRate);
   state.counters["hole_ratio"] = holes / std::max(frame, 1);
 }
-BENCHMARK(BM_GlRenderFrame)->ArgsProduct({{480, 1200}, {9, 20}})->Unit(benchmark::kMillisecond)->MeasureProcessCPUTime()->UseRealTime();
+BENCHMARK(BM_GlRenderFrame)
+    ->ArgsProduct({{480, 1200}, {9, 20}})
+    ->Unit(benchmark::kMillisecond)
+    ->MeasureProcessCPUTime()
+    ->UseRealTime();
 
 // What drawing holes again from other views (hole_views.h) adds to a GL frame with large holes:
 // the camera near the centre lens turned 4 degrees to the left, so a strip at the left edge
@@ -151,8 +154,12 @@ void BM_GlHolesFromOtherViews(benchmark::State& state) {
   state.counters["hole_ratio"] = holes / std::max(frames, 1);
   state.counters["other_view_pixels"] = covered / std::max(frames, 1);
 }
-BENCHMARK(BM_GlHolesFromOtherViews)->ArgsProduct({{480, 1200}, {1, 0}})->ArgNames({"width", "other_views"})
-    ->Unit(benchmark::kMillisecond)->MeasureProcessCPUTime()->UseRealTime();
+BENCHMARK(BM_GlHolesFromOtherViews)
+    ->ArgsProduct({{480, 1200}, {1, 0}})
+    ->ArgNames({"width", "other_views"})
+    ->Unit(benchmark::kMillisecond)
+    ->MeasureProcessCPUTime()
+    ->UseRealTime();
 
 // Where a GL frame's time goes: the process CPU ms of each pass (GlFrameStats; a glFinish after
 // each GL pass), the draws and the segment rectangles, averaged over the frames. floor:1 draws
@@ -246,7 +253,11 @@ void BM_CpuSceneFrame(benchmark::State& state) {
   }
   state.counters["fps"] = benchmark::Counter(frame, benchmark::Counter::kIsRate);
 }
-BENCHMARK(BM_CpuSceneFrame)->ArgsProduct({{480, 1200}, {9, 20}})->Unit(benchmark::kMillisecond)->MeasureProcessCPUTime()->UseRealTime();
+BENCHMARK(BM_CpuSceneFrame)
+    ->ArgsProduct({{480, 1200}, {9, 20}})
+    ->Unit(benchmark::kMillisecond)
+    ->MeasureProcessCPUTime()
+    ->UseRealTime();
 
 // The clip goal: 150 frames of 1200x800 rendered on GL and encoded (H.264, veryfast,
 // CRF 20) in under 8 s. One iteration is one whole clip.

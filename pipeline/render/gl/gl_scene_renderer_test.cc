@@ -2,11 +2,11 @@
 // from source and novel viewpoints against its exact ray-cast images, coverage, and bad input.
 #include "pipeline/render/gl/gl_scene_renderer.h"
 
-#include <cmath>
-#include <limits>
-
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
+
+#include <cmath>
+#include <limits>
 #include <opencv2/imgproc.hpp>
 
 #include "pipeline/render/gl/layered_plane_scene_testing.h"
@@ -92,8 +92,11 @@ TEST_P(GlSceneRendererTest, NovelViewMatchesTheExactRender) {
   scene_.Render(camera.camera, camera.cam_from_world, &want_bgr, &want_depth);
   const double interior = MaskedPsnr(frame->bgr, want_bgr, AwayFromEdges(want_depth));
   const double whole = MaskedPsnr(frame->bgr, want_bgr, cv::Mat());
-  std::printf("novel view: %.1f dB interior, %.1f dB whole, holes %.4f, H %.4f\n", interior, whole,
-              frame->holes.hole_ratio, frame->holes.hole_score);
+  std::printf("novel view: %.1f dB interior, %.1f dB whole, holes %.4f, H %.4f\n",
+              interior,
+              whole,
+              frame->holes.hole_ratio,
+              frame->holes.hole_score);
   // Bilinear resampling of ~15 px sinusoids and 8-bit rounding: measured 50.1 dB interior and
   // 40.1 dB whole (the former CPU z-buffer renderer: 49.9 and 40.0 on the same view); half a pixel of
   // misplacement drops the background to ~34 dB (render_test), so 44 dB tells right from wrong.
@@ -207,7 +210,9 @@ TEST_P(GlSceneRendererTest, BadRequestsAreErrorsNamingTheCause) {
   EXPECT_TRUE((*renderer)->Render(camera).ok());
 }
 
-INSTANTIATE_TEST_SUITE_P(Platforms, GlSceneRendererTest, ::testing::Values(GlPlatform::kOsmesa, GlPlatform::kEgl),
+INSTANTIATE_TEST_SUITE_P(Platforms,
+                         GlSceneRendererTest,
+                         ::testing::Values(GlPlatform::kOsmesa, GlPlatform::kEgl),
                          [](const auto& param_info) { return std::string(GlPlatformName(param_info.param)); });
 
 }  // namespace

@@ -1,9 +1,8 @@
 #include "pipeline/render/gl/gl_view_mesh.h"
 
+#include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <string>
-
-#include <Eigen/Eigenvalues>
 
 #include "pipeline/render/view_mesh.h"
 
@@ -18,8 +17,11 @@ namespace {
 // weight of view b is the ray point's fraction of the way from view a to b along the line
 // (whatever its distance across); beyond the strip the nearest outer edge gives the same, and
 // beyond the ends the end view has weight 1.
-StatusOr<GlViewMesh> BuildLineMesh(const std::vector<Eigen::Vector3d>& centres, const Eigen::Vector3d& mean_axis,
-                                   const Eigen::Vector3d& mean_x, Eigen::Vector3d line, GlViewMesh* mesh) {
+StatusOr<GlViewMesh> BuildLineMesh(const std::vector<Eigen::Vector3d>& centres,
+                                   const Eigen::Vector3d& mean_axis,
+                                   const Eigen::Vector3d& mean_x,
+                                   Eigen::Vector3d line,
+                                   GlViewMesh* mesh) {
   const int n = static_cast<int>(centres.size());
   if (line.dot(mean_x) < 0) line = -line;
   Eigen::Vector3d normal = mean_axis - mean_axis.dot(line) * line;
@@ -42,7 +44,7 @@ StatusOr<GlViewMesh> BuildLineMesh(const std::vector<Eigen::Vector3d>& centres, 
   for (int i = 0; i + 1 < n; ++i) {
     const int a = 3 * i, b = 3 * (i + 1);
     if (along[i + 1].first - along[i].first < 1e-9) continue;  // two views at one place: no span between
-    for (int side : {1, 2}) {  // above, below
+    for (int side : {1, 2}) {                                  // above, below
       mesh->triangles.push_back({a, b, b + side});
       mesh->triangles.push_back({a, b + side, a + side});
       mesh->outer_edges.push_back({a + side, b + side});
@@ -94,7 +96,8 @@ StatusOr<GlViewMesh> BuildGlViewMesh(const std::vector<Eigen::Vector3d>& centres
     return mesh;
   }
   Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eigen(scatter);  // ascending eigenvalues
-  if (eigen.eigenvalues()(1) < 1e-6 * eigen.eigenvalues()(2)) return BuildLineMesh(centres_in_world, mean_axis, mean_x, eigen.eigenvectors().col(2), &mesh);
+  if (eigen.eigenvalues()(1) < 1e-6 * eigen.eigenvalues()(2))
+    return BuildLineMesh(centres_in_world, mean_axis, mean_x, eigen.eigenvectors().col(2), &mesh);
   // The plane, the Delaunay triangles and the extension ring are the CPU reference's (ALGORITHM.md
   // 2: Subdiv2D breaks the ties of a regular lattice by its input, so the GL back end must not
   // triangulate again; the ring's quads are split on the same diagonal).

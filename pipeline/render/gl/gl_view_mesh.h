@@ -11,25 +11,24 @@
 // 1D rig as a strip.
 #pragma once
 
+#include <Eigen/Core>
 #include <array>
 #include <vector>
-
-#include <Eigen/Core>
 
 #include "pipeline/core/status.h"
 
 namespace px::render::gl {
 
 struct GlViewMesh {
-  Eigen::Vector3d origin = Eigen::Vector3d::Zero();  // m: mean of the centres
+  Eigen::Vector3d origin = Eigen::Vector3d::Zero();   // m: mean of the centres
   Eigen::Vector3d normal = Eigen::Vector3d::UnitZ();  // n, towards the scene
   Eigen::Vector3d axis1 = Eigen::Vector3d::UnitX();   // e1, e2: in-plane axes
   Eigen::Vector3d axis2 = Eigen::Vector3d::UnitY();
-  std::vector<Eigen::Vector2d> vertices;              // in-plane positions, duplicates appended
-  std::vector<int> vertex_view;                       // the view (index into the inputs) of each vertex
-  std::vector<std::array<int, 3>> triangles;          // the extended mesh
-  std::vector<std::array<int, 2>> outer_edges;        // the extended mesh's outer boundary
-  bool single_view = false;                           // one view (or all centres together): weight 1 everywhere
+  std::vector<Eigen::Vector2d> vertices;        // in-plane positions, duplicates appended
+  std::vector<int> vertex_view;                 // the view (index into the inputs) of each vertex
+  std::vector<std::array<int, 3>> triangles;    // the extended mesh
+  std::vector<std::array<int, 2>> outer_edges;  // the extended mesh's outer boundary
+  bool single_view = false;                     // one view (or all centres together): weight 1 everywhere
 };
 
 // `centres_in_world` and `optical_axes_in_world` (unit, R^T (0,0,1)) and `x_axes_in_world`, one of

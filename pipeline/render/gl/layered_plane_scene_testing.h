@@ -5,17 +5,19 @@
 // makes (for benchmarks: one 480x320 view in 16 px tiles has ~600 segments).
 #pragma once
 
-#include <vector>
-
 #include <opencv2/imgproc.hpp>
+#include <vector>
 
 #include "pipeline/render/gl/gl_scene_renderer.h"
 #include "pipeline/render/plane_scene_testing.h"
 
 namespace px::render::gl::testing {
 
-inline std::vector<PosedLayeredView> LayeredPlaneScene(const render::testing::PlaneScene& scene, int rows, int cols,
-                                                       double baseline_m, const CameraModel& camera,
+inline std::vector<PosedLayeredView> LayeredPlaneScene(const render::testing::PlaneScene& scene,
+                                                       int rows,
+                                                       int cols,
+                                                       double baseline_m,
+                                                       const CameraModel& camera,
                                                        int tile_px = 0) {
   std::vector<View> views;
   std::vector<DepthMap> depths;

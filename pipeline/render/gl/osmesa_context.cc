@@ -16,8 +16,8 @@ namespace {
 using OsmesaContextHandle = struct osmesa_context*;
 using OsmesaCreateContextAttribsFn = OsmesaContextHandle (*)(const int* attribs, OsmesaContextHandle share);
 using OsmesaDestroyContextFn = void (*)(OsmesaContextHandle context);
-using OsmesaMakeCurrentFn = unsigned char (*)(OsmesaContextHandle context, void* buffer, GLenum type, int width,
-                                              int height);
+using OsmesaMakeCurrentFn =
+    unsigned char (*)(OsmesaContextHandle context, void* buffer, GLenum type, int width, int height);
 using OsmesaGetProcAddressFn = void* (*)(const char* name);
 constexpr int kOsmesaFormat = 0x22;
 constexpr int kOsmesaDepthBits = 0x30;

@@ -6,10 +6,14 @@ namespace px::render::gl {
 
 std::string_view RenderBackendName(RenderBackend backend) {
   switch (backend) {
-    case RenderBackend::kAuto: return "auto";
-    case RenderBackend::kCpu: return "cpu";
-    case RenderBackend::kEgl: return "egl";
-    case RenderBackend::kOsmesa: return "osmesa";
+    case RenderBackend::kAuto:
+      return "auto";
+    case RenderBackend::kCpu:
+      return "cpu";
+    case RenderBackend::kEgl:
+      return "egl";
+    case RenderBackend::kOsmesa:
+      return "osmesa";
   }
   return "?";
 }
@@ -35,8 +39,8 @@ BackendChoice ChooseRenderBackend(RenderBackend requested, const GlContextOption
   options.allow_software = requested != RenderBackend::kAuto;
   StatusOr<std::unique_ptr<GlContext>> context = CreateGlContext(options);
   if (!context.ok()) {
-    choice.reason = "cpu: " + std::string(requested == RenderBackend::kAuto ? "no hardware GL" : "GL failed") +
-                    " (" + context.status().message() + ")";
+    choice.reason = "cpu: " + std::string(requested == RenderBackend::kAuto ? "no hardware GL" : "GL failed") + " (" +
+                    context.status().message() + ")";
     (requested == RenderBackend::kAuto ? log->info("render back end: {}", choice.reason)
                                        : log->warn("render back end: {}", choice.reason));
     return choice;
