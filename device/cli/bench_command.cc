@@ -4,10 +4,9 @@
 #include <cstdio>
 #include <filesystem>
 #include <memory>
+#include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
-
-#include <nlohmann/json.hpp>
 
 #include "device/cli/consistent_blend_flags.h"
 #include "device/cli/depth_option_override.h"
@@ -17,6 +16,7 @@
 #include "device/cli/scene_path.h"
 #include "pipeline/clip/mp4_writer.h"
 #include "pipeline/core/log.h"
+#include "pipeline/direct/output_frame.h"
 #include "pipeline/run/pipeline.h"
 #include "sim/synthetic/synthetic_source.h"
 
@@ -34,6 +34,7 @@ struct BenchArgs {
   std::string camera = "pop9";
   double duration_s = 5.0;
   double fps = 30.0;
+  std::string size;    // "WxH"; "" = the views' size
   std::string output;  // where the clip goes; default: a temporary file removed afterwards
   bool json = false;
   std::vector<std::string> depth_overrides;  // "matching.sgm_paths=0"
@@ -67,6 +68,9 @@ Status RunBench(const BenchArgs& args) {
   PipelineOptions options;
   options.direct.duration_s = args.duration_s;
   options.direct.fps = args.fps;
+  if (!args.size.empty()) {
+    PX_RETURN_IF_ERROR(ParseOutputSize(args.size, &options.direct.output).WithContext("--size"));
+  }
   options.render.consistent_blend = args.consistent_blend;
   for (const std::string& text : args.depth_overrides) {
     PX_RETURN_IF_ERROR(ApplyDepthOptionOverride(text, &options.depth));
@@ -90,12 +94,12 @@ Status RunBench(const BenchArgs& args) {
   const RigCalibration rig = *source->Describe().rig;
 
   const int tile_w = rig.lenses[0].camera.width, tile_h = rig.lenses[0].camera.height;
-  std::filesystem::path clip_path =
-      args.output.empty() ? std::filesystem::temp_directory_path() / "parallax_bench.mp4"
-                        : std::filesystem::path(args.output);
+  const OutputSize out = ResolveOutputSize(options.direct.output, tile_w, tile_h);
+  std::filesystem::path clip_path = args.output.empty() ? std::filesystem::temp_directory_path() / "parallax_bench.mp4"
+                                                        : std::filesystem::path(args.output);
   clip::Mp4Options mp4;
   mp4.fps = args.fps;
-  PX_ASSIGN_OR_RETURN(auto writer, clip::Mp4Writer::Open(clip_path, tile_w, tile_h, mp4));
+  PX_ASSIGN_OR_RETURN(auto writer, clip::Mp4Writer::Open(clip_path, out.width, out.height, mp4));
   TimedMp4Sink sink(std::move(writer));
   ProgressBar progress(args.json);
   PX_ASSIGN_OR_RETURN(PipelineReport report,
@@ -120,34 +124,58 @@ Status RunBench(const BenchArgs& args) {
   }
   stages.push_back({{"stage", "encode"}, {"ms", sink.encode_ms()}});
   const MachineInfo machine = ReadMachineInfo();
-  nlohmann::json result{
-      {"shot", {{"camera", sim.camera.name}, {"views", report.num_views}, {"view_width", tile_w},
-                {"view_height", tile_h}, {"scene", args.scene}, {"frames", report.frames_rendered},
-                {"fps", args.fps}, {"duration_s", args.duration_s}, {"depth_options", args.depth_overrides}}},
-      {"stages", stages},
-      {"total_ms", total_ms},
-      {"pipeline_ms", total_ms - capture_ms},
-      {"ms_per_frame_render", report.frames_rendered > 0 ? render_ms / report.frames_rendered : 0.0},
-      {"mean_hole_ratio", report.mean_hole_ratio},
-      {"peak_rss_mib", PeakRssMiB()},
-      {"machine", {{"cpu", machine.cpu_model}, {"cores", machine.cores}, {"memory_gib", machine.memory_gib},
-                   {"commit", machine.commit}}}};
+  nlohmann::json result{{"shot",
+                         {{"camera", sim.camera.name},
+                          {"views", report.num_views},
+                          {"view_width", tile_w},
+                          {"view_height", tile_h},
+                          {"width", out.width},
+                          {"height", out.height},
+                          {"scene", args.scene},
+                          {"frames", report.frames_rendered},
+                          {"fps", args.fps},
+                          {"duration_s", args.duration_s},
+                          {"depth_options", args.depth_overrides}}},
+                        {"stages", stages},
+                        {"total_ms", total_ms},
+                        {"pipeline_ms", total_ms - capture_ms},
+                        {"ms_per_frame_render", report.frames_rendered > 0 ? render_ms / report.frames_rendered : 0.0},
+                        {"mean_hole_ratio", report.mean_hole_ratio},
+                        {"peak_rss_mib", PeakRssMiB()},
+                        {"machine",
+                         {{"cpu", machine.cpu_model},
+                          {"cores", machine.cores},
+                          {"memory_gib", machine.memory_gib},
+                          {"commit", machine.commit}}}};
   if (args.json) {
     std::printf("%s\n", result.dump(2).c_str());
     return OkStatus();
   }
-  std::printf("standard shot: %s, %d views of %dx%d, %d frames (%.1f s at %.0f fps), scene %s\n",
-              sim.camera.name.c_str(), report.num_views, tile_w, tile_h, report.frames_rendered, args.duration_s,
-              args.fps, args.scene.c_str());
+  std::printf("standard shot: %s, %d views of %dx%d, %d frames of %dx%d (%.1f s at %.0f fps), scene %s\n",
+              sim.camera.name.c_str(),
+              report.num_views,
+              tile_w,
+              tile_h,
+              report.frames_rendered,
+              out.width,
+              out.height,
+              args.duration_s,
+              args.fps,
+              args.scene.c_str());
   std::string overrides;
   for (const std::string& text : args.depth_overrides) overrides += " " + text;
   if (!overrides.empty()) std::printf("depth options:%s\n", overrides.c_str());
-  std::printf("machine: %s, %d cores, %.1f GiB, commit %s\n", machine.cpu_model.c_str(), machine.cores,
-              machine.memory_gib, machine.commit.c_str());
+  std::printf("machine: %s, %d cores, %.1f GiB, commit %s\n",
+              machine.cpu_model.c_str(),
+              machine.cores,
+              machine.memory_gib,
+              machine.commit.c_str());
   for (const auto& stage : stages) {
     std::printf("  %-22s %10.1f ms\n", stage["stage"].get<std::string>().c_str(), stage["ms"].get<double>());
   }
-  std::printf("  %-22s %10.1f ms  (capture to clip, without the simulated capture: %.1f ms)\n", "total", total_ms,
+  std::printf("  %-22s %10.1f ms  (capture to clip, without the simulated capture: %.1f ms)\n",
+              "total",
+              total_ms,
               total_ms - capture_ms);
   std::printf("  %-22s %10.2f ms\n", "render per frame", result["ms_per_frame_render"].get<double>());
   std::printf("  %-22s %10.3f\n", "mean hole ratio", report.mean_hole_ratio);
@@ -165,8 +193,10 @@ void AddBenchCommand(CLI::App& app) {
   bench->add_option("--camera", args->camera, "Camera preset: pop9 or integral5x4")->capture_default_str();
   bench->add_option("--duration", args->duration_s, "Clip length in seconds")->capture_default_str();
   bench->add_option("--fps", args->fps, "Frames per second")->capture_default_str();
+  bench->add_option("--size", args->size, "Output size WxH (1080x1920), default the views' size");
   bench->add_option("-o,--output", args->output, "Keep the clip at this path (default: discard it)");
-  bench->add_option("--option", args->depth_overrides,
+  bench->add_option("--option",
+                    args->depth_overrides,
                     "Override one depth option, name=value as in pipeline/depth/depth_options.h (repeatable), "
                     "e.g. --option matching.sgm_paths=0");
   AddConsistentBlendFlags(*bench, &args->consistent_blend);

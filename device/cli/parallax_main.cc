@@ -1,6 +1,7 @@
-// `parallax`: the offline tools: simulate a capture, make a clip from a recording, benchmark.
+// `parallax`: the offline tools: simulate a capture, make a clip (or a batch of clips), benchmark.
 #include <CLI/CLI.hpp>
 
+#include "device/cli/batch_command.h"
 #include "device/cli/bench_command.h"
 #include "device/cli/calibrate_command.h"
 #include "device/cli/clip_command.h"
@@ -21,6 +22,7 @@ int main(int argc, char** argv) {
   px::cli::AddSimCommand(app);
   px::cli::AddImportCommand(app);
   px::cli::AddClipCommand(app);
+  px::cli::AddBatchCommands(app);
   px::cli::AddBenchCommand(app);
   px::cli::AddEvalCommand(app);
   px::cli::AddCalibrateCommand(app);
