@@ -20,7 +20,7 @@ if(PX_BUILD_TESTS)
   # The LD_PRELOAD library umockdev test processes run under (tests set it via ctest ENVIRONMENT).
   find_library(PX_UMOCKDEV_PRELOAD NAMES libumockdev-preload.so.0 REQUIRED)
 endif()
-# sim/replay reads wigglegrams' animated WebP files (FFmpeg 5.1 has no animated WebP decoder);
+# capture reads wigglegrams' animated WebP files (FFmpeg 5.1 has no animated WebP decoder);
 # the tests decode WebP clips back with it too.
 pkg_check_modules(WEBPDEMUX REQUIRED IMPORTED_TARGET libwebpdemux)
 if(PX_BUILD_TESTS)

@@ -9,10 +9,10 @@
 #include <span>
 #include <system_error>
 
+#include "capture/sha256.h"
 #include "device/control/control_protocol.h"
 #include "pipeline/core/durable_file.h"
 #include "pipeline/core/unique_fd.h"
-#include "sim/replay/sha256.h"
 
 namespace px::device {
 
@@ -144,7 +144,7 @@ StatusOr<nlohmann::json> FetchClipReply(const std::string& id,
       {"job", id},
       {"path", clip.string()},
       {"bytes", bytes->size()},
-      {"sha256", replay::Sha256Hex(std::span(reinterpret_cast<const uint8_t*>(bytes->data()), bytes->size()))},
+      {"sha256", capture::Sha256Hex(std::span(reinterpret_cast<const uint8_t*>(bytes->data()), bytes->size()))},
   };
   if (inline_bytes) reply["data"] = Base64Encode(*bytes);
   return reply;

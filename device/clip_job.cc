@@ -9,12 +9,12 @@
 #include <opencv2/imgproc.hpp>
 #include <system_error>
 
+#include "capture/recording.h"
 #include "device/storage/job_journal.h"
 #include "device/storage/storage_layout.h"
 #include "pipeline/core/durable_file.h"
 #include "pipeline/core/log.h"
 #include "pipeline/direct/camera_path.h"
-#include "sim/replay/recording.h"
 
 namespace px::device {
 namespace {

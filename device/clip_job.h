@@ -11,9 +11,9 @@
 #include <nlohmann/json_fwd.hpp>
 #include <string>
 
+#include "capture/recording.h"
 #include "pipeline/clip/clip_writer.h"
 #include "pipeline/run/pipeline.h"
-#include "sim/replay/recording.h"
 
 namespace px::device {
 

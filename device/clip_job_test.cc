@@ -7,12 +7,12 @@
 #include <opencv2/core.hpp>
 #include <opencv2/imgcodecs.hpp>
 
+#include "capture/import_images.h"
+#include "capture/recording.h"
 #include "device/source_registry.h"
 #include "pipeline/core/durable_file.h"
 #include "pipeline/direct/camera_path.h"
 #include "pipeline/render/gl/render_backend.h"
-#include "sim/replay/import_images.h"
-#include "sim/replay/recording.h"
 #include "sim/synthetic/synthetic_source.h"
 #include "tests/testing/animation_probe.h"
 #include "tests/testing/temp_dir.h"

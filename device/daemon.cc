@@ -4,6 +4,7 @@
 #include <exception>
 #include <system_error>
 
+#include "capture/recording.h"
 #include "device/clip_fetch.h"
 #include "device/control/control_protocol.h"
 #include "device/storage/storage_quota.h"
@@ -13,7 +14,6 @@
 #include "pipeline/core/log.h"
 #include "pipeline/direct/direct_options.h"
 #include "pipeline/direct/shot_file.h"
-#include "sim/replay/recording.h"
 
 namespace px::device {
 namespace {

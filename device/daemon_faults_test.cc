@@ -12,10 +12,10 @@
 
 #include <nlohmann/json.hpp>
 
+#include "capture/recording.h"
 #include "device/control/control_client.h"
 #include "device/daemon_factory.h"
 #include "pipeline/core/durable_file.h"
-#include "sim/replay/recording.h"
 #include "tests/testing/temp_dir.h"
 #include "tests/testing/video_probe.h"
 

@@ -5,10 +5,10 @@
 
 #include <nlohmann/json.hpp>
 
+#include "capture/recording.h"
 #include "device/control/control_client.h"
 #include "device/daemon_factory.h"
 #include "pipeline/direct/camera_path.h"
-#include "sim/replay/recording.h"
 #include "tests/testing/animation_probe.h"
 #include "tests/testing/temp_dir.h"
 #include "tests/testing/video_probe.h"

@@ -16,12 +16,12 @@
 #include <opencv2/imgcodecs.hpp>
 #include <span>
 
+#include "capture/recording.h"
+#include "capture/sha256.h"
 #include "device/clip_fetch.h"
 #include "device/control/control_client.h"
 #include "device/control/control_protocol.h"
 #include "pipeline/core/durable_file.h"
-#include "sim/replay/recording.h"
-#include "sim/replay/sha256.h"
 #include "tests/testing/temp_dir.h"
 
 namespace px::device {
@@ -510,7 +510,7 @@ TEST_F(DaemonTest, FetchGivesPathSizeChecksumAndInlineBytes) {
   EXPECT_EQ(fetched["path"], clip.string());
   EXPECT_EQ(fetched["bytes"], bytes.size());
   EXPECT_EQ(fetched["sha256"],
-            replay::Sha256Hex(std::span(reinterpret_cast<const uint8_t*>(bytes.data()), bytes.size())));
+            capture::Sha256Hex(std::span(reinterpret_cast<const uint8_t*>(bytes.data()), bytes.size())));
   EXPECT_FALSE(fetched.contains("data"));
 
   nlohmann::json with_data = Call(R"({"cmd":"fetch","job":")" + id + R"(","inline":true})");

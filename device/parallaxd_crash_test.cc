@@ -17,11 +17,11 @@
 #include <random>
 #include <thread>
 
+#include "capture/recording.h"
 #include "device/process/daemon_process.h"
 #include "device/storage/storage_layout.h"
 #include "device/test_pause.h"
 #include "pipeline/core/durable_file.h"
-#include "sim/replay/recording.h"
 #include "tests/testing/temp_dir.h"
 #include "tests/testing/video_probe.h"
 

@@ -8,13 +8,13 @@
 #include <thread>
 #include <vector>
 
+#include "capture/sha256.h"
 #include "device/cli/batch_runner.h"
 #include "device/cli/clip_flags.h"
 #include "device/cli/run_or_fail.h"
 #include "device/storage/storage_layout.h"
 #include "pipeline/core/durable_file.h"
 #include "pipeline/core/log.h"
-#include "sim/replay/sha256.h"
 
 namespace px::cli {
 namespace {
@@ -58,7 +58,7 @@ StatusOr<std::string> OptionsFingerprint(const BatchArgs& args, const std::vecto
   }
   if (!args.flags.shot.empty()) {
     PX_ASSIGN_OR_RETURN(std::string shot, ReadFileToString(args.flags.shot));
-    text += "shot " + replay::Sha256Hex(std::span(reinterpret_cast<const uint8_t*>(shot.data()), shot.size())) + "\n";
+    text += "shot " + capture::Sha256Hex(std::span(reinterpret_cast<const uint8_t*>(shot.data()), shot.size())) + "\n";
   }
   return text;
 }

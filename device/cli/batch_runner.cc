@@ -17,10 +17,10 @@
 #include <sstream>
 #include <thread>
 
+#include "capture/sha256.h"
 #include "device/storage/storage_layout.h"
 #include "pipeline/core/durable_file.h"
 #include "pipeline/core/log.h"
-#include "sim/replay/sha256.h"
 
 extern char** environ;
 
@@ -74,7 +74,7 @@ std::string FileStamp(const fs::path& path) {
 
 std::string Fingerprint(const BatchInput& input, const BatchOptions& options) {
   const std::string text = options.options_fingerprint + "\n" + InputIdentity(input.path);
-  return replay::Sha256Hex(std::span(reinterpret_cast<const uint8_t*>(text.data()), text.size()));
+  return capture::Sha256Hex(std::span(reinterpret_cast<const uint8_t*>(text.data()), text.size()));
 }
 
 struct Paths {
@@ -237,7 +237,7 @@ std::string InputIdentity(const fs::path& input) {
   if (fs::is_directory(input, ec)) {
     if (StatusOr<std::string> manifest = ReadFileToString(input / "manifest.json"); manifest.ok()) {
       identity << "recording "
-               << replay::Sha256Hex(std::span(reinterpret_cast<const uint8_t*>(manifest->data()), manifest->size()));
+               << capture::Sha256Hex(std::span(reinterpret_cast<const uint8_t*>(manifest->data()), manifest->size()));
       return identity.str();
     }
     std::vector<std::string> files;

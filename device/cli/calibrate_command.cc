@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "capture/recording.h"
 #include "device/cli/run_or_fail.h"
 #include "pipeline/calib/rig_calibrator.h"
 #include "pipeline/core/image_file.h"
@@ -15,7 +16,6 @@
 #include "pipeline/core/rig_calibration_json.h"
 #include "pipeline/lattice/lattice_detector.h"
 #include "pipeline/lattice/split_lattice.h"
-#include "sim/replay/recording.h"
 
 namespace px::cli {
 namespace {

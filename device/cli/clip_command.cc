@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "capture/import_images.h"
 #include "device/cli/clip_flags.h"
 #include "device/cli/progress_bar.h"
 #include "device/cli/run_or_fail.h"
@@ -17,7 +18,6 @@
 #include "pipeline/core/log.h"
 #include "pipeline/direct/shot_file.h"
 #include "pipeline/render/gl/render_backend.h"
-#include "sim/replay/import_images.h"
 
 namespace px::cli {
 namespace {
@@ -129,7 +129,7 @@ void AddClipCommand(CLI::App& app) {
   CLI::App* clip = app.add_subcommand("clip", "Turn a recording into a clip (the offline pipeline)");
   clip->add_option("recording",
                    args->recording,
-                   "Recording folder (see sim/replay/FORMAT.md), a folder of hand-held photos (JPEG, PNG) taken as "
+                   "Recording folder (see capture/FORMAT.md), a folder of hand-held photos (JPEG, PNG) taken as "
                    "an image set, a 3D camera's MPO file or a wigglegram's animated GIF or WebP")
       ->required()
       ->check(CLI::ExistingPath);

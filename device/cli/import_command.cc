@@ -6,10 +6,10 @@
 #include <string>
 #include <vector>
 
+#include "capture/import_images.h"
+#include "capture/recording.h"
 #include "device/cli/run_or_fail.h"
 #include "pipeline/core/log.h"
-#include "sim/replay/import_images.h"
-#include "sim/replay/recording.h"
 
 namespace px::cli {
 namespace {

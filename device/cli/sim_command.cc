@@ -8,11 +8,11 @@
 #include <opencv2/imgcodecs.hpp>
 #include <vector>
 
+#include "capture/recording.h"
 #include "device/cli/run_or_fail.h"
 #include "device/cli/scene_path.h"
 #include "pipeline/core/log.h"
 #include "pipeline/core/rig_calibration_json.h"
-#include "sim/replay/recording.h"
 #include "sim/synthetic/board_scene.h"
 #include "sim/synthetic/lens_perturbation.h"
 #include "sim/synthetic/sim_camera.h"

@@ -1,5 +1,5 @@
 // Where the daemon keeps its files, all under one root:
-//   <root>/captures/<id>/   the raw capture as a recording (sim/replay/FORMAT.md), written first
+//   <root>/captures/<id>/   the raw capture as a recording (capture/FORMAT.md), written first
 //   <root>/clips/<id>.mp4   the finished clip (.gif or .webp, or the folder <id>/ of PNG frames,
 //                           with another clip.format)
 //   <root>/clips/<id>.json  the camera path and the pipeline report for that clip

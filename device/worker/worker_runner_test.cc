@@ -9,10 +9,10 @@
 #include <cstdlib>
 #include <set>
 
+#include "capture/recording.h"
 #include "device/config.h"
 #include "device/source_registry.h"
 #include "device/test_pause.h"
-#include "sim/replay/recording.h"
 #include "sim/synthetic/synthetic_source.h"
 #include "tests/testing/temp_dir.h"
 #include "tests/testing/video_probe.h"

@@ -4,10 +4,10 @@
 #include <cctype>
 #include <opencv2/imgcodecs.hpp>
 
+#include "capture/import_images.h"
 #include "eval/datasets/hci_light_field.h"
 #include "eval/datasets/npy.h"
 #include "pipeline/core/pixel_format.h"
-#include "sim/replay/import_images.h"
 
 namespace px::eval {
 namespace {

@@ -7,8 +7,8 @@
 #include <memory>
 #include <vector>
 
+#include "capture/recording.h"
 #include "drivers/source/frame_source.h"
-#include "sim/replay/recording.h"
 
 namespace px {
 

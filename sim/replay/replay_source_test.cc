@@ -11,17 +11,17 @@
 #include <string>
 #include <vector>
 
+#include "capture/recording_test_util.h"
 #include "pipeline/core/log.h"
 #include "pipeline/core/rig_calibration_json.h"
-#include "sim/replay/recording_test_util.h"
 
 namespace px {
 namespace {
 
 namespace fs = std::filesystem;
-using replay::testing::ImageSetRecording;
-using replay::testing::LatticeRecording;
-using replay::testing::ScratchDir;
+using capture::testing::ImageSetRecording;
+using capture::testing::LatticeRecording;
+using capture::testing::ScratchDir;
 using std::chrono::milliseconds;
 using ::testing::AllOf;
 using ::testing::HasSubstr;
@@ -97,7 +97,7 @@ TEST(ReplaySourceTest, GrantsTheRecordedFormatAndReplaysExactly) {
     ASSERT_TRUE(frames.ok()) << frames.status().ToString();
     Recording replayed = recording;
     replayed.frames = *frames;
-    replay::testing::ExpectSameRecording(recording, replayed);
+    capture::testing::ExpectSameRecording(recording, replayed);
   }
 }
 
@@ -214,7 +214,7 @@ TEST(ReplaySourceTest, FailsWhenNothingIsReadable) {
 
   WriteShots(scratch.path(), 2, PixelFormat::kBgr888);
   fs::remove(scratch.path() / "shot_0" / "manifest.json");
-  replay::testing::WriteText(scratch.path() / "shot_1" / "manifest.json", "{");
+  capture::testing::WriteText(scratch.path() / "shot_1" / "manifest.json", "{");
   StatusOr<std::unique_ptr<FrameSource>> broken = OpenReplaySource(scratch.path());
   EXPECT_EQ(broken.status().code(), StatusCode::kNotFound);
   EXPECT_THAT(broken.status().message(),

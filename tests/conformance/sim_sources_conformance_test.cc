@@ -3,7 +3,7 @@
 #include <filesystem>
 #include <string>
 
-#include "sim/replay/recording.h"
+#include "capture/recording.h"
 #include "sim/replay/replay_source.h"
 #include "sim/synthetic/data_paths.h"
 #include "sim/synthetic/synthetic_source.h"

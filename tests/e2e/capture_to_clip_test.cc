@@ -5,8 +5,8 @@
 #include <fstream>
 #include <nlohmann/json.hpp>
 
+#include "capture/recording.h"
 #include "device/clip_job.h"
-#include "sim/replay/recording.h"
 #include "tests/e2e/e2e_shot.h"
 #include "tests/testing/temp_dir.h"
 #include "tests/testing/video_probe.h"

@@ -11,8 +11,8 @@
 #include <cstdio>
 #include <filesystem>
 
+#include "capture/import_images.h"
 #include "pipeline/run/pipeline.h"
-#include "sim/replay/import_images.h"
 #include "sim/synthetic/data_paths.h"
 #include "tests/testing/counting_frame_sink.h"
 

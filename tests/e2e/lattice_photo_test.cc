@@ -9,9 +9,9 @@
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
+#include "capture/import_images.h"
+#include "capture/recording.h"
 #include "device/clip_job.h"
-#include "sim/replay/import_images.h"
-#include "sim/replay/recording.h"
 #include "sim/synthetic/data_paths.h"
 #include "sim/synthetic/ray_caster.h"
 #include "sim/synthetic/scene_json.h"

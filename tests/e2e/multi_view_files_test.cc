@@ -1,4 +1,4 @@
-// Files that hold several views (sim/replay/import_images.h): a 3D camera's MPO file (mpo.h) and a
+// Files that hold several views (capture/import_images.h): a 3D camera's MPO file (mpo.h) and a
 // wigglegram's animated GIF or WebP (animation_frames.h, written by the clip writers), made here
 // with known views and read from the real files in ../shared/data (skipped without it); damaged
 // ones fail naming the file.
@@ -7,19 +7,19 @@
 #include <fstream>
 #include <opencv2/imgcodecs.hpp>
 
+#include "capture/animation_frames.h"
+#include "capture/import_images.h"
+#include "capture/mpo.h"
+#include "capture/recording_test_util.h"
 #include "pipeline/clip/clip_writer.h"
-#include "sim/replay/animation_frames.h"
-#include "sim/replay/import_images.h"
-#include "sim/replay/mpo.h"
-#include "sim/replay/recording_test_util.h"
 #include "sim/synthetic/data_paths.h"
 
 namespace px {
 namespace {
 
 namespace fs = std::filesystem;
-using replay::testing::GradientNoiseBgr;
-using replay::testing::ScratchDir;
+using capture::testing::GradientNoiseBgr;
+using capture::testing::ScratchDir;
 
 std::vector<uint8_t> Jpeg(const cv::Mat& bgr) {
   std::vector<uint8_t> bytes;

@@ -9,13 +9,13 @@
 #include <string>
 #include <string_view>
 
+#include "capture/animation_frames.h"
+#include "capture/mpo.h"
+#include "capture/recording.h"
 #include "device/control/control_protocol.h"
 #include "drivers/ptp/ptp_container.h"
 #include "drivers/ptp/ptp_datasets.h"
 #include "pipeline/core/image_file.h"
-#include "sim/replay/animation_frames.h"
-#include "sim/replay/mpo.h"
-#include "sim/replay/recording.h"
 
 namespace px::fuzz {
 namespace {

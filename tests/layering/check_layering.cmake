@@ -2,10 +2,12 @@
 # layering/includes_test; cmake -DSOURCE_DIR=<root> -P check_layering.cmake):
 #   pipeline/  includes only pipeline/
 #   drivers/   includes only drivers/ and pipeline/core/
-#   sim/       includes only sim/, drivers/source/ (the frame-source interface) and pipeline/core/
-#   eval/      includes only eval/, pipeline/, sim/ and drivers/source/
+#   capture/   includes only capture/, drivers/source/ (the frame-source interface) and pipeline/core/
+#   sim/       includes only sim/, capture/, drivers/source/ and pipeline/core/
+#   eval/      includes only eval/, pipeline/, capture/, sim/ and drivers/source/
 #   device/    may include everything
-# Test sources (*_test.*, *_benchmark.*, *test_util*) may also include tests/ helpers.
+# Test sources (*_test.*, *_benchmark.*, *test_util*) may also include tests/ helpers, and
+# capture's tests sim/synthetic/ (generated scenes, where the real data lies).
 # The CMake link lists enforce the same at link time; this names the offending line.
 cmake_minimum_required(VERSION 3.20)
 if(NOT SOURCE_DIR)
@@ -14,18 +16,20 @@ endif()
 
 set(allowed_pipeline "pipeline/")
 set(allowed_drivers "drivers/;pipeline/core/")
-set(allowed_sim "sim/;drivers/source/;pipeline/core/")
-set(allowed_eval "eval/;pipeline/;sim/;drivers/source/")
+set(allowed_capture "capture/;drivers/source/;pipeline/core/")
+set(allowed_sim "sim/;capture/;drivers/source/;pipeline/core/")
+set(allowed_eval "eval/;pipeline/;capture/;sim/;drivers/source/")
+set(test_allowed_capture "sim/synthetic/")
 
 set(violations 0)
 set(checked 0)
-foreach(module pipeline drivers sim eval)
+foreach(module pipeline drivers capture sim eval)
   file(GLOB_RECURSE sources RELATIVE "${SOURCE_DIR}" "${SOURCE_DIR}/${module}/*.h" "${SOURCE_DIR}/${module}/*.cc")
   foreach(source IN LISTS sources)
     math(EXPR checked "${checked} + 1")
     set(allowed ${allowed_${module}})
     if(source MATCHES "(_test|_benchmark|test_util)[^/]*$")
-      list(APPEND allowed "tests/")
+      list(APPEND allowed "tests/" ${test_allowed_${module}})
     endif()
     file(STRINGS "${SOURCE_DIR}/${source}" includes REGEX "^[ \t]*#[ \t]*include[ \t]+\"")
     foreach(line IN LISTS includes)
@@ -48,4 +52,4 @@ endforeach()
 if(violations GREATER 0)
   message(FATAL_ERROR "${violations} include(s) break the module layering")
 endif()
-message(STATUS "layering: ${checked} files of pipeline/, drivers/, sim/ and eval/ include only what they may")
+message(STATUS "layering: ${checked} files of pipeline/, drivers/, capture/, sim/ and eval/ include only what they may")

@@ -8,8 +8,8 @@
 #include <cstdio>
 #include <opencv2/imgcodecs.hpp>
 
+#include "capture/recording.h"
 #include "pipeline/run/capture_calibration.h"
-#include "sim/replay/recording.h"
 #include "tests/drivers/ptp_test_util.h"
 #include "tests/sim_calib/sim_image_set.h"
 #include "tests/testing/exif_jpeg.h"

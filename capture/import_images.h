@@ -9,8 +9,8 @@
 #include <filesystem>
 #include <vector>
 
+#include "capture/recording.h"
 #include "pipeline/core/status.h"
-#include "sim/replay/recording.h"
 
 namespace px {
 

@@ -1,4 +1,4 @@
-#include "sim/replay/recording_manifest.h"
+#include "capture/recording_manifest.h"
 
 #include <cctype>
 #include <chrono>
@@ -10,12 +10,12 @@
 #include <set>
 #include <utility>
 
+#include "capture/frame_file.h"
+#include "capture/recording.h"
 #include "pipeline/core/json_fields.h"
 #include "pipeline/core/rig_calibration_json.h"
-#include "sim/replay/frame_file.h"
-#include "sim/replay/recording.h"
 
-namespace px::replay {
+namespace px::capture {
 namespace {
 
 using Json = nlohmann::json;
@@ -399,4 +399,4 @@ Status ValidateManifest(const Manifest& manifest) {
   return ValidateRigAgainstFrames(manifest);
 }
 
-}  // namespace px::replay
+}  // namespace px::capture

@@ -7,9 +7,9 @@
 #include <span>
 #include <string>
 
-namespace px::replay {
+namespace px::capture {
 
 // 64 lowercase hex digits.
 std::string Sha256Hex(std::span<const uint8_t> bytes);
 
-}  // namespace px::replay
+}  // namespace px::capture

@@ -1,4 +1,4 @@
-#include "sim/replay/animation_frames.h"
+#include "capture/animation_frames.h"
 
 #include <webp/demux.h>
 

@@ -1,4 +1,4 @@
-#include "sim/replay/recording_test_util.h"
+#include "capture/recording_test_util.h"
 
 #include <gtest/gtest.h>
 
@@ -9,7 +9,7 @@
 
 #include "pipeline/core/rig_calibration_json.h"
 
-namespace px::replay::testing {
+namespace px::capture::testing {
 
 cv::Mat GradientNoiseBgr(int width, int height, uint64_t seed) {
   cv::Mat bgr(height, width, CV_8UC3);
@@ -141,4 +141,4 @@ void WriteText(const std::filesystem::path& path, const std::string& text) {
   EXPECT_TRUE(out.good()) << "writing " << path;
 }
 
-}  // namespace px::replay::testing
+}  // namespace px::capture::testing

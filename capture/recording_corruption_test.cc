@@ -8,16 +8,16 @@
 #include <string>
 #include <vector>
 
-#include "sim/replay/recording.h"
-#include "sim/replay/recording_test_util.h"
-#include "sim/replay/sha256.h"
+#include "capture/recording.h"
+#include "capture/recording_test_util.h"
+#include "capture/sha256.h"
 
 namespace px {
 namespace {
 
 namespace fs = std::filesystem;
-using replay::testing::ReadText;
-using replay::testing::WriteText;
+using capture::testing::ReadText;
+using capture::testing::WriteText;
 using ::testing::AllOf;
 using ::testing::HasSubstr;
 
@@ -25,8 +25,8 @@ class CorruptionTest : public ::testing::Test {
  protected:
   // A PNG recording (BGR888) with rig and a raw one (YUYV) without.
   void SetUp() override {
-    ASSERT_TRUE(WriteRecording(png_dir_, replay::testing::LatticeRecording(PixelFormat::kBgr888)).ok());
-    Recording raw = replay::testing::LatticeRecording(PixelFormat::kYuyv);
+    ASSERT_TRUE(WriteRecording(png_dir_, capture::testing::LatticeRecording(PixelFormat::kBgr888)).ok());
+    Recording raw = capture::testing::LatticeRecording(PixelFormat::kYuyv);
     raw.source.rig.reset();
     ASSERT_TRUE(WriteRecording(raw_dir_, raw).ok());
   }
@@ -40,7 +40,7 @@ class CorruptionTest : public ::testing::Test {
     const std::string bytes = ReadText(dir / file);
     nlohmann::json j = Manifest(dir);
     j["frames"][0]["bytes"] = bytes.size();
-    j["frames"][0]["sha256"] = replay::Sha256Hex(std::vector<uint8_t>(bytes.begin(), bytes.end()));
+    j["frames"][0]["sha256"] = capture::Sha256Hex(std::vector<uint8_t>(bytes.begin(), bytes.end()));
     SetManifest(dir, j);
   }
 
@@ -49,7 +49,7 @@ class CorruptionTest : public ::testing::Test {
     return recording.status();
   }
 
-  replay::testing::ScratchDir scratch_;
+  capture::testing::ScratchDir scratch_;
   const fs::path png_dir_ = scratch_.path() / "png";
   const fs::path raw_dir_ = scratch_.path() / "raw";
   const std::string png_manifest_ = (png_dir_ / "manifest.json").string();
@@ -133,7 +133,7 @@ TEST_F(CorruptionTest, RawFileOfTheWrongLength) {
 
 TEST_F(CorruptionTest, WrongDimensionsInTheManifest) {
   // Without a rig, the PNG's own size contradicts the manifest.
-  Recording no_rig = replay::testing::LatticeRecording(PixelFormat::kBgr888);
+  Recording no_rig = capture::testing::LatticeRecording(PixelFormat::kBgr888);
   no_rig.source.rig.reset();
   const fs::path dir = scratch_.path() / "no_rig";
   ASSERT_TRUE(WriteRecording(dir, no_rig).ok());
@@ -262,7 +262,7 @@ TEST_F(CorruptionTest, OkFrameWithoutAFileIsRefusedButADroppedOneIsLoaded) {
 }
 
 TEST_F(CorruptionTest, ACorruptFrameIsLoadedAsRecordedButOnlyIfItsFileIsIntact) {
-  Recording recording = replay::testing::LatticeRecording(PixelFormat::kBayerRggb8);
+  Recording recording = capture::testing::LatticeRecording(PixelFormat::kBayerRggb8);
   Frame& frame = recording.frames.frames[0];
   frame.image.bytes.resize(frame.image.bytes.size() - 1000);
   frame.status = FrameStatus::kCorrupt;
@@ -271,7 +271,7 @@ TEST_F(CorruptionTest, ACorruptFrameIsLoadedAsRecordedButOnlyIfItsFileIsIntact) 
   ASSERT_TRUE(WriteRecording(dir, recording).ok());
   StatusOr<Recording> back = ReadRecording(dir);
   ASSERT_TRUE(back.ok()) << back.status().ToString();
-  replay::testing::ExpectSameRecording(recording, *back);
+  capture::testing::ExpectSameRecording(recording, *back);
 
   // The capture was bad, but the recording of it must still be intact.
   std::string raw = ReadText(dir / "frame_0000.raw");

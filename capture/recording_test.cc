@@ -1,6 +1,6 @@
 // Round trips, durability and the writer's own refusals. Corrupt recordings are in
 // recording_corruption_test.cc, random manifest damage in recording_fuzz_test.cc.
-#include "sim/replay/recording.h"
+#include "capture/recording.h"
 
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
@@ -13,30 +13,30 @@
 #include <string>
 #include <vector>
 
+#include "capture/recording_manifest.h"
+#include "capture/recording_test_util.h"
+#include "capture/sha256.h"
 #include "pipeline/core/durable_file.h"
-#include "sim/replay/recording_manifest.h"
-#include "sim/replay/recording_test_util.h"
-#include "sim/replay/sha256.h"
 
 namespace px {
 namespace {
 
 namespace fs = std::filesystem;
-using replay::testing::ImageSetRecording;
-using replay::testing::LatticeRecording;
-using replay::testing::ReadText;
-using replay::testing::ScratchDir;
+using capture::testing::ImageSetRecording;
+using capture::testing::LatticeRecording;
+using capture::testing::ReadText;
+using capture::testing::ScratchDir;
 using ::testing::HasSubstr;
 
 std::vector<uint8_t> Bytes(const std::string& text) { return {text.begin(), text.end()}; }
 
 TEST(Sha256Test, MatchesFips180Vectors) {
-  EXPECT_EQ(replay::Sha256Hex({}), "e3b0c44298fc1c149afbf4c8996fb92427ae41e4649b934ca495991b7852b855");
-  EXPECT_EQ(replay::Sha256Hex(Bytes("abc")), "ba7816bf8f01cfea414140de5dae2223b00361a396177a9cb410ff61f20015ad");
+  EXPECT_EQ(capture::Sha256Hex({}), "e3b0c44298fc1c149afbf4c8996fb92427ae41e4649b934ca495991b7852b855");
+  EXPECT_EQ(capture::Sha256Hex(Bytes("abc")), "ba7816bf8f01cfea414140de5dae2223b00361a396177a9cb410ff61f20015ad");
   // 56 bytes: the padding needs a second block.
-  EXPECT_EQ(replay::Sha256Hex(Bytes("abcdbcdecdefdefgefghfghighijhijkijkljklmklmnlmnomnopnopq")),
+  EXPECT_EQ(capture::Sha256Hex(Bytes("abcdbcdecdefdefgefghfghighijhijkijkljklmklmnlmnomnopnopq")),
             "248d6a61d20638b8e5c026930c3e6039a33ce45964ff2167f6ecedd419db06c1");
-  EXPECT_EQ(replay::Sha256Hex(std::vector<uint8_t>(1'000'000, 'a')),
+  EXPECT_EQ(capture::Sha256Hex(std::vector<uint8_t>(1'000'000, 'a')),
             "cdc76e5c9914fb9281a1c7e284d73e67f1809a48a497200e046d39ccc7112cd0");
 }
 
@@ -57,7 +57,7 @@ TEST_P(RoundTripTest, LatticeFrameComesBackExactly) {
 
   StatusOr<Recording> back = ReadRecording(dir);
   ASSERT_TRUE(back.ok()) << back.status().ToString();
-  replay::testing::ExpectSameRecording(recording, *back);
+  capture::testing::ExpectSameRecording(recording, *back);
 }
 
 INSTANTIATE_TEST_SUITE_P(EveryPixelFormat,
@@ -135,7 +135,7 @@ TEST(RecordingTest, ImageSetWithEveryFrameStatusComesBackExactly) {
   corrupt.status_detail = "short read: 3072 of 9216 bytes";
   // A frame of the wrong format is kept as delivered.
   Frame& wrong = recording.frames.frames[3];
-  wrong.image = replay::testing::TestImage(PixelFormat::kNv12, 64, 48, 99);
+  wrong.image = capture::testing::TestImage(PixelFormat::kNv12, 64, 48, 99);
   wrong.status = FrameStatus::kWrongFormat;
   wrong.status_detail = "got 64x48 NV12, want 64x48 BGR888";
   ASSERT_TRUE(WriteRecording(scratch.path() / "set", recording).ok());
@@ -145,7 +145,7 @@ TEST(RecordingTest, ImageSetWithEveryFrameStatusComesBackExactly) {
 
   StatusOr<Recording> back = ReadRecording(scratch.path() / "set");
   ASSERT_TRUE(back.ok()) << back.status().ToString();
-  replay::testing::ExpectSameRecording(recording, *back);
+  capture::testing::ExpectSameRecording(recording, *back);
   EXPECT_EQ(back->frames.NumUsableFrames(), 3);
 }
 
@@ -166,7 +166,7 @@ TEST(RecordingTest, DroppedFrameHasNoFileAndKeepsItsStatus) {
 
   StatusOr<Recording> back = ReadRecording(scratch.path() / "set");
   ASSERT_TRUE(back.ok()) << back.status().ToString();
-  replay::testing::ExpectSameRecording(recording, *back);
+  capture::testing::ExpectSameRecording(recording, *back);
 }
 
 TEST(RecordingTest, ManifestHasTheDocumentedFields) {
@@ -185,17 +185,17 @@ TEST(RecordingTest, ManifestHasTheDocumentedFields) {
   EXPECT_EQ(frame["bytes"], 136 * 106 * 3 / 2);
   EXPECT_EQ(frame["status"], "ok");
   const std::string file = ReadText(scratch.path() / "shot" / "frame_0000.raw");
-  EXPECT_EQ(frame["sha256"], replay::Sha256Hex(Bytes(file)));
+  EXPECT_EQ(frame["sha256"], capture::Sha256Hex(Bytes(file)));
 }
 
 // The example in FORMAT.md must stay a valid manifest.
 TEST(RecordingTest, FormatDocumentExampleIsAValidManifest) {
-  const std::string doc = ReadText(fs::path(PX_SOURCE_DIR) / "sim" / "replay" / "FORMAT.md");
+  const std::string doc = ReadText(fs::path(PX_SOURCE_DIR) / "capture" / "FORMAT.md");
   const size_t start = doc.find("```json\n");
   ASSERT_NE(start, std::string::npos);
   const size_t end = doc.find("```", start + 8);
   const nlohmann::json example = nlohmann::json::parse(doc.substr(start + 8, end - start - 8));
-  StatusOr<replay::Manifest> manifest = replay::ManifestFromJson(example);
+  StatusOr<capture::Manifest> manifest = capture::ManifestFromJson(example);
   ASSERT_TRUE(manifest.ok()) << manifest.status().ToString();
   EXPECT_EQ(manifest->source.rig->NumViews(), 2);
   EXPECT_EQ(manifest->frames[0].sequence, 3071u);
@@ -208,7 +208,7 @@ TEST(RecordingTest, StampsCreationTimeWhenNoneIsGiven) {
   ASSERT_TRUE(WriteRecording(scratch.path() / "shot", recording).ok());
   StatusOr<Recording> back = ReadRecording(scratch.path() / "shot");
   ASSERT_TRUE(back.ok()) << back.status().ToString();
-  EXPECT_TRUE(replay::IsUtcIso8601(back->created_at)) << back->created_at;
+  EXPECT_TRUE(capture::IsUtcIso8601(back->created_at)) << back->created_at;
   EXPECT_EQ(back->created_at.substr(0, 2), "20");
 }
 
@@ -224,13 +224,13 @@ TEST(RecordingTest, InvalidUtf8InFreeTextIsReplacedNotFatal) {
 }
 
 TEST(RecordingTest, Iso8601CheckAcceptsUtcOnly) {
-  EXPECT_TRUE(replay::IsUtcIso8601("2025-03-01T12:34:56Z"));
-  EXPECT_TRUE(replay::IsUtcIso8601("2025-03-01T12:34:56.123456Z"));
-  EXPECT_FALSE(replay::IsUtcIso8601("2025-03-01T12:34:56+01:00"));
-  EXPECT_FALSE(replay::IsUtcIso8601("2025-13-01T12:34:56Z"));
-  EXPECT_FALSE(replay::IsUtcIso8601("2025-03-01 12:34:56Z"));
-  EXPECT_FALSE(replay::IsUtcIso8601("2025-03-01T12:34:56.Z"));
-  EXPECT_FALSE(replay::IsUtcIso8601(""));
+  EXPECT_TRUE(capture::IsUtcIso8601("2025-03-01T12:34:56Z"));
+  EXPECT_TRUE(capture::IsUtcIso8601("2025-03-01T12:34:56.123456Z"));
+  EXPECT_FALSE(capture::IsUtcIso8601("2025-03-01T12:34:56+01:00"));
+  EXPECT_FALSE(capture::IsUtcIso8601("2025-13-01T12:34:56Z"));
+  EXPECT_FALSE(capture::IsUtcIso8601("2025-03-01 12:34:56Z"));
+  EXPECT_FALSE(capture::IsUtcIso8601("2025-03-01T12:34:56.Z"));
+  EXPECT_FALSE(capture::IsUtcIso8601(""));
 }
 
 TEST(RecordingTest, WritesIntoAnEmptyFolderButNotANonEmptyOne) {
@@ -239,7 +239,7 @@ TEST(RecordingTest, WritesIntoAnEmptyFolderButNotANonEmptyOne) {
 
   const fs::path busy = scratch.path() / "busy";
   fs::create_directories(busy);
-  replay::testing::WriteText(busy / "notes.txt", "keep me");
+  capture::testing::WriteText(busy / "notes.txt", "keep me");
   Status status = WriteRecording(busy, LatticeRecording(PixelFormat::kBgr888));
   EXPECT_EQ(status.code(), StatusCode::kAlreadyExists) << status.ToString();
   EXPECT_THAT(status.message(), HasSubstr(busy.string()));
@@ -248,7 +248,7 @@ TEST(RecordingTest, WritesIntoAnEmptyFolderButNotANonEmptyOne) {
   EXPECT_FALSE(fs::exists(busy / "manifest.json"));
   EXPECT_FALSE(fs::exists(busy / "frame_0000.png"));
 
-  replay::testing::WriteText(scratch.path() / "a_file", "x");
+  capture::testing::WriteText(scratch.path() / "a_file", "x");
   status = WriteRecording(scratch.path() / "a_file", LatticeRecording(PixelFormat::kBgr888));
   EXPECT_EQ(status.code(), StatusCode::kAlreadyExists) << status.ToString();
 }
@@ -268,7 +268,7 @@ TEST(RecordingTest, RefusesARecordingThatContradictsItself) {
   EXPECT_THAT(WriteRecording(dir, mixed).message(), HasSubstr("differs from source.kind"));
 
   Recording wrong_sensor = LatticeRecording(PixelFormat::kBgr888);
-  wrong_sensor.frames.frames[0].image = replay::testing::TestImage(PixelFormat::kBgr888, 138, 106, 1);
+  wrong_sensor.frames.frames[0].image = capture::testing::TestImage(PixelFormat::kBgr888, 138, 106, 1);
   status = WriteRecording(dir, wrong_sensor);
   EXPECT_THAT(status.message(), HasSubstr("frames[0].width, height: 138x106 differs from the lattice's sensor size"));
 

@@ -10,8 +10,8 @@
 #include <string>
 #include <vector>
 
-#include "sim/replay/recording.h"
-#include "sim/replay/recording_test_util.h"
+#include "capture/recording.h"
+#include "capture/recording_test_util.h"
 
 namespace px {
 namespace {
@@ -121,22 +121,22 @@ bool SamePicture(const Frame& expected, const Frame& actual) {
 }
 
 TEST(RecordingFuzzTest, RandomManifestDamageIsRefusedOrHarmless) {
-  replay::testing::ScratchDir scratch;
+  capture::testing::ScratchDir scratch;
   const fs::path dir = scratch.path() / "set";
   // PNG, raw and dropped frames, with a rig: every branch of the reader has something to check.
-  Recording recording = replay::testing::ImageSetRecording(3, PixelFormat::kBgr888);
-  recording.frames.frames[1].image = replay::testing::TestImage(PixelFormat::kYuyv, 64, 48, 5);
+  Recording recording = capture::testing::ImageSetRecording(3, PixelFormat::kBgr888);
+  recording.frames.frames[1].image = capture::testing::TestImage(PixelFormat::kYuyv, 64, 48, 5);
   recording.frames.frames[2].image.bytes.clear();
   recording.frames.frames[2].status = FrameStatus::kDropped;
   ASSERT_TRUE(WriteRecording(dir, recording).ok());
-  const std::string original = replay::testing::ReadText(dir / "manifest.json");
+  const std::string original = capture::testing::ReadText(dir / "manifest.json");
 
   std::mt19937_64 rng(20250301);  // fixed: the same 200 mutations on every run
   std::array<int, kNumMutations> tried{}, refused{};
   for (int i = 0; i < 200; ++i) {
     const auto mutation = static_cast<Mutation>(i % kNumMutations);
     const std::string damaged = Mutate(original, mutation, rng);
-    replay::testing::WriteText(dir / "manifest.json", damaged);
+    capture::testing::WriteText(dir / "manifest.json", damaged);
     SCOPED_TRACE("mutation " + std::to_string(i) + " (" + kMutationNames[mutation] + "):\n" + damaged);
     ++tried[mutation];
 

@@ -13,7 +13,7 @@
 #include "drivers/source/frame_source.h"
 #include "pipeline/core/frame_set.h"
 
-namespace px::replay {
+namespace px::capture {
 
 inline constexpr std::string_view kManifestFileName = "manifest.json";
 inline constexpr std::string_view kRecordingFormatName = "parallax.recording";
@@ -61,4 +61,4 @@ StatusOr<Manifest> ManifestFromJson(const nlohmann::json& j);
 // each ok frame's size, and no lattice.
 Status ValidateManifest(const Manifest& manifest);
 
-}  // namespace px::replay
+}  // namespace px::capture

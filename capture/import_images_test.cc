@@ -1,21 +1,21 @@
 // Photos as a recording (import_images.h): order, pixels, sizes, the EXIF focal length of real
 // phone photos (../shared/data/handheld, skipped without it), and errors that name the file.
-#include "sim/replay/import_images.h"
+#include "capture/import_images.h"
 
 #include <gtest/gtest.h>
 
 #include <fstream>
 #include <opencv2/imgcodecs.hpp>
 
-#include "sim/replay/recording_test_util.h"
+#include "capture/recording_test_util.h"
 #include "sim/synthetic/data_paths.h"
 #include "tests/testing/exif_jpeg.h"
 
 namespace px {
 namespace {
 
-using replay::testing::GradientNoiseBgr;
-using replay::testing::ScratchDir;
+using capture::testing::GradientNoiseBgr;
+using capture::testing::ScratchDir;
 
 std::filesystem::path WriteImage(const std::filesystem::path& path, const cv::Mat& bgr) {
   EXPECT_TRUE(cv::imwrite(path.string(), bgr)) << path;

@@ -1,9 +1,9 @@
-#include "sim/replay/sha256.h"
+#include "capture/sha256.h"
 
 #include <array>
 #include <cstring>
 
-namespace px::replay {
+namespace px::capture {
 namespace {
 
 constexpr std::array<uint32_t, 64> kRoundConstants = {
@@ -85,4 +85,4 @@ std::string Sha256Hex(std::span<const uint8_t> bytes) {
   return hex;
 }
 
-}  // namespace px::replay
+}  // namespace px::capture

@@ -13,7 +13,7 @@
 
 #include "pipeline/core/pixel_format.h"
 
-namespace px::replay {
+namespace px::capture {
 
 enum class FrameFileType { kPng, kJpeg, kRaw };
 
@@ -38,4 +38,4 @@ StatusOr<std::vector<uint8_t>> DecodePngFrame(std::span<const uint8_t> file, Pix
 // by its EXIF orientation. Errors as DecodePngFrame's.
 StatusOr<std::vector<uint8_t>> DecodeJpegFrame(std::span<const uint8_t> file, int width, int height);
 
-}  // namespace px::replay
+}  // namespace px::capture

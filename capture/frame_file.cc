@@ -1,4 +1,4 @@
-#include "sim/replay/frame_file.h"
+#include "capture/frame_file.h"
 
 #include <algorithm>
 #include <array>
@@ -9,7 +9,7 @@
 #include "pipeline/core/image_file.h"
 #include "pipeline/core/size_text.h"
 
-namespace px::replay {
+namespace px::capture {
 namespace {
 
 constexpr std::array<uint8_t, 8> kPngSignature = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n'};
@@ -150,4 +150,4 @@ StatusOr<std::vector<uint8_t>> DecodeJpegFrame(std::span<const uint8_t> file, in
   return std::vector<uint8_t>(rgb.data, rgb.data + rgb.total() * rgb.elemSize());
 }
 
-}  // namespace px::replay
+}  // namespace px::capture

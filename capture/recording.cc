@@ -1,4 +1,4 @@
-#include "sim/replay/recording.h"
+#include "capture/recording.h"
 
 #include <chrono>
 #include <nlohmann/json.hpp>
@@ -7,20 +7,20 @@
 #include <utility>
 #include <vector>
 
+#include "capture/frame_file.h"
+#include "capture/recording_manifest.h"
+#include "capture/sha256.h"
 #include "pipeline/core/durable_file.h"
 #include "pipeline/core/image_file.h"
 #include "pipeline/core/json_fields.h"
 #include "pipeline/core/log.h"
-#include "sim/replay/frame_file.h"
-#include "sim/replay/recording_manifest.h"
-#include "sim/replay/sha256.h"
 
 namespace px {
 namespace {
 
 namespace fs = std::filesystem;
-using replay::FrameEntry;
-using replay::Manifest;
+using capture::FrameEntry;
+using capture::Manifest;
 
 // A manifest holds metadata only; anything this large is not one of ours.
 constexpr uint64_t kMaxManifestBytes = 64ull << 20;
@@ -100,8 +100,8 @@ StatusOr<Manifest> PlanManifest(const Recording& recording) {
   }
   Manifest manifest;
   manifest.created_by = recording.created_by;
-  manifest.created_at = recording.created_at.empty() ? replay::UtcNowIso8601() : recording.created_at;
-  if (!replay::IsUtcIso8601(manifest.created_at)) {
+  manifest.created_at = recording.created_at.empty() ? capture::UtcNowIso8601() : recording.created_at;
+  if (!capture::IsUtcIso8601(manifest.created_at)) {
     return InvalidArgumentError("created_at: '" + manifest.created_at + "' is not UTC ISO 8601 (YYYY-MM-DDTHH:MM:SSZ)");
   }
   manifest.source = recording.source;
@@ -124,17 +124,17 @@ StatusOr<Manifest> PlanManifest(const Recording& recording) {
     entry.focal_length_px = frame.focal_length_px;
     entry.focal_length_source = frame.focal_length_source;
     if (!frame.image.bytes.empty()) {
-      const replay::FrameFileType type = replay::ChooseFrameFileType(frame.image, JpegHoldsImage(frame));
-      entry.file = replay::FrameFileName(i, replay::FrameFileExtension(type));
+      const capture::FrameFileType type = capture::ChooseFrameFileType(frame.image, JpegHoldsImage(frame));
+      entry.file = capture::FrameFileName(i, capture::FrameFileExtension(type));
       entry.sha256 = std::string(64, '0');  // placeholder until the file is encoded
-      entry.bytes = type == replay::FrameFileType::kRaw    ? frame.image.bytes.size()
-                    : type == replay::FrameFileType::kJpeg ? frame.jpeg.size()
-                                                           : 0;
+      entry.bytes = type == capture::FrameFileType::kRaw    ? frame.image.bytes.size()
+                    : type == capture::FrameFileType::kJpeg ? frame.jpeg.size()
+                                                            : 0;
     }
     manifest.frames.push_back(std::move(entry));
   }
   // The reader's own rules: a writer never leaves what the reader would reject.
-  PX_RETURN_IF_ERROR(replay::ValidateManifest(manifest));
+  PX_RETURN_IF_ERROR(capture::ValidateManifest(manifest));
   return manifest;
 }
 
@@ -158,21 +158,21 @@ StatusOr<std::vector<uint8_t>> LoadFrameFile(const fs::path& dir,
                          std::to_string(file->size()) + " bytes, " + field + ".bytes says " +
                          std::to_string(entry.bytes));
   }
-  const std::string sha256 = replay::Sha256Hex(*file);
+  const std::string sha256 = capture::Sha256Hex(*file);
   if (sha256 != *entry.sha256) {
     return DataLossError(path.string() + ": garbled: SHA-256 is " + sha256 + ", " + field + ".sha256 says " +
                          *entry.sha256);
   }
-  PX_ASSIGN_OR_RETURN(replay::FrameFileType type, replay::FrameFileTypeOf(*entry.file));
-  if (type == replay::FrameFileType::kRaw) return std::move(file).value();
+  PX_ASSIGN_OR_RETURN(capture::FrameFileType type, capture::FrameFileTypeOf(*entry.file));
+  if (type == capture::FrameFileType::kRaw) return std::move(file).value();
   StatusOr<std::vector<uint8_t>> decoded =
-      type == replay::FrameFileType::kJpeg
-          ? replay::DecodeJpegFrame(*file, entry.width, entry.height)
-          : replay::DecodePngFrame(*file, entry.pixel_format, entry.width, entry.height);
+      type == capture::FrameFileType::kJpeg
+          ? capture::DecodeJpegFrame(*file, entry.width, entry.height)
+          : capture::DecodePngFrame(*file, entry.pixel_format, entry.width, entry.height);
   if (!decoded.ok()) {
     return Status(decoded.status().code(), path.string() + ": " + decoded.status().message() + " (" + field + ")");
   }
-  if (type == replay::FrameFileType::kJpeg) *jpeg = std::move(file).value();
+  if (type == capture::FrameFileType::kJpeg) *jpeg = std::move(file).value();
   return decoded;
 }
 
@@ -201,25 +201,25 @@ Status WriteRecording(const fs::path& dir, const Recording& recording, const Bef
     FrameEntry& entry = manifest.frames[i];
     if (!entry.file) continue;
     const Frame& frame = recording.frames.frames[i];
-    PX_ASSIGN_OR_RETURN(replay::FrameFileType type, replay::FrameFileTypeOf(*entry.file));
+    PX_ASSIGN_OR_RETURN(capture::FrameFileType type, capture::FrameFileTypeOf(*entry.file));
     std::vector<uint8_t> encoded;
-    if (type != replay::FrameFileType::kJpeg) {
-      StatusOr<std::vector<uint8_t>> made = replay::EncodeFrameFile(frame.image, type);
+    if (type != capture::FrameFileType::kJpeg) {
+      StatusOr<std::vector<uint8_t>> made = capture::EncodeFrameFile(frame.image, type);
       if (!made.ok()) return made.status().WithContext((dir / *entry.file).string());
       encoded = std::move(made).value();
     }
-    const std::span<const uint8_t> bytes =
-        type == replay::FrameFileType::kJpeg ? std::span<const uint8_t>(frame.jpeg) : std::span<const uint8_t>(encoded);
+    const std::span<const uint8_t> bytes = type == capture::FrameFileType::kJpeg ? std::span<const uint8_t>(frame.jpeg)
+                                                                                 : std::span<const uint8_t>(encoded);
     entry.bytes = bytes.size();
-    entry.sha256 = replay::Sha256Hex(bytes);
+    entry.sha256 = capture::Sha256Hex(bytes);
     PX_RETURN_IF_ERROR(commit(dir / *entry.file, bytes));
     total_bytes += entry.bytes;
   }
   // The frames' names must be durable before the manifest that points at them.
   PX_RETURN_IF_ERROR(FsyncDir(dir));
 
-  const std::string text = replay::ManifestToJsonText(manifest);
-  const fs::path manifest_path = dir / replay::kManifestFileName;
+  const std::string text = capture::ManifestToJsonText(manifest);
+  const fs::path manifest_path = dir / capture::kManifestFileName;
   PX_RETURN_IF_ERROR(commit(manifest_path, std::span(reinterpret_cast<const uint8_t*>(text.data()), text.size())));
   PX_RETURN_IF_ERROR(FsyncDir(dir));
   const fs::path parent = dir.has_parent_path() ? dir.parent_path() : fs::path(".");
@@ -238,7 +238,7 @@ StatusOr<Recording> ReadRecording(const fs::path& dir) {
   const auto start = std::chrono::steady_clock::now();
   std::error_code ec;
   if (!fs::is_directory(dir, ec)) return NotFoundError(dir.string() + ": no such recording folder");
-  const fs::path manifest_path = dir / replay::kManifestFileName;
+  const fs::path manifest_path = dir / capture::kManifestFileName;
   StatusOr<std::vector<uint8_t>> text = ReadFileBytes(manifest_path, kMaxManifestBytes);
   if (!text.ok()) {
     if (text.status().code() == StatusCode::kNotFound) {
@@ -247,7 +247,7 @@ StatusOr<Recording> ReadRecording(const fs::path& dir) {
     return text.status();
   }
   PX_ASSIGN_OR_RETURN(nlohmann::json j, json::Parse(std::string(text->begin(), text->end()), manifest_path.string()));
-  StatusOr<Manifest> parsed = replay::ManifestFromJson(j);
+  StatusOr<Manifest> parsed = capture::ManifestFromJson(j);
   if (!parsed.ok()) return parsed.status().WithContext(manifest_path.string());
   const Manifest& manifest = *parsed;
 

@@ -7,7 +7,7 @@
 #include <opencv2/core.hpp>
 #include <string>
 
-#include "sim/replay/recording.h"
+#include "capture/recording.h"
 
 namespace px {
 namespace {

@@ -1,4 +1,4 @@
-#include "sim/replay/mpo.h"
+#include "capture/mpo.h"
 
 #include <cstring>
 

@@ -1,4 +1,4 @@
-// Shared helpers for the sim/replay tests: a scratch folder per test, generated test images
+// Shared helpers for the capture tests: a scratch folder per test, generated test images
 // (gradients plus seeded noise, through px::FromBgr) and small recordings built from them.
 #pragma once
 
@@ -7,10 +7,10 @@
 #include <opencv2/core.hpp>
 #include <string>
 
-#include "sim/replay/recording.h"
+#include "capture/recording.h"
 #include "tests/testing/temp_dir.h"
 
-namespace px::replay::testing {
+namespace px::capture::testing {
 
 using ScratchDir = px::testing::TempDir;
 
@@ -32,4 +32,4 @@ void ExpectSameRecording(const Recording& expected, const Recording& actual);
 std::string ReadText(const std::filesystem::path& path);
 void WriteText(const std::filesystem::path& path, const std::string& text);
 
-}  // namespace px::replay::testing
+}  // namespace px::capture::testing

@@ -1,4 +1,4 @@
-#include "sim/replay/import_images.h"
+#include "capture/import_images.h"
 
 #include <algorithm>
 #include <cctype>
@@ -6,11 +6,11 @@
 #include <opencv2/imgproc.hpp>
 #include <string>
 
+#include "capture/animation_frames.h"
+#include "capture/mpo.h"
 #include "pipeline/core/exif.h"
 #include "pipeline/core/image_file.h"
 #include "pipeline/core/pixel_format.h"
-#include "sim/replay/animation_frames.h"
-#include "sim/replay/mpo.h"
 
 namespace px {
 
