@@ -1,4 +1,4 @@
-#include "device/cli/eval_depth_command.h"
+#include "tools/eval_depth_command.h"
 
 #include <cstdio>
 #include <cstdlib>
@@ -9,12 +9,12 @@
 #include <utility>
 #include <vector>
 
-#include "device/cli/depth_option_override.h"
-#include "device/cli/machine_info.h"
-#include "device/cli/progress_bar.h"
-#include "device/cli/run_or_fail.h"
 #include "eval/depth/depth_eval.h"
 #include "pipeline/core/log.h"
+#include "tools/depth_option_override.h"
+#include "tools/machine_info.h"
+#include "tools/progress_bar.h"
+#include "tools/run_or_fail.h"
 
 namespace px::cli {
 namespace {

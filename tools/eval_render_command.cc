@@ -1,4 +1,4 @@
-#include "device/cli/eval_render_command.h"
+#include "tools/eval_render_command.h"
 
 #include <algorithm>
 #include <cstdio>
@@ -9,18 +9,18 @@
 #include <string>
 #include <vector>
 
-#include "device/cli/consistent_blend_flags.h"
-#include "device/cli/depth_option_override.h"
-#include "device/cli/machine_info.h"
-#include "device/cli/run_or_fail.h"
-#include "device/cli/scene_path.h"
-#include "device/cli/texture_stretch_flags.h"
 #include "eval/render/closeup_eval.h"
 #include "eval/render/handheld_eval.h"
 #include "eval/render/pan_eval.h"
 #include "eval/render/render_eval.h"
 #include "pipeline/core/log.h"
 #include "sim/synthetic/data_paths.h"
+#include "tools/consistent_blend_flags.h"
+#include "tools/depth_option_override.h"
+#include "tools/machine_info.h"
+#include "tools/run_or_fail.h"
+#include "tools/scene_path.h"
+#include "tools/texture_stretch_flags.h"
 
 namespace px::cli {
 namespace {

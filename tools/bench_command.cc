@@ -1,4 +1,4 @@
-#include "device/cli/bench_command.h"
+#include "tools/bench_command.h"
 
 #include <chrono>
 #include <cstdio>
@@ -8,17 +8,17 @@
 #include <string>
 #include <vector>
 
-#include "device/cli/consistent_blend_flags.h"
-#include "device/cli/depth_option_override.h"
-#include "device/cli/machine_info.h"
-#include "device/cli/progress_bar.h"
-#include "device/cli/run_or_fail.h"
-#include "device/cli/scene_path.h"
 #include "pipeline/clip/mp4_writer.h"
 #include "pipeline/core/log.h"
 #include "pipeline/direct/output_frame.h"
 #include "pipeline/run/pipeline.h"
 #include "sim/synthetic/synthetic_source.h"
+#include "tools/consistent_blend_flags.h"
+#include "tools/depth_option_override.h"
+#include "tools/machine_info.h"
+#include "tools/progress_bar.h"
+#include "tools/run_or_fail.h"
+#include "tools/scene_path.h"
 
 namespace px::cli {
 namespace {

@@ -1,4 +1,4 @@
-#include "device/cli/scene_path.h"
+#include "tools/scene_path.h"
 
 #include "sim/synthetic/data_paths.h"
 

@@ -1,14 +1,14 @@
-#include "device/cli/eval_calib_command.h"
+#include "tools/eval_calib_command.h"
 
 #include <cstdio>
 #include <memory>
 #include <nlohmann/json.hpp>
 #include <string>
 
-#include "device/cli/run_or_fail.h"
 #include "eval/calib/calib_eval.h"
 #include "pipeline/core/log.h"
 #include "sim/synthetic/data_paths.h"
+#include "tools/run_or_fail.h"
 
 namespace px::cli {
 namespace {

@@ -1,4 +1,4 @@
-#include "device/cli/sim_command.h"
+#include "tools/sim_command.h"
 
 #include <cstdio>
 #include <filesystem>
@@ -9,14 +9,14 @@
 #include <vector>
 
 #include "capture/recording.h"
-#include "device/cli/run_or_fail.h"
-#include "device/cli/scene_path.h"
 #include "pipeline/core/log.h"
 #include "pipeline/core/rig_calibration_json.h"
 #include "sim/synthetic/board_scene.h"
 #include "sim/synthetic/lens_perturbation.h"
 #include "sim/synthetic/sim_camera.h"
 #include "sim/synthetic/synthetic_source.h"
+#include "tools/run_or_fail.h"
+#include "tools/scene_path.h"
 
 namespace px::cli {
 namespace {

@@ -1,4 +1,4 @@
-#include "device/cli/depth_option_override.h"
+#include "tools/depth_option_override.h"
 
 #include <cstdlib>
 #include <utility>

@@ -1,4 +1,4 @@
-#include "device/cli/import_command.h"
+#include "tools/import_command.h"
 
 #include <cstdio>
 #include <filesystem>
@@ -8,8 +8,8 @@
 
 #include "capture/import_images.h"
 #include "capture/recording.h"
-#include "device/cli/run_or_fail.h"
 #include "pipeline/core/log.h"
+#include "tools/run_or_fail.h"
 
 namespace px::cli {
 namespace {

@@ -1,4 +1,4 @@
-#include "device/cli/progress_bar.h"
+#include "tools/progress_bar.h"
 
 #include <unistd.h>
 

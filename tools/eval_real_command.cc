@@ -1,4 +1,4 @@
-#include "device/cli/eval_real_command.h"
+#include "tools/eval_real_command.h"
 
 #include <cstdio>
 #include <filesystem>
@@ -7,17 +7,17 @@
 #include <string>
 #include <vector>
 
-#include "device/cli/consistent_blend_flags.h"
-#include "device/cli/depth_option_override.h"
-#include "device/cli/machine_info.h"
-#include "device/cli/run_or_fail.h"
-#include "device/cli/texture_stretch_flags.h"
 #include "device/face_cascades.h"
 #include "eval/real/leave_one_out.h"
 #include "eval/real/path_eval.h"
 #include "eval/real/real_set.h"
 #include "pipeline/core/log.h"
 #include "sim/synthetic/data_paths.h"
+#include "tools/consistent_blend_flags.h"
+#include "tools/depth_option_override.h"
+#include "tools/machine_info.h"
+#include "tools/run_or_fail.h"
+#include "tools/texture_stretch_flags.h"
 
 namespace px::cli {
 namespace {

@@ -1,4 +1,4 @@
-#include "device/cli/consistent_blend_flags.h"
+#include "tools/consistent_blend_flags.h"
 
 namespace px::cli {
 

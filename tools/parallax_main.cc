@@ -1,14 +1,14 @@
 // `parallax`: the offline tools: simulate a capture, make a clip (or a batch of clips), benchmark.
 #include <CLI/CLI.hpp>
 
-#include "device/cli/batch_command.h"
-#include "device/cli/bench_command.h"
-#include "device/cli/calibrate_command.h"
-#include "device/cli/clip_command.h"
-#include "device/cli/eval_command.h"
-#include "device/cli/import_command.h"
-#include "device/cli/sim_command.h"
 #include "pipeline/core/log.h"
+#include "tools/batch_command.h"
+#include "tools/bench_command.h"
+#include "tools/calibrate_command.h"
+#include "tools/clip_command.h"
+#include "tools/eval_command.h"
+#include "tools/import_command.h"
+#include "tools/sim_command.h"
 
 int main(int argc, char** argv) {
   CLI::App app{"parallax: multi-lens capture to 3D pan & scan clip (offline tools)"};

@@ -1,4 +1,4 @@
-#include "device/cli/machine_info.h"
+#include "tools/machine_info.h"
 
 #include <sys/resource.h>
 #include <unistd.h>

@@ -1,4 +1,4 @@
-#include "device/cli/clip_command.h"
+#include "tools/clip_command.h"
 
 #include <cctype>
 #include <cstdio>
@@ -9,15 +9,15 @@
 #include <vector>
 
 #include "capture/import_images.h"
-#include "device/cli/clip_flags.h"
-#include "device/cli/progress_bar.h"
-#include "device/cli/run_or_fail.h"
 #include "device/clip_job.h"
 #include "device/face_cascades.h"
 #include "pipeline/core/durable_file.h"
 #include "pipeline/core/log.h"
 #include "pipeline/direct/shot_file.h"
 #include "pipeline/render/gl/render_backend.h"
+#include "tools/clip_flags.h"
+#include "tools/progress_bar.h"
+#include "tools/run_or_fail.h"
 
 namespace px::cli {
 namespace {

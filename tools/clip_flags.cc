@@ -1,4 +1,4 @@
-#include "device/cli/clip_flags.h"
+#include "tools/clip_flags.h"
 
 #include <memory>
 #include <nlohmann/json.hpp>

@@ -1,4 +1,4 @@
-#include "device/cli/texture_stretch_flags.h"
+#include "tools/texture_stretch_flags.h"
 
 namespace px::cli {
 

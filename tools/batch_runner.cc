@@ -1,4 +1,4 @@
-#include "device/cli/batch_runner.h"
+#include "tools/batch_runner.h"
 
 #include <fcntl.h>
 #include <signal.h>

@@ -1,4 +1,4 @@
-#include "device/cli/calibrate_command.h"
+#include "tools/calibrate_command.h"
 
 #include <cstdio>
 #include <filesystem>
@@ -9,13 +9,13 @@
 #include <vector>
 
 #include "capture/recording.h"
-#include "device/cli/run_or_fail.h"
 #include "pipeline/calib/rig_calibrator.h"
 #include "pipeline/core/image_file.h"
 #include "pipeline/core/log.h"
 #include "pipeline/core/rig_calibration_json.h"
 #include "pipeline/lattice/lattice_detector.h"
 #include "pipeline/lattice/split_lattice.h"
+#include "tools/run_or_fail.h"
 
 namespace px::cli {
 namespace {

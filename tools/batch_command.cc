@@ -1,4 +1,4 @@
-#include "device/cli/batch_command.h"
+#include "tools/batch_command.h"
 
 #include <algorithm>
 #include <cstdio>
@@ -9,12 +9,12 @@
 #include <vector>
 
 #include "capture/sha256.h"
-#include "device/cli/batch_runner.h"
-#include "device/cli/clip_flags.h"
-#include "device/cli/run_or_fail.h"
 #include "device/storage/storage_layout.h"
 #include "pipeline/core/durable_file.h"
 #include "pipeline/core/log.h"
+#include "tools/batch_runner.h"
+#include "tools/clip_flags.h"
+#include "tools/run_or_fail.h"
 
 namespace px::cli {
 namespace {

@@ -1,4 +1,4 @@
-#include "device/cli/eval_faces_command.h"
+#include "tools/eval_faces_command.h"
 
 #include <cstdio>
 #include <memory>
@@ -6,13 +6,13 @@
 #include <string>
 #include <vector>
 
-#include "device/cli/machine_info.h"
-#include "device/cli/progress_bar.h"
-#include "device/cli/run_or_fail.h"
 #include "device/face_cascades.h"
 #include "eval/faces/faces_eval.h"
 #include "eval/faces/sim_face_scenes.h"
 #include "pipeline/core/log.h"
+#include "tools/machine_info.h"
+#include "tools/progress_bar.h"
+#include "tools/run_or_fail.h"
 
 namespace px::cli {
 namespace {

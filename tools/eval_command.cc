@@ -1,10 +1,10 @@
-#include "device/cli/eval_command.h"
+#include "tools/eval_command.h"
 
-#include "device/cli/eval_calib_command.h"
-#include "device/cli/eval_depth_command.h"
-#include "device/cli/eval_faces_command.h"
-#include "device/cli/eval_real_command.h"
-#include "device/cli/eval_render_command.h"
+#include "tools/eval_calib_command.h"
+#include "tools/eval_depth_command.h"
+#include "tools/eval_faces_command.h"
+#include "tools/eval_real_command.h"
+#include "tools/eval_render_command.h"
 
 namespace px::cli {
 
