@@ -105,15 +105,6 @@ StatusOr<int> BindSocket(const fs::path& path, const ControlAccess& access) {
   return fd;
 }
 
-struct Connection {
-  int fd = -1;
-  std::string in;
-  std::string out;
-  bool awaiting_reply = false;  // a request was handed out; read no further until it is answered
-  bool peer_closed = false;     // the peer sent EOF (it may still read our replies)
-  bool broken = false;          // an I/O error: close now
-};
-
 // Splits complete lines off the front of `buffer`; `\r\n` counts as a newline.
 bool TakeLine(std::string* buffer, std::string* line) {
   size_t newline = buffer->find('\n');
@@ -190,209 +181,260 @@ void ControlServer::Stop() {
   if (thread_.joinable()) thread_.join();
 }
 
-void ControlServer::Loop() {
-  auto log = Logger("device");
+struct ControlServer::Connection {
+  int fd = -1;
+  std::string in;
+  std::string out;
+  bool awaiting_reply = false;  // a request was handed out; read no further until it is answered
+  bool peer_closed = false;     // the peer sent EOF (it may still read our replies)
+  bool broken = false;          // an I/O error: close now
+};
+
+struct ControlServer::LoopState {
   std::map<uint64_t, Connection> connections;
   uint64_t next_id = 1;
-  bool trigger_open = options_.trigger_fd >= 0;
-  std::string trigger_buffer;
+  bool trigger_open = false;
+  std::string trigger_buffer;  // a trigger line not yet ended by a newline
+};
 
-  auto deliver_replies = [&] {
-    std::deque<std::pair<uint64_t, std::string>> replies;
-    {
-      std::lock_guard<std::mutex> lock(shared_->mutex);
-      replies.swap(shared_->replies);
-    }
-    for (auto& [id, reply] : replies) {
-      auto it = connections.find(id);
-      if (it == connections.end()) continue;
-      it->second.out += reply;
-      it->second.out += '\n';
-      it->second.awaiting_reply = false;
-    }
-  };
-  auto flush = [](Connection& c) {
-    while (!c.out.empty() && !c.broken) {
-      ssize_t n = ::send(c.fd, c.out.data(), c.out.size(), MSG_NOSIGNAL | MSG_DONTWAIT);
-      if (n < 0) {
-        if (errno == EINTR) continue;
-        if (errno != EAGAIN && errno != EWOULDBLOCK) c.broken = true;
-        return;
-      }
-      c.out.erase(0, static_cast<size_t>(n));
-    }
-  };
-  auto make_respond = [this](uint64_t id) -> Respond {
-    std::shared_ptr<Shared> shared = shared_;
-    return [shared, id](const std::string& reply) {
-      std::lock_guard<std::mutex> lock(shared->mutex);
-      if (shared->closed) return;
-      shared->replies.emplace_back(id, reply);
-      shared->Wake();
-    };
-  };
-  // Hands out the next complete request of each idle connection.
-  auto dispatch = [&] {
-    for (auto& [id, c] : connections) {
-      std::string line;
-      // One request at a time, and only once the last reply has gone out: a client that stops
-      // reading gets nothing more served, so unsent replies cannot pile up in memory.
-      while (!c.awaiting_reply && !c.broken && c.out.empty() && TakeLine(&c.in, &line)) {
-        if (IsBlank(line)) continue;
-        c.awaiting_reply = true;
-        handlers_.on_request(line, make_respond(id));
-      }
-      if (c.in.size() > kMaxControlLineBytes && c.in.find('\n') == std::string::npos) {
-        // No newline within the limit: answer once and drop the connection's input.
-        c.out += ControlErrorReply(InvalidArgumentError("request line longer than " +
-                                                        std::to_string(kMaxControlLineBytes) + " bytes")) +
-                 "\n";
-        c.in.clear();
-        c.peer_closed = true;
-      }
-    }
-  };
+struct ControlServer::PollSet {
+  std::vector<pollfd> fds;          // [0] the wake pipe, [1] the listening socket (when open), then:
+  size_t trigger_index = 0;         // the trigger input, when open
+  std::vector<size_t> input_index;  // per loop input, its fd's place (SIZE_MAX: none)
+  size_t first_connection = 0;      // connections from here, in the order of `ids`
+  std::vector<uint64_t> ids;
+  int timeout_ms = -1;  // the nearest loop-input deadline; -1: none
+};
 
+void ControlServer::DeliverReplies(LoopState& state) {
+  std::deque<std::pair<uint64_t, std::string>> replies;
+  {
+    std::lock_guard<std::mutex> lock(shared_->mutex);
+    replies.swap(shared_->replies);
+  }
+  for (auto& [id, reply] : replies) {
+    auto it = state.connections.find(id);
+    if (it == state.connections.end()) continue;
+    it->second.out += reply;
+    it->second.out += '\n';
+    it->second.awaiting_reply = false;
+  }
+}
+
+// Hands out the next complete request of each idle connection.
+void ControlServer::DispatchRequests(LoopState& state) {
+  for (auto& [id, c] : state.connections) {
+    std::string line;
+    // One request at a time, and only once the last reply has gone out: a client that stops
+    // reading gets nothing more served, so unsent replies cannot pile up in memory.
+    while (!c.awaiting_reply && !c.broken && c.out.empty() && TakeLine(&c.in, &line)) {
+      if (IsBlank(line)) continue;
+      c.awaiting_reply = true;
+      std::shared_ptr<Shared> shared = shared_;
+      handlers_.on_request(line, [shared, id = id](const std::string& reply) {
+        std::lock_guard<std::mutex> lock(shared->mutex);
+        if (shared->closed) return;
+        shared->replies.emplace_back(id, reply);
+        shared->Wake();
+      });
+    }
+    if (c.in.size() > kMaxControlLineBytes && c.in.find('\n') == std::string::npos) {
+      // No newline within the limit: answer once and drop the connection's input.
+      c.out += ControlErrorReply(InvalidArgumentError("request line longer than " +
+                                                      std::to_string(kMaxControlLineBytes) + " bytes")) +
+               "\n";
+      c.in.clear();
+      c.peer_closed = true;
+    }
+  }
+}
+
+ControlServer::PollSet ControlServer::BuildPollSet(LoopState& state) const {
+  PollSet set;
+  set.fds.push_back({wake_read_, POLLIN, 0});
+  if (listen_fd_ >= 0) set.fds.push_back({listen_fd_, POLLIN, 0});
+  set.trigger_index = set.fds.size();
+  if (state.trigger_open) set.fds.push_back({options_.trigger_fd, POLLIN, 0});
+  // Loop inputs: their fds, and the nearest deadline as poll's timeout.
+  set.input_index.assign(options_.inputs.size(), SIZE_MAX);
+  const auto now = std::chrono::steady_clock::now();
+  for (size_t i = 0; i < options_.inputs.size(); ++i) {
+    if (int fd = options_.inputs[i]->PollFd(); fd >= 0) {
+      set.input_index[i] = set.fds.size();
+      set.fds.push_back({fd, POLLIN, 0});
+    }
+    if (auto deadline = options_.inputs[i]->Deadline()) {
+      const auto wait = std::chrono::ceil<std::chrono::milliseconds>(*deadline - now).count();
+      const int wait_ms = static_cast<int>(std::clamp<int64_t>(wait, 0, INT32_MAX));
+      set.timeout_ms = set.timeout_ms < 0 ? wait_ms : std::min(set.timeout_ms, wait_ms);
+    }
+  }
+  set.first_connection = set.fds.size();
+  for (auto& [id, c] : state.connections) {
+    short events = 0;
+    if (!c.peer_closed && !c.awaiting_reply && c.out.empty()) events |= POLLIN;
+    if (!c.out.empty()) events |= POLLOUT;
+    // A connection waiting for its reply is not polled: POLLHUP from a gone peer would spin.
+    if (events == 0) continue;
+    set.fds.push_back({c.fd, events, 0});
+    set.ids.push_back(id);
+  }
+  return set;
+}
+
+void ControlServer::AcceptConnections(LoopState& state) {
+  auto log = Logger("device");
+  while (true) {
+    int fd = ::accept4(listen_fd_, nullptr, nullptr, SOCK_CLOEXEC | SOCK_NONBLOCK);
+    if (fd < 0) break;
+    StatusOr<PeerCredentials> peer = ReadPeerCredentials(fd);
+    Status allowed = peer.ok() ? CheckPeer(*peer, options_.access) : peer.status();
+    if (!allowed.ok()) {
+      log->warn("control: refused a connection: {}", allowed.message());
+      Refuse(fd, allowed);
+      continue;
+    }
+    if (state.connections.size() >= kMaxControlConnections) {
+      log->warn("control: refused a connection from pid {}: {} connections are open already",
+                peer->pid,
+                state.connections.size());
+      Refuse(fd,
+             ResourceExhaustedError("too many control connections (" + std::to_string(state.connections.size()) +
+                                    " open, the limit is " + std::to_string(kMaxControlConnections) + ")"));
+      continue;
+    }
+    Connection c;
+    c.fd = fd;
+    state.connections.emplace(state.next_id++, std::move(c));
+  }
+}
+
+void ControlServer::ReadTrigger(LoopState& state) {
+  char buffer[4096];
+  ssize_t n = ::read(options_.trigger_fd, buffer, sizeof(buffer));
+  if (n > 0) {
+    state.trigger_buffer.append(buffer, static_cast<size_t>(n));
+    std::string line;
+    while (TakeLine(&state.trigger_buffer, &line)) handlers_.on_trigger(line);
+  } else if (n == 0 || (errno != EINTR && errno != EAGAIN)) {
+    if (n < 0) {
+      Logger("device")->error("trigger input: read failed: {}; treating it as end of input", std::strerror(errno));
+    }
+    // A last line without a newline is still a press.
+    if (!state.trigger_buffer.empty()) handlers_.on_trigger(state.trigger_buffer);
+    state.trigger_buffer.clear();
+    state.trigger_open = false;
+    handlers_.on_trigger_eof();
+  }
+}
+
+void ControlServer::ServiceLoopInputs(const PollSet& poll_set) {
+  const auto now = std::chrono::steady_clock::now();
+  for (size_t i = 0; i < options_.inputs.size(); ++i) {
+    LoopInput& input = *options_.inputs[i];
+    const short revents = poll_set.input_index[i] == SIZE_MAX ? 0 : poll_set.fds[poll_set.input_index[i]].revents;
+    const auto deadline = input.Deadline();
+    if (revents == 0 && !(deadline && now >= *deadline)) continue;
+    const int presses = input.Service(now, revents);
+    for (int k = 0; k < presses; ++k) handlers_.on_trigger(input.Describe());
+  }
+}
+
+namespace {
+
+// Sends what it can of a connection's output without blocking; an error other than a full
+// buffer marks it broken.
+template <typename Connection>
+void FlushConnection(Connection& c) {
+  while (!c.out.empty() && !c.broken) {
+    ssize_t n = ::send(c.fd, c.out.data(), c.out.size(), MSG_NOSIGNAL | MSG_DONTWAIT);
+    if (n < 0) {
+      if (errno == EINTR) continue;
+      if (errno != EAGAIN && errno != EWOULDBLOCK) c.broken = true;
+      return;
+    }
+    c.out.erase(0, static_cast<size_t>(n));
+  }
+}
+
+// A connection's input after poll(): bytes read, EOF, or an error.
+template <typename Connection>
+void ReadConnection(const pollfd& p, Connection& c) {
+  if (p.revents & POLLIN) {
+    char buffer[4096];
+    ssize_t n = ::recv(c.fd, buffer, sizeof(buffer), MSG_DONTWAIT);
+    if (n > 0) {
+      c.in.append(buffer, static_cast<size_t>(n));
+    } else if (n == 0) {
+      c.peer_closed = true;
+    } else if (errno != EAGAIN && errno != EWOULDBLOCK && errno != EINTR) {
+      c.broken = true;
+    }
+  } else if (p.revents & (POLLERR | POLLNVAL)) {
+    c.broken = true;
+  } else if ((p.revents & POLLHUP) && !(p.events & POLLOUT)) {
+    c.peer_closed = true;
+  }
+}
+
+// Closes connections that broke, or whose peer is done and has every reply.
+template <typename Connections>
+void CloseFinished(Connections& connections) {
+  for (auto it = connections.begin(); it != connections.end();) {
+    auto& c = it->second;
+    const bool finished = c.peer_closed && !c.awaiting_reply && c.out.empty();
+    if (c.broken || finished) {
+      ::close(c.fd);
+      it = connections.erase(it);
+    } else {
+      ++it;
+    }
+  }
+}
+
+}  // namespace
+
+void ControlServer::Loop() {
+  LoopState state;
+  state.trigger_open = options_.trigger_fd >= 0;
   while (true) {
     bool stop_requested;
     {
       std::lock_guard<std::mutex> lock(shared_->mutex);
       stop_requested = shared_->stop_requested;
     }
-    deliver_replies();
+    DeliverReplies(state);
     // Flush first: a reply that has gone out lets that connection's next request through. Nothing
-    // may flush after dispatch(): a flush that empties a connection's output there would leave its
+    // may flush after dispatching: a flush that empties a connection's output there would leave its
     // buffered requests waiting in `in` while poll() below waits for more input that never comes
     // (seen under load in peer_access_test). A reply made now comes back through the wake pipe.
-    for (auto& [id, c] : connections) flush(c);
-    dispatch();
-    for (auto it = connections.begin(); it != connections.end();) {
-      Connection& c = it->second;
-      const bool finished = c.peer_closed && !c.awaiting_reply && c.out.empty();
-      if (c.broken || finished) {
-        ::close(c.fd);
-        it = connections.erase(it);
-      } else {
-        ++it;
-      }
-    }
+    for (auto& [id, c] : state.connections) FlushConnection(c);
+    DispatchRequests(state);
+    CloseFinished(state.connections);
     if (stop_requested) break;
 
-    std::vector<pollfd> fds;
-    fds.push_back({wake_read_, POLLIN, 0});
-    if (listen_fd_ >= 0) fds.push_back({listen_fd_, POLLIN, 0});
-    const size_t trigger_index = fds.size();
-    if (trigger_open) fds.push_back({options_.trigger_fd, POLLIN, 0});
-    // Loop inputs: their fds, and the nearest deadline as poll's timeout.
-    std::vector<size_t> input_index(options_.inputs.size(), SIZE_MAX);
-    int timeout_ms = -1;
-    const auto before_poll = std::chrono::steady_clock::now();
-    for (size_t i = 0; i < options_.inputs.size(); ++i) {
-      if (int fd = options_.inputs[i]->PollFd(); fd >= 0) {
-        input_index[i] = fds.size();
-        fds.push_back({fd, POLLIN, 0});
-      }
-      if (auto deadline = options_.inputs[i]->Deadline()) {
-        const auto wait = std::chrono::ceil<std::chrono::milliseconds>(*deadline - before_poll).count();
-        const int wait_ms = static_cast<int>(std::clamp<int64_t>(wait, 0, INT32_MAX));
-        timeout_ms = timeout_ms < 0 ? wait_ms : std::min(timeout_ms, wait_ms);
-      }
-    }
-    const size_t first_connection = fds.size();
-    std::vector<uint64_t> ids;
-    for (auto& [id, c] : connections) {
-      short events = 0;
-      if (!c.peer_closed && !c.awaiting_reply && c.out.empty()) events |= POLLIN;
-      if (!c.out.empty()) events |= POLLOUT;
-      // A connection waiting for its reply is not polled: POLLHUP from a gone peer would spin.
-      if (events == 0) continue;
-      fds.push_back({c.fd, events, 0});
-      ids.push_back(id);
-    }
-    if (::poll(fds.data(), fds.size(), timeout_ms) < 0) {
+    PollSet poll_set = BuildPollSet(state);
+    if (::poll(poll_set.fds.data(), poll_set.fds.size(), poll_set.timeout_ms) < 0) {
       if (errno == EINTR) continue;
-      log->error("control loop: poll failed: {}; control interface stopped", std::strerror(errno));
+      Logger("device")->error("control loop: poll failed: {}; control interface stopped", std::strerror(errno));
       break;
     }
-    if (fds[0].revents & POLLIN) {
+    if (poll_set.fds[0].revents & POLLIN) {
       char drain[256];
       while (::read(wake_read_, drain, sizeof(drain)) > 0) {
       }
     }
-    if (listen_fd_ >= 0 && (fds[1].revents & POLLIN)) {
-      while (true) {
-        int fd = ::accept4(listen_fd_, nullptr, nullptr, SOCK_CLOEXEC | SOCK_NONBLOCK);
-        if (fd < 0) break;
-        StatusOr<PeerCredentials> peer = ReadPeerCredentials(fd);
-        Status allowed = peer.ok() ? CheckPeer(*peer, options_.access) : peer.status();
-        if (!allowed.ok()) {
-          log->warn("control: refused a connection: {}", allowed.message());
-          Refuse(fd, allowed);
-          continue;
-        }
-        if (connections.size() >= kMaxControlConnections) {
-          log->warn("control: refused a connection from pid {}: {} connections are open already",
-                    peer->pid,
-                    connections.size());
-          Refuse(fd,
-                 ResourceExhaustedError("too many control connections (" + std::to_string(connections.size()) +
-                                        " open, the limit is " + std::to_string(kMaxControlConnections) + ")"));
-          continue;
-        }
-        Connection c;
-        c.fd = fd;
-        connections.emplace(next_id++, std::move(c));
-      }
-    }
-    if (trigger_open && fds[trigger_index].revents != 0) {
-      char buffer[4096];
-      ssize_t n = ::read(options_.trigger_fd, buffer, sizeof(buffer));
-      if (n > 0) {
-        trigger_buffer.append(buffer, static_cast<size_t>(n));
-        std::string line;
-        while (TakeLine(&trigger_buffer, &line)) handlers_.on_trigger(line);
-      } else if (n == 0 || (errno != EINTR && errno != EAGAIN)) {
-        if (n < 0) log->error("trigger input: read failed: {}; treating it as end of input", std::strerror(errno));
-        // A last line without a newline is still a press.
-        if (!trigger_buffer.empty()) handlers_.on_trigger(trigger_buffer);
-        trigger_buffer.clear();
-        trigger_open = false;
-        handlers_.on_trigger_eof();
-      }
-    }
-    const auto after_poll = std::chrono::steady_clock::now();
-    for (size_t i = 0; i < options_.inputs.size(); ++i) {
-      LoopInput& input = *options_.inputs[i];
-      const short revents = input_index[i] == SIZE_MAX ? 0 : fds[input_index[i]].revents;
-      const auto deadline = input.Deadline();
-      if (revents == 0 && !(deadline && after_poll >= *deadline)) continue;
-      const int presses = input.Service(after_poll, revents);
-      for (int k = 0; k < presses; ++k) handlers_.on_trigger(input.Describe());
-    }
-    for (size_t i = 0; i < ids.size(); ++i) {
-      const pollfd& p = fds[first_connection + i];
-      Connection& c = connections[ids[i]];
-      if (p.revents & POLLIN) {
-        char buffer[4096];
-        ssize_t n = ::recv(c.fd, buffer, sizeof(buffer), MSG_DONTWAIT);
-        if (n > 0) {
-          c.in.append(buffer, static_cast<size_t>(n));
-        } else if (n == 0) {
-          c.peer_closed = true;
-        } else if (errno != EAGAIN && errno != EWOULDBLOCK && errno != EINTR) {
-          c.broken = true;
-        }
-      } else if (p.revents & (POLLERR | POLLNVAL)) {
-        c.broken = true;
-      } else if ((p.revents & POLLHUP) && !(p.events & POLLOUT)) {
-        c.peer_closed = true;
-      }
+    if (listen_fd_ >= 0 && (poll_set.fds[1].revents & POLLIN)) AcceptConnections(state);
+    if (state.trigger_open && poll_set.fds[poll_set.trigger_index].revents != 0) ReadTrigger(state);
+    ServiceLoopInputs(poll_set);
+    for (size_t i = 0; i < poll_set.ids.size(); ++i) {
+      ReadConnection(poll_set.fds[poll_set.first_connection + i], state.connections[poll_set.ids[i]]);
     }
   }
   // Last chance for replies already made (the answer to "quit"), then close everything.
-  deliver_replies();
-  for (auto& [id, c] : connections) {
-    flush(c);
+  DeliverReplies(state);
+  for (auto& [id, c] : state.connections) {
+    FlushConnection(c);
     ::close(c.fd);
   }
 }

@@ -60,8 +60,19 @@ class ControlServer {
 
  private:
   struct Shared;
+  struct Connection;
+  struct LoopState;  // the loop thread's connections and trigger input (control_server.cc)
+  struct PollSet;    // what one poll() waits on, and where each kind of fd sits in it
   ControlServer(const Options& options, Handlers handlers, int listen_fd, int wake_read, int wake_write);
+  // The loop, one round: replies out, requests dispatched, finished connections closed, then
+  // one poll() and its events: new connections, trigger lines, loop inputs, connection input.
   void Loop();
+  void DeliverReplies(LoopState& state);
+  void DispatchRequests(LoopState& state);
+  PollSet BuildPollSet(LoopState& state) const;
+  void AcceptConnections(LoopState& state);
+  void ReadTrigger(LoopState& state);
+  void ServiceLoopInputs(const PollSet& poll_set);
 
   Options options_;
   Handlers handlers_;

@@ -222,7 +222,7 @@ TEST(DataPathsTest, DefaultsAndOverrides) {
   }
   ScopedEnv clear_data("PX_DATA_DIR", "");
   ScopedEnv clear_scenes("PX_SCENES_DIR", "");
-  // Defaults are fixed at build time relative to the source tree.
+  // Without them, a program in the build tree finds the folders beside its source tree.
   EXPECT_EQ(ScenesDir(), (std::filesystem::path(PX_SOURCE_DIR) / "sim" / "scenes").lexically_normal());
   EXPECT_EQ(SharedDataDir(), (std::filesystem::path(PX_SOURCE_DIR) / ".." / "shared" / "data").lexically_normal());
   EXPECT_TRUE(std::filesystem::exists(ScenesDir() / "still_life.json"));
