@@ -6,10 +6,13 @@
 #include <cstdint>
 #include <span>
 #include <string>
+#include <string_view>
 
 namespace px::capture {
 
 // 64 lowercase hex digits.
 std::string Sha256Hex(std::span<const uint8_t> bytes);
+// The same of a text's bytes (a file read into a string, a fingerprint).
+std::string Sha256HexOfText(std::string_view text);
 
 }  // namespace px::capture

@@ -144,7 +144,7 @@ StatusOr<nlohmann::json> FetchClipReply(const std::string& id,
       {"job", id},
       {"path", clip.string()},
       {"bytes", bytes->size()},
-      {"sha256", capture::Sha256Hex(std::span(reinterpret_cast<const uint8_t*>(bytes->data()), bytes->size()))},
+      {"sha256", capture::Sha256HexOfText(*bytes)},
   };
   if (inline_bytes) reply["data"] = Base64Encode(*bytes);
   return reply;

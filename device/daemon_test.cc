@@ -509,8 +509,7 @@ TEST_F(DaemonTest, FetchGivesPathSizeChecksumAndInlineBytes) {
   ASSERT_EQ(fetched["ok"], true) << fetched.dump();
   EXPECT_EQ(fetched["path"], clip.string());
   EXPECT_EQ(fetched["bytes"], bytes.size());
-  EXPECT_EQ(fetched["sha256"],
-            capture::Sha256Hex(std::span(reinterpret_cast<const uint8_t*>(bytes.data()), bytes.size())));
+  EXPECT_EQ(fetched["sha256"], capture::Sha256HexOfText(bytes));
   EXPECT_FALSE(fetched.contains("data"));
 
   nlohmann::json with_data = Call(R"({"cmd":"fetch","job":")" + id + R"(","inline":true})");

@@ -58,14 +58,15 @@ StatusOr<std::string> OptionsFingerprint(const BatchArgs& args, const std::vecto
   }
   if (!args.flags.shot.empty()) {
     PX_ASSIGN_OR_RETURN(std::string shot, ReadFileToString(args.flags.shot));
-    text += "shot " + capture::Sha256Hex(std::span(reinterpret_cast<const uint8_t*>(shot.data()), shot.size())) + "\n";
+    text += "shot " + capture::Sha256HexOfText(shot) + "\n";
   }
   return text;
 }
 
 StatusOr<BatchOptions> MakeBatchOptions(const BatchArgs& args) {
-  const clip::ClipFormat format =
-      args.flags.format == "auto" ? clip::ClipFormat::kMp4 : *clip::ParseClipFormat(args.flags.format);
+  // auto: one container for every input, mp4 (a batch names no output file to take it from).
+  PX_ASSIGN_OR_RETURN(const clip::ClipFormat format,
+                      clip::ParseClipFormat(args.flags.format == "auto" ? "mp4" : args.flags.format));
   // Bad flags fail here, once, not in every input's process.
   PX_RETURN_IF_ERROR(ClipJobOptionsFromFlags(args.flags, format).status());
   BatchOptions options;

@@ -74,7 +74,7 @@ std::string FileStamp(const fs::path& path) {
 
 std::string Fingerprint(const BatchInput& input, const BatchOptions& options) {
   const std::string text = options.options_fingerprint + "\n" + InputIdentity(input.path);
-  return capture::Sha256Hex(std::span(reinterpret_cast<const uint8_t*>(text.data()), text.size()));
+  return capture::Sha256HexOfText(text);
 }
 
 struct Paths {
@@ -236,8 +236,7 @@ std::string InputIdentity(const fs::path& input) {
   identity << fs::absolute(input, ec).lexically_normal().string() << "\n";
   if (fs::is_directory(input, ec)) {
     if (StatusOr<std::string> manifest = ReadFileToString(input / "manifest.json"); manifest.ok()) {
-      identity << "recording "
-               << capture::Sha256Hex(std::span(reinterpret_cast<const uint8_t*>(manifest->data()), manifest->size()));
+      identity << "recording " << capture::Sha256HexOfText(*manifest);
       return identity.str();
     }
     std::vector<std::string> files;
