@@ -38,7 +38,6 @@ struct EvalRenderArgs {
   double sim_scale = 1.0;
   double soft_z_gamma = RenderOptions().soft_z_gamma_fraction;
   SeamSkirtOptions seam_skirts;
-  SeamPlaneOptions seam_planes;
   double viewing_weight_exponent = RenderOptions().viewing_weight_exponent;
   int block_px = LayeredFromDepthOptions().block_px;
   double edge_front_weight = LayeredFromDepthOptions().edge_front_weight;
@@ -68,7 +67,6 @@ Status RunEvalRender(const EvalRenderArgs& args) {
   options.sim_scale = args.sim_scale;
   options.render.soft_z_gamma_fraction = args.soft_z_gamma;
   options.render.seam_skirts = args.seam_skirts;
-  options.render.seam_planes = args.seam_planes;
   options.render.viewing_weight_exponent = args.viewing_weight_exponent;
   options.layered.block_px = args.block_px;
   options.layered.edge_front_weight = args.edge_front_weight;
@@ -349,12 +347,6 @@ void AddEvalRenderCommand(CLI::App& eval) {
       ->add_option("--seam-skirt-weight",
                    args->seam_skirts.weight,
                    "Seam skirts: the weight of a neighbour's skirt texel, (0, 1]")
-      ->capture_default_str();
-  render
-      ->add_option(
-          "--seam-plane-weight",
-          args->seam_planes.seam_weight,
-          "Seam planes: weight of agreement at a seam pixel against a pixel's own plane fit, [0, 1e4]; 0 = off")
       ->capture_default_str();
   render
       ->add_option("--viewing-weight-exponent",

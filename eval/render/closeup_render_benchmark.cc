@@ -1,7 +1,7 @@
 // The product's close-ups, per frame: the simulated one_face scene on the Pop9 (9 views of
 // 640x480) with the depth stage's layered depth, rendered by the CPU back end (preview) along the
 // dolly in `parallax clip` plans for it (closeup_eval.h), halfway and at its close-up end, with
-// the seam planes and skirts (pipeline/render/seam_planes.h, seam_skirts.h) on and off. OpenCV
+// the seam skirts (pipeline/render/seam_skirts.h) on and off. OpenCV
 // runs one thread here, so the CPU column is the frame's whole CPU time and is comparable under
 // load; create_ms is the scene's set-up (once per shot, wall time). Asserts nothing.
 #include <benchmark/benchmark.h>
@@ -42,7 +42,7 @@ const std::optional<CloseUpShot>& Shot() {
   return shot;
 }
 
-// range(0): 1 = seam planes and skirts on (the default), 0 = off; range(1): path time in per cent.
+// range(0): 1 = seam skirts on (the default), 0 = off; range(1): path time in per cent.
 void BM_CloseUpFrame(benchmark::State& state) {
   cv::setNumThreads(1);
   const std::optional<CloseUpShot>& shot = Shot();
@@ -53,7 +53,6 @@ void BM_CloseUpFrame(benchmark::State& state) {
   RenderOptions options;
   if (state.range(0) == 0) {
     options.seam_skirts.max_step = 0;
-    options.seam_planes.seam_weight = 0;
   }
   const auto start = std::chrono::steady_clock::now();
   auto renderer = CpuSceneRenderer::Create(shot->lattice.views, shot->layers, options);

@@ -7,7 +7,6 @@
 
 #include "pipeline/render/bilinear_prefilter.h"
 #include "pipeline/render/contradictions.h"
-#include "pipeline/render/seam_planes.h"
 #include "pipeline/render/seam_skirts.h"
 
 namespace px::render {
@@ -189,8 +188,7 @@ StatusOr<LayeredScene> LayeredScene::Create(const std::vector<View>& views,
       PX_RETURN_IF_ERROR(CheckImage(l.weight, CV_32F, layered.camera, what + " weight"));
       PX_RETURN_IF_ERROR(CheckImage(l.segment, CV_32S, layered.camera, what + " segment"));
     }
-    SceneView view = PrepareView(
-        *pose, WithSeamSkirts(WithSeamPlanes(layered, options.seam_planes), options.seam_skirts), &scene.warnings_);
+    SceneView view = PrepareView(*pose, WithSeamSkirts(layered, options.seam_skirts), &scene.warnings_);
     const bool any =
         std::any_of(view.segments.begin(), view.segments.end(), [](const SceneSegment& s) { return s.drawn; });
     if (!any) {

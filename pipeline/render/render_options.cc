@@ -53,10 +53,6 @@ Status RenderOptions::Validate() const {
     error << "render.texture_stretch.fade_from: " << texture_stretch.fade_from << " is outside [0, 100]";
   } else if (!(texture_stretch.fade_from == 0 || texture_stretch.fade_to > texture_stretch.fade_from)) {
     error << "render.texture_stretch.fade_to: " << texture_stretch.fade_to << " is not above fade_from";
-  } else if (!(seam_planes.seam_weight >= 0 && seam_planes.seam_weight <= 1e4)) {
-    error << "render.seam_planes.seam_weight: " << seam_planes.seam_weight << " is outside [0, 1e4]";
-  } else if (!(seam_planes.max_step > 0 && seam_planes.max_step < 1)) {
-    error << "render.seam_planes.max_step: " << seam_planes.max_step << " is outside (0, 1)";
   } else if (!(max_output_pixels >= 1 && max_output_pixels <= 1e9)) {
     error << "render.max_output_pixels: " << max_output_pixels << " is outside [1, 1e9]";
   }

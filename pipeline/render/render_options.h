@@ -7,7 +7,6 @@
 #include "pipeline/core/status.h"
 #include "pipeline/render/border_holes.h"
 #include "pipeline/render/consistent_blend_options.h"
-#include "pipeline/render/seam_planes.h"
 #include "pipeline/render/seam_skirt_options.h"
 #include "pipeline/render/texture_stretch.h"
 
@@ -58,9 +57,6 @@ struct RenderOptions {
   // the neighbour, so that the seam cannot crack open in a magnified view. max_step = 0: off.
   // Both back ends.
   SeamSkirtOptions seam_skirts;
-  // Seam planes (seam_planes.h): the planes of touching segments of one surface refitted jointly
-  // so that they agree along their seams. seam_weight = 0 (the default): off. Both back ends.
-  SeamPlaneOptions seam_planes;
   // Where the views a pixel blends contradict each other (a subject that moved between shots, a
   // sliver of wrong depth), draw it from the views the more heavily weighted ones do not
   // contradict (contradictions.h; the preview only).

@@ -38,7 +38,6 @@ int WallPixelsInsideTheCard(const SeamSkirtOptions& skirts) {
   pose.camera = kCamera;
   RenderOptions options;
   options.seam_skirts = skirts;
-  options.seam_planes.seam_weight = 0;  // the skirts alone (seam_planes_test.cc has the planes)
   auto renderer = CpuSceneRenderer::Create({pose}, {CardOverWall(1.04)}, options);
   EXPECT_TRUE(renderer.ok()) << renderer.status().ToString();
   if (!renderer.ok()) return -1;

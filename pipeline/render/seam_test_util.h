@@ -1,5 +1,5 @@
 // Test-only: a layered view with one layer (no two-layer band anywhere) from a label image, for
-// the seam tests (seam_skirts_test.cc, seam_planes_test.cc).
+// the seam tests (seam_skirts_test.cc).
 #pragma once
 
 #include <array>

@@ -17,7 +17,6 @@
 #include "pipeline/render/hole_fill.h"
 #include "pipeline/render/hole_views.h"
 #include "pipeline/render/layered_scene.h"
-#include "pipeline/render/seam_planes.h"
 #include "pipeline/render/seam_skirts.h"
 
 namespace px::render::gl {
@@ -170,7 +169,6 @@ GlSceneRendererOptions GlOptionsFrom(const RenderOptions& render) {
   options.holes_from_other_views = render.holes_from_other_views;
   options.border_holes = render.border_holes;
   options.seam_skirts = render.seam_skirts;
-  options.seam_planes = render.seam_planes;
   options.texture_stretch = render.texture_stretch;
   options.soft_z_gamma_fraction = render.soft_z_gamma_fraction;
   options.hole_window_radius_px = render.hole_window_radius_px;
@@ -200,7 +198,6 @@ StatusOr<std::unique_ptr<GlSceneRenderer>> GlSceneRenderer::Create(std::vector<P
   renderer->holes_from_other_views_ = options.holes_from_other_views;
   renderer->border_holes_ = options.border_holes;
   renderer->seam_skirts_ = options.seam_skirts;
-  renderer->seam_planes_ = options.seam_planes;
   renderer->texture_stretch_ = options.texture_stretch;
   renderer->context_ = std::move(context);
   renderer->views_ = std::move(views);
@@ -239,7 +236,7 @@ Status GlSceneRenderer::Upload() {
   for (int v = 0; v < static_cast<int>(views_.size()); ++v) {
     LayeredDepthView& view = views_[v].depth;
     // As the CPU reference's texels (LayeredScene::Create).
-    view = WithSeamSkirts(WithSeamPlanes(view, seam_planes_), seam_skirts_);
+    view = WithSeamSkirts(view, seam_skirts_);
     const std::string name = ViewName(view, v);
     const int w = view.camera.width, h = view.camera.height;
     if (w > max_size || h > max_size) {
@@ -499,8 +496,8 @@ StatusOr<GlSceneRenderer::RawFrame> GlSceneRenderer::RenderRaw(const CameraModel
       const Eigen::Vector3d centre_novel =
           novel_from_source * (z_centre * k_source.inverse() * Eigen::Vector3d(cx, cy, 1.0));
       // Rounded to float as the CPU reference's key is, so that both break the same near-ties by
-      // segment index (seam planes put the segments of one flat surface on one plane, and with
-      // seam skirts the order of two of them shows a little).
+      // segment index (with seam skirts the order of two segments of one flat surface shows a
+      // little).
       item.depth = static_cast<float>(centre_novel.z());
       // The CPU reference's fade of stretched segments (texture_stretch.h), from the same centre.
       float texture_weight = 1.0f;
@@ -729,11 +726,10 @@ const LayeredScene* GlSceneRenderer::OtherViewsScene() {
     poses.push_back({views_[v].depth.id, cv::Mat(), views_[v].depth.camera, views_[v].cam_from_world});
     layers.push_back(views_[v].depth);
   }
-  // views_ carry the seam planes and skirts already (Upload).
+  // views_ carry the seam skirts already (Upload).
   RenderOptions scene_options;
   scene_options.soft_z_gamma_fraction = soft_z_gamma_fraction_;
   scene_options.hole_window_radius_px = hole_window_radius_px_;
-  scene_options.seam_planes.seam_weight = 0;
   scene_options.seam_skirts.max_step = 0;
   StatusOr<LayeredScene> scene = LayeredScene::Create(poses, layers, scene_options);
   if (!scene.ok()) {

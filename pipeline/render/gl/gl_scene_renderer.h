@@ -54,10 +54,9 @@ struct GlSceneRendererOptions {
   // RenderOptions::border_holes (the same default): holes at the frame's border carried out from
   // their inner edge before the reverse soft z, on the CPU after the read-back.
   render::BorderHoleFillOptions border_holes = RenderOptions{}.border_holes;
-  // RenderOptions::seam_skirts and seam_planes (the same defaults): applied to the views' texels
+  // RenderOptions::seam_skirts (the same default): applied to the views' texels
   // once, on upload, as the CPU reference's LayeredScene applies them.
   SeamSkirtOptions seam_skirts = RenderOptions{}.seam_skirts;
-  SeamPlaneOptions seam_planes = RenderOptions{}.seam_planes;
   // RenderOptions::texture_stretch (the same default): stretched segments fade out.
   TextureStretchOptions texture_stretch = RenderOptions{}.texture_stretch;
   Status Validate() const;
@@ -165,7 +164,6 @@ class GlSceneRenderer final : public SceneRenderer {
   bool holes_from_other_views_ = true;
   render::BorderHoleFillOptions border_holes_;
   SeamSkirtOptions seam_skirts_;
-  SeamPlaneOptions seam_planes_;
   TextureStretchOptions texture_stretch_;
   // Holes from other views: the CPU scene made from views_ on first use, each GL view's index in
   // that scene (-1: the scene left it out), and the read-back slots turned into the scene's.
