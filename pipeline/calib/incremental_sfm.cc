@@ -79,6 +79,7 @@ class Reconstruction {
   }
 
   std::vector<ImageState>& images() { return images_; }
+  const std::vector<ImageState>& images() const { return images_; }
   const std::vector<Eigen::Vector3d>& points() const { return points_; }
   int NumRegistered() const {
     int n = 0;
@@ -313,6 +314,86 @@ class Reconstruction {
   std::vector<int> track_of_point_;
 };
 
+// 1. Features of every image. An empty or non-8-bit image, or intrinsics for another size, is an error.
+StatusOr<std::vector<Features>> DetectImageFeatures(const std::vector<SfmImage>& input, const SfmOptions& options) {
+  const int n = static_cast<int>(input.size());
+  std::vector<cv::Mat> pixels;
+  for (int i = 0; i < n; ++i) {
+    if (input[i].image.empty() || input[i].image.depth() != CV_8U) {
+      return InvalidArgumentError("structure from motion: image " + std::to_string(i) + " is empty or not 8-bit");
+    }
+    if (input[i].intrinsics.fx != 0) {
+      PX_RETURN_IF_ERROR(input[i].intrinsics.Validate().WithContext("structure from motion: image " +
+                                                                    std::to_string(i) + " intrinsics"));
+      if (input[i].intrinsics.width != input[i].image.cols || input[i].intrinsics.height != input[i].image.rows) {
+        return InvalidArgumentError("structure from motion: image " + std::to_string(i) + " is " +
+                                    std::to_string(input[i].image.cols) + "x" + std::to_string(input[i].image.rows) +
+                                    ", its intrinsics are for " + std::to_string(input[i].intrinsics.width) + "x" +
+                                    std::to_string(input[i].intrinsics.height));
+      }
+    }
+    pixels.push_back(input[i].image);
+  }
+  return DetectFeaturesInImages(pixels, options.features);
+}
+
+// The images before matching: intrinsics from metadata, or a placeholder focal length that the sweep replaces;
+// an image with too few features to match is noted (with what its exposure suggests) and left out.
+std::vector<ImageState> StartImages(const std::vector<SfmImage>& input,
+                                    std::vector<Features> features,
+                                    const SfmOptions& options) {
+  const int n = static_cast<int>(input.size());
+  std::vector<ImageState> images(n);
+  for (int i = 0; i < n; ++i) {
+    ImageState& image = images[i];
+    image.features = std::move(features[i]);
+    image.track_of_feature.assign(image.features.size(), -1);
+    const int larger = std::max(input[i].image.cols, input[i].image.rows);
+    image.pixel_scale = std::max(1.0, static_cast<double>(larger) / options.features.max_image_dim_px);
+    image.known_intrinsics = input[i].intrinsics.fx != 0;
+    image.camera = image.known_intrinsics
+                       ? input[i].intrinsics
+                       : CameraModel::Pinhole(input[i].image.cols, input[i].image.rows, 1.2 * larger);
+    if (image.features.size() < kMinFeatures) {
+      image.note = std::to_string(image.features.size()) + " features: the image is " +
+                   DescribeFewFeatures(MeasureExposure(input[i].image));
+    }
+  }
+  return images;
+}
+
+// Intrinsics blocks of the adjustment: unknown intrinsics are shared per camera id, known ones when identical;
+// an image alone in its block has its own.
+void GroupIntrinsics(const std::vector<SfmImage>& input, std::vector<ImageState>* images_ptr) {
+  std::vector<ImageState>& images = *images_ptr;
+  const int n = static_cast<int>(input.size());
+  std::map<std::pair<int, bool>, int> group_of;
+  for (int i = 0; i < n; ++i) {
+    const auto key = std::make_pair(input[i].camera_id, images[i].known_intrinsics);
+    auto found = group_of.find(key);
+    if (found == group_of.end()) {
+      group_of[key] = i;
+      images[i].group = i;
+    } else if (SameIntrinsics(images[found->second].camera, images[i].camera)) {
+      images[i].group = found->second;
+    } else {
+      images[i].group = -1;
+    }
+  }
+  for (int i = 0; i < n; ++i) {
+    bool shared = false;
+    for (int j = 0; j < n; ++j) shared |= j != i && images[j].group == images[i].group && images[i].group >= 0;
+    if (!shared) images[i].group = -1;
+  }
+}
+
+// Whether some image has no focal length from metadata: then one is swept.
+bool AnyUnknownIntrinsics(const std::vector<ImageState>& images) {
+  bool any_unknown = false;
+  for (const ImageState& image : images) any_unknown |= !image.known_intrinsics;
+  return any_unknown;
+}
+
 // Fundamental-matrix verification of a pair's matches (any focal length).
 std::vector<FeatureMatch> VerifyWithFundamental(const Features& a,
                                                 const Features& b,
@@ -332,6 +413,93 @@ std::vector<FeatureMatch> VerifyWithFundamental(const Features& a,
     if (mask[i]) verified.push_back(matches[i]);
   }
   return verified;
+}
+
+// What matching all pairs found: each pair's verified matches, and its figures for the report.
+struct PairMatching {
+  std::vector<PairMatches> verified;
+  std::vector<SfmPair> figures;
+};
+
+// 2. Ratio + mutual matches of every pair of images with enough features, verified by a fundamental matrix;
+// in parallel, each pair writing only its own slot.
+PairMatching MatchAllPairs(const std::vector<ImageState>& images, const SfmOptions& options) {
+  const int n = static_cast<int>(images.size());
+  std::vector<std::pair<int, int>> pair_list;
+  for (int i = 0; i < n; ++i) {
+    for (int j = i + 1; j < n; ++j) {
+      if (images[i].note.empty() && images[j].note.empty()) pair_list.emplace_back(i, j);
+    }
+  }
+  PairMatching matching;
+  matching.verified.resize(pair_list.size());
+  matching.figures.resize(pair_list.size());
+  cv::parallel_for_(cv::Range(0, static_cast<int>(pair_list.size())), [&](const cv::Range& range) {
+    for (int p = range.start; p < range.end; ++p) {
+      const auto [a, b] = pair_list[p];
+      const std::vector<FeatureMatch> matches = MatchAll(images[a].features, images[b].features, options.matching);
+      const double threshold = options.max_error_px * std::max(images[a].pixel_scale, images[b].pixel_scale);
+      matching.verified[p] = {a, b, VerifyWithFundamental(images[a].features, images[b].features, matches, threshold)};
+      matching.figures[p] = {
+          a, b, static_cast<int>(matches.size()), static_cast<int>(matching.verified[p].matches.size())};
+    }
+  });
+  return matching;
+}
+
+// The pairs with enough verified matches to build tracks on and to start from.
+std::vector<PairMatches> UsablePairs(const std::vector<PairMatches>& verified, const SfmOptions& options) {
+  std::vector<PairMatches> usable_pairs;
+  for (const PairMatches& pair : verified) {
+    if (static_cast<int>(pair.matches.size()) >= options.min_pair_matches) usable_pairs.push_back(pair);
+  }
+  return usable_pairs;
+}
+
+// Notes each image that no pair verifies well enough, with what its exposure suggests is wrong: it is not
+// registered.
+void NoteUnmatchedImages(const std::vector<SfmImage>& input,
+                         const std::vector<PairMatches>& verified,
+                         const SfmOptions& options,
+                         std::vector<ImageState>* images_ptr) {
+  std::vector<ImageState>& images = *images_ptr;
+  const int n = static_cast<int>(input.size());
+  for (int i = 0; i < n; ++i) {
+    if (!images[i].note.empty()) continue;
+    int best = 0;
+    for (const PairMatches& pair : verified) {
+      if (pair.view_a == i || pair.view_b == i) best = std::max(best, static_cast<int>(pair.matches.size()));
+    }
+    if (best < options.min_pair_matches) {
+      const std::string exposure = DescribeExposureProblem(MeasureExposure(input[i].image));
+      images[i].note = "matches no other image (at most " + std::to_string(best) + " verified matches, need " +
+                       std::to_string(options.min_pair_matches) +
+                       "): " + (exposure.empty() ? "a different scene?" : "the image is " + exposure);
+    }
+  }
+}
+
+// Tracks through the pairs' matches.
+std::vector<Track> TracksOfPairs(const std::vector<ImageState>& images, const std::vector<PairMatches>& pairs) {
+  std::vector<int> feature_counts;
+  for (const ImageState& image : images) feature_counts.push_back(image.features.size());
+  return BuildTracks(feature_counts, pairs);
+}
+
+// Why no pair is usable: too few images with features, or images that share too little.
+std::string NoUsablePairReason(const std::vector<SfmImage>& input,
+                               const std::vector<ImageState>& images,
+                               const SfmOptions& options) {
+  const int n = static_cast<int>(input.size());
+  int usable = 0;
+  for (const ImageState& image : images) usable += image.features.size() >= kMinFeatures ? 1 : 0;
+  if (usable < 2) {
+    return "too few features: " + std::to_string(usable) + " of " + std::to_string(n) + " images have " +
+           std::to_string(kMinFeatures) + " or more (image 0 is " +
+           DescribeFewFeatures(MeasureExposure(input[0].image)) + ")";
+  }
+  return "no two images share enough features (" + std::to_string(options.min_pair_matches) +
+         " verified matches needed): do they show the same scene?";
 }
 
 struct PairGeometry {
@@ -378,6 +546,120 @@ StatusOr<BundleAdjustmentReport> InitialisePair(Reconstruction* reconstruction,
                                    " and " + std::to_string(pair.view_b));
   }
   return reconstruction->Adjust(pair.view_a, pair.view_b, /*refine_focal=*/false, /*refine_radial=*/false, 50);
+}
+
+// 3. Self-calibration: sweeps the focal length of the images without one on the pair with the most verified
+// matches, scoring each step by the pair's two-view adjustment, and sets the best. Returns the sweep's
+// (focal px of the pair's first image, two-view RMS px) per step, for the report.
+std::vector<std::pair<double, double>> SweepFocalLength(const std::vector<PairMatches>& usable_pairs,
+                                                        const std::vector<Track>& tracks,
+                                                        const SfmOptions& options,
+                                                        std::vector<ImageState>* images_ptr) {
+  std::vector<ImageState>& images = *images_ptr;
+  const int n = static_cast<int>(images.size());
+  std::vector<std::pair<double, double>> sweep;
+  const PairMatches* sweep_pair = &usable_pairs[0];
+  for (const PairMatches& pair : usable_pairs) {
+    if (pair.matches.size() > sweep_pair->matches.size()) sweep_pair = &pair;
+  }
+  double best_rms = std::numeric_limits<double>::infinity();
+  double best_ratio = 1.2;
+  for (int k = 0; k < options.focal_sweep_steps; ++k) {
+    const double ratio = options.focal_sweep_min * std::pow(options.focal_sweep_max / options.focal_sweep_min,
+                                                            static_cast<double>(k) / (options.focal_sweep_steps - 1));
+    std::vector<ImageState> trial = images;
+    for (int i = 0; i < n; ++i) {
+      if (trial[i].known_intrinsics) continue;
+      trial[i].camera.fx = trial[i].camera.fy = ratio * std::max(trial[i].camera.width, trial[i].camera.height);
+    }
+    const PairGeometry geometry = PairPose(trial, *sweep_pair, 0, options);
+    double rms = std::numeric_limits<double>::infinity();
+    if (geometry.pose.success) {
+      Reconstruction two_view(trial, tracks, options);
+      StatusOr<BundleAdjustmentReport> adjusted = InitialisePair(&two_view, *sweep_pair, geometry.pose);
+      if (adjusted.ok()) rms = adjusted->final_rms_px;
+    }
+    sweep.emplace_back(
+        ratio * std::max(images[sweep_pair->view_a].camera.width, images[sweep_pair->view_a].camera.height), rms);
+    if (rms < best_rms) {
+      best_rms = rms;
+      best_ratio = ratio;
+    }
+  }
+  // A best at either end of the range is no minimum: the pair's residual falls on towards the
+  // end (a nearly translated pair fits a longer focal ever better; the simulated still life's
+  // went from 0.24 px at the true 0.875 to 0.16 at 2.5, and the set was built at 2.2 times the
+  // true focal). Then start from a normal lens and let the adjustment with every view move it.
+  if (best_ratio == options.focal_sweep_min || best_ratio == options.focal_sweep_max) best_ratio = kNormalLensRatio;
+  for (ImageState& image : images) {
+    if (!image.known_intrinsics) {
+      image.camera.fx = image.camera.fy = best_ratio * std::max(image.camera.width, image.camera.height);
+    }
+  }
+  return sweep;
+}
+
+// The initial pair, if any, and the pair with the most parallax (to say why none was chosen).
+struct InitialPairChoice {
+  std::optional<PairGeometry> initial;
+  std::optional<PairGeometry> most_parallax;  // among the pairs with a pose
+};
+
+// 4. Five-point poses of every usable pair (in parallel); the initial pair has enough parallax, then the most
+// matches weighted by parallax up to the target.
+InitialPairChoice ChooseInitialPair(const std::vector<ImageState>& images,
+                                    const std::vector<PairMatches>& usable_pairs,
+                                    const SfmOptions& options) {
+  std::vector<PairGeometry> candidates(usable_pairs.size());
+  cv::parallel_for_(cv::Range(0, static_cast<int>(usable_pairs.size())), [&](const cv::Range& range) {
+    for (int p = range.start; p < range.end; ++p) candidates[p] = PairPose(images, usable_pairs[p], p, options);
+  });
+  const PairGeometry* initial = nullptr;
+  double best_score = 0;
+  const PairGeometry* most_parallax = nullptr;
+  for (const PairGeometry& candidate : candidates) {
+    if (!candidate.pose.success) continue;
+    if (most_parallax == nullptr || candidate.parallax_ratio > most_parallax->parallax_ratio)
+      most_parallax = &candidate;
+    if (candidate.parallax_ratio < options.min_parallax_ratio) continue;
+    const double score = static_cast<double>(candidate.pose.inliers.size()) *
+                         std::min(1.0, candidate.pose.median_parallax_px / options.target_parallax_px);
+    if (score > best_score) {
+      best_score = score;
+      initial = &candidate;
+    }
+  }
+  InitialPairChoice choice;
+  if (initial != nullptr) choice.initial = *initial;
+  if (most_parallax != nullptr) choice.most_parallax = *most_parallax;
+  return choice;
+}
+
+// Why no pair can start the reconstruction: no consistent relative pose, or no parallax.
+std::string NoInitialPairReason(const InitialPairChoice& choice,
+                                const std::vector<PairMatches>& usable_pairs,
+                                const SfmOptions& options) {
+  if (!choice.most_parallax) return "no pair of images has a consistent relative pose";
+  const PairGeometry& most_parallax = *choice.most_parallax;
+  const PairMatches& pair = usable_pairs[most_parallax.pair];
+  return Printf(
+      "no parallax: the camera only rotated, or the scene is too far for the baseline (best pair, "
+      "images %.0f and %.0f: parallax %.2f px, %.1f times the matching noise; need %.1f). Depth "
+      "cannot be recovered; move the camera sideways between shots",
+      static_cast<double>(pair.view_a),
+      static_cast<double>(pair.view_b),
+      most_parallax.pose.median_parallax_px,
+      most_parallax.parallax_ratio,
+      options.min_parallax_ratio);
+}
+
+// Records the initial pair and its parallax figures in the report.
+void RecordInitialPair(const PairGeometry& initial, const PairMatches& pair, SfmReport* report) {
+  report->initial_image_a = pair.view_a;
+  report->initial_image_b = pair.view_b;
+  report->initial_parallax_px = initial.pose.median_parallax_px;
+  report->initial_parallax_ratio = initial.parallax_ratio;
+  report->initial_homography_ratio = initial.pose.HomographyRatio();
 }
 
 // 5-6. Registers the rest of the images, best connected first (P3P), triangulating and adjusting
@@ -474,6 +756,205 @@ std::optional<Reconstruction> ParallelStart(const std::vector<ImageState>& image
   return best;
 }
 
+// What the parallel restart did: whether it replaced the reconstruction, and the two fits it compared.
+struct ParallelRestartReport {
+  bool rebuilt = false;
+  double rms_px = 0;           // the five-point start's
+  double parallel_rms_px = 0;  // the translation-only start's
+};
+
+// Parallel cameras (a lattice, a slider) with little parallax: the five-point pose can land in
+// the wrong basin of the rotation / inverse-depth ambiguity (on the HCI grid 1.3 degrees off,
+// at a worse RMS), so the set is rebuilt from the pair's translation-only pose and the better
+// fit (an RMS at least 3 % lower) is kept.
+StatusOr<ParallelRestartReport> RestartIfParallel(Reconstruction* reconstruction,
+                                                  const std::vector<ImageState>& images,
+                                                  const std::vector<Track>& tracks,
+                                                  const PairMatches& pair,
+                                                  const RelativePoseResult& pose,
+                                                  const SfmOptions& options) {
+  ParallelRestartReport restart;
+  const double max_rotation_deg = reconstruction->MaxRotationDeg();
+  if (!(max_rotation_deg >= kMinRotationForParallelRestartDeg &&
+        max_rotation_deg < options.parallel_restart_max_rotation_deg)) {
+    return restart;
+  }
+  std::optional<Reconstruction> parallel = ParallelStart(images, tracks, pair, pose, options);
+  if (!parallel) return restart;
+  PX_RETURN_IF_ERROR(RegisterAndAdjust(&*parallel, pair.view_a, pair.view_b, options));
+  int count = 0, parallel_count = 0;
+  restart.rms_px = reconstruction->Rms(&count);
+  restart.parallel_rms_px = parallel->Rms(&parallel_count);
+  if (parallel->NumRegistered() >= reconstruction->NumRegistered() && parallel_count >= 0.95 * count &&
+      restart.parallel_rms_px < 0.97 * restart.rms_px) {
+    restart.rebuilt = true;
+    *reconstruction = std::move(*parallel);
+  }
+  return restart;
+}
+
+// The warning of a rebuilt reconstruction: the two fits.
+std::string ParallelRestartWarning(const ParallelRestartReport& restart) {
+  return Printf(
+      "rebuilt from a translation-only initial pair (parallel cameras): RMS %.3f px "
+      "instead of %.3f px",
+      restart.parallel_rms_px,
+      restart.rms_px);
+}
+
+// 7. World = the first registered image's camera; scale = the points' median depth in their views, made
+// options.median_depth.
+void NormaliseWorld(Reconstruction* reconstruction, const SfmOptions& options) {
+  const int n = static_cast<int>(reconstruction->images().size());
+  int world_image = -1;
+  for (int i = 0; i < n && world_image < 0; ++i) {
+    if (reconstruction->images()[i].registered) world_image = i;
+  }
+  std::vector<double> depths;
+  reconstruction->ForEachObservation([&](int image, int point, const Eigen::Vector2d&) {
+    depths.push_back((reconstruction->images()[image].cam_from_world * reconstruction->points()[point]).z());
+  });
+  const double median = Percentile(depths, 0.5);
+  reconstruction->Transform(world_image, median > 0 ? options.median_depth / median : 1.0);
+}
+
+// Figures over the final observations.
+struct ObservationFigures {
+  std::vector<std::vector<double>> view_depths;  // per image, of the points it observes
+  int count = 0;                                 // observations that project
+  double rms_px = 0;                             // their reprojection RMS, input-image pixels
+};
+
+// Each view's point depths (for its depth range) and the reprojection RMS of the final reconstruction.
+ObservationFigures MeasureObservations(const Reconstruction& reconstruction) {
+  ObservationFigures figures;
+  figures.view_depths.resize(reconstruction.images().size());
+  double sum_squares = 0;
+  reconstruction.ForEachObservation([&](int image, int point, const Eigen::Vector2d& pixel) {
+    const ImageState& state = reconstruction.images()[image];
+    const Eigen::Vector3d p = state.cam_from_world * reconstruction.points()[point];
+    figures.view_depths[image].push_back(p.z());
+    Eigen::Vector2d projected;
+    if (state.camera.Project(p, &projected)) {
+      sum_squares += (projected - pixel).squaredNorm();
+      ++figures.count;
+    }
+  });
+  figures.rms_px = figures.count > 0 ? std::sqrt(sum_squares / figures.count) : 0;
+  return figures;
+}
+
+// The points that a registered view still observes, in their order; dropped points' slots stay unused.
+std::vector<Eigen::Vector3d> ObservedPoints(const Reconstruction& reconstruction) {
+  std::vector<char> point_used(reconstruction.points().size(), 0);
+  reconstruction.ForEachObservation([&](int, int point, const Eigen::Vector2d&) { point_used[point] = 1; });
+  std::vector<Eigen::Vector3d> points;
+  for (size_t p = 0; p < point_used.size(); ++p) {
+    if (point_used[p]) points.push_back(reconstruction.points()[p]);
+  }
+  return points;
+}
+
+// How the views came out: registered, with a focal length from metadata or self-calibrated, and which not.
+struct ViewCounts {
+  int registered = 0;
+  int metadata = 0;
+  int self_calibrated = 0;
+  std::vector<int> unregistered;
+};
+
+// Writes each view's pose, intrinsics, depth range and note (why it is not registered).
+ViewCounts WriteViews(const Reconstruction& reconstruction,
+                      const std::vector<std::vector<double>>& view_depths,
+                      std::vector<SfmView>* views) {
+  ViewCounts counts;
+  const int n = static_cast<int>(views->size());
+  for (int i = 0; i < n; ++i) {
+    const ImageState& image = reconstruction.images()[i];
+    SfmView& view = (*views)[i];
+    view.registered = image.registered;
+    view.note = image.registered ? "" : (image.note.empty() ? "not connected to the registered images" : image.note);
+    view.camera = image.camera;
+    view.cam_from_world = image.cam_from_world;
+    view.observations = static_cast<int>(view_depths[i].size());
+    view.depth_near = Percentile(view_depths[i], 0.02);
+    view.depth_far = Percentile(view_depths[i], 0.98);
+    if (!image.registered) {
+      counts.unregistered.push_back(i);
+      continue;
+    }
+    ++counts.registered;
+    (image.known_intrinsics ? counts.metadata : counts.self_calibrated) += 1;
+  }
+  return counts;
+}
+
+// 8. Writes the result: the views, the points still observed, the figures, and a warning for each view not
+// registered. Returns the view counts, for the focal length's source and warnings.
+ViewCounts WriteResult(const Reconstruction& reconstruction, SfmResult* result) {
+  SfmReport& report = result->report;
+  const ObservationFigures figures = MeasureObservations(reconstruction);
+  result->points = ObservedPoints(reconstruction);
+  report.num_points = static_cast<int>(result->points.size());
+  report.num_observations = figures.count;
+  report.rms_px = figures.rms_px;
+  const ViewCounts counts = WriteViews(reconstruction, figures.view_depths, &result->views);
+  for (int i : counts.unregistered) {
+    report.warnings.push_back("image " + std::to_string(i) + " is not registered: " + result->views[i].note);
+  }
+  report.num_registered = counts.registered;
+  return counts;
+}
+
+// Warnings on the focal length: a sweep without a minimum, a metadata focal length held, a self-calibrated
+// one unobservable (also flagged in the report), an initial pair that cannot fix it.
+void AddFocalWarnings(int self_calibrated, bool refine_focal, const SfmOptions& options, SfmReport* report) {
+  if (self_calibrated > 0 && !report->focal_sweep.empty()) {
+    const double first = report->focal_sweep.front().first, last = report->focal_sweep.back().first;
+    double best_focal = first, best_rms = std::numeric_limits<double>::infinity();
+    for (const auto& [focal, rms] : report->focal_sweep) {
+      if (rms < best_rms) {
+        best_rms = rms;
+        best_focal = focal;
+      }
+    }
+    if (best_focal == first || best_focal == last) {
+      report->warnings.push_back(
+          Printf("self-calibrated focal length: the sweep's best (%.0f px) is at the end of "
+                 "its range [%.0f, %.0f] px, no minimum; started from a normal lens (%.1f times "
+                 "the longer side) and adjusted with every view, it may still be poorly "
+                 "determined",
+                 best_focal,
+                 first,
+                 last,
+                 kNormalLensRatio));
+    }
+  }
+  if (!refine_focal) {
+    report->warnings.push_back(
+        Printf("focal length held at the metadata's: the views are not rotated (at most %.2f deg "
+               "between any two), so the images cannot refine it",
+               report->max_view_rotation_deg));
+  }
+  if (self_calibrated > 0 && report->max_view_rotation_deg < options.min_rotation_for_focal_deg) {
+    report->focal_observable = false;
+    report->warnings.push_back(
+        Printf("self-calibrated focal length is unobservable: the views are translated without "
+               "rotation (at most %.2f deg between any two, need %.1f), so focal length and "
+               "depth scale are one ambiguity; give the focal length from metadata (EXIF, a "
+               "lens configuration) to measure depth",
+               report->max_view_rotation_deg,
+               options.min_rotation_for_focal_deg));
+  }
+  if (report->initial_homography_ratio < kPlanarHomographyRatio) {
+    report->warnings.push_back(
+        Printf("the initial pair sees a plane or a distant scene (one homography explains its "
+               "matches to %.1f times their noise): poses hold, but a self-calibrated focal "
+               "length is unreliable",
+               report->initial_homography_ratio));
+  }
+}
+
 }  // namespace
 
 StatusOr<SfmResult> RunIncrementalSfm(const std::vector<SfmImage>& input, const SfmOptions& options) {
@@ -494,340 +975,60 @@ StatusOr<SfmResult> RunIncrementalSfm(const std::vector<SfmImage>& input, const 
 
   // 1. Features.
   Clock::time_point step = Clock::now();
-  std::vector<cv::Mat> pixels;
-  for (int i = 0; i < n; ++i) {
-    if (input[i].image.empty() || input[i].image.depth() != CV_8U) {
-      return InvalidArgumentError("structure from motion: image " + std::to_string(i) + " is empty or not 8-bit");
-    }
-    if (input[i].intrinsics.fx != 0) {
-      PX_RETURN_IF_ERROR(input[i].intrinsics.Validate().WithContext("structure from motion: image " +
-                                                                    std::to_string(i) + " intrinsics"));
-      if (input[i].intrinsics.width != input[i].image.cols || input[i].intrinsics.height != input[i].image.rows) {
-        return InvalidArgumentError("structure from motion: image " + std::to_string(i) + " is " +
-                                    std::to_string(input[i].image.cols) + "x" + std::to_string(input[i].image.rows) +
-                                    ", its intrinsics are for " + std::to_string(input[i].intrinsics.width) + "x" +
-                                    std::to_string(input[i].intrinsics.height));
-      }
-    }
-    pixels.push_back(input[i].image);
-  }
-  PX_ASSIGN_OR_RETURN(std::vector<Features> features, DetectFeaturesInImages(pixels, options.features));
+  PX_ASSIGN_OR_RETURN(std::vector<Features> features, DetectImageFeatures(input, options));
   report.features_ms = MsSince(step);
-
-  std::vector<ImageState> images(n);
-  bool any_unknown = false;
-  for (int i = 0; i < n; ++i) {
-    ImageState& image = images[i];
-    image.features = std::move(features[i]);
-    image.track_of_feature.assign(image.features.size(), -1);
-    const int larger = std::max(input[i].image.cols, input[i].image.rows);
-    image.pixel_scale = std::max(1.0, static_cast<double>(larger) / options.features.max_image_dim_px);
-    image.known_intrinsics = input[i].intrinsics.fx != 0;
-    image.camera = image.known_intrinsics
-                       ? input[i].intrinsics
-                       : CameraModel::Pinhole(input[i].image.cols, input[i].image.rows, 1.2 * larger);
-    any_unknown |= !image.known_intrinsics;
-    result.views[i].features = image.features.size();
-    if (image.features.size() < kMinFeatures) {
-      image.note = std::to_string(image.features.size()) + " features: the image is " +
-                   DescribeFewFeatures(MeasureExposure(input[i].image));
-    }
-  }
-  // Intrinsics blocks: unknown intrinsics are shared per camera id; known ones when identical.
-  {
-    std::map<std::pair<int, bool>, int> group_of;
-    for (int i = 0; i < n; ++i) {
-      const auto key = std::make_pair(input[i].camera_id, images[i].known_intrinsics);
-      auto found = group_of.find(key);
-      if (found == group_of.end()) {
-        group_of[key] = i;
-        images[i].group = i;
-      } else if (SameIntrinsics(images[found->second].camera, images[i].camera)) {
-        images[i].group = found->second;
-      } else {
-        images[i].group = -1;
-      }
-    }
-    for (int i = 0; i < n; ++i) {
-      bool shared = false;
-      for (int j = 0; j < n; ++j) shared |= j != i && images[j].group == images[i].group && images[i].group >= 0;
-      if (!shared) images[i].group = -1;
-    }
-  }
+  std::vector<ImageState> images = StartImages(input, std::move(features), options);
+  for (int i = 0; i < n; ++i) result.views[i].features = images[i].features.size();
+  GroupIntrinsics(input, &images);
 
   // 2. All pairs: ratio + mutual matches, verified by a fundamental matrix.
   step = Clock::now();
-  std::vector<std::pair<int, int>> pair_list;
-  for (int i = 0; i < n; ++i) {
-    for (int j = i + 1; j < n; ++j) {
-      if (images[i].note.empty() && images[j].note.empty()) pair_list.emplace_back(i, j);
-    }
-  }
-  std::vector<PairMatches> verified(pair_list.size());
-  report.pairs.resize(pair_list.size());
-  cv::parallel_for_(cv::Range(0, static_cast<int>(pair_list.size())), [&](const cv::Range& range) {
-    for (int p = range.start; p < range.end; ++p) {
-      const auto [a, b] = pair_list[p];
-      const std::vector<FeatureMatch> matches = MatchAll(images[a].features, images[b].features, options.matching);
-      const double threshold = options.max_error_px * std::max(images[a].pixel_scale, images[b].pixel_scale);
-      verified[p] = {a, b, VerifyWithFundamental(images[a].features, images[b].features, matches, threshold)};
-      report.pairs[p] = {a, b, static_cast<int>(matches.size()), static_cast<int>(verified[p].matches.size())};
-    }
-  });
-  std::vector<PairMatches> usable_pairs;
-  for (const PairMatches& pair : verified) {
-    if (static_cast<int>(pair.matches.size()) >= options.min_pair_matches) usable_pairs.push_back(pair);
-  }
-  for (int i = 0; i < n; ++i) {
-    if (!images[i].note.empty()) continue;
-    int best = 0;
-    for (const PairMatches& pair : verified) {
-      if (pair.view_a == i || pair.view_b == i) best = std::max(best, static_cast<int>(pair.matches.size()));
-    }
-    if (best < options.min_pair_matches) {
-      const std::string exposure = DescribeExposureProblem(MeasureExposure(input[i].image));
-      images[i].note = "matches no other image (at most " + std::to_string(best) + " verified matches, need " +
-                       std::to_string(options.min_pair_matches) +
-                       "): " + (exposure.empty() ? "a different scene?" : "the image is " + exposure);
-    }
-  }
-  std::vector<int> feature_counts;
-  for (const ImageState& image : images) feature_counts.push_back(image.features.size());
-  std::vector<Track> tracks = BuildTracks(feature_counts, usable_pairs);
+  PairMatching matching = MatchAllPairs(images, options);
+  report.pairs = std::move(matching.figures);
+  const std::vector<PairMatches> usable_pairs = UsablePairs(matching.verified, options);
+  NoteUnmatchedImages(input, matching.verified, options, &images);
+  const std::vector<Track> tracks = TracksOfPairs(images, usable_pairs);
   report.matching_ms = MsSince(step);
-  const auto note_images = [&]() {
+  // Failures from here on also say why each image was left out.
+  const auto fail_with_notes = [&](std::string reason) {
     for (int i = 0; i < n; ++i) result.views[i].note = images[i].note;
+    return fail(std::move(reason));
   };
-  if (usable_pairs.empty()) {
-    note_images();
-    int usable = 0;
-    for (const ImageState& image : images) usable += image.features.size() >= kMinFeatures ? 1 : 0;
-    if (usable < 2) {
-      return fail("too few features: " + std::to_string(usable) + " of " + std::to_string(n) + " images have " +
-                  std::to_string(kMinFeatures) + " or more (image 0 is " +
-                  DescribeFewFeatures(MeasureExposure(input[0].image)) + ")");
-    }
-    return fail("no two images share enough features (" + std::to_string(options.min_pair_matches) +
-                " verified matches needed): do they show the same scene?");
-  }
+  if (usable_pairs.empty()) return fail_with_notes(NoUsablePairReason(input, images, options));
 
   // 3. Focal length: from metadata, or swept on the pair with the most verified matches.
   step = Clock::now();
-  if (any_unknown) {
-    const PairMatches* sweep_pair = &usable_pairs[0];
-    for (const PairMatches& pair : usable_pairs) {
-      if (pair.matches.size() > sweep_pair->matches.size()) sweep_pair = &pair;
-    }
-    double best_rms = std::numeric_limits<double>::infinity();
-    double best_ratio = 1.2;
-    for (int k = 0; k < options.focal_sweep_steps; ++k) {
-      const double ratio = options.focal_sweep_min * std::pow(options.focal_sweep_max / options.focal_sweep_min,
-                                                              static_cast<double>(k) / (options.focal_sweep_steps - 1));
-      std::vector<ImageState> trial = images;
-      for (int i = 0; i < n; ++i) {
-        if (trial[i].known_intrinsics) continue;
-        trial[i].camera.fx = trial[i].camera.fy = ratio * std::max(trial[i].camera.width, trial[i].camera.height);
-      }
-      const PairGeometry geometry = PairPose(trial, *sweep_pair, 0, options);
-      double rms = std::numeric_limits<double>::infinity();
-      if (geometry.pose.success) {
-        Reconstruction two_view(trial, tracks, options);
-        StatusOr<BundleAdjustmentReport> adjusted = InitialisePair(&two_view, *sweep_pair, geometry.pose);
-        if (adjusted.ok()) rms = adjusted->final_rms_px;
-      }
-      report.focal_sweep.emplace_back(
-          ratio * std::max(images[sweep_pair->view_a].camera.width, images[sweep_pair->view_a].camera.height), rms);
-      if (rms < best_rms) {
-        best_rms = rms;
-        best_ratio = ratio;
-      }
-    }
-    // A best at either end of the range is no minimum: the pair's residual falls on towards the
-    // end (a nearly translated pair fits a longer focal ever better; the simulated still life's
-    // went from 0.24 px at the true 0.875 to 0.16 at 2.5, and the set was built at 2.2 times the
-    // true focal). Then start from a normal lens and let the adjustment with every view move it.
-    if (best_ratio == options.focal_sweep_min || best_ratio == options.focal_sweep_max) best_ratio = kNormalLensRatio;
-    for (ImageState& image : images) {
-      if (!image.known_intrinsics) {
-        image.camera.fx = image.camera.fy = best_ratio * std::max(image.camera.width, image.camera.height);
-      }
-    }
-  }
+  if (AnyUnknownIntrinsics(images)) report.focal_sweep = SweepFocalLength(usable_pairs, tracks, options, &images);
 
   // 4. The initial pair: enough parallax, then most matches weighted by parallax.
-  std::vector<PairGeometry> candidates(usable_pairs.size());
-  cv::parallel_for_(cv::Range(0, static_cast<int>(usable_pairs.size())), [&](const cv::Range& range) {
-    for (int p = range.start; p < range.end; ++p) candidates[p] = PairPose(images, usable_pairs[p], p, options);
-  });
-  const PairGeometry* initial = nullptr;
-  double best_score = 0;
-  const PairGeometry* most_parallax = nullptr;
-  for (const PairGeometry& candidate : candidates) {
-    if (!candidate.pose.success) continue;
-    if (most_parallax == nullptr || candidate.parallax_ratio > most_parallax->parallax_ratio)
-      most_parallax = &candidate;
-    if (candidate.parallax_ratio < options.min_parallax_ratio) continue;
-    const double score = static_cast<double>(candidate.pose.inliers.size()) *
-                         std::min(1.0, candidate.pose.median_parallax_px / options.target_parallax_px);
-    if (score > best_score) {
-      best_score = score;
-      initial = &candidate;
-    }
-  }
-  if (initial == nullptr) {
-    note_images();
-    if (most_parallax == nullptr) return fail("no pair of images has a consistent relative pose");
-    const PairMatches& pair = usable_pairs[most_parallax->pair];
-    return fail(
-        Printf("no parallax: the camera only rotated, or the scene is too far for the baseline (best pair, "
-               "images %.0f and %.0f: parallax %.2f px, %.1f times the matching noise; need %.1f). Depth "
-               "cannot be recovered; move the camera sideways between shots",
-               static_cast<double>(pair.view_a),
-               static_cast<double>(pair.view_b),
-               most_parallax->pose.median_parallax_px,
-               most_parallax->parallax_ratio,
-               options.min_parallax_ratio));
-  }
-  const PairMatches& initial_pair = usable_pairs[initial->pair];
-  report.initial_image_a = initial_pair.view_a;
-  report.initial_image_b = initial_pair.view_b;
-  report.initial_parallax_px = initial->pose.median_parallax_px;
-  report.initial_parallax_ratio = initial->parallax_ratio;
-  report.initial_homography_ratio = initial->pose.HomographyRatio();
+  const InitialPairChoice choice = ChooseInitialPair(images, usable_pairs, options);
+  if (!choice.initial) return fail_with_notes(NoInitialPairReason(choice, usable_pairs, options));
+  const PairGeometry& initial = *choice.initial;
+  const PairMatches& initial_pair = usable_pairs[initial.pair];
+  RecordInitialPair(initial, initial_pair, &report);
 
   Reconstruction reconstruction(images, tracks, options);
-  StatusOr<BundleAdjustmentReport> two_view = InitialisePair(&reconstruction, initial_pair, initial->pose);
-  if (!two_view.ok()) {
-    note_images();
-    return fail(two_view.status().message());
-  }
-  const int anchor = initial_pair.view_a, second = initial_pair.view_b;
+  StatusOr<BundleAdjustmentReport> two_view = InitialisePair(&reconstruction, initial_pair, initial.pose);
+  if (!two_view.ok()) return fail_with_notes(two_view.status().message());
 
-  PX_RETURN_IF_ERROR(RegisterAndAdjust(&reconstruction, anchor, second, options));
-  // Parallel cameras (a lattice, a slider) with little parallax: the five-point pose can land in
-  // the wrong basin of the rotation / inverse-depth ambiguity (on the HCI grid 1.3 degrees off,
-  // at a worse RMS), so the set is rebuilt from the pair's translation-only pose and the better
-  // fit (an RMS at least 3 % lower) is kept.
-  const double max_rotation_deg = reconstruction.MaxRotationDeg();
-  if (max_rotation_deg >= kMinRotationForParallelRestartDeg &&
-      max_rotation_deg < options.parallel_restart_max_rotation_deg) {
-    std::optional<Reconstruction> parallel = ParallelStart(images, tracks, initial_pair, initial->pose, options);
-    if (parallel) {
-      PX_RETURN_IF_ERROR(RegisterAndAdjust(&*parallel, anchor, second, options));
-      int count = 0, parallel_count = 0;
-      const double rms = reconstruction.Rms(&count), parallel_rms = parallel->Rms(&parallel_count);
-      if (parallel->NumRegistered() >= reconstruction.NumRegistered() && parallel_count >= 0.95 * count &&
-          parallel_rms < 0.97 * rms) {
-        report.warnings.push_back(
-            Printf("rebuilt from a translation-only initial pair (parallel cameras): RMS %.3f px "
-                   "instead of %.3f px",
-                   parallel_rms,
-                   rms));
-        reconstruction = std::move(*parallel);
-      }
-    }
-  }
+  // 5-6. The other images, the final adjustment, and a restart for parallel cameras.
+  PX_RETURN_IF_ERROR(RegisterAndAdjust(&reconstruction, initial_pair.view_a, initial_pair.view_b, options));
+  PX_ASSIGN_OR_RETURN(const ParallelRestartReport restart,
+                      RestartIfParallel(&reconstruction, images, tracks, initial_pair, initial.pose, options));
+  if (restart.rebuilt) report.warnings.push_back(ParallelRestartWarning(restart));
   const bool refine_focal = reconstruction.FocalRefinable(options.min_rotation_for_focal_deg);
   report.reconstruction_ms = MsSince(step);
 
   // 7. World = the first registered image's camera; scale = median depth.
-  int world_image = -1;
-  for (int i = 0; i < n && world_image < 0; ++i) {
-    if (reconstruction.images()[i].registered) world_image = i;
-  }
-  std::vector<double> depths;
-  reconstruction.ForEachObservation([&](int image, int point, const Eigen::Vector2d&) {
-    depths.push_back((reconstruction.images()[image].cam_from_world * reconstruction.points()[point]).z());
-  });
-  const double median = Percentile(depths, 0.5);
-  reconstruction.Transform(world_image, median > 0 ? options.median_depth / median : 1.0);
+  NormaliseWorld(&reconstruction, options);
 
   // 8. Views, figures, warnings.
-  std::vector<std::vector<double>> view_depths(n);
-  double sum_squares = 0;
-  int count = 0;
-  reconstruction.ForEachObservation([&](int image, int point, const Eigen::Vector2d& pixel) {
-    const ImageState& state = reconstruction.images()[image];
-    const Eigen::Vector3d p = state.cam_from_world * reconstruction.points()[point];
-    view_depths[image].push_back(p.z());
-    Eigen::Vector2d projected;
-    if (state.camera.Project(p, &projected)) {
-      sum_squares += (projected - pixel).squaredNorm();
-      ++count;
-    }
-  });
-  std::vector<char> point_used(reconstruction.points().size(), 0);
-  reconstruction.ForEachObservation([&](int, int point, const Eigen::Vector2d&) { point_used[point] = 1; });
-  for (size_t p = 0; p < point_used.size(); ++p) {
-    if (point_used[p]) result.points.push_back(reconstruction.points()[p]);
-  }
-  report.num_points = static_cast<int>(result.points.size());
-  report.num_observations = count;
-  report.rms_px = count > 0 ? std::sqrt(sum_squares / count) : 0;
-  int metadata = 0, self = 0;
-  for (int i = 0; i < n; ++i) {
-    const ImageState& image = reconstruction.images()[i];
-    SfmView& view = result.views[i];
-    view.registered = image.registered;
-    view.note = image.registered ? "" : (image.note.empty() ? "not connected to the registered images" : image.note);
-    view.camera = image.camera;
-    view.cam_from_world = image.cam_from_world;
-    view.observations = static_cast<int>(view_depths[i].size());
-    view.depth_near = Percentile(view_depths[i], 0.02);
-    view.depth_far = Percentile(view_depths[i], 0.98);
-    if (!image.registered) {
-      report.warnings.push_back("image " + std::to_string(i) + " is not registered: " + view.note);
-      continue;
-    }
-    ++report.num_registered;
-    (image.known_intrinsics ? metadata : self) += 1;
-  }
-  report.focal_source = self == 0 ? "metadata" : (metadata == 0 ? "self-calibrated" : "metadata and self-calibrated");
-  if (self > 0 && !report.focal_sweep.empty()) {
-    const double first = report.focal_sweep.front().first, last = report.focal_sweep.back().first;
-    double best_focal = first, best_rms = std::numeric_limits<double>::infinity();
-    for (const auto& [focal, rms] : report.focal_sweep) {
-      if (rms < best_rms) {
-        best_rms = rms;
-        best_focal = focal;
-      }
-    }
-    if (best_focal == first || best_focal == last) {
-      report.warnings.push_back(
-          Printf("self-calibrated focal length: the sweep's best (%.0f px) is at the end of "
-                 "its range [%.0f, %.0f] px, no minimum; started from a normal lens (%.1f times "
-                 "the longer side) and adjusted with every view, it may still be poorly "
-                 "determined",
-                 best_focal,
-                 first,
-                 last,
-                 kNormalLensRatio));
-    }
-  }
+  const ViewCounts counts = WriteResult(reconstruction, &result);
+  report.focal_source = counts.self_calibrated == 0
+                            ? "metadata"
+                            : (counts.metadata == 0 ? "self-calibrated" : "metadata and self-calibrated");
   report.max_view_rotation_deg = reconstruction.MaxRotationDeg();
-  if (!refine_focal) {
-    report.warnings.push_back(
-        Printf("focal length held at the metadata's: the views are not rotated (at most %.2f deg "
-               "between any two), so the images cannot refine it",
-               report.max_view_rotation_deg));
-  }
-  if (self > 0 && report.max_view_rotation_deg < options.min_rotation_for_focal_deg) {
-    report.focal_observable = false;
-    report.warnings.push_back(
-        Printf("self-calibrated focal length is unobservable: the views are translated without "
-               "rotation (at most %.2f deg between any two, need %.1f), so focal length and "
-               "depth scale are one ambiguity; give the focal length from metadata (EXIF, a "
-               "lens configuration) to measure depth",
-               report.max_view_rotation_deg,
-               options.min_rotation_for_focal_deg));
-  }
-  if (report.initial_homography_ratio < kPlanarHomographyRatio) {
-    report.warnings.push_back(
-        Printf("the initial pair sees a plane or a distant scene (one homography explains its "
-               "matches to %.1f times their noise): poses hold, but a self-calibrated focal "
-               "length is unreliable",
-               report.initial_homography_ratio));
-  }
+  AddFocalWarnings(counts.self_calibrated, refine_focal, options, &report);
   if (report.num_registered < 2) return fail("fewer than two images registered");
   report.success = true;
   report.total_ms = MsSince(start);

@@ -167,14 +167,8 @@ StatusOr<double> FactoryRms(const BaProblem& problem, const RigCalibration& fact
   return report.final_rms_px;
 }
 
-}  // namespace
-
-StatusOr<RigRefinementResult> RefineRigCalibration(const std::vector<cv::Mat>& upright_tiles,
-                                                   const RigCalibration& factory,
-                                                   const RigRefinementOptions& options) {
-  const Clock::time_point start = Clock::now();
-  PX_RETURN_IF_ERROR(options.Validate());
-  PX_RETURN_IF_ERROR(factory.Validate().WithContext("rig refinement: factory calibration"));
+// The tiles must fit the rig: one per lens, each of its lens's size.
+Status CheckTiles(const std::vector<cv::Mat>& upright_tiles, const RigCalibration& factory) {
   const int n = factory.NumViews();
   if (static_cast<int>(upright_tiles.size()) != n) {
     return InvalidArgumentError("rig refinement: got " + std::to_string(upright_tiles.size()) + " tiles, rig '" +
@@ -189,26 +183,17 @@ StatusOr<RigRefinementResult> RefineRigCalibration(const std::vector<cv::Mat>& u
                                   std::to_string(camera.height));
     }
   }
-  RigRefinementResult result;
-  result.rig = factory;
-  RigRefinementReport& report = result.report;
-  const auto finish = [&](std::string reason) -> StatusOr<RigRefinementResult> {
-    report.fallback_reason = std::move(reason);
-    report.refined = report.fallback_reason.empty();
-    if (!report.refined) result.rig = factory;
-    report.total_ms = MsSince(start);
-    return result;
-  };
-  report.views.resize(n);
-  for (int i = 0; i < n; ++i) report.views[i].view = i;
-  if (!options.enabled) return finish("per-shot refinement is disabled");
-  if (n < 2) return finish("a rig of one lens has nothing to refine against");
+  return OkStatus();
+}
 
-  // 1. Features, and their rays through the factory lenses.
-  Clock::time_point step = Clock::now();
-  PX_ASSIGN_OR_RETURN(std::vector<Features> features, DetectFeaturesInImages(upright_tiles, options.features));
+// 1. Each view's features with their rays through its factory lens; a view with too few to contribute is
+// noted (with what its exposure suggests) and not used.
+std::vector<ViewData> ViewsThroughFactoryLenses(std::vector<Features> features,
+                                                const std::vector<cv::Mat>& upright_tiles,
+                                                const RigCalibration& factory,
+                                                std::vector<ViewRefinement>* view_reports) {
+  const int n = factory.NumViews();
   std::vector<ViewData> views(n);
-  int usable_views = 0;
   for (int i = 0; i < n; ++i) {
     ViewData& view = views[i];
     view.features = std::move(features[i]);
@@ -218,26 +203,42 @@ StatusOr<RigRefinementResult> RefineRigCalibration(const std::vector<cv::Mat>& u
       view.rays.push_back(ray);
       view.undistorted_px.emplace_back(camera.fx * ray.x() + camera.cx, camera.fy * ray.y() + camera.cy);
     }
-    report.views[i].features = view.features.size();
+    (*view_reports)[i].features = view.features.size();
     view.usable = view.features.size() >= kMinFeaturesPerView;
     if (!view.usable) {
-      report.views[i].note = std::to_string(view.features.size()) + " features: the view is " +
-                             DescribeFewFeatures(MeasureExposure(upright_tiles[i]));
+      (*view_reports)[i].note = std::to_string(view.features.size()) + " features: the view is " +
+                                DescribeFewFeatures(MeasureExposure(upright_tiles[i]));
     }
-    usable_views += view.usable ? 1 : 0;
   }
-  report.features_ms = MsSince(step);
-  if (usable_views < 2) {
-    int best = 0;
-    for (int i = 0; i < n; ++i) best = std::max(best, views[i].features.size());
-    return finish("too few features: " + std::to_string(usable_views) + " of " + std::to_string(n) + " views have " +
-                  std::to_string(kMinFeaturesPerView) + " or more (at most " + std::to_string(best) + "; view 0 is " +
-                  DescribeFewFeatures(MeasureExposure(upright_tiles[0])) + ")");
-  }
+  return views;
+}
 
-  // 2. Nearby lens pairs, matched and verified in parallel (each with its own seed).
-  step = Clock::now();
-  const double spacing = SmallestSpacing(factory);
+// How many views have features enough to contribute.
+int CountUsable(const std::vector<ViewData>& views) {
+  int usable_views = 0;
+  for (const ViewData& view : views) usable_views += view.usable ? 1 : 0;
+  return usable_views;
+}
+
+// Why fewer than two views can contribute, with the most features any view has.
+std::string TooFewFeaturesReason(const std::vector<ViewData>& views,
+                                 int usable_views,
+                                 const std::vector<cv::Mat>& upright_tiles) {
+  const int n = static_cast<int>(views.size());
+  int best = 0;
+  for (int i = 0; i < n; ++i) best = std::max(best, views[i].features.size());
+  return "too few features: " + std::to_string(usable_views) + " of " + std::to_string(n) + " views have " +
+         std::to_string(kMinFeaturesPerView) + " or more (at most " + std::to_string(best) + "; view 0 is " +
+         DescribeFewFeatures(MeasureExposure(upright_tiles[0])) + ")";
+}
+
+// 2. The pairs of usable lenses close enough to see much of the same scene: at most
+// options.max_pair_distance_spacings lattice spacings apart.
+std::vector<std::pair<int, int>> NearbyPairs(const std::vector<ViewData>& views,
+                                             const RigCalibration& factory,
+                                             double spacing,
+                                             const RigRefinementOptions& options) {
+  const int n = factory.NumViews();
   std::vector<std::pair<int, int>> pair_list;
   for (int i = 0; i < n; ++i) {
     for (int j = i + 1; j < n; ++j) {
@@ -248,32 +249,69 @@ StatusOr<RigRefinementResult> RefineRigCalibration(const std::vector<cv::Mat>& u
       }
     }
   }
+  return pair_list;
+}
+
+// The RANSAC options of the pairs and the P3P: the given ones at the lenses' mean focal length.
+RansacOptions RigRansac(const RigCalibration& factory, const RigRefinementOptions& options) {
+  const int n = factory.NumViews();
   RansacOptions ransac = options.ransac;
   double mean_focal = 0;
   for (const LensCalibration& lens : factory.lenses) mean_focal += lens.camera.fx / n;
   ransac.focal_px = mean_focal;
+  return ransac;
+}
+
+// What matching the lens pairs found: each pair's verified matches, and its figures for the report.
+struct PairMatching {
+  std::vector<PairMatches> verified;
+  std::vector<PairRefinement> figures;
+};
+
+// Matches and verifies the pairs in parallel, each with its own seed so that the result does not depend on
+// the schedule.
+PairMatching MatchNearbyPairs(const std::vector<ViewData>& views,
+                              const std::vector<std::pair<int, int>>& pair_list,
+                              const RigCalibration& factory,
+                              const RansacOptions& ransac,
+                              const RigRefinementOptions& options) {
   RigRefinementOptions pair_options = options;
   pair_options.ransac = ransac;
-  std::vector<PairMatches> verified(pair_list.size());
-  report.pairs.resize(pair_list.size());
+  PairMatching matching;
+  matching.verified.resize(pair_list.size());
+  matching.figures.resize(pair_list.size());
   cv::parallel_for_(cv::Range(0, static_cast<int>(pair_list.size())), [&](const cv::Range& range) {
     for (int p = range.start; p < range.end; ++p) {
       const auto [a, b] = pair_list[p];
-      verified[p] =
-          MatchPair(views[a], views[b], a, b, factory, pair_options, options.seed * 1000003ULL + p, &report.pairs[p]);
+      matching.verified[p] = MatchPair(
+          views[a], views[b], a, b, factory, pair_options, options.seed * 1000003ULL + p, &matching.figures[p]);
     }
   });
-  report.num_pairs = static_cast<int>(pair_list.size());
+  return matching;
+}
+
+// Sums the pairs' figures; the lens centres are held when a homography explains the median pair's matches
+// (a plane, or a scene too far for the baseline), as the scene cannot fix them.
+void SummarisePairs(const RigRefinementOptions& options, RigRefinementReport* report) {
+  report->num_pairs = static_cast<int>(report->pairs.size());
   std::vector<double> homography_ratios;
-  for (const PairRefinement& pair : report.pairs) {
-    report.num_matches += pair.matches;
-    report.num_inliers += pair.inliers;
+  for (const PairRefinement& pair : report->pairs) {
+    report->num_matches += pair.matches;
+    report->num_inliers += pair.inliers;
     if (pair.inliers >= kMinPairMatches) homography_ratios.push_back(pair.homography_ratio);
   }
-  report.median_homography_ratio = Median(homography_ratios);
-  report.centres_held = !homography_ratios.empty() && report.median_homography_ratio < options.planar_homography_ratio;
+  report->median_homography_ratio = Median(homography_ratios);
+  report->centres_held =
+      !homography_ratios.empty() && report->median_homography_ratio < options.planar_homography_ratio;
+}
 
-  // 3. Tracks, triangulated with the factory calibration.
+// 3. Tracks through the verified matches (a selection that covers the field), triangulated with the factory
+// calibration; a point that fails to triangulate or lies behind a lens is dropped.
+BaProblem TriangulateWithFactory(const std::vector<ViewData>& views,
+                                 const std::vector<PairMatches>& verified,
+                                 const RigCalibration& factory,
+                                 const RigRefinementOptions& options) {
+  const int n = factory.NumViews();
   std::vector<int> feature_counts(n);
   for (int i = 0; i < n; ++i) feature_counts[i] = views[i].features.size();
   const std::vector<Track> tracks =
@@ -298,8 +336,17 @@ StatusOr<RigRefinementResult> RefineRigCalibration(const std::vector<cv::Mat>& u
       problem.observations.push_back({o.view, index, views[o.view].features.keypoints_px[o.feature]});
     }
   }
+  return problem;
+}
 
-  // 4. P3P per view against those points: drops the observations that disagree with the rest.
+// 4. P3P per view against the points: drops the observations that disagree with the rest of their view, then
+// the points left with fewer than two.
+void KeepP3pInliers(const RigCalibration& factory,
+                    const RansacOptions& ransac,
+                    const RigRefinementOptions& options,
+                    BaProblem* problem_ptr) {
+  BaProblem& problem = *problem_ptr;
+  const int n = factory.NumViews();
   std::vector<std::vector<int>> observations_of_view(n);
   for (size_t k = 0; k < problem.observations.size(); ++k)
     observations_of_view[problem.observations[k].camera].push_back(k);
@@ -321,47 +368,76 @@ StatusOr<RigRefinementResult> RefineRigCalibration(const std::vector<cv::Mat>& u
     }
     for (size_t i = 0; i < rays.size(); ++i) keep[observations_of_view[v][i]] = inlier[i];
   }
-  {
-    std::vector<BaObservation> kept;
-    for (size_t k = 0; k < problem.observations.size(); ++k) {
-      if (keep[k]) kept.push_back(problem.observations[k]);
-    }
-    problem.observations = std::move(kept);
-    PruneProblem(&problem);
+  std::vector<BaObservation> kept;
+  for (size_t k = 0; k < problem.observations.size(); ++k) {
+    if (keep[k]) kept.push_back(problem.observations[k]);
   }
-  // Views with too few observations keep the factory calibration and leave the adjustment.
+  problem.observations = std::move(kept);
+  PruneProblem(&problem);
+}
+
+// How many of `problem`'s observations each of its n views has.
+std::vector<int> ObservationsPerView(const BaProblem& problem, int n) {
   std::vector<int> observations_per_view(n, 0);
   for (const BaObservation& o : problem.observations) ++observations_per_view[o.camera];
-  std::vector<char> held(n, 0);
+  return observations_per_view;
+}
+
+// The views held at the factory calibration, and how many are left to refine.
+struct HeldViews {
+  std::vector<char> held;
   int refinable = 0;
+};
+
+// Views with too few observations keep the factory calibration and leave the adjustment: noted (with what
+// their exposure suggests), their observations dropped, and the points left with fewer than two.
+HeldViews HoldSparseViews(const std::vector<cv::Mat>& upright_tiles,
+                          const RigRefinementOptions& options,
+                          BaProblem* problem,
+                          std::vector<ViewRefinement>* view_reports) {
+  const int n = static_cast<int>(view_reports->size());
+  const std::vector<int> observations_per_view = ObservationsPerView(*problem, n);
+  HeldViews held_views;
+  held_views.held.assign(n, 0);
   for (int v = 0; v < n; ++v) {
     if (observations_per_view[v] >= options.min_observations_per_view) {
-      ++refinable;
+      ++held_views.refinable;
       continue;
     }
-    held[v] = 1;
-    if (report.views[v].note.empty()) {
+    held_views.held[v] = 1;
+    ViewRefinement& view = (*view_reports)[v];
+    if (view.note.empty()) {
       const std::string exposure = DescribeExposureProblem(MeasureExposure(upright_tiles[v]));
-      report.views[v].note =
+      view.note =
           std::to_string(observations_per_view[v]) + " matched points (need " +
           std::to_string(options.min_observations_per_view) + "): the view shares too little with its neighbours (" +
           (exposure.empty() ? "a different scene, or a lens far off its calibration?" : "it is " + exposure) + ")";
     }
   }
-  std::erase_if(problem.observations, [&](const BaObservation& o) { return held[o.camera] != 0; });
-  PruneProblem(&problem);
-  report.matching_ms = MsSince(step);
-  if (refinable < 2 || static_cast<int>(problem.points.size()) < options.min_tracks) {
-    return finish("too few matches to refine: " + std::to_string(problem.points.size()) + " points seen by two or " +
-                  "more lenses (need " + std::to_string(options.min_tracks) + "), " + std::to_string(refinable) +
-                  " of " + std::to_string(n) + " views with " + std::to_string(options.min_observations_per_view) +
-                  "+ observations; " + std::to_string(report.num_matches) + " matches, " +
-                  std::to_string(report.num_inliers) + " RANSAC inliers over " + std::to_string(report.num_pairs) +
-                  " lens pairs");
-  }
+  std::erase_if(problem->observations, [&](const BaObservation& o) { return held_views.held[o.camera] != 0; });
+  PruneProblem(problem);
+  return held_views;
+}
 
-  // 5. Bundle adjustment with the factory calibration as the prior, twice (outliers dropped).
-  step = Clock::now();
+// Why the shot cannot refine the rig: too few points or refinable views, with the matching figures.
+std::string TooFewMatchesReason(const BaProblem& problem,
+                                int refinable,
+                                const RigRefinementOptions& options,
+                                const RigRefinementReport& report) {
+  const int n = static_cast<int>(report.views.size());
+  return "too few matches to refine: " + std::to_string(problem.points.size()) + " points seen by two or " +
+         "more lenses (need " + std::to_string(options.min_tracks) + "), " + std::to_string(refinable) + " of " +
+         std::to_string(n) + " views with " + std::to_string(options.min_observations_per_view) + "+ observations; " +
+         std::to_string(report.num_matches) + " matches, " + std::to_string(report.num_inliers) +
+         " RANSAC inliers over " + std::to_string(report.num_pairs) + " lens pairs";
+}
+
+// 5. The factory calibration of each lens to refine as its prior: pose, focal length, principal point.
+std::vector<BaPrior> FactoryPriors(const RigCalibration& factory,
+                                   const std::vector<char>& held,
+                                   double spacing,
+                                   const RigRefinementOptions& options) {
+  const int n = factory.NumViews();
   std::vector<BaPrior> priors;
   for (int v = 0; v < n; ++v) {
     if (held[v]) continue;
@@ -378,8 +454,23 @@ StatusOr<RigRefinementResult> RefineRigCalibration(const std::vector<cv::Mat>& u
     prior.principal_point_sigma_px = options.principal_point_sigma_px;
     priors.push_back(prior);
   }
+  return priors;
+}
+
+// The reports of the two adjustment passes.
+struct AdjustmentPasses {
+  BundleAdjustmentReport first;
+  BundleAdjustmentReport second;
+};
+
+// Bundle adjustment twice: a short first pass finds the outliers, which are dropped (with the points left
+// with fewer than two observations) before the second.
+StatusOr<AdjustmentPasses> AdjustTwice(const std::vector<BaPrior>& priors,
+                                       bool centres_held,
+                                       const RigRefinementOptions& options,
+                                       BaProblem* problem) {
   BundleAdjustmentOptions adjustment;
-  adjustment.refine_centres = !report.centres_held;
+  adjustment.refine_centres = !centres_held;
   adjustment.refine_principal_point = options.refine_principal_point;
   adjustment.refine_radial = options.refine_radial_distortion;
   adjustment.loss_scale_px = options.loss_scale_px;
@@ -387,35 +478,43 @@ StatusOr<RigRefinementResult> RefineRigCalibration(const std::vector<cv::Mat>& u
   // The first pass only has to find the outliers.
   BundleAdjustmentOptions first_pass = adjustment;
   first_pass.max_iterations = 15;
-  PX_ASSIGN_OR_RETURN(BundleAdjustmentReport first, BundleAdjust(&problem, priors, first_pass));
-  {
-    const std::vector<double> errors = ReprojectionErrors(problem);
-    std::vector<BaObservation> kept;
-    for (size_t k = 0; k < errors.size(); ++k) {
-      if (errors[k] <= options.outlier_error_px) kept.push_back(problem.observations[k]);
-    }
-    problem.observations = std::move(kept);
-    PruneProblem(&problem);
+  AdjustmentPasses passes;
+  PX_ASSIGN_OR_RETURN(passes.first, BundleAdjust(problem, priors, first_pass));
+  const std::vector<double> errors = ReprojectionErrors(*problem);
+  std::vector<BaObservation> kept;
+  for (size_t k = 0; k < errors.size(); ++k) {
+    if (errors[k] <= options.outlier_error_px) kept.push_back(problem->observations[k]);
   }
-  PX_ASSIGN_OR_RETURN(BundleAdjustmentReport second, BundleAdjust(&problem, priors, adjustment));
-  report.adjustment_iterations = first.iterations + second.iterations;
-  report.num_tracks = static_cast<int>(problem.points.size());
-  report.num_observations = static_cast<int>(problem.observations.size());
-  report.rms_after_px = second.final_rms_px;
-  PX_ASSIGN_OR_RETURN(report.rms_before_px, FactoryRms(problem, factory, options.num_threads));
-  report.adjustment_ms = MsSince(step);
-  std::fill(observations_per_view.begin(), observations_per_view.end(), 0);
-  for (const BaObservation& o : problem.observations) ++observations_per_view[o.camera];
+  problem->observations = std::move(kept);
+  PruneProblem(problem);
+  PX_ASSIGN_OR_RETURN(passes.second, BundleAdjust(problem, priors, adjustment));
+  return passes;
+}
 
-  // 6. Trust: what moved, and whether it helped.
-  RigCalibration refined = factory;
+// The refined calibration, and its first implausible change ("" when every change is plausible).
+struct RefinedRig {
+  RigCalibration rig;
   std::string implausible;
+};
+
+// 6. Takes each refined lens from the adjustment and measures how far it moved from the factory calibration
+// (per view and the largest), naming the first change beyond what is plausible.
+RefinedRig CompareWithFactory(const RigCalibration& factory,
+                              const BaProblem& problem,
+                              const std::vector<char>& held,
+                              const std::vector<int>& observations_per_view,
+                              double spacing,
+                              const RigRefinementOptions& options,
+                              RigRefinementReport* report) {
+  const int n = factory.NumViews();
+  RefinedRig refined{factory, ""};
+  std::string& implausible = refined.implausible;
   for (int v = 0; v < n; ++v) {
-    ViewRefinement& view = report.views[v];
+    ViewRefinement& view = report->views[v];
     view.observations = observations_per_view[v];
     if (held[v]) continue;
     const LensCalibration& before = factory.lenses[v];
-    LensCalibration& after = refined.lenses[v];
+    LensCalibration& after = refined.rig.lenses[v];
     after.camera = problem.cameras[v].camera;
     after.cam_from_rig = problem.cameras[v].cam_from_world;
     view.refined = true;
@@ -423,9 +522,10 @@ StatusOr<RigRefinementResult> RefineRigCalibration(const std::vector<cv::Mat>& u
     view.centre_change_m = (CameraCentre(after.cam_from_rig) - CameraCentre(before.cam_from_rig)).norm();
     view.focal_change_relative = after.camera.fx / before.camera.fx - 1;
     view.principal_point_change_px = std::hypot(after.camera.cx - before.camera.cx, after.camera.cy - before.camera.cy);
-    report.max_rotation_change_deg = std::max(report.max_rotation_change_deg, view.rotation_change_deg);
-    report.max_centre_change_m = std::max(report.max_centre_change_m, view.centre_change_m);
-    report.max_focal_change_relative = std::max(report.max_focal_change_relative, std::abs(view.focal_change_relative));
+    report->max_rotation_change_deg = std::max(report->max_rotation_change_deg, view.rotation_change_deg);
+    report->max_centre_change_m = std::max(report->max_centre_change_m, view.centre_change_m);
+    report->max_focal_change_relative =
+        std::max(report->max_focal_change_relative, std::abs(view.focal_change_relative));
     if (!implausible.empty()) continue;
     if (view.rotation_change_deg > options.max_rotation_change_deg) {
       implausible = Format("lens %.0f turned by %.2f deg (more than %.2f deg is not plausible)",
@@ -444,40 +544,127 @@ StatusOr<RigRefinementResult> RefineRigCalibration(const std::vector<cv::Mat>& u
                            100 * options.max_focal_change_relative);
     }
   }
+  return refined;
+}
+
+// Warnings for what keeps the factory calibration in part: each noted view, and held lens centres.
+void AddHoldWarnings(RigRefinementReport* report) {
+  const int n = static_cast<int>(report->views.size());
   for (int v = 0; v < n; ++v) {
-    if (!report.views[v].note.empty()) {
-      report.warnings.push_back("view " + std::to_string(v) + ": " + report.views[v].note +
-                                "; it keeps its factory calibration");
+    if (!report->views[v].note.empty()) {
+      report->warnings.push_back("view " + std::to_string(v) + ": " + report->views[v].note +
+                                 "; it keeps its factory calibration");
     }
   }
-  if (report.centres_held) {
-    report.warnings.push_back(
+  if (report->centres_held) {
+    report->warnings.push_back(
         Format("the scene is planar or too far for the baseline (one homography explains the "
                "matches of the median lens pair to %.1f times their noise): lens centres are "
                "held at the factory calibration",
-               report.median_homography_ratio));
+               report->median_homography_ratio));
   }
-  if (!std::isfinite(report.rms_after_px) || !std::isfinite(report.rms_before_px)) {
-    return finish("bundle adjustment failed: " + second.message);
+}
+
+// Why the factory calibration is kept, or "" to use the refined one: a failed adjustment, an implausible
+// change, or no measurable gain (then report->factory_fits says whether the factory calibration fits).
+std::string FallbackReason(const std::string& adjustment_message,
+                           const std::string& implausible,
+                           const RigRefinementOptions& options,
+                           RigRefinementReport* report) {
+  if (!std::isfinite(report->rms_after_px) || !std::isfinite(report->rms_before_px)) {
+    return "bundle adjustment failed: " + adjustment_message;
   }
-  if (!implausible.empty()) return finish("implausible change: " + implausible);
-  if (!(report.rms_before_px - report.rms_after_px >= options.min_rms_gain_px)) {
+  if (!implausible.empty()) return "implausible change: " + implausible;
+  if (!(report->rms_before_px - report->rms_after_px >= options.min_rms_gain_px)) {
     // No measurable gain. When the factory calibration explains the matches to within a pixel
     // the lenses have not measurably moved: not a failure, and no warning is due.
-    report.factory_fits = report.rms_before_px <= kFactoryFitsRmsPx;
-    if (report.factory_fits) {
-      return finish(Format("the factory calibration already fits the shot (reprojection RMS %.3f px; refined %.3f px)",
-                           report.rms_before_px,
-                           report.rms_after_px));
+    report->factory_fits = report->rms_before_px <= kFactoryFitsRmsPx;
+    if (report->factory_fits) {
+      return Format("the factory calibration already fits the shot (reprojection RMS %.3f px; refined %.3f px)",
+                    report->rms_before_px,
+                    report->rms_after_px);
     }
-    return finish(
-        Format("refinement did not lower the reprojection error (%.3f px with the factory calibration, "
-               "%.3f px refined)",
-               report.rms_before_px,
-               report.rms_after_px));
+    return Format(
+        "refinement did not lower the reprojection error (%.3f px with the factory calibration, "
+        "%.3f px refined)",
+        report->rms_before_px,
+        report->rms_after_px);
   }
-  result.rig = std::move(refined);
-  return finish("");
+  return "";
+}
+
+}  // namespace
+
+StatusOr<RigRefinementResult> RefineRigCalibration(const std::vector<cv::Mat>& upright_tiles,
+                                                   const RigCalibration& factory,
+                                                   const RigRefinementOptions& options) {
+  const Clock::time_point start = Clock::now();
+  PX_RETURN_IF_ERROR(options.Validate());
+  PX_RETURN_IF_ERROR(factory.Validate().WithContext("rig refinement: factory calibration"));
+  PX_RETURN_IF_ERROR(CheckTiles(upright_tiles, factory));
+  const int n = factory.NumViews();
+  RigRefinementResult result;
+  result.rig = factory;
+  RigRefinementReport& report = result.report;
+  const auto finish = [&](std::string reason) -> StatusOr<RigRefinementResult> {
+    report.fallback_reason = std::move(reason);
+    report.refined = report.fallback_reason.empty();
+    if (!report.refined) result.rig = factory;
+    report.total_ms = MsSince(start);
+    return result;
+  };
+  report.views.resize(n);
+  for (int i = 0; i < n; ++i) report.views[i].view = i;
+  if (!options.enabled) return finish("per-shot refinement is disabled");
+  if (n < 2) return finish("a rig of one lens has nothing to refine against");
+
+  // 1. Features, and their rays through the factory lenses.
+  Clock::time_point step = Clock::now();
+  PX_ASSIGN_OR_RETURN(std::vector<Features> features, DetectFeaturesInImages(upright_tiles, options.features));
+  const std::vector<ViewData> views =
+      ViewsThroughFactoryLenses(std::move(features), upright_tiles, factory, &report.views);
+  const int usable_views = CountUsable(views);
+  report.features_ms = MsSince(step);
+  if (usable_views < 2) return finish(TooFewFeaturesReason(views, usable_views, upright_tiles));
+
+  // 2. Nearby lens pairs, matched and verified in parallel (each with its own seed).
+  step = Clock::now();
+  const double spacing = SmallestSpacing(factory);
+  const std::vector<std::pair<int, int>> pair_list = NearbyPairs(views, factory, spacing, options);
+  const RansacOptions ransac = RigRansac(factory, options);
+  PairMatching matching = MatchNearbyPairs(views, pair_list, factory, ransac, options);
+  report.pairs = std::move(matching.figures);
+  SummarisePairs(options, &report);
+
+  // 3. Tracks, triangulated with the factory calibration.
+  BaProblem problem = TriangulateWithFactory(views, matching.verified, factory, options);
+
+  // 4. P3P per view against those points; views left with too few observations are held.
+  KeepP3pInliers(factory, ransac, options, &problem);
+  const HeldViews held_views = HoldSparseViews(upright_tiles, options, &problem, &report.views);
+  report.matching_ms = MsSince(step);
+  if (held_views.refinable < 2 || static_cast<int>(problem.points.size()) < options.min_tracks) {
+    return finish(TooFewMatchesReason(problem, held_views.refinable, options, report));
+  }
+
+  // 5. Bundle adjustment with the factory calibration as the prior, twice (outliers dropped).
+  step = Clock::now();
+  const std::vector<BaPrior> priors = FactoryPriors(factory, held_views.held, spacing, options);
+  PX_ASSIGN_OR_RETURN(const AdjustmentPasses passes, AdjustTwice(priors, report.centres_held, options, &problem));
+  report.adjustment_iterations = passes.first.iterations + passes.second.iterations;
+  report.num_tracks = static_cast<int>(problem.points.size());
+  report.num_observations = static_cast<int>(problem.observations.size());
+  report.rms_after_px = passes.second.final_rms_px;
+  PX_ASSIGN_OR_RETURN(report.rms_before_px, FactoryRms(problem, factory, options.num_threads));
+  report.adjustment_ms = MsSince(step);
+
+  // 6. Trust: what moved, and whether it helped.
+  RefinedRig refined =
+      CompareWithFactory(factory, problem, held_views.held, ObservationsPerView(problem, n), spacing, options, &report);
+  AddHoldWarnings(&report);
+  const std::string fallback = FallbackReason(passes.second.message, refined.implausible, options, &report);
+  if (fallback.empty()) result.rig = std::move(refined.rig);
+  return finish(fallback);
 }
 
 }  // namespace px::calib

@@ -24,7 +24,7 @@ constexpr double kParallaxScale = 0.25;
 // Framing may narrow a move's zoom to keep subjects inside, but not below this share of the
 // focal length the move asks for: past that the move is not what it claims to be.
 constexpr double kMinFocalShare = 0.5;
-// Pulling an end back along its path to hold at the verify size (PlanMove, step 4): the first
+// Pulling an end back along its path to hold at the verify size (HoldEnds, step 4): the first
 // pull, doubled each round, and the most (fractions of the path's length).
 constexpr double kFirstPullBack = 0.05;
 constexpr double kMaxPullBack = 0.4;
@@ -272,269 +272,358 @@ std::vector<Candidate> Candidates(const ValidRegion& region, bool front, bool bo
   return all;
 }
 
-}  // namespace
+// A candidate path: one start and one end candidate, and what framing, the verify size and the
+// parallax measure make of it.
+struct Pair {
+  size_t a = 0, b = 0;
+  double length = 0, parallax = 0, focal_scale = 1;
+  CameraPath path;
+  std::optional<Framing> start_pulled, end_pulled;  // ends pulled back to hold at the verify size
+  std::optional<double> ends_score;                 // the ends' largest H(V) at the verify size
+  double max_hole_score = 0;                        // over its checked frames, once it holds (verify size)
+};
 
-StatusOr<CameraPath> PlanMove(const MoveChoice& choice, const PlanContext& context, MovePlanReport* report) {
-  MovePlanReport ignored;
-  if (report == nullptr) report = &ignored;
-  *report = MovePlanReport{};
-  const SceneGeometry& scene = *context.scene;
-  const DirectOptions& options = *context.options;
-  const std::string name(MoveName(choice.move));
-  const int needed = SubjectsNeeded(choice.move);
-  if (static_cast<int>(context.subjects.size()) < needed) {
-    return FailedPreconditionError(name + " needs " + std::to_string(needed) + " subjects, have " +
-                                   std::to_string(context.subjects.size()));
-  }
-  const Subject* first = needed >= 1 ? &context.subjects[0] : nullptr;
-  const Subject* second = needed >= 2 ? &context.subjects[1] : nullptr;
-  if (needed >= 2 && choice.swap_subjects) std::swap(first, second);
-  if (needed == 1 && choice.swap_subjects && context.subjects.size() >= 2) first = &context.subjects[1];
-  for (const Subject* s : {first, second}) {
-    if (s != nullptr && !s->depth_known) {
-      return FailedPreconditionError(name + ": a subject has no known depth to plan a 3D move around");
-    }
-  }
+// What the steps of PlanMove share: the move's subjects, each end's framing rule, valid region and
+// candidates, and the candidate paths.
+struct MovePlan {
+  MovePlan(const MoveChoice& move_choice, const PlanContext& plan_context, MovePlanReport* plan_report)
+      : choice(move_choice),
+        context(plan_context),
+        scene(*plan_context.scene),
+        options(*plan_context.options),
+        report(plan_report),
+        name(MoveName(move_choice.move)) {}
 
-  const double f = scene.focal_px;
-  const double zoomed = options.zoom_in * f;
-  const Eigen::Vector3d& centroid = scene.centroid_in_world;
+  const MoveChoice& choice;
+  const PlanContext& context;
+  const SceneGeometry& scene;
+  const DirectOptions& options;
+  MovePlanReport* report;
+  const std::string name;
+  const Subject* first = nullptr;  // the subjects the move frames, in the choice's order
+  const Subject* second = nullptr;
+
   Sweep sweep = Sweep::kGrid;
   FramingRule start_rule, end_rule;
   bool start_front = true, end_front = true, reverse = false, dolly_zoom = false;
   // The dolly between two subjects keeps both in frame: a close-up far forwards loses the other
   // subject past the frame's edge, so its ends come from the forward and the backward extremes.
   bool both_ways = false;
+  bool along_axis = false;  // a dolly zoom that looks along the capture axis, not at its subject
   std::string start_what, end_what;
   std::string start_key, end_key;  // what each rule frames, for the region cache ("" = not shared)
-  switch (choice.move) {
+  std::vector<Subject> framed;     // the subjects framing keeps in view
+  double margin_px = 0;
+
+  ValidRegion start_region, end_region;
+  std::vector<Candidate> starts, ends;
+  bool shared = false;         // the ends share the start's region (the establishing dolly)
+  std::vector<Pair> pairs;     // every candidate pair, longest first
+  std::vector<Pair> measured;  // the longest that keep their subjects in frame, most parallax first
+  std::string last_failure = "no candidate";
+};
+
+// The subjects the move frames, in the choice's order: a 3D move needs enough of them, each with
+// a known depth.
+Status ChooseSubjects(MovePlan* plan) {
+  const std::vector<Subject>& subjects = plan->context.subjects;
+  const std::string& name = plan->name;
+  const int needed = SubjectsNeeded(plan->choice.move);
+  if (static_cast<int>(subjects.size()) < needed) {
+    return FailedPreconditionError(name + " needs " + std::to_string(needed) + " subjects, have " +
+                                   std::to_string(subjects.size()));
+  }
+  const Subject* first = needed >= 1 ? &subjects[0] : nullptr;
+  const Subject* second = needed >= 2 ? &subjects[1] : nullptr;
+  if (needed >= 2 && plan->choice.swap_subjects) std::swap(first, second);
+  if (needed == 1 && plan->choice.swap_subjects && subjects.size() >= 2) first = &subjects[1];
+  for (const Subject* s : {first, second}) {
+    if (s != nullptr && !s->depth_known) {
+      return FailedPreconditionError(name + ": a subject has no known depth to plan a 3D move around");
+    }
+  }
+  plan->first = first;
+  plan->second = second;
+  return OkStatus();
+}
+
+// Each end's framing rule (where it looks and its focal length, 4.2.3), the extreme of its valid
+// region it takes, and how the region is searched: the move's definition.
+void ChooseEndRules(MovePlan* plan) {
+  const SceneGeometry& scene = plan->scene;
+  const DirectOptions& options = plan->options;
+  const Subject* first = plan->first;
+  const Subject* second = plan->second;
+  const double f = scene.focal_px;
+  const double zoomed = options.zoom_in * f;
+  const Eigen::Vector3d& centroid = scene.centroid_in_world;
+  switch (plan->choice.move) {
     case Move::kEstablishingDolly:
-      start_rule = end_rule = Aim(scene, centroid, f);
-      start_key = end_key = AimKey(centroid, f);
-      start_what = end_what = "the scene centroid at f";
+      plan->start_rule = plan->end_rule = Aim(scene, centroid, f);
+      plan->start_key = plan->end_key = AimKey(centroid, f);
+      plan->start_what = plan->end_what = "the scene centroid at f";
       break;
     case Move::kEstablishingDollyOut:
-      sweep = Sweep::kAxis;
-      start_rule = Aim(scene, centroid, zoomed);
-      end_rule = Aim(scene, centroid, f);
-      start_key = AimKey(centroid, zoomed);
-      end_key = AimKey(centroid, f);
-      end_front = false;
-      start_what = "the scene centroid at " + std::to_string(options.zoom_in).substr(0, 4) + "f";
-      end_what = "the scene centroid at f";
+      plan->sweep = Sweep::kAxis;
+      plan->start_rule = Aim(scene, centroid, zoomed);
+      plan->end_rule = Aim(scene, centroid, f);
+      plan->start_key = AimKey(centroid, zoomed);
+      plan->end_key = AimKey(centroid, f);
+      plan->end_front = false;
+      plan->start_what = "the scene centroid at " + std::to_string(options.zoom_in).substr(0, 4) + "f";
+      plan->end_what = "the scene centroid at f";
       break;
     case Move::kDollyOut:
-      start_rule = Aim(scene, first->LowerHalfCentreInWorld(), zoomed);
-      end_rule = Aim(scene, centroid, f);
-      start_key = AimKey(first->LowerHalfCentreInWorld(), zoomed);
-      end_key = AimKey(centroid, f);
-      end_front = false;
-      start_what = "the " + first->source + " at " + std::to_string(options.zoom_in).substr(0, 4) + "f";
-      end_what = "the scene centroid at f";
+      plan->start_rule = Aim(scene, first->LowerHalfCentreInWorld(), zoomed);
+      plan->end_rule = Aim(scene, centroid, f);
+      plan->start_key = AimKey(first->LowerHalfCentreInWorld(), zoomed);
+      plan->end_key = AimKey(centroid, f);
+      plan->end_front = false;
+      plan->start_what = "the " + first->source + " at " + std::to_string(options.zoom_in).substr(0, 4) + "f";
+      plan->end_what = "the scene centroid at f";
       break;
     case Move::kDollyIn:
-      start_rule = Aim(scene, centroid, f);
-      end_rule = Aim(scene, first->LowerHalfCentreInWorld(), zoomed);
-      start_key = AimKey(centroid, f);
-      end_key = AimKey(first->LowerHalfCentreInWorld(), zoomed);
-      start_front = false;
-      start_what = "the scene centroid at f";
-      end_what = "the " + first->source + " at " + std::to_string(options.zoom_in).substr(0, 4) + "f";
+      plan->start_rule = Aim(scene, centroid, f);
+      plan->end_rule = Aim(scene, first->LowerHalfCentreInWorld(), zoomed);
+      plan->start_key = AimKey(centroid, f);
+      plan->end_key = AimKey(first->LowerHalfCentreInWorld(), zoomed);
+      plan->start_front = false;
+      plan->start_what = "the scene centroid at f";
+      plan->end_what = "the " + first->source + " at " + std::to_string(options.zoom_in).substr(0, 4) + "f";
       break;
     case Move::kDollyZoomIn:
-      reverse = true;
+      plan->reverse = true;
       [[fallthrough]];
     case Move::kDollyZoomOut:
-      sweep = Sweep::kAxis;
-      dolly_zoom = true;
-      start_rule = Aim(scene, first->LowerHalfCentreInWorld(), f);
-      start_key = AimKey(first->LowerHalfCentreInWorld(), f);
-      end_front = false;
-      start_what = "the " + first->source + " at f";
-      end_what = "the " + first->source + ", zoomed to keep its size";
+      plan->sweep = Sweep::kAxis;
+      plan->dolly_zoom = true;
+      plan->start_rule = Aim(scene, first->LowerHalfCentreInWorld(), f);
+      plan->start_key = AimKey(first->LowerHalfCentreInWorld(), f);
+      plan->end_front = false;
+      plan->start_what = "the " + first->source + " at f";
+      plan->end_what = "the " + first->source + ", zoomed to keep its size";
       break;
     case Move::kDolly: {
-      start_rule = Aim(scene, first->LowerHalfCentreInWorld(), zoomed);
-      start_key = AimKey(first->LowerHalfCentreInWorld(), zoomed);
+      plan->start_rule = Aim(scene, first->LowerHalfCentreInWorld(), zoomed);
+      plan->start_key = AimKey(first->LowerHalfCentreInWorld(), zoomed);
       // The paper's size ratio from the reference view; the exact ratio is set once the
       // endpoints are known.
       const double ratio = first->box_px.height / std::max(1.0, second->box_px.height);
-      end_rule = Aim(scene, second->LowerHalfCentreInWorld(), zoomed * ratio);
-      end_key = AimKey(second->LowerHalfCentreInWorld(), zoomed * ratio);
-      start_what = "the first subject at " + std::to_string(options.zoom_in).substr(0, 4) + "f";
-      end_what = "the second subject at its size";
-      both_ways = true;
+      plan->end_rule = Aim(scene, second->LowerHalfCentreInWorld(), zoomed * ratio);
+      plan->end_key = AimKey(second->LowerHalfCentreInWorld(), zoomed * ratio);
+      plan->start_what = "the first subject at " + std::to_string(options.zoom_in).substr(0, 4) + "f";
+      plan->end_what = "the second subject at its size";
+      plan->both_ways = true;
       break;
     }
   }
+}
 
-  // Subjects that framing keeps in view: every subject with a known depth. The ends' rules fit
-  // them (a dolly zoom's focal is fixed by its subject's size instead).
-  std::vector<Subject> framed;
-  for (const Subject& s : context.subjects) {
-    if (s.depth_known) framed.push_back(s);
+// Subjects that framing keeps in view: every subject with a known depth. The ends' rules fit
+// them, so the region search measures the views the path will use (a dolly zoom's focal is fixed
+// by its subject's size instead).
+void FitRulesToSubjects(MovePlan* plan) {
+  for (const Subject& s : plan->context.subjects) {
+    if (s.depth_known) plan->framed.push_back(s);
   }
-  const double margin_px = options.framing_margin * scene.output.width;
-  if (!dolly_zoom) {
-    start_rule = FittingSubjects(std::move(start_rule), scene, framed, margin_px);
-    end_rule = FittingSubjects(std::move(end_rule), scene, framed, margin_px);
-    if (!framed.empty()) {
-      start_key += start_key.empty() ? "" : " fitting subjects";
-      end_key += end_key.empty() ? "" : " fitting subjects";
-    }
+  plan->margin_px = plan->options.framing_margin * plan->scene.output.width;
+  if (plan->dolly_zoom) return;
+  plan->start_rule = FittingSubjects(std::move(plan->start_rule), plan->scene, plan->framed, plan->margin_px);
+  plan->end_rule = FittingSubjects(std::move(plan->end_rule), plan->scene, plan->framed, plan->margin_px);
+  if (!plan->framed.empty()) {
+    plan->start_key += plan->start_key.empty() ? "" : " fitting subjects";
+    plan->end_key += plan->end_key.empty() ? "" : " fitting subjects";
   }
+}
 
-  // 1-2. Valid regions (shared with earlier moves that framed the same) and candidate endpoints.
-  const auto find_region =
-      [&](const FramingRule& rule, const std::string& key, bool front, bool back) -> StatusOr<ValidRegion> {
-    std::string full;
-    if (!key.empty() && context.regions != nullptr) {
-      full = key + (sweep == Sweep::kAxis ? " axis" : " grid") + (front ? " front" : "") + (back ? " back" : "");
-      const auto found = context.regions->find(full);
-      if (found != context.regions->end()) return found->second;
-    }
-    PX_ASSIGN_OR_RETURN(ValidRegion region,
-                        FindValidViewpoints(scene, rule, context.search, options.search, sweep, front, back));
-    if (!full.empty()) (*context.regions)[full] = region;
-    return region;
-  };
-  PX_ASSIGN_OR_RETURN(ValidRegion start_region,
-                      find_region(start_rule, start_key, start_front || both_ways, !start_front || both_ways));
-  std::vector<Candidate> starts = Candidates(start_region, start_front, both_ways);
+// The valid region for `rule`, reused from earlier moves whose rule framed the same (`key`; ""
+// = not shared) and searched the same way, so the renderer is not probed again.
+StatusOr<ValidRegion> FindRegion(
+    const MovePlan& plan, const FramingRule& rule, const std::string& key, bool front, bool back) {
+  const PlanContext& context = plan.context;
+  std::string full;
+  if (!key.empty() && context.regions != nullptr) {
+    full = key + (plan.sweep == Sweep::kAxis ? " axis" : " grid") + (front ? " front" : "") + (back ? " back" : "");
+    const auto found = context.regions->find(full);
+    if (found != context.regions->end()) return found->second;
+  }
+  PX_ASSIGN_OR_RETURN(
+      ValidRegion region,
+      FindValidViewpoints(plan.scene, rule, context.search, plan.options.search, plan.sweep, front, back));
+  if (!full.empty()) (*context.regions)[full] = region;
+  return region;
+}
+
+// The start's valid region and candidate endpoints; fails when no viewpoint frames the start.
+Status FindStarts(MovePlan* plan) {
+  PX_ASSIGN_OR_RETURN(plan->start_region,
+                      FindRegion(*plan,
+                                 plan->start_rule,
+                                 plan->start_key,
+                                 plan->start_front || plan->both_ways,
+                                 !plan->start_front || plan->both_ways));
+  plan->starts = Candidates(plan->start_region, plan->start_front, plan->both_ways);
   // A dolly zoom aimed at a subject off the axis turns every viewpoint past the rays the lenses
   // saw (two_faces: none of 144 grid positions holds the face at f). Then it looks along the axis.
-  bool along_axis = false;
-  if (starts.empty() && dolly_zoom) {
-    along_axis = true;
-    start_rule = LookAlongAxis(scene, f);
-    PX_ASSIGN_OR_RETURN(start_region, find_region(start_rule, "", start_front, !start_front));
-    starts = Candidates(start_region, start_front, both_ways);
+  if (plan->starts.empty() && plan->dolly_zoom) {
+    plan->along_axis = true;
+    plan->start_rule = LookAlongAxis(plan->scene, plan->scene.focal_px);
+    PX_ASSIGN_OR_RETURN(plan->start_region,
+                        FindRegion(*plan, plan->start_rule, "", plan->start_front, !plan->start_front));
+    plan->starts = Candidates(plan->start_region, plan->start_front, plan->both_ways);
   }
-  report->valid_cells_start = start_region.valid_cells;
-  if (starts.empty()) {
-    return FailedPreconditionError(name + ": no valid viewpoint frames the start (" + start_what + ") among " +
-                                   std::to_string(start_region.cells) + " positions");
+  plan->report->valid_cells_start = plan->start_region.valid_cells;
+  if (plan->starts.empty()) {
+    return FailedPreconditionError(plan->name + ": no valid viewpoint frames the start (" + plan->start_what +
+                                   ") among " + std::to_string(plan->start_region.cells) + " positions");
   }
-  if (dolly_zoom) {
-    // The far end keeps the subject at the start's size: focal grows with the distance, up to
-    // max_dolly_zoom (beyond it the rule declines to frame, which ends the search).
-    // The start may be so near the subject that even the capture plane needs more than
-    // max_dolly_zoom to keep its size: then start farther back (still between z = 0 and the
-    // front surface, inside the valid region along the axis), so the zoom has room to run.
-    const Eigen::Vector3d start_in_rig = scene.RigFromWorld(starts.front().framing.centre_in_world);
-    const double subject_z = scene.RigFromWorld(first->CentreInWorld()).z();
-    const double nearest_z = subject_z - (subject_z - std::min(0.0, start_in_rig.z())) / (0.9 * options.max_dolly_zoom);
-    if (start_in_rig.z() > nearest_z && nearest_z > 0) {
-      starts.front().framing =
-          start_rule(scene.WorldFromRig(Eigen::Vector3d(start_in_rig.x(), start_in_rig.y(), nearest_z)));
-      PX_ASSIGN_OR_RETURN(starts.front().hole_score,
-                          context.search->HoleScore(scene.OutputWithFocal(starts.front().framing.focal_px),
-                                                    starts.front().framing.cam_from_world));
-      if (!(starts.front().hole_score < context.search->valid_hole_score())) {
-        return FailedPreconditionError(name + ": the start " +
-                                       Mm(scene.RigFromWorld(starts.front().framing.centre_in_world)) +
-                                       " far enough back for the zoom to keep the subject's size is not valid");
-      }
-    }
-    const Framing start = starts.front().framing;
-    const Subject subject = *first;
-    const double start_height = ProjectedHeightPx(subject, scene.OutputWithFocal(1.0), start.cam_from_world);
-    const double target_height = start_height * start.focal_px;
-    const double limit = options.max_dolly_zoom * start.focal_px;
-    const FramingRule aim = along_axis ? LookAlongAxis(scene, 1.0) : Aim(scene, first->LowerHalfCentreInWorld(), 1.0);
-    end_rule = [&scene, aim, subject, target_height, limit](const Eigen::Vector3d& centre) {
-      Framing framing = aim(centre);
-      const double unit = ProjectedHeightPx(subject, scene.OutputWithFocal(1.0), framing.cam_from_world);
-      framing.focal_px = unit > 0 ? target_height / unit : 0.0;
-      if (framing.focal_px > limit) framing.focal_px = 0;  // past the zoom range
-      return framing;
-    };
-  }
-  ValidRegion end_region;
-  const bool shared = choice.move == Move::kEstablishingDolly;
-  if (shared) {
-    end_region = start_region;
-  } else {
+  return OkStatus();
+}
+
+// A dolly zoom's start may be so near the subject that even the capture plane needs more than
+// max_dolly_zoom to keep its size: then it starts farther back (still between z = 0 and the front
+// surface, inside the valid region along the axis), so the zoom has room to run.
+Status MoveDollyZoomStartBack(MovePlan* plan) {
+  const SceneGeometry& scene = plan->scene;
+  const PlanContext& context = plan->context;
+  Candidate& start = plan->starts.front();
+  const Eigen::Vector3d start_in_rig = scene.RigFromWorld(start.framing.centre_in_world);
+  const double subject_z = scene.RigFromWorld(plan->first->CentreInWorld()).z();
+  const double nearest_z =
+      subject_z - (subject_z - std::min(0.0, start_in_rig.z())) / (0.9 * plan->options.max_dolly_zoom);
+  if (start_in_rig.z() > nearest_z && nearest_z > 0) {
+    start.framing =
+        plan->start_rule(scene.WorldFromRig(Eigen::Vector3d(start_in_rig.x(), start_in_rig.y(), nearest_z)));
     PX_ASSIGN_OR_RETURN(
-        end_region, find_region(end_rule, dolly_zoom ? "" : end_key, end_front || both_ways, !end_front || both_ways));
+        start.hole_score,
+        context.search->HoleScore(scene.OutputWithFocal(start.framing.focal_px), start.framing.cam_from_world));
+    if (!(start.hole_score < context.search->valid_hole_score())) {
+      return FailedPreconditionError(plan->name + ": the start " +
+                                     Mm(scene.RigFromWorld(start.framing.centre_in_world)) +
+                                     " far enough back for the zoom to keep the subject's size is not valid");
+    }
   }
-  report->valid_cells_end = end_region.valid_cells;
-  const std::vector<Candidate> ends = Candidates(end_region, end_front, both_ways);
-  if (ends.empty()) {
-    return FailedPreconditionError(name + ": no valid viewpoint frames the end (" + end_what + ") among " +
-                                   std::to_string(end_region.cells) + " positions");
-  }
+  return OkStatus();
+}
 
-  // 3. Candidate pairs, longest first. Framing (where each end looks, its focal, the subjects kept
-  //    wholly in frame) costs no coverage probe, so it is checked first: the `num_longest` longest
-  //    pairs that keep their subjects in frame have their parallax measured.
-  struct Pair {
-    size_t a = 0, b = 0;
-    double length = 0, parallax = 0, focal_scale = 1;
-    CameraPath path;
-    std::optional<Framing> start_pulled, end_pulled;  // ends pulled back to hold at the verify size
-    std::optional<double> ends_score;                 // the ends' largest H(V) at the verify size
+// A dolly zoom's far end keeps the subject at the start's size: focal grows with the distance, up
+// to max_dolly_zoom (beyond it the rule declines to frame, which ends the search).
+FramingRule DollyZoomEndRule(const MovePlan& plan) {
+  const SceneGeometry& scene = plan.scene;
+  const Framing start = plan.starts.front().framing;
+  const Subject subject = *plan.first;
+  const double start_height = ProjectedHeightPx(subject, scene.OutputWithFocal(1.0), start.cam_from_world);
+  const double target_height = start_height * start.focal_px;
+  const double limit = plan.options.max_dolly_zoom * start.focal_px;
+  const FramingRule aim =
+      plan.along_axis ? LookAlongAxis(scene, 1.0) : Aim(scene, plan.first->LowerHalfCentreInWorld(), 1.0);
+  return [&scene, aim, subject, target_height, limit](const Eigen::Vector3d& centre) {
+    Framing framing = aim(centre);
+    const double unit = ProjectedHeightPx(subject, scene.OutputWithFocal(1.0), framing.cam_from_world);
+    framing.focal_px = unit > 0 ? target_height / unit : 0.0;
+    if (framing.focal_px > limit) framing.focal_px = 0;  // past the zoom range
+    return framing;
   };
-  std::vector<Pair> pairs;
+}
+
+// The end's valid region and candidate endpoints (the establishing dolly's ends share the start's
+// region); fails when no viewpoint frames the end.
+Status FindEnds(MovePlan* plan) {
+  plan->shared = plan->choice.move == Move::kEstablishingDolly;
+  if (plan->shared) {
+    plan->end_region = plan->start_region;
+  } else {
+    PX_ASSIGN_OR_RETURN(plan->end_region,
+                        FindRegion(*plan,
+                                   plan->end_rule,
+                                   plan->dolly_zoom ? "" : plan->end_key,
+                                   plan->end_front || plan->both_ways,
+                                   !plan->end_front || plan->both_ways));
+  }
+  plan->report->valid_cells_end = plan->end_region.valid_cells;
+  plan->ends = Candidates(plan->end_region, plan->end_front, plan->both_ways);
+  if (plan->ends.empty()) {
+    return FailedPreconditionError(plan->name + ": no valid viewpoint frames the end (" + plan->end_what + ") among " +
+                                   std::to_string(plan->end_region.cells) + " positions");
+  }
+  return OkStatus();
+}
+
+// Every start x end pair at least 1 mm long, longest first (the longest move the ends allow).
+Status ListCandidatePairs(MovePlan* plan) {
   const double min_length = 1e-3;
-  for (size_t a = 0; a < starts.size(); ++a) {
-    for (size_t b = shared ? a + 1 : 0; b < ends.size(); ++b) {
-      const double length = (starts[a].framing.centre_in_world - ends[b].framing.centre_in_world).norm();
-      if (length >= min_length) pairs.push_back({a, b, length, 0, 1, {}});
+  for (size_t a = 0; a < plan->starts.size(); ++a) {
+    for (size_t b = plan->shared ? a + 1 : 0; b < plan->ends.size(); ++b) {
+      const double length = (plan->starts[a].framing.centre_in_world - plan->ends[b].framing.centre_in_world).norm();
+      if (length >= min_length) plan->pairs.push_back({a, b, length, 0, 1, {}});
     }
   }
-  report->candidate_paths = static_cast<int>(pairs.size());
-  if (pairs.empty()) return FailedPreconditionError(name + ": every candidate path is shorter than 1 mm");
-  std::stable_sort(pairs.begin(), pairs.end(), [](const Pair& x, const Pair& y) { return x.length > y.length; });
+  plan->report->candidate_paths = static_cast<int>(plan->pairs.size());
+  if (plan->pairs.empty()) return FailedPreconditionError(plan->name + ": every candidate path is shorter than 1 mm");
+  std::stable_sort(
+      plan->pairs.begin(), plan->pairs.end(), [](const Pair& x, const Pair& y) { return x.length > y.length; });
+  return OkStatus();
+}
 
-  // The path for a pair, its subjects kept in frame (or why they cannot be).
-  const auto frame_path = [&](Pair* pair) -> Status {
-    Framing start = pair->start_pulled.value_or(starts[pair->a].framing);
-    Framing end = pair->end_pulled.value_or(ends[pair->b].framing);
-    CameraPath path = BlankPath(PathKind::kNovelView, name, scene.output, options.fps, options.duration_s);
-    if (choice.move == Move::kDolly) {
-      // The second subject ends at the size the first started at.
-      const double h1 = ProjectedHeightPx(*first, scene.OutputWithFocal(start.focal_px), start.cam_from_world);
-      const double h2_unit = ProjectedHeightPx(*second, scene.OutputWithFocal(1.0), end.cam_from_world);
-      if (h1 > 0 && h2_unit > 0) end.focal_px = h1 / h2_unit;
+// The path for a pair, its subjects kept in frame (or why they cannot be).
+Status FramePath(const MovePlan& plan, Pair* pair) {
+  const SceneGeometry& scene = plan.scene;
+  const DirectOptions& options = plan.options;
+  Framing start = pair->start_pulled.value_or(plan.starts[pair->a].framing);
+  Framing end = pair->end_pulled.value_or(plan.ends[pair->b].framing);
+  CameraPath path = BlankPath(PathKind::kNovelView, plan.name, scene.output, options.fps, options.duration_s);
+  if (plan.choice.move == Move::kDolly) {
+    // The second subject ends at the size the first started at.
+    const double h1 = ProjectedHeightPx(*plan.first, scene.OutputWithFocal(start.focal_px), start.cam_from_world);
+    const double h2_unit = ProjectedHeightPx(*plan.second, scene.OutputWithFocal(1.0), end.cam_from_world);
+    if (h1 > 0 && h2_unit > 0) end.focal_px = h1 / h2_unit;
+  }
+  if (plan.dolly_zoom) {
+    for (int k = 0; k < kDollyZoomKeys; ++k) {
+      const double t = static_cast<double>(k) / (kDollyZoomKeys - 1);
+      const Eigen::Vector3d centre = (1 - t) * start.centre_in_world + t * end.centre_in_world;
+      Framing framing = plan.end_rule(centre);
+      if (k == 0) framing = start;
+      if (!(framing.focal_px > 0)) framing.focal_px = end.focal_px;
+      path.keyframes.push_back(Key(t, framing));
     }
-    if (dolly_zoom) {
-      for (int k = 0; k < kDollyZoomKeys; ++k) {
-        const double t = static_cast<double>(k) / (kDollyZoomKeys - 1);
-        const Eigen::Vector3d centre = (1 - t) * start.centre_in_world + t * end.centre_in_world;
-        Framing framing = end_rule(centre);
-        if (k == 0) framing = start;
-        if (!(framing.focal_px > 0)) framing.focal_px = end.focal_px;
-        path.keyframes.push_back(Key(t, framing));
-      }
-    } else {
-      path.keyframes = {Key(0, start), Key(1, end)};
-    }
-    if (reverse) {
-      std::reverse(path.keyframes.begin(), path.keyframes.end());
-      for (CameraKeyframe& key : path.keyframes) key.t = 1.0 - key.t;
-      path.keyframes.front().t = 0.0;
-      path.keyframes.back().t = 1.0;
-    }
-    PX_RETURN_IF_ERROR(KeepSubjectsInFrame(framed, margin_px, dolly_zoom, &path, &pair->focal_scale));
-    pair->path = std::move(path);
-    return OkStatus();
-  };
-  std::string last_failure = "no candidate";
-  std::vector<Pair> measured;
-  const size_t keep = static_cast<size_t>(options.search.num_longest);
-  for (Pair& pair : pairs) {
-    if (measured.size() >= keep) break;
-    Status framed_ok = frame_path(&pair);
+  } else {
+    path.keyframes = {Key(0, start), Key(1, end)};
+  }
+  if (plan.reverse) {
+    std::reverse(path.keyframes.begin(), path.keyframes.end());
+    for (CameraKeyframe& key : path.keyframes) key.t = 1.0 - key.t;
+    path.keyframes.front().t = 0.0;
+    path.keyframes.back().t = 1.0;
+  }
+  PX_RETURN_IF_ERROR(KeepSubjectsInFrame(plan.framed, plan.margin_px, plan.dolly_zoom, &path, &pair->focal_scale));
+  pair->path = std::move(path);
+  return OkStatus();
+}
+
+// The `num_longest` longest pairs that keep their subjects in frame: framing costs no coverage
+// probe, so it is checked before the parallax is measured.
+void KeepFramedPairs(MovePlan* plan) {
+  const size_t keep = static_cast<size_t>(plan->options.search.num_longest);
+  for (Pair& pair : plan->pairs) {
+    if (plan->measured.size() >= keep) break;
+    Status framed_ok = FramePath(*plan, &pair);
     if (!framed_ok.ok()) {
-      last_failure = framed_ok.message();
+      plan->last_failure = framed_ok.message();
       continue;
     }
-    measured.push_back(std::move(pair));
+    plan->measured.push_back(std::move(pair));
   }
-  report->paths_measured = static_cast<int>(measured.size());
-  // Their parallax, from each end's view of the scene (made once per end: the pairs share ends),
-  // on every core.
+  plan->report->paths_measured = static_cast<int>(plan->measured.size());
+}
+
+// The kept pairs' parallax, from each end's view of the scene (made once per end: the pairs share
+// ends), on every core; then most parallax first.
+void MeasureParallax(MovePlan* plan) {
+  const SceneGeometry& scene = plan->scene;
+  const std::vector<Candidate>& starts = plan->starts;
+  const std::vector<Candidate>& ends = plan->ends;
+  std::vector<Pair>& measured = plan->measured;
   std::vector<const Framing*> ends_seen;
   for (const Pair& pair : measured) {
     for (const Framing* end : std::array<const Framing*, 2>{&starts[pair.a].framing, &ends[pair.b].framing}) {
@@ -547,7 +636,7 @@ StatusOr<CameraPath> PlanMove(const MoveChoice& choice, const PlanContext& conte
   std::vector<cv::Mat> seen(ends_seen.size());
   cv::parallel_for_(cv::Range(0, static_cast<int>(ends_seen.size())), [&](const cv::Range& range) {
     for (int i = range.start; i < range.end; ++i) {
-      seen[i] = context.samples->DepthSeenFrom(small_camera(*ends_seen[i]), ends_seen[i]->cam_from_world);
+      seen[i] = plan->context.samples->DepthSeenFrom(small_camera(*ends_seen[i]), ends_seen[i]->cam_from_world);
     }
   });
   const auto seen_from = [&](const Framing& end) -> const cv::Mat& {
@@ -563,192 +652,258 @@ StatusOr<CameraPath> PlanMove(const MoveChoice& choice, const PlanContext& conte
   });
   std::stable_sort(
       measured.begin(), measured.end(), [](const Pair& x, const Pair& y) { return x.parallax > y.parallax; });
+}
 
-  // The search pushes every end to the farthest z its reduced-size probe calls valid, so the ends
-  // sit on the threshold as that probe sees it, and the frames the path uses are framed once more
-  // (the dolly's size ratio, subjects kept in frame by a wider zoom): at the verify size an end can
-  // read just past it (H 2.1 on the 640x480 one-face dolly-in). Such an end is pulled back along
-  // the path towards the other, re-framed by its rule, until the path's end frame holds at the
-  // verify size (at most kMaxPullBack of the path; the dolly zoom keeps its ends).
-  const auto hold_ends = [&](Pair* pair) -> StatusOr<bool> {
-    if (dolly_zoom) return true;
-    const Framing& a = starts[pair->a].framing;
-    const Framing& b = ends[pair->b].framing;
-    double pull[2] = {0, 0};  // start, end: fraction of the path pulled back
-    for (int round = 0; round < kPullBackRounds; ++round) {
-      bool held = true;
-      double ends_score = 0;
-      for (int side = 0; side < 2; ++side) {
-        const double t = side == 0 ? 0.0 : 1.0;
-        PX_ASSIGN_OR_RETURN(double score, context.verify->HoleScore(pair->path.CameraAt(t), pair->path.PoseAt(t)));
-        ends_score = std::max(ends_score, score);
-        if (score < context.verify->valid_hole_score()) continue;
-        held = false;
-        pull[side] = pull[side] == 0 ? kFirstPullBack : 2 * pull[side];
-        if (pull[side] > kMaxPullBack) return false;
-      }
-      if (held) {
-        pair->ends_score = ends_score;
-        return true;
-      }
-      if (pull[0] > 0)
-        pair->start_pulled = start_rule(a.centre_in_world + pull[0] * (b.centre_in_world - a.centre_in_world));
-      if (pull[1] > 0)
-        pair->end_pulled = end_rule(b.centre_in_world + pull[1] * (a.centre_in_world - b.centre_in_world));
-      for (const std::optional<Framing>& pulled : {pair->start_pulled, pair->end_pulled}) {
-        if (pulled && !(pulled->focal_px > 0)) return false;  // the rule cannot frame from there
-      }
-      if (!frame_path(pair).ok()) return false;
+// Whether the pair's end frames hold at the verify size, pulling an end back where it does not.
+// The search pushes every end to the farthest z its reduced-size probe calls valid, so the ends
+// sit on the threshold as that probe sees it, and the frames the path uses are framed once more
+// (the dolly's size ratio, subjects kept in frame by a wider zoom): at the verify size an end can
+// read just past it (H 2.1 on the 640x480 one-face dolly-in). Such an end is pulled back along
+// the path towards the other, re-framed by its rule, until the path's end frame holds at the
+// verify size (at most kMaxPullBack of the path; the dolly zoom keeps its ends).
+StatusOr<bool> HoldEnds(const MovePlan& plan, Pair* pair) {
+  if (plan.dolly_zoom) return true;
+  CoverageProbe* verify = plan.context.verify;
+  const Framing& a = plan.starts[pair->a].framing;
+  const Framing& b = plan.ends[pair->b].framing;
+  double pull[2] = {0, 0};  // start, end: fraction of the path pulled back
+  for (int round = 0; round < kPullBackRounds; ++round) {
+    bool held = true;
+    double ends_score = 0;
+    for (int side = 0; side < 2; ++side) {
+      const double t = side == 0 ? 0.0 : 1.0;
+      PX_ASSIGN_OR_RETURN(double score, verify->HoleScore(pair->path.CameraAt(t), pair->path.PoseAt(t)));
+      ends_score = std::max(ends_score, score);
+      if (score < verify->valid_hole_score()) continue;
+      held = false;
+      pull[side] = pull[side] == 0 ? kFirstPullBack : 2 * pull[side];
+      if (pull[side] > kMaxPullBack) return false;
     }
+    if (held) {
+      pair->ends_score = ends_score;
+      return true;
+    }
+    if (pull[0] > 0)
+      pair->start_pulled = plan.start_rule(a.centre_in_world + pull[0] * (b.centre_in_world - a.centre_in_world));
+    if (pull[1] > 0)
+      pair->end_pulled = plan.end_rule(b.centre_in_world + pull[1] * (a.centre_in_world - b.centre_in_world));
+    for (const std::optional<Framing>& pulled : {pair->start_pulled, pair->end_pulled}) {
+      if (pulled && !(pulled->focal_px > 0)) return false;  // the rule cannot frame from there
+    }
+    if (!FramePath(plan, pair).ok()) return false;
+  }
+  return false;
+}
+
+// The parallax and length of a path whose ends were pulled back, as it now is, and a note of how
+// far they moved.
+void MeasurePulledPath(const MovePlan& plan, Pair* pair) {
+  CameraPath& path = pair->path;
+  pair->parallax = ParallaxScore(*plan.context.samples,
+                                 path.CameraAt(0).Scaled(kParallaxScale),
+                                 path.PoseAt(0),
+                                 path.CameraAt(1).Scaled(kParallaxScale),
+                                 path.PoseAt(1));
+  pair->length = (path.keyframes.front().centre_in_world - path.keyframes.back().centre_in_world).norm();
+  const Eigen::Vector3d& a = plan.starts[pair->a].framing.centre_in_world;
+  const Eigen::Vector3d& b = plan.ends[pair->b].framing.centre_in_world;
+  const auto share = [&](const std::optional<Framing>& pulled, const Eigen::Vector3d& from) {
+    return pulled ? 100 * (pulled->centre_in_world - from).norm() / std::max(1e-9, (a - b).norm()) : 0.0;
+  };
+  char text[160];
+  std::snprintf(text,
+                sizeof(text),
+                "ends pulled back to hold at the verify size: start %.0f%%, end %.0f%% of the path",
+                share(pair->start_pulled, a),
+                share(pair->end_pulled, b));
+  path.notes.push_back(text);
+}
+
+// Whether every frame of the pair's path is valid at the verify size, its ends pulled back where
+// they must be; its largest H(V) goes to `max_hole_score`, and why it fails to `last_failure`.
+StatusOr<bool> VerifyPath(MovePlan* plan, Pair* pair) {
+  ++plan->report->paths_verified;
+  PX_ASSIGN_OR_RETURN(bool ends_hold, HoldEnds(*plan, pair));
+  if (!ends_hold) {
+    plan->last_failure = "an end does not hold at the verify size, pulled back by up to " +
+                         std::to_string(static_cast<int>(100 * kMaxPullBack)) + "% of the path";
     return false;
-  };
+  }
+  if (pair->start_pulled || pair->end_pulled) MeasurePulledPath(*plan, pair);
+  const PlanContext& context = plan->context;
+  PX_ASSIGN_OR_RETURN(
+      double worst,
+      WorstHoleScore(pair->path, plan->options.search.verify_frames, context.verify, pair->ends_score, context.search));
+  if (worst >= context.verify->valid_hole_score()) {
+    char text[160];
+    std::snprintf(text, sizeof(text), "a frame of the path has H(V) %.2f at the verify size", worst);
+    plan->last_failure = text;
+    return false;
+  }
+  pair->max_hole_score = worst;
+  return true;
+}
 
-  // The end framing a subject close up carries the full aperture of a depth-of-field change; a
-  // focus pull holds the aperture at both ends, a depth-of-field change opens from a pinhole
-  // (already verified) to the full aperture at the subject's end, the only end it constrains.
-  const bool subject_at_start = choice.move == Move::kDollyOut || choice.move == Move::kDollyZoomIn;
-  const auto aperture_keys = [&](Effect effect, size_t last) {
-    return effect == Effect::kFocusPull ? std::vector<size_t>{0, last}
-                                        : std::vector<size_t>{subject_at_start ? 0 : last};
-  };
-  // The chosen path with its effect (`aperture`: a depth-of-field effect's, the largest valid).
-  const auto complete = [&](Pair& pair, double worst, Effect effect, double aperture) -> StatusOr<CameraPath> {
-    CameraPath& path = pair.path;
-    report->parallax = pair.parallax;
-    report->length_m = pair.length;
-    report->max_hole_score = worst;
-    report->focal_scale = pair.focal_scale;
-    report->aperture_m = aperture;
-    if (effect == Effect::kDofChange || effect == Effect::kFocusPull) {
-      for (size_t k = 0; k < path.keyframes.size(); ++k) {
-        CameraKeyframe& key = path.keyframes[k];
-        const double t = key.t;
-        if (effect == Effect::kFocusPull) {
-          key.aperture_m = aperture;
-          key.focus_depth_m = SubjectDepthIn(t < 0.5 ? *first : *second, key.CamFromWorld());
-        } else {
-          key.aperture_m = aperture * (subject_at_start ? 1.0 - t : t);
-          key.focus_depth_m = SubjectDepthIn(second != nullptr ? *second : *first, key.CamFromWorld());
-        }
-      }
+// The end framing a subject close up carries the full aperture of a depth-of-field change.
+bool SubjectAtStart(Move move) { return move == Move::kDollyOut || move == Move::kDollyZoomIn; }
+
+// The keys whose aperture must hold: a focus pull holds the aperture at both ends, a
+// depth-of-field change opens from a pinhole (already verified) to the full aperture at the
+// subject's end, the only end it constrains.
+std::vector<size_t> ApertureKeys(Move move, Effect effect, size_t last) {
+  return effect == Effect::kFocusPull ? std::vector<size_t>{0, last}
+                                      : std::vector<size_t>{SubjectAtStart(move) ? 0 : last};
+}
+
+// The aperture of a depth-of-field effect, the largest the path's ends hold (0 for any other
+// effect). False when the effect needs one its ends cannot hold (an end on the valid region's
+// frontier), which sends the search on to the next path; why goes to `last_failure`.
+StatusOr<bool> FindEffectAperture(MovePlan* plan, const Pair& pair, double* aperture) {
+  const Effect effect = plan->choice.effect;
+  *aperture = 0;
+  if (effect != Effect::kDofChange && effect != Effect::kFocusPull) return true;
+  PX_ASSIGN_OR_RETURN(
+      *aperture,
+      PathAperture(pair.path, ApertureKeys(plan->choice.move, effect, pair.path.keyframes.size() - 1), plan->context));
+  if (*aperture >= 1e-4) return true;
+  plan->last_failure = std::string(EffectName(effect)) + ": no aperture of 0.1 mm or more keeps " +
+                       (effect == Effect::kFocusPull ? "both ends" : "the subject's end") + " valid";
+  return false;
+}
+
+// The effect on the path's keys: a depth-of-field effect's aperture and focus (`aperture`: the
+// largest valid), or a colour-effect layer on the first subject growing along the path.
+void ApplyEffect(const MovePlan& plan, Effect effect, double aperture, CameraPath* path) {
+  const Subject* first = plan.first;
+  const Subject* second = plan.second;
+  if (effect == Effect::kDofChange || effect == Effect::kFocusPull) {
+    const bool subject_at_start = SubjectAtStart(plan.choice.move);
+    for (size_t k = 0; k < path->keyframes.size(); ++k) {
+      CameraKeyframe& key = path->keyframes[k];
+      const double t = key.t;
       if (effect == Effect::kFocusPull) {
-        path.keyframes.front().focus_depth_m = SubjectDepthIn(*first, path.keyframes.front().CamFromWorld());
-        path.keyframes.back().focus_depth_m = SubjectDepthIn(*second, path.keyframes.back().CamFromWorld());
+        key.aperture_m = aperture;
+        key.focus_depth_m = SubjectDepthIn(t < 0.5 ? *first : *second, key.CamFromWorld());
+      } else {
+        key.aperture_m = aperture * (subject_at_start ? 1.0 - t : t);
+        key.focus_depth_m = SubjectDepthIn(second != nullptr ? *second : *first, key.CamFromWorld());
       }
-    } else if (effect != Effect::kNone && first != nullptr) {
-      for (CameraKeyframe& key : path.keyframes) {
-        key.effects = {SubjectLayer(*first, effect, 1.0 + key.t * (EffectTarget(effect) - 1.0))};
-      }
     }
-    path.effect = std::string(EffectName(effect));
-    if (report->focal_scale < 0.999) {
-      char text[160];
-      std::snprintf(text,
-                    sizeof(text),
-                    "framing narrowed the zoom to %.0f%% to keep every subject wholly in frame",
-                    100 * report->focal_scale);
-      path.notes.push_back(text);
+    if (effect == Effect::kFocusPull) {
+      path->keyframes.front().focus_depth_m = SubjectDepthIn(*first, path->keyframes.front().CamFromWorld());
+      path->keyframes.back().focus_depth_m = SubjectDepthIn(*second, path->keyframes.back().CamFromWorld());
     }
-    for (const Subject* s : {first, second}) {
-      if (s != nullptr) path.subjects.push_back(*s);
+  } else if (effect != Effect::kNone && first != nullptr) {
+    for (CameraKeyframe& key : path->keyframes) {
+      key.effects = {SubjectLayer(*first, effect, 1.0 + key.t * (EffectTarget(effect) - 1.0))};
     }
-    const char* look = along_axis ? "looking along the axis at" : "aimed at";
-    char text[512];
+  }
+}
+
+// Why the path was chosen, in words: where it goes, the valid cells, its parallax and H(V).
+std::string DescribePath(const MovePlan& plan, const Pair& pair) {
+  const CameraPath& path = pair.path;
+  const MovePlanReport& report = *plan.report;
+  const char* look = plan.along_axis ? "looking along the axis at" : "aimed at";
+  char text[512];
+  std::snprintf(text,
+                sizeof(text),
+                "%s from %s %s %s to %s %s %s (%.0f mm); %d/%d valid cells; parallax %.2f%% "
+                "(best of %d longest of %d paths); H(V) <= %.2f over %d frames",
+                plan.name.c_str(),
+                Mm(plan.scene.RigFromWorld(path.keyframes.front().centre_in_world)).c_str(),
+                look,
+                (plan.reverse ? plan.end_what : plan.start_what).c_str(),
+                Mm(plan.scene.RigFromWorld(path.keyframes.back().centre_in_world)).c_str(),
+                look,
+                (plan.reverse ? plan.start_what : plan.end_what).c_str(),
+                1000 * pair.length,
+                report.valid_cells_start,
+                plan.start_region.cells,
+                100 * pair.parallax,
+                report.paths_measured,
+                report.candidate_paths,
+                pair.max_hole_score,
+                plan.options.search.verify_frames);
+  return text;
+}
+
+// The chosen path with its effect (`aperture`: a depth-of-field effect's, the largest valid), its
+// figures recorded in the report and its notes and reason written.
+StatusOr<CameraPath> CompletePath(MovePlan* plan, Pair* pair, Effect effect, double aperture) {
+  MovePlanReport* report = plan->report;
+  CameraPath& path = pair->path;
+  report->parallax = pair->parallax;
+  report->length_m = pair->length;
+  report->max_hole_score = pair->max_hole_score;
+  report->focal_scale = pair->focal_scale;
+  report->aperture_m = aperture;
+  ApplyEffect(*plan, effect, aperture, &path);
+  path.effect = std::string(EffectName(effect));
+  if (report->focal_scale < 0.999) {
+    char text[160];
     std::snprintf(text,
                   sizeof(text),
-                  "%s from %s %s %s to %s %s %s (%.0f mm); %d/%d valid cells; parallax %.2f%% "
-                  "(best of %d longest of %d paths); H(V) <= %.2f over %d frames",
-                  name.c_str(),
-                  Mm(scene.RigFromWorld(path.keyframes.front().centre_in_world)).c_str(),
-                  look,
-                  (reverse ? end_what : start_what).c_str(),
-                  Mm(scene.RigFromWorld(path.keyframes.back().centre_in_world)).c_str(),
-                  look,
-                  (reverse ? start_what : end_what).c_str(),
-                  1000 * pair.length,
-                  report->valid_cells_start,
-                  start_region.cells,
-                  100 * pair.parallax,
-                  report->paths_measured,
-                  report->candidate_paths,
-                  worst,
-                  options.search.verify_frames);
-    path.reason = text;
-    PX_RETURN_IF_ERROR(path.Validate());
-    return path;
-  };
-  // The first path that held whose ends hold no aperture for the effect asked for.
-  struct HeldPath {
-    Pair* pair = nullptr;
-    double worst = 0;
-  };
-  std::optional<HeldPath> without_effect;
+                  "framing narrowed the zoom to %.0f%% to keep every subject wholly in frame",
+                  100 * report->focal_scale);
+    path.notes.push_back(text);
+  }
+  for (const Subject* s : {plan->first, plan->second}) {
+    if (s != nullptr) path.subjects.push_back(*s);
+  }
+  path.reason = DescribePath(*plan, *pair);
+  PX_RETURN_IF_ERROR(path.Validate());
+  return path;
+}
+
+}  // namespace
+
+StatusOr<CameraPath> PlanMove(const MoveChoice& choice, const PlanContext& context, MovePlanReport* report) {
+  MovePlanReport ignored;
+  if (report == nullptr) report = &ignored;
+  *report = MovePlanReport{};
+  MovePlan plan(choice, context, report);
+  PX_RETURN_IF_ERROR(ChooseSubjects(&plan));
+  ChooseEndRules(&plan);
+  FitRulesToSubjects(&plan);
+
+  // 1-2. Valid regions (shared with earlier moves that framed the same) and candidate endpoints.
+  PX_RETURN_IF_ERROR(FindStarts(&plan));
+  if (plan.dolly_zoom) {
+    PX_RETURN_IF_ERROR(MoveDollyZoomStartBack(&plan));
+    plan.end_rule = DollyZoomEndRule(plan);
+  }
+  PX_RETURN_IF_ERROR(FindEnds(&plan));
+
+  // 3. Candidate pairs, longest first. Framing (where each end looks, its focal, the subjects kept
+  //    wholly in frame) costs no coverage probe, so it is checked first: the `num_longest` longest
+  //    pairs that keep their subjects in frame have their parallax measured.
+  PX_RETURN_IF_ERROR(ListCandidatePairs(&plan));
+  KeepFramedPairs(&plan);
+  MeasureParallax(&plan);
 
   // 4. The first (most parallax) path whose frames are all valid.
-  for (Pair& pair : measured) {
-    ++report->paths_verified;
-    PX_ASSIGN_OR_RETURN(bool ends_hold, hold_ends(&pair));
-    if (!ends_hold) {
-      last_failure = "an end does not hold at the verify size, pulled back by up to " +
-                     std::to_string(static_cast<int>(100 * kMaxPullBack)) + "% of the path";
-      continue;
-    }
-    CameraPath& path = pair.path;
-    if (pair.start_pulled || pair.end_pulled) {
-      // The parallax and length of the path as it now is.
-      pair.parallax = ParallaxScore(*context.samples,
-                                    path.CameraAt(0).Scaled(kParallaxScale),
-                                    path.PoseAt(0),
-                                    path.CameraAt(1).Scaled(kParallaxScale),
-                                    path.PoseAt(1));
-      pair.length = (path.keyframes.front().centre_in_world - path.keyframes.back().centre_in_world).norm();
-      const Eigen::Vector3d& a = starts[pair.a].framing.centre_in_world;
-      const Eigen::Vector3d& b = ends[pair.b].framing.centre_in_world;
-      const auto share = [&](const std::optional<Framing>& pulled, const Eigen::Vector3d& from) {
-        return pulled ? 100 * (pulled->centre_in_world - from).norm() / std::max(1e-9, (a - b).norm()) : 0.0;
-      };
-      char text[160];
-      std::snprintf(text,
-                    sizeof(text),
-                    "ends pulled back to hold at the verify size: start %.0f%%, end %.0f%% of the path",
-                    share(pair.start_pulled, a),
-                    share(pair.end_pulled, b));
-      path.notes.push_back(text);
-    }
-    PX_ASSIGN_OR_RETURN(
-        double worst,
-        WorstHoleScore(path, options.search.verify_frames, context.verify, pair.ends_score, context.search));
-    if (worst >= context.verify->valid_hole_score()) {
-      char text[160];
-      std::snprintf(text, sizeof(text), "a frame of the path has H(V) %.2f at the verify size", worst);
-      last_failure = text;
-      continue;
-    }
-    // 5. The image effect. An aperture the path's ends cannot hold (an end on the valid region's
-    //    frontier) sends the search on to the next path; the first path that held is kept, without
-    //    the effect, in case none can.
+  // 5. The image effect. An aperture the path's ends cannot hold (an end on the valid region's
+  //    frontier) sends the search on to the next path; the first path that held is kept, without
+  //    the effect, in case none can.
+  Pair* without_effect = nullptr;
+  for (Pair& pair : plan.measured) {
+    PX_ASSIGN_OR_RETURN(bool holds, VerifyPath(&plan, &pair));
+    if (!holds) continue;
     double aperture = 0;
-    if (choice.effect == Effect::kDofChange || choice.effect == Effect::kFocusPull) {
-      PX_ASSIGN_OR_RETURN(aperture,
-                          PathAperture(path, aperture_keys(choice.effect, path.keyframes.size() - 1), context));
-      if (!(aperture >= 1e-4)) {
-        if (!without_effect) without_effect = HeldPath{&pair, worst};
-        last_failure = std::string(EffectName(choice.effect)) + ": no aperture of 0.1 mm or more keeps " +
-                       (choice.effect == Effect::kFocusPull ? "both ends" : "the subject's end") + " valid";
-        continue;
-      }
-    }
-    return complete(pair, worst, choice.effect, aperture);
+    PX_ASSIGN_OR_RETURN(bool effect_holds, FindEffectAperture(&plan, pair, &aperture));
+    if (effect_holds) return CompletePath(&plan, &pair, choice.effect, aperture);
+    if (without_effect == nullptr) without_effect = &pair;
   }
-  if (without_effect) {
-    without_effect->pair->path.notes.push_back(
+  if (without_effect != nullptr) {
+    without_effect->path.notes.push_back(
         std::string(EffectName(choice.effect)) + " dropped: no aperture of 0.1 mm or more keeps " +
         (choice.effect == Effect::kFocusPull ? "both ends" : "the subject's end") + " of any path that holds valid");
-    return complete(*without_effect->pair, without_effect->worst, Effect::kNone, 0.0);
+    return CompletePath(&plan, without_effect, Effect::kNone, 0.0);
   }
-  return FailedPreconditionError(name + ": none of the " + std::to_string(pairs.size()) + " candidate paths holds (" +
-                                 std::to_string(measured.size()) +
-                                 " kept their subjects in frame; last: " + last_failure + ")");
+  return FailedPreconditionError(plan.name + ": none of the " + std::to_string(plan.pairs.size()) +
+                                 " candidate paths holds (" + std::to_string(plan.measured.size()) +
+                                 " kept their subjects in frame; last: " + plan.last_failure + ")");
 }
 
 }  // namespace px::direct
