@@ -200,6 +200,7 @@ nlohmann::json ClipJobReportToJson(const ClipJobReport& report) {
       {"frame_coverage", FrameCoverageToJson(report.pipeline.frame_coverage)},
       {"render_backend", {{"name", report.pipeline.render_backend}, {"reason", report.pipeline.render_backend_reason}}},
       {"photometric", report.pipeline.photometric},
+      {"depth", {{"light_field", report.pipeline.depth.light_field}, {"options", report.pipeline.depth.mode}}},
       {"warnings", report.pipeline.warnings},
       {"timings_ms", timings},
       {"total_ms", report.total_ms},

@@ -96,6 +96,14 @@ std::vector<CLI::Option*> AddClipFlags(CLI::App& command, ClipFlags& flags) {
           ->check(CLI::IsMember({"auto", "cpu", "egl", "osmesa"}))
           ->capture_default_str());
   options.push_back(
+      command
+          .add_option("--depth-mode",
+                      flags.depth_mode,
+                      "Depth options: auto (the light-field set for a dense grid of views a few pixels apart, "
+                      "e.g. a plenoptic camera's; the standard set otherwise), standard or light-field")
+          ->check(CLI::IsMember({"auto", "standard", "light-field"}))
+          ->capture_default_str());
+  options.push_back(
       command.add_option("--threads", flags.threads, "Worker threads, 0 = all cores")->capture_default_str());
   options.push_back(
       command
@@ -148,6 +156,9 @@ StatusOr<device::ClipJobOptions> ClipJobOptionsFromFlags(const ClipFlags& flags,
   options.clip.loop_count = flags.loop_count;
   options.clip.webp_quality = flags.webp_quality;
   PX_ASSIGN_OR_RETURN(options.pipeline.render.quality, ParseRenderQuality(flags.quality));
+  options.pipeline.depth.mode = flags.depth_mode == "standard"      ? DepthMode::kStandard
+                                : flags.depth_mode == "light-field" ? DepthMode::kLightField
+                                                                    : DepthMode::kAuto;
   PX_ASSIGN_OR_RETURN(options.pipeline.render_backend.backend, render::gl::ParseRenderBackend(flags.gl));
   PX_RETURN_IF_ERROR(options.Validate());
   return options;

@@ -35,6 +35,7 @@ struct ClipFlags {
   int webp_quality = 80;
   std::string quality = "preview";
   std::string gl = "auto";
+  std::string depth_mode = "auto";  // auto, standard, light-field (pipeline/depth/depth_mode.h)
   int threads = 0;
   int max_photo_side_px = PipelineOptions{}.image_set_max_side_px;
 };

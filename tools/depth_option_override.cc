@@ -16,6 +16,7 @@ Status ApplyDepthOptionOverride(const std::string& text, DepthOptions* options) 
   MatchingOptions& m = options->matching;
   const std::pair<const char*, double*> doubles[] = {
       {"working_scale", &options->working_scale},
+      {"light_field_max_disparity_px", &options->light_field_max_disparity_px},
       {"matching.plane_step_px", &m.plane_step_px},
       {"matching.cost_filter_eps", &m.cost_filter_eps},
       {"matching.min_texture_stddev", &m.min_texture_stddev},
@@ -48,7 +49,8 @@ Status ApplyDepthOptionOverride(const std::string& text, DepthOptions* options) 
       {"segments.slanted_ring_px", &options->segments.slanted_ring_px},
       {"segments.band_radius_px", &options->segments.band_radius_px},
       {"segments.edge_label_radius_px", &options->segments.edge_label_radius_px},
-      {"min_working_width_px", &options->min_working_width_px}};
+      {"min_working_width_px", &options->min_working_width_px},
+      {"light_field_min_views", &options->light_field_min_views}};
   const std::pair<const char*, bool*> bools[] = {
       {"fill_unconfirmed", &options->fill_unconfirmed},
       {"segments.edge_label_visibility", &options->segments.edge_label_visibility}};

@@ -140,7 +140,24 @@ struct SegmentOptions {
   double pixel_depth_min_confidence = 0;
 };
 
+// Which option set the stage runs with (depth_mode.h).
+enum class DepthMode {
+  kAuto,        // the light-field set for a dense grid of views, these options otherwise
+  kStandard,    // these options as given
+  kLightField,  // LightFieldDepthOptions of these
+};
+
 struct DepthOptions {
+  // kAuto: a shot of at least light_field_min_views views whose nearest neighbours lie at most
+  // light_field_max_disparity_px apart over the whole depth range (median over views, view
+  // resolution) is a light field (a plenoptic camera's sub-aperture views, an integral lens) and
+  // gets LightFieldDepthOptions: its disparities are too small for matching at half resolution
+  // in whole-pixel steps. 9 views: fewer leave sub-pixel matching too few neighbours to agree
+  // on. 8 px: a Lytro's 5x5 (under 1 px) and adjacent views of HCI's 9x9 (6 px) are light fields;
+  // the Pop9 (26 px), hand-held sets and stereo pairs are not. [2, 1024] and (0, 64].
+  DepthMode mode = DepthMode::kAuto;
+  int light_field_min_views = 9;
+  double light_field_max_disparity_px = 8;
   // Scene depth range swept, metres (z in the reference camera). 0 = not set: the caller fills
   // it from the rig's nominal range (WithDefaultDepthRange). When set: 0 < min < max.
   double min_depth_m = 0;

@@ -40,6 +40,8 @@ struct DepthReport {
   std::vector<ViewId> disagreeing_views;
   double confident_fraction = 0;      // over all computed views
   std::vector<std::string> warnings;  // one line each, for the log and the clip's JSON
+  bool light_field = false;           // ran with the light-field options (depth_mode.h)
+  std::string mode;                   // which options, and why
   double matching_ms = 0;             // time per part of the stage, all views
   double consistency_ms = 0;
   double segments_ms = 0;

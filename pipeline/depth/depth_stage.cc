@@ -13,6 +13,7 @@
 #include "pipeline/depth/consistency.h"
 #include "pipeline/depth/coplanar_groups.h"
 #include "pipeline/depth/cost_volume.h"
+#include "pipeline/depth/depth_mode.h"
 #include "pipeline/depth/edge_labels.h"
 #include "pipeline/depth/fill_unconfirmed.h"
 #include "pipeline/depth/group_depth.h"
@@ -484,14 +485,12 @@ void FinishReport(const DepthOptions& options, ReferenceDepth* reference) {
     report.reasons.push_back("only " + Percent(report.confident_fraction) + " of pixels have confident depth");
 }
 
-}  // namespace
-
-StatusOr<DepthStageResult> ComputeLayeredDepthForViews(const std::vector<View>& views,
-                                                       const std::vector<int>& reference_indices,
-                                                       const DepthOptions& options,
-                                                       const DepthProgressCallback& progress) {
+// ComputeLayeredDepthForViews with the options of the shot's depth mode (ChooseDepthMode).
+StatusOr<DepthStageResult> ComputeWithModeOptions(const std::vector<View>& views,
+                                                  const std::vector<int>& reference_indices,
+                                                  const DepthOptions& options,
+                                                  const DepthProgressCallback& progress) {
   const Clock::time_point start = Clock::now();
-  PX_RETURN_IF_ERROR(CheckInputs(views, options));
   for (int index : reference_indices) {
     if (index < 0 || index >= static_cast<int>(views.size())) {
       return OutOfRangeError("reference view index " + std::to_string(index) + " is outside [0, " +
@@ -603,6 +602,22 @@ StatusOr<DepthStageResult> ComputeLayeredDepthForViews(const std::vector<View>& 
       100 * result.report.confident_fraction,
       result.report.disagreeing_views.size());
   for (const std::string& warning : result.report.warnings) Logger("depth")->warn("{}", warning);
+  return result;
+}
+
+}  // namespace
+
+StatusOr<DepthStageResult> ComputeLayeredDepthForViews(const std::vector<View>& views,
+                                                       const std::vector<int>& reference_indices,
+                                                       const DepthOptions& options,
+                                                       const DepthProgressCallback& progress) {
+  PX_RETURN_IF_ERROR(CheckInputs(views, options));
+  const DepthModeChoice mode = ChooseDepthMode(views, options);
+  Logger("depth")->info("{}", mode.reason);
+  PX_ASSIGN_OR_RETURN(DepthStageResult result,
+                      ComputeWithModeOptions(views, reference_indices, mode.options, progress));
+  result.report.light_field = mode.light_field;
+  result.report.mode = mode.reason;
   return result;
 }
 
