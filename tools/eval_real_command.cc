@@ -101,6 +101,7 @@ nlohmann::json OutcomeJson(const SetOutcome& o) {
                  {"frames", p.frames},
                  {"width", p.width},
                  {"height", p.height},
+                 {"measured", p.measured},
                  {"torn", p.torn},
                  {"torn_max", p.torn_max},
                  {"double_image", p.double_image},
@@ -168,6 +169,15 @@ void PrintOutcomes(const std::vector<SetOutcome>& outcomes) {
     }
     const eval::PathResult& p = *o.path;
     const std::string size = std::to_string(p.width) + "x" + std::to_string(p.height);
+    if (!p.measured) {
+      std::printf("%-52s %-9s %-20s %-9s not measured (not drawn by the 3D renderer) %6.1f\n",
+                  o.name.c_str(),
+                  p.mode.c_str(),
+                  p.move.c_str(),
+                  size.c_str(),
+                  p.seconds);
+      continue;
+    }
     std::printf("%-52s %-9s %-20s %-9s %6.3f (%6.3f) %6.3f (%6.3f) %6.3f (%6.3f) %5.2f (%5.2f) %6.1f\n",
                 o.name.c_str(),
                 p.mode.c_str(),
@@ -221,7 +231,9 @@ void PrintMarkdown(const std::vector<SetOutcome>& outcomes, const MachineInfo& m
                 plane.ssim,
                 100 * invented);
   }
-  std::printf("\nThe automatic clip, means over its frames (worst frame):\n\n");
+  std::printf(
+      "\nThe automatic clip, means over its frames (worst frame); `-`: a morph or a 2D pan, not drawn by the 3D "
+      "renderer, so not measured:\n\n");
   std::printf("| set | made as | move | torn %% | double images %% | flicker %% | holes %% |\n");
   std::printf("|---|---|---|---:|---:|---:|---:|\n");
   for (const SetOutcome& o : outcomes) {
@@ -230,6 +242,10 @@ void PrintMarkdown(const std::vector<SetOutcome>& outcomes, const MachineInfo& m
       continue;
     }
     const eval::PathResult& p = *o.path;
+    if (!p.measured) {
+      std::printf("| %s | %s | %s | - | - | - | - |\n", o.name.c_str(), p.mode.c_str(), p.move.c_str());
+      continue;
+    }
     std::printf("| %s | %s | %s | %.3f (%.3f) | %.3f (%.3f) | %.3f (%.3f) | %.2f (%.2f) |\n",
                 o.name.c_str(),
                 p.mode.c_str(),

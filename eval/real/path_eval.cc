@@ -203,6 +203,7 @@ StatusOr<PathResult> EvaluatePath(const RealSet& set, const PathEvalOptions& opt
   result.height = report.path.height;
   result.warnings = report.warnings;
   const auto& figures = watcher.figures();
+  result.measured = !figures.empty();
   for (const auto& f : figures) {
     result.torn += f.torn;
     result.double_image += f.double_image;

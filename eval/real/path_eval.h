@@ -23,7 +23,10 @@ struct PathResult {
   int frames = 0;
   int width = 0;
   int height = 0;
-  // Means over the frames (novel views only; 0 for a morph or a pan) and the worst frame.
+  // Whether the clip's frames were drawn by the 3D renderer, which measures them: a morph or a 2D
+  // pan is not measured, and its figures below stay 0.
+  bool measured = false;
+  // Means over the frames and the worst frame.
   double torn = 0, torn_max = 0;
   double double_image = 0, double_image_max = 0;
   double flicker = 0, flicker_max = 0;
