@@ -19,7 +19,7 @@ namespace px::eval {
 namespace {
 
 constexpr double kFocalPx = 560;     // at 640x480
-constexpr double kNoiseSigma = 2.0;  // 8-bit levels, as sim_calib's hand-held sets
+constexpr double kNoiseSigma = 2.0;  // 8-bit levels, as eval/calib's simulated hand-held sets
 
 Eigen::Quaterniond Turn(double x_deg, double y_deg, double z_deg) {
   const double r = M_PI / 180;
@@ -28,7 +28,7 @@ Eigen::Quaterniond Turn(double x_deg, double y_deg, double z_deg) {
          Eigen::AngleAxisd(z_deg * r, Eigen::Vector3d::UnitZ());
 }
 
-// The shots (sim_calib's HandHeld: centres in metres, turns in degrees) and the viewpoints scored,
+// The shots (eval/calib's HandHeld: centres in metres, turns in degrees) and the viewpoints scored,
 // each taken as a photo too: posed with the others, left out of the sources (LLFF's protocol).
 struct Place {
   Eigen::Vector3d centre;

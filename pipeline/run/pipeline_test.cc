@@ -443,7 +443,7 @@ TEST_F(PipelineTest, FrameInAnotherPixelFormatIsUsedAsItDecodes) {
 
 // The four corner lenses' images as a hand-held set, intrinsics from a rig with one lens per
 // image (poses unknown to the pipeline). The scene's periodic textures fool feature matching,
-// so image sets that succeed are tested on simulated scenes in tests/sim_calib.
+// so image sets that succeed are tested on simulated scenes in eval/calib (eval/sfm_pipeline_test).
 class ImageSetTest : public PipelineTest {
  protected:
   static constexpr int kCorners[4] = {0, 2, 6, 8};

@@ -1,7 +1,7 @@
 // Per-shot refinement on simulated lattice shots whose lenses moved off the factory
 // calibration (focal +-1 %, principal point +-2 px, rotation +-0.3 deg, centre +-0.5 mm): the
 // refined calibration must come back to the true lenses (issue 3 goals: rotation <= 0.1 deg,
-// focal <= 1 %). Shots that cannot support refinement: sim_calib/rig_refinement_bad_input_test.
+// focal <= 1 %). Shots that cannot support refinement: eval/rig_refinement_bad_input_test.
 #include "pipeline/calib/rig_refinement.h"
 
 #include <gtest/gtest.h>

@@ -2,7 +2,7 @@
 // (the paper's 3-4 inches), focal length known, self-calibrated or unobservable (pure
 // translation), and the sets that must fail or degrade with a clear message (pure rotation, an
 // image of another scene, a blank or overexposed image, a textureless set, an all-planar set).
-// Through the whole pipeline: sim_calib/sfm_pipeline_test.
+// Through the whole pipeline: eval/sfm_pipeline_test.
 #include "pipeline/calib/incremental_sfm.h"
 
 #include <gtest/gtest.h>
@@ -11,8 +11,8 @@
 #include <cstdio>
 #include <filesystem>
 
+#include "eval/calib/sim_image_set.h"
 #include "eval/calib/sim_lattice_shot.h"
-#include "tests/sim_calib/sim_image_set.h"
 #include "tests/testing/temp_dir.h"
 
 namespace px::sim_calib {

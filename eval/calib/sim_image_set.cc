@@ -1,4 +1,4 @@
-#include "tests/sim_calib/sim_image_set.h"
+#include "eval/calib/sim_image_set.h"
 
 #include <gtest/gtest.h>
 

@@ -9,9 +9,9 @@
 #include <opencv2/imgcodecs.hpp>
 
 #include "capture/recording.h"
+#include "eval/calib/sim_image_set.h"
 #include "pipeline/run/capture_calibration.h"
 #include "tests/drivers/ptp_test_util.h"
-#include "tests/sim_calib/sim_image_set.h"
 #include "tests/testing/exif_jpeg.h"
 #include "tests/testing/temp_dir.h"
 

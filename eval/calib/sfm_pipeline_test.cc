@@ -6,10 +6,10 @@
 #include <algorithm>
 #include <cstdio>
 
+#include "eval/calib/sim_image_set.h"
 #include "eval/calib/sim_lattice_shot.h"
 #include "pipeline/core/pixel_format.h"
 #include "pipeline/run/pipeline.h"
-#include "tests/sim_calib/sim_image_set.h"
 #include "tests/testing/counting_frame_sink.h"
 
 namespace px::sim_calib {
