@@ -99,7 +99,7 @@ std::vector<CLI::Option*> AddClipFlags(CLI::App& command, ClipFlags& flags) {
       command
           .add_option("--depth-mode",
                       flags.depth_mode,
-                      "Depth options: auto (the light-field set for a dense grid of views a few pixels apart, "
+                      "Depth options: auto (the light-field set for a dense grid of views a pixel or two apart, "
                       "e.g. a plenoptic camera's; the standard set otherwise), standard or light-field")
           ->check(CLI::IsMember({"auto", "standard", "light-field"}))
           ->capture_default_str());

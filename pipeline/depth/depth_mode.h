@@ -1,6 +1,6 @@
 // Which set of depth options suits a shot: the product's (lattices, hand-held sets, stereo pairs:
-// neighbours tens of pixels apart) or LightFieldDepthOptions' (a dense grid of views a few pixels
-// apart: a plenoptic camera's sub-aperture views, an integral lens). Chosen from the views' poses
+// neighbours several to tens of pixels apart) or LightFieldDepthOptions' (a dense grid of views a
+// pixel or two apart: a plenoptic camera's sub-aperture views). Chosen from the views' poses
 // and the depth range alone, before any matching, so the stage runs once.
 #pragma once
 

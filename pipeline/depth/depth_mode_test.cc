@@ -50,6 +50,13 @@ TEST(DepthModeTest, ALatticeOfWideBaselinesIsNot) {
   EXPECT_EQ(choice.options.working_scale, DepthOptions().working_scale);
 }
 
+TEST(DepthModeTest, TheIntegralLensRendersBetterWithTheStandardSet) {
+  // The simulated 5x4 integral lens: 12 mm apart, 280 px, 0.5 to 8 m: 6.3 px between neighbours.
+  const DepthModeChoice choice = ChooseDepthMode(Grid(4, 5, 0.012, 280), WithRange(0.5, 8.0));
+  EXPECT_FALSE(choice.light_field) << choice.reason;
+  EXPECT_NEAR(choice.neighbour_disparity_px, 6.3, 0.05);
+}
+
 TEST(DepthModeTest, TooFewViewsAreNeverALightField) {
   // Four views a fraction of a pixel apart: too few neighbours to agree on sub-pixel matches.
   const DepthModeChoice choice = ChooseDepthMode(Grid(2, 2, 0.0005, 550), WithRange(0.3, 3.0));
