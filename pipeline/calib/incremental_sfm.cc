@@ -337,7 +337,7 @@ StatusOr<std::vector<Features>> DetectImageFeatures(const std::vector<SfmImage>&
   return DetectFeaturesInImages(pixels, options.features);
 }
 
-// The images before matching: intrinsics from metadata, or a placeholder focal length that the sweep replaces;
+// The images before matching: intrinsics from metadata, or a starting focal length that the sweep replaces;
 // an image with too few features to match is noted (with what its exposure suggests) and left out.
 std::vector<ImageState> StartImages(const std::vector<SfmImage>& input,
                                     std::vector<Features> features,

@@ -1,5 +1,6 @@
 #include "pipeline/depth/depth_mode.h"
 
+#include <algorithm>
 #include <cstdio>
 #include <limits>
 
