@@ -8,6 +8,7 @@
 #include "eval/calib/calib_eval.h"
 #include "pipeline/core/log.h"
 #include "sim/synthetic/data_paths.h"
+#include "tools/machine_info.h"
 #include "tools/run_or_fail.h"
 
 namespace px::cli {
@@ -114,11 +115,23 @@ Status RunEvalCalib(const EvalCalibArgs& args) {
       rows.insert(rows.end(), data_rows->begin(), data_rows->end());
     }
   }
+  const MachineInfo machine = ReadMachineInfo();
   if (args.json) {
-    nlohmann::json out = nlohmann::json::array();
-    for (const eval::CalibEvalRow& row : rows) out.push_back(ToJson(row));
+    nlohmann::json json_rows = nlohmann::json::array();
+    for (const eval::CalibEvalRow& row : rows) json_rows.push_back(ToJson(row));
+    const nlohmann::json out{{"rows", json_rows},
+                             {"seed", args.seed},
+                             {"machine",
+                              {{"cpu", machine.cpu_model},
+                               {"cores", machine.cores},
+                               {"memory_gib", machine.memory_gib},
+                               {"commit", machine.commit}}}};
     std::printf("%s\n", out.dump(2).c_str());
   } else {
+    std::printf("calibration against references; machine: %s, %d cores, commit %s\n",
+                machine.cpu_model.c_str(),
+                machine.cores,
+                machine.commit.c_str());
     PrintTable(rows);
   }
   return OkStatus();
