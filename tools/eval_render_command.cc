@@ -284,7 +284,8 @@ Status RunEvalRender(const EvalRenderArgs& args) {
       "apart (-100: no true depth); temp dB (pan): PSNR of each frame-to-frame change against the truth's, "
       "so only errors that come and go between frames count\n");
   for (const std::string& note : notes) std::printf("note: %s\n", note.c_str());
-  std::printf("goals: >= 38 dB on the simulated scenes; > 25.17 dB on llff fern (NeRF's published figure; LLFF's is 22.85)\n");
+  std::printf(
+      "goals: >= 38 dB on the simulated scenes; > 25.17 dB on llff fern (NeRF's published figure; LLFF's is 22.85)\n");
   return OkStatus();
 }
 

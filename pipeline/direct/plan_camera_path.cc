@@ -9,6 +9,7 @@
 #include <optional>
 
 #include "pipeline/core/stage_clock.h"
+#include "pipeline/direct/morph_framing.h"
 #include "pipeline/direct/pan_zoom_2d.h"
 #include "pipeline/direct/scene_geometry.h"
 #include "pipeline/direct/splat_coverage.h"
@@ -66,6 +67,25 @@ cv::Mat CentredOnSize(const cv::Mat& image, cv::Size size) {
   return out;
 }
 
+// A morph with subjects pushes in on them (morph_framing.h), framed at the output's size.
+void PushInOnSubjects(const direct::ViewMorph& morph, const DirectOptions& options, CameraPath* path) {
+  if (path->subjects.empty()) return;
+  const double zoom = direct::PlanMorphPushIn(morph, options, path);
+  if (zoom <= 1) {
+    path->notes.push_back("morph: no room to push in on the subjects; the whole frame is kept");
+    return;
+  }
+  path->move = "morph_push_in";
+  char text[120];
+  std::snprintf(text,
+                sizeof(text),
+                "; pushing in on %zu subject%s to %.2fx",
+                path->subjects.size(),
+                path->subjects.size() == 1 ? "" : "s",
+                zoom);
+  path->reason += text;
+}
+
 struct Planner {
   const std::vector<View>& views;
   const std::vector<DepthMap>& depths;
@@ -80,7 +100,10 @@ struct Planner {
     report.fell_back = true;
     if (!why.empty()) report.notes.push_back(why);
     if (views.size() >= 2 && options.move != "pan_zoom_2d") {
-      const auto [ia, ib] = MorphPair(views, centre);
+      auto [ia, ib] = MorphPair(views, centre);
+      // The subjects' boxes are in the view they were found in: morph from it, so that the
+      // frame can follow them along the flow (morph_framing.h).
+      if (!subjects.empty() && subjects[0].view == views[ib].id.value) std::swap(ia, ib);
       direct::MorphOptions morph_options;
       const cv::Mat& image_a = views[ia].image;
       if (views[ib].image.size() != image_a.size()) {
@@ -459,6 +482,7 @@ StatusOr<CameraPath> PlanCameraPath(const std::vector<View>& views,
     FitPathToOutput(&*path, output_size);
   }
   if (path->subjects.empty()) path->subjects = path->kind == PathKind::kNovelView ? with_depth : planner.subjects;
+  if (path->kind == PathKind::kMorph && report.morph != nullptr) PushInOnSubjects(*report.morph, options, &*path);
   for (const std::string& note : report.notes) path->notes.push_back(note);
   report.coverage_probes = search.calls() + verify.calls();
   report.coverage_ms = search.ms() + verify.ms();

@@ -12,6 +12,7 @@
 #include "pipeline/core/pixel_format.h"
 #include "pipeline/core/stage_clock.h"
 #include "pipeline/depth/depth_stage.h"
+#include "pipeline/direct/morph_framing.h"
 #include "pipeline/direct/pan_zoom_2d.h"
 #include "pipeline/direct/plan_camera_path.h"
 #include "pipeline/direct/scene_geometry.h"
@@ -23,19 +24,6 @@
 namespace px {
 
 namespace {
-
-// A morph frame (its views' size) cut to the clip's frame as FrameOutputCamera frames it: the
-// widest centred crop of the output's aspect, resized to the output.
-cv::Mat CutToFrame(const cv::Mat& image, int width, int height) {
-  if (image.cols == width && image.rows == height) return image;
-  const double scale = std::max(static_cast<double>(width) / image.cols, static_cast<double>(height) / image.rows);
-  const int crop_w = std::min(image.cols, static_cast<int>(std::lround(width / scale)));
-  const int crop_h = std::min(image.rows, static_cast<int>(std::lround(height / scale)));
-  const cv::Rect crop((image.cols - crop_w) / 2, (image.rows - crop_h) / 2, crop_w, crop_h);
-  cv::Mat out;
-  cv::resize(image(crop), out, cv::Size(width, height), 0, 0, scale < 1 ? cv::INTER_AREA : cv::INTER_LINEAR);
-  return out;
-}
 
 // Depth that the plane sweep is sure of on less than this fraction of pixels makes a poor clip.
 constexpr double kLowConfidentDepthFraction = 0.3;
@@ -98,6 +86,7 @@ Status RenderFrames(const std::vector<View>& views,
                     FrameSink* sink,
                     const std::function<Status(const char*, double)>& report_progress,
                     PipelineObserver* observer,
+                    double framing_margin,
                     PipelineReport* report) {
   const auto log = Logger("pipeline");
   const Clock::time_point start = Clock::now();
@@ -154,7 +143,8 @@ Status RenderFrames(const std::vector<View>& views,
           break;
         }
         case PathKind::kMorph:
-          bgr = CutToFrame(report->direction.morph->FrameAt(t), path.width, path.height);
+          bgr = direct::CutMorphFrame(
+              report->direction.morph->FrameAt(t), path, *report->direction.morph, t, framing_margin);
           break;
         case PathKind::kPanZoom2d:
           cv::warpPerspective(flat_source->image,
@@ -284,7 +274,8 @@ StatusOr<PipelineReport> RunUncalibrated(const FrameSet& capture,
   report.path = *path;
   report.timings.push_back({"direct", MsSince(start)});
   LogDirection(report, &report.warnings);
-  PX_RETURN_IF_ERROR(RenderFrames(views, nullptr, sink, report_progress, options.observer, &report));
+  PX_RETURN_IF_ERROR(
+      RenderFrames(views, nullptr, sink, report_progress, options.observer, options.direct.framing_margin, &report));
   return report;
 }
 }  // namespace
@@ -485,7 +476,8 @@ StatusOr<PipelineReport> RunPipeline(const FrameSet& shot,
   PX_RETURN_IF_ERROR(report_progress("direct", 1));
 
   // Stage 5: render every frame and hand it on.
-  PX_RETURN_IF_ERROR(RenderFrames(views, renderer.get(), sink, report_progress, options.observer, &report));
+  PX_RETURN_IF_ERROR(RenderFrames(
+      views, renderer.get(), sink, report_progress, options.observer, options.direct.framing_margin, &report));
   if (renderer->cpu_fallback_frames() > 0) {
     report.warnings.push_back("render: " + std::to_string(renderer->cpu_fallback_frames()) +
                               " frame(s) drawn on the cpu, " + report.render_backend +

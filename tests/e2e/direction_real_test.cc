@@ -1,8 +1,8 @@
 // The direction stage on real two-view photos with a face (../shared/data stereo_face and the
 // hand-held portrait): the product's face detector and PlanCameraPath, as the pipeline runs them
 // when two uncalibrated views come in (no trusted depth: a morph, or a flat pan and zoom). Checks
-// that a face is found, becomes the subject, and stays wholly inside every frame of the clip;
-// prints what the stage did ("[figures]" lines).
+// that a face is found, becomes the subject, stays wholly inside every frame of the clip, and
+// that a morph pushes in on it; prints what the stage did ("[figures]" lines).
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -12,6 +12,7 @@
 #include "device/face_cascades.h"
 #include "eval/datasets/image_folder.h"
 #include "pipeline/direct/framing.h"
+#include "pipeline/direct/morph_framing.h"
 #include "pipeline/direct/plan_camera_path.h"
 #include "sim/synthetic/data_paths.h"
 
@@ -23,13 +24,17 @@ constexpr int kWorkingSidePx = 960;  // reduced size (the morph computes its flo
 // The smallest distance (pixels) of a face corner from the frame's edges over every frame.
 double MinFaceMarginPx(const CameraPath& path, const DirectionReport& report, const Subject& face) {
   double margin = 1e9;
-  const cv::Rect2d box = face.box_px;
   for (int frame = 0; frame < path.NumFrames(); ++frame) {
     const double t = path.FrameTime(frame);
     if (path.kind == PathKind::kMorph) {
-      for (const cv::Point2d corner :
-           {box.tl(), box.br(), cv::Point2d(box.x + box.width, box.y), cv::Point2d(box.x, box.y + box.height)}) {
-        const cv::Point2d p = report.morph->TrackFromA(corner, t);
+      // The box carried by the morph's flow, in the frame's pixels (the push-in's window).
+      CameraPath this_face = path;
+      this_face.subjects = {face};
+      const cv::Rect2d moved = direct::MorphSubjectsBoxAt(this_face, *report.morph, t);
+      const cv::Rect2d window = direct::MorphWindowAt(path, *report.morph, t, DirectOptions{}.framing_margin);
+      const double scale = path.width / window.width;
+      for (const cv::Point2d corner : {moved.tl(), moved.br()}) {
+        const cv::Point2d p = (corner - window.tl()) * scale;
         margin = std::min({margin, p.x, p.y, path.width - 1 - p.x, path.height - 1 - p.y});
       }
     } else {
@@ -90,6 +95,7 @@ void CheckDirection(const std::string& folder) {
   EXPECT_TRUE(path->kind == PathKind::kMorph || path->kind == PathKind::kPanZoom2d) << PathKindName(path->kind);
   if (path->kind == PathKind::kMorph) {
     ASSERT_NE(report.morph, nullptr);
+    EXPECT_EQ(path->move, "morph_push_in") << folder << ": a morph with a face pushes in on it";
   }
   for (const Subject& face : path->subjects) {
     const double margin = MinFaceMarginPx(*path, report, face);
