@@ -14,17 +14,13 @@
 #include "device/storage/storage_layout.h"
 #include "pipeline/core/durable_file.h"
 #include "pipeline/core/log.h"
+#include "pipeline/core/stage_clock.h"
 #include "pipeline/direct/camera_path.h"
 
 namespace px::device {
 namespace {
 
 namespace fs = std::filesystem;
-using Clock = std::chrono::steady_clock;
-
-double MillisecondsSince(Clock::time_point start) {
-  return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
-}
 
 // Streams rendered frames into a ClipWriter opened on the first frame (its size is the
 // pipeline's choice: the clip has the rendered frames' size), timing the encoder apart from
@@ -48,7 +44,7 @@ class ClipSink final : public FrameSink {
   }
 
   Status Consume(int index, const cv::Mat& bgr) override {
-    const auto start = Clock::now();
+    const auto start = StageClock::now();
     if (!writer_) {
       PX_ASSIGN_OR_RETURN(writer_, clip::OpenClipWriter(path_, bgr.cols, bgr.rows, options_));
       width_ = writer_->StoredWidth();
@@ -57,17 +53,17 @@ class ClipSink final : public FrameSink {
     Status written = writer_->Write(bgr);
     if (written.ok() && index == poster_index_) poster_ = bgr.clone();
     if (written.ok() && index % preview_every_ == 0) written = WritePreview(bgr);
-    encode_ms_ += MillisecondsSince(start);
+    encode_ms_ += MsSince(start);
     if (!written.ok()) return written.WithContext("frame " + std::to_string(index));
     return OkStatus();
   }
 
   Status Finish() {
     if (!writer_) return InternalError("the pipeline rendered no frames");
-    const auto start = Clock::now();
+    const auto start = StageClock::now();
     Status finished = writer_->Finish();
     if (finished.ok() && preview_) finished = preview_->Finish().WithContext(preview_path_.string());
-    encode_ms_ += MillisecondsSince(start);
+    encode_ms_ += MsSince(start);
     return finished;
   }
 
@@ -212,7 +208,7 @@ StatusOr<ClipJobReport> RunClipJob(const fs::path& recording_dir,
                                    const fs::path& clip_path,
                                    const ClipJobOptions& options,
                                    const ProgressCallback& progress) {
-  const auto read_start = Clock::now();
+  const auto read_start = StageClock::now();
   std::error_code ec;
   fs::path dir = fs::absolute(recording_dir, ec);
   if (ec) dir = recording_dir;
@@ -221,7 +217,7 @@ StatusOr<ClipJobReport> RunClipJob(const fs::path& recording_dir,
                          dir.string(),
                          recording.source.model,
                          recording.frames.frames.size(),
-                         MillisecondsSince(read_start));
+                         MsSince(read_start));
   return RunClipJob(recording, dir, clip_path, options, progress);
 }
 
@@ -230,7 +226,7 @@ StatusOr<ClipJobReport> RunClipJob(const Recording& recording,
                                    const fs::path& clip_path,
                                    const ClipJobOptions& options,
                                    const ProgressCallback& progress) {
-  const auto start = Clock::now();
+  const auto start = StageClock::now();
   auto log = Logger("device");
   PX_RETURN_IF_ERROR(options.Validate());
   ClipJobReport report;
@@ -301,7 +297,7 @@ StatusOr<ClipJobReport> RunClipJob(const Recording& recording,
   RemoveOnExit remove_clip(report.clip_path);  // until the report is beside it
   report.clip_bytes = BytesOf(report.clip_path);
   report.preview_bytes = BytesOf(report.preview_path);
-  report.total_ms = MillisecondsSince(start);
+  report.total_ms = MsSince(start);
   PX_RETURN_IF_ERROR(WriteFileAtomically(report.report_path, ClipJobReportToJson(report).dump(2) + "\n"));
   remove_clip.Release();
   remove_poster.Release();

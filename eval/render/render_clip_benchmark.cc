@@ -28,7 +28,7 @@
 namespace px {
 namespace {
 
-double SecondsSince(Clock::time_point start) { return MsSince(start) / 1000; }
+double SecondsSince(StageClock::time_point start) { return MsSince(start) / 1000; }
 
 // User + system CPU seconds of the whole process (all threads) so far.
 double ProcessCpuSeconds() {
@@ -92,7 +92,7 @@ void BM_RenderAndEncodeClip(benchmark::State& state) {
   double render_s = 0, wait_s = 0, encode_s = 0, clip_s = 0, cpu_s = 0;
   int clips = 0;
   for (auto _ : state) {
-    const Clock::time_point clip_start = Clock::now();
+    const StageClock::time_point clip_start = StageClock::now();
     const double cpu_start = ProcessCpuSeconds();
     auto writer = clip::OpenClipWriter(path, shot.camera.width, shot.camera.height, *clip_options);
     if (!writer.ok()) {
@@ -106,7 +106,7 @@ void BM_RenderAndEncodeClip(benchmark::State& state) {
       VirtualCamera camera;
       camera.camera = shot.camera;
       camera.cam_from_world = Rigid3(Eigen::Quaterniond::Identity(), -Eigen::Vector3d(-0.025 + 0.05 * t, 0.004, 0.02));
-      const Clock::time_point start = Clock::now();
+      const StageClock::time_point start = StageClock::now();
       auto result = (*renderer)->Render(camera);
       render_s += SecondsSince(start);
       if (!result.ok()) {

@@ -12,7 +12,7 @@ namespace {
 
 using opengv::sac_problems::absolute_pose::AbsolutePoseSacProblem;
 
-constexpr int kMinCorrespondences = 6;
+constexpr int kMinAbsolutePoseCorrespondences = 6;
 
 }  // namespace
 
@@ -30,9 +30,9 @@ AbsolutePoseResult EstimateAbsolutePose(const std::vector<Eigen::Vector3d>& rays
         "got " + std::to_string(rays.size()) + " rays and " + std::to_string(points_in_world.size()) + " points";
     return result;
   }
-  if (rays.size() < kMinCorrespondences) {
-    result.failure =
-        std::to_string(rays.size()) + " 2D-3D correspondences, need at least " + std::to_string(kMinCorrespondences);
+  if (rays.size() < kMinAbsolutePoseCorrespondences) {
+    result.failure = std::to_string(rays.size()) + " 2D-3D correspondences, need at least " +
+                     std::to_string(kMinAbsolutePoseCorrespondences);
     return result;
   }
   opengv::bearingVectors_t bearings;
@@ -51,8 +51,8 @@ AbsolutePoseResult EstimateAbsolutePose(const std::vector<Eigen::Vector3d>& rays
   opengv::transformation_t model;
   std::vector<int> inliers;
   if (!internal::RunRansac(problem, threshold, options, &model, &inliers, /*refine=*/true) ||
-      static_cast<int>(inliers.size()) < kMinCorrespondences) {
-    result.failure = "no pose fits " + std::to_string(kMinCorrespondences) + " or more of " +
+      static_cast<int>(inliers.size()) < kMinAbsolutePoseCorrespondences) {
+    result.failure = "no pose fits " + std::to_string(kMinAbsolutePoseCorrespondences) + " or more of " +
                      std::to_string(rays.size()) + " 2D-3D correspondences";
     return result;
   }

@@ -958,7 +958,7 @@ void AddFocalWarnings(int self_calibrated, bool refine_focal, const SfmOptions& 
 }  // namespace
 
 StatusOr<SfmResult> RunIncrementalSfm(const std::vector<SfmImage>& input, const SfmOptions& options) {
-  const Clock::time_point start = Clock::now();
+  const StageClock::time_point start = StageClock::now();
   PX_RETURN_IF_ERROR(options.Validate());
   if (input.empty()) return InvalidArgumentError("structure from motion: no images");
   const int n = static_cast<int>(input.size());
@@ -974,7 +974,7 @@ StatusOr<SfmResult> RunIncrementalSfm(const std::vector<SfmImage>& input, const 
   };
 
   // 1. Features.
-  Clock::time_point step = Clock::now();
+  StageClock::time_point step = StageClock::now();
   PX_ASSIGN_OR_RETURN(std::vector<Features> features, DetectImageFeatures(input, options));
   report.features_ms = MsSince(step);
   std::vector<ImageState> images = StartImages(input, std::move(features), options);
@@ -982,7 +982,7 @@ StatusOr<SfmResult> RunIncrementalSfm(const std::vector<SfmImage>& input, const 
   GroupIntrinsics(input, &images);
 
   // 2. All pairs: ratio + mutual matches, verified by a fundamental matrix.
-  step = Clock::now();
+  step = StageClock::now();
   PairMatching matching = MatchAllPairs(images, options);
   report.pairs = std::move(matching.figures);
   const std::vector<PairMatches> usable_pairs = UsablePairs(matching.verified, options);
@@ -997,7 +997,7 @@ StatusOr<SfmResult> RunIncrementalSfm(const std::vector<SfmImage>& input, const 
   if (usable_pairs.empty()) return fail_with_notes(NoUsablePairReason(input, images, options));
 
   // 3. Focal length: from metadata, or swept on the pair with the most verified matches.
-  step = Clock::now();
+  step = StageClock::now();
   if (AnyUnknownIntrinsics(images)) report.focal_sweep = SweepFocalLength(usable_pairs, tracks, options, &images);
 
   // 4. The initial pair: enough parallax, then most matches weighted by parallax.

@@ -7,6 +7,7 @@
 #include <opencv2/video/tracking.hpp>
 #include <sstream>
 
+#include "pipeline/core/option_range.h"
 #include "pipeline/core/stage_clock.h"
 
 namespace px::calib {
@@ -17,12 +18,6 @@ constexpr int kTerms = 7;                        // 1, u, v, u^2, uv, v^2, (u^2 
 constexpr int kFitIterations = 8;                // iteratively reweighted least squares
 constexpr float kDarkest = 8, kBrightest = 247;  // samples outside are clipped, not exposed
 constexpr int kMinSamples = 200;
-
-Status OutOfRange(const std::string& field, double value, const std::string& range) {
-  std::ostringstream text;
-  text << "photometric." << field << ": " << value << " is outside " << range;
-  return InvalidArgumentError(text.str());
-}
 
 // The basis at normalised image coordinates u, v in [-1, 1].
 void Basis(double u, double v, double* phi) {
@@ -154,12 +149,17 @@ double MeanAbsDifference(const cv::Mat& a, const cv::Mat& b, const cv::Mat& vali
 
 Status PhotometricOptions::Validate() const {
   if (working_width_px < 32 || working_width_px > 1024)
-    return OutOfRange("working_width_px", working_width_px, "[32, 1024]");
-  if (!(blur_fraction > 0 && blur_fraction <= 0.2)) return OutOfRange("blur_fraction", blur_fraction, "(0, 0.2]");
-  if (!(min_change >= 0 && min_change < 1)) return OutOfRange("min_change", min_change, "[0, 1)");
-  if (!(min_difference >= 0 && min_difference < 255)) return OutOfRange("min_difference", min_difference, "[0, 255)");
-  if (!(min_improvement >= 0 && min_improvement < 1)) return OutOfRange("min_improvement", min_improvement, "[0, 1)");
-  if (!(max_gain > 1 && max_gain <= 10)) return OutOfRange("max_gain", max_gain, "(1, 10]");
+    return OptionOutOfRange("photometric options", "working_width_px", working_width_px, "[32, 1024]");
+  if (!(blur_fraction > 0 && blur_fraction <= 0.2))
+    return OptionOutOfRange("photometric options", "blur_fraction", blur_fraction, "(0, 0.2]");
+  if (!(min_change >= 0 && min_change < 1))
+    return OptionOutOfRange("photometric options", "min_change", min_change, "[0, 1)");
+  if (!(min_difference >= 0 && min_difference < 255))
+    return OptionOutOfRange("photometric options", "min_difference", min_difference, "[0, 255)");
+  if (!(min_improvement >= 0 && min_improvement < 1))
+    return OptionOutOfRange("photometric options", "min_improvement", min_improvement, "[0, 1)");
+  if (!(max_gain > 1 && max_gain <= 10))
+    return OptionOutOfRange("photometric options", "max_gain", max_gain, "(1, 10]");
   return OkStatus();
 }
 
@@ -195,7 +195,7 @@ std::string PhotometricReport::Summary() const {
 StatusOr<PhotometricReport> EqualisePhotometry(std::vector<View>* views,
                                                int reference_index,
                                                const PhotometricOptions& options) {
-  const Clock::time_point start = Clock::now();
+  const StageClock::time_point start = StageClock::now();
   PX_RETURN_IF_ERROR(options.Validate());
   if (views == nullptr || reference_index < 0 || reference_index >= static_cast<int>(views->size())) {
     return InvalidArgumentError("photometric: reference view index " + std::to_string(reference_index) +

@@ -19,7 +19,7 @@ namespace {
 using opengv::sac_problems::relative_pose::CentralRelativePoseSacProblem;
 using opengv::sac_problems::relative_pose::RotationOnlySacProblem;
 
-constexpr int kMinCorrespondences = 8;
+constexpr int kMinRelativePoseCorrespondences = 8;
 
 // Angle between two rays, accurate for small angles (atan2 of the cross and dot products).
 double AngleBetween(const Eigen::Vector3d& u, const Eigen::Vector3d& v) {
@@ -112,9 +112,9 @@ RelativePoseResult EstimateRelativePose(const std::vector<Eigen::Vector3d>& rays
         "got " + std::to_string(rays_a.size()) + " rays in view a and " + std::to_string(rays_b.size()) + " in view b";
     return result;
   }
-  if (result.num_correspondences < kMinCorrespondences) {
+  if (result.num_correspondences < kMinRelativePoseCorrespondences) {
     result.failure = std::to_string(result.num_correspondences) + " correspondences, need at least " +
-                     std::to_string(kMinCorrespondences);
+                     std::to_string(kMinRelativePoseCorrespondences);
     return result;
   }
   // OpenGV's view 1 is b and view 2 is a, so that its (R12, t12) = b_from_a directly:
@@ -136,8 +136,8 @@ RelativePoseResult EstimateRelativePose(const std::vector<Eigen::Vector3d>& rays
   opengv::transformation_t model;
   std::vector<int> inliers;
   if (!internal::RunRansac(problem, threshold, options, &model, &inliers, /*refine=*/true) ||
-      inliers.size() < kMinCorrespondences) {
-    result.failure = "no relative pose fits " + std::to_string(kMinCorrespondences) + " or more of " +
+      inliers.size() < kMinRelativePoseCorrespondences) {
+    result.failure = "no relative pose fits " + std::to_string(kMinRelativePoseCorrespondences) + " or more of " +
                      std::to_string(result.num_correspondences) + " correspondences";
     return result;
   }

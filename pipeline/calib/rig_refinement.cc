@@ -598,7 +598,7 @@ std::string FallbackReason(const std::string& adjustment_message,
 StatusOr<RigRefinementResult> RefineRigCalibration(const std::vector<cv::Mat>& upright_tiles,
                                                    const RigCalibration& factory,
                                                    const RigRefinementOptions& options) {
-  const Clock::time_point start = Clock::now();
+  const StageClock::time_point start = StageClock::now();
   PX_RETURN_IF_ERROR(options.Validate());
   PX_RETURN_IF_ERROR(factory.Validate().WithContext("rig refinement: factory calibration"));
   PX_RETURN_IF_ERROR(CheckTiles(upright_tiles, factory));
@@ -619,7 +619,7 @@ StatusOr<RigRefinementResult> RefineRigCalibration(const std::vector<cv::Mat>& u
   if (n < 2) return finish("a rig of one lens has nothing to refine against");
 
   // 1. Features, and their rays through the factory lenses.
-  Clock::time_point step = Clock::now();
+  StageClock::time_point step = StageClock::now();
   PX_ASSIGN_OR_RETURN(std::vector<Features> features, DetectFeaturesInImages(upright_tiles, options.features));
   const std::vector<ViewData> views =
       ViewsThroughFactoryLenses(std::move(features), upright_tiles, factory, &report.views);
@@ -628,7 +628,7 @@ StatusOr<RigRefinementResult> RefineRigCalibration(const std::vector<cv::Mat>& u
   if (usable_views < 2) return finish(TooFewFeaturesReason(views, usable_views, upright_tiles));
 
   // 2. Nearby lens pairs, matched and verified in parallel (each with its own seed).
-  step = Clock::now();
+  step = StageClock::now();
   const double spacing = SmallestSpacing(factory);
   const std::vector<std::pair<int, int>> pair_list = NearbyPairs(views, factory, spacing, options);
   const RansacOptions ransac = RigRansac(factory, options);
@@ -648,7 +648,7 @@ StatusOr<RigRefinementResult> RefineRigCalibration(const std::vector<cv::Mat>& u
   }
 
   // 5. Bundle adjustment with the factory calibration as the prior, twice (outliers dropped).
-  step = Clock::now();
+  step = StageClock::now();
   const std::vector<BaPrior> priors = FactoryPriors(factory, held_views.held, spacing, options);
   PX_ASSIGN_OR_RETURN(const AdjustmentPasses passes, AdjustTwice(priors, report.centres_held, options, &problem));
   report.adjustment_iterations = passes.first.iterations + passes.second.iterations;

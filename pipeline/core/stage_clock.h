@@ -5,10 +5,10 @@
 
 namespace px {
 
-using Clock = std::chrono::steady_clock;
+using StageClock = std::chrono::steady_clock;
 
-inline double MsSince(Clock::time_point start) {
-  return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
+inline double MsSince(StageClock::time_point start) {
+  return std::chrono::duration<double, std::milli>(StageClock::now() - start).count();
 }
 
 }  // namespace px

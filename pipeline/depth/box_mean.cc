@@ -26,10 +26,6 @@ void SumWindowsAnyRadius(const float* __restrict in, int cols, int radius, float
   }
 }
 
-void AddRow(const float* __restrict row, int cols, float* __restrict acc) {
-  for (int x = 0; x < cols; ++x) acc[x] += row[x];
-}
-
 void SlideAndScale(const float* __restrict add,
                    const float* __restrict sub,
                    int cols,
@@ -104,7 +100,7 @@ void BoxMean(const cv::Mat& src, int radius, std::vector<float>* scratch, cv::Ma
   dst->create(src.size(), CV_32F);
   const float inv_area = 1.0f / static_cast<float>((2 * r + 1) * (2 * r + 1));
   std::fill_n(column, cols, 0.0f);
-  for (int dy = -r; dy <= r; ++dy) AddRow(row(ReflectIndex(dy, rows)), cols, column);
+  for (int dy = -r; dy <= r; ++dy) AddRowTo(row(ReflectIndex(dy, rows)), cols, column);
   Scale(column, cols, inv_area, dst->ptr<float>(0));
   for (int y = 1; y < rows; ++y) {
     SlideAndScale(

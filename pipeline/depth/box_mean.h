@@ -7,6 +7,11 @@
 
 namespace px::depth {
 
+// acc[x] += row[x] for x < cols: one step of the running sums down columns.
+inline void AddRowTo(const float* __restrict row, int cols, float* __restrict acc) {
+  for (int x = 0; x < cols; ++x) acc[x] += row[x];
+}
+
 // OpenCV's BORDER_REFLECT (fedcba|abcdef|fedcba) for any offset i into [0, n).
 int ReflectIndex(int i, int n);
 

@@ -182,7 +182,7 @@ ReferenceDepth MatchReference(const std::vector<View>& views,
                               const std::vector<char>& excluded,
                               const DepthOptions& options,
                               StageTimes* times) {
-  Clock::time_point start = Clock::now();
+  StageClock::time_point start = StageClock::now();
   const MatchingOptions& m = options.matching;
   const WorkingView& ref = working[reference];
   const View& view = views[reference];
@@ -260,7 +260,7 @@ ReferenceDepth MatchReference(const std::vector<View>& views,
   times->matching_ms += MsSince(start);
 
   // Segments and a plane each.
-  start = Clock::now();
+  start = StageClock::now();
   const SegmentOptions& so = options.segments;
   const depth::Superpixels segments =
       depth::Oversegment(ref.bgr, so.region_size_px, static_cast<float>(so.compactness), so.iterations);
@@ -309,7 +309,7 @@ ReferenceDepth MatchReference(const std::vector<View>& views,
   times->segments_ms += MsSince(start);
 
   // The two-layer view at view resolution.
-  start = Clock::now();
+  start = StageClock::now();
   const bool scaled = size != view.image.size();
   const double factor = scaled ? ref.camera.fx / view.camera.fx : 1.0;
   depth::SegmentImage image;
@@ -490,7 +490,7 @@ StatusOr<DepthStageResult> ComputeWithModeOptions(const std::vector<View>& views
                                                   const std::vector<int>& reference_indices,
                                                   const DepthOptions& options,
                                                   const DepthProgressCallback& progress) {
-  const Clock::time_point start = Clock::now();
+  const StageClock::time_point start = StageClock::now();
   for (int index : reference_indices) {
     if (index < 0 || index >= static_cast<int>(views.size())) {
       return OutOfRangeError("reference view index " + std::to_string(index) + " is outside [0, " +
@@ -566,7 +566,7 @@ StatusOr<DepthStageResult> ComputeWithModeOptions(const std::vector<View>& views
       for (DepthSegment& segment : references[i].layered.segments) segment.confidence = 0;
     }
   }
-  Clock::time_point consistency_start = Clock::now();
+  StageClock::time_point consistency_start = StageClock::now();
   ApplyConsistency(views, reference_indices, options, &references);
   result.report.consistency_ms = MsSince(consistency_start);
 

@@ -14,10 +14,6 @@ void SlideColumn(const float* __restrict add, const float* __restrict sub, int c
   for (int x = 0; x < cols; ++x) acc[x] += add[x] - sub[x];
 }
 
-void AddRow(const float* __restrict row, int cols, float* __restrict acc) {
-  for (int x = 0; x < cols; ++x) acc[x] += row[x];
-}
-
 // 1 - ZNCC for one row from the window sums (means once scaled by inv_area).
 void ZnccRow(const float* __restrict sum_w,
              const float* __restrict sum_ww,
@@ -100,7 +96,7 @@ void ComputeZnccCost(
       workspace->column_sums.data(), workspace->column_sums.data() + cols, workspace->column_sums.data() + 2 * cols};
   for (int dy = -r; dy <= r; ++dy) {
     const int row = ReflectIndex(dy, rows);
-    for (int q = 0; q < 3; ++q) AddRow(workspace->row_sums.ptr<float>(q * rows + row), cols, sums[q]);
+    for (int q = 0; q < 3; ++q) AddRowTo(workspace->row_sums.ptr<float>(q * rows + row), cols, sums[q]);
   }
   cost->create(warped.size(), CV_32F);
   const float inv_area = 1.0f / static_cast<float>((2 * r + 1) * (2 * r + 1));

@@ -5,6 +5,8 @@
 #include <opencv2/imgproc.hpp>
 #include <vector>
 
+#include "pipeline/core/order_statistics.h"
+
 namespace px::direct {
 
 namespace {
@@ -23,12 +25,6 @@ cv::Size2d WidestCrop(const CameraPath& path, cv::Size image) {
 
 double ZoomAt(const CameraPath& path, double t) {
   return std::max(1.0, path.FocalAt(t) / path.keyframes.front().focal_px);
-}
-
-double Median(std::vector<double> values) {
-  const auto middle = values.begin() + static_cast<std::ptrdiff_t>(values.size() / 2);
-  std::nth_element(values.begin(), middle, values.end());
-  return *middle;
 }
 
 // The box with every side moved in by `margin` (a box too small for it stays centred, empty).
@@ -71,7 +67,7 @@ namespace {
 
 // `centre` moved as little as brings `box` inside a window of `size` centred there, `margin`
 // from its edges (to the box's centre where the window is too small for it).
-cv::Point2d Framing(cv::Point2d centre, const cv::Rect2d& box, cv::Size2d size, double margin) {
+cv::Point2d FramingCentre(cv::Point2d centre, const cv::Rect2d& box, cv::Size2d size, double margin) {
   const double lo_x = box.x + box.width + margin - 0.5 * size.width, hi_x = box.x - margin + 0.5 * size.width;
   const double lo_y = box.y + box.height + margin - 0.5 * size.height, hi_y = box.y - margin + 0.5 * size.height;
   centre.x = lo_x <= hi_x ? std::clamp(centre.x, lo_x, hi_x) : box.x + 0.5 * box.width;
@@ -93,7 +89,7 @@ cv::Rect2d MorphWindowAt(const CameraPath& path, const ViewMorph& morph, double 
     // From the least turn that frames the subjects (a portrait cut from a landscape morph) to
     // their lower half's centre, as far as the zoom has come.
     const double margin = margin_fraction * size.width;
-    const cv::Point2d from = Framing(centre, box, size, margin);
+    const cv::Point2d from = FramingCentre(centre, box, size, margin);
     const cv::Point2d target(box.x + 0.5 * box.width, box.y + 0.75 * box.height);
     const double reached = end_zoom > 1 ? (zoom - 1) / (end_zoom - 1) : 0.0;
     centre = from + reached * (target - from);

@@ -355,7 +355,7 @@ StatusOr<CameraPath> PlanCameraPath(const std::vector<View>& views,
                                     const DirectOptions& options,
                                     const DirectionContext& context,
                                     DirectionReport* report_out) {
-  const Clock::time_point start = Clock::now();
+  const StageClock::time_point start = StageClock::now();
   PX_RETURN_IF_ERROR(options.Validate());
   if (views.empty()) return InvalidArgumentError("direction: no views");
   DirectionReport local;

@@ -86,7 +86,7 @@ DetectedFaces DetectFaces(cv::Mat image,
                           ViewId view,
                           const FaceDetector& detector,
                           const FaceDetectionOptions& options) {
-  const Clock::time_point start = Clock::now();
+  const StageClock::time_point start = StageClock::now();
   DetectedFaces found;
   found.view = view;
   found.faces = detector.Detect(image, options);

@@ -86,13 +86,13 @@ TEST(LatticeDetectorTest, TooSmallFrameAndBadOptionsNameTheValue) {
   EXPECT_NE(d.status().message().find("20x20"), std::string::npos) << d.status().message();
   LatticeOptions options;
   options.min_gap_z = 1;
-  EXPECT_NE(options.Validate().message().find("min_gap_z 1"), std::string::npos) << options.Validate().message();
+  EXPECT_NE(options.Validate().message().find("min_gap_z = 1"), std::string::npos) << options.Validate().message();
   options = LatticeOptions();
   options.min_confidence = 2;
-  EXPECT_NE(options.Validate().message().find("min_confidence 2"), std::string::npos);
+  EXPECT_NE(options.Validate().message().find("min_confidence = 2"), std::string::npos);
   options = LatticeOptions();
   options.rows = 9;
-  EXPECT_NE(options.Validate().message().find("rows 9"), std::string::npos);
+  EXPECT_NE(options.Validate().message().find("rows = 9"), std::string::npos);
 }
 
 }  // namespace

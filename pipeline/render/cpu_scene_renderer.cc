@@ -196,7 +196,7 @@ StatusOr<std::unique_ptr<CpuSceneRenderer>> CpuSceneRenderer::Create(const std::
              scene.views().size(),
              scene.mesh().triangles().size(),
              scene.depth_range_m());
-  const Clock::time_point start = Clock::now();
+  const StageClock::time_point start = StageClock::now();
   std::unique_ptr<render::LayeredScene> coarse = MakeCoarseScene(views, layers, options);
   // The coarse scene must take the same views in the same order (the mesh indexes them).
   if (coarse != nullptr && coarse->views().size() != scene.views().size()) coarse.reset();
@@ -231,11 +231,11 @@ CpuSceneRenderer::Core CpuSceneRenderer::RenderCore(const CameraModel& camera,
                                                     RenderQuality quality,
                                                     bool inpaint) {
   const int width = camera.width, height = camera.height;
-  Clock::time_point start = Clock::now();
+  StageClock::time_point start = StageClock::now();
   scene_.mesh().ComputeWeights(camera, cam_from_world, &slots_, options_.viewing_weight_exponent);
   stats_.weights_ms += MsSince(start);
 
-  start = Clock::now();
+  start = StageClock::now();
   render::SetUpFrame(scene_, camera, cam_from_world, slots_, options_.texture_stretch, &frame_views_);
   const std::vector<render::FrameView>& frame_views = frame_views_;
   stats_.setup_ms += MsSince(start);
@@ -243,7 +243,7 @@ CpuSceneRenderer::Core CpuSceneRenderer::RenderCore(const CameraModel& camera,
   stats_.segments_drawn = 0;
   for (const render::FrameView& fv : frame_views) stats_.segments_drawn += static_cast<int>(fv.segments.size());
 
-  start = Clock::now();
+  start = StageClock::now();
   // The preview reuses its colour and alpha buffers from frame to frame (15 MB of fresh pages a
   // 1200x800 frame otherwise); depth leaves with the frame, so it is always a new buffer.
   render::FrameComposite offline_composite;
@@ -266,7 +266,7 @@ CpuSceneRenderer::Core CpuSceneRenderer::RenderCore(const CameraModel& camera,
   stats_.composite_ms += MsSince(start);
   stats_.fragments += composite.fragments;
 
-  start = Clock::now();
+  start = StageClock::now();
   Core core;
   core.coverage = composite.alpha >= options_.covered_alpha;
   stats_.hole_pixels = width * height - cv::countNonZero(core.coverage);
@@ -319,7 +319,7 @@ CpuSceneRenderer::Core CpuSceneRenderer::RenderCore(const CameraModel& camera,
   }
   stats_.holes_ms += MsSince(start);
 
-  start = Clock::now();
+  start = StageClock::now();
   render::ApplyColorEffects(effects, camera, cam_from_world, composite.depth, &composite.colour);
   stats_.effects_ms += MsSince(start);
 
@@ -336,7 +336,7 @@ CpuSceneRenderer::Core CpuSceneRenderer::RenderCore(const CameraModel& camera,
 StatusOr<FrameRender> CpuSceneRenderer::Render(const VirtualCamera& camera) {
   PX_RETURN_IF_ERROR(camera.Validate());
   PX_RETURN_IF_ERROR(CheckCamera(camera.camera, camera.cam_from_world));
-  const Clock::time_point start = Clock::now();
+  const StageClock::time_point start = StageClock::now();
   stats_ = CpuFrameStats();
   const bool offline = options_.quality == RenderQuality::kOffline;
   Core core = RenderCore(camera.camera, camera.cam_from_world, camera.effects, options_.quality, offline);
@@ -353,7 +353,7 @@ StatusOr<FrameRender> CpuSceneRenderer::Render(const VirtualCamera& camera) {
     stats_.aperture_samples = static_cast<int>(viewpoints.size());
     core.colour = sum / static_cast<double>(viewpoints.size());
   } else if (camera.aperture_m > 0) {
-    const Clock::time_point dof_start = Clock::now();
+    const StageClock::time_point dof_start = StageClock::now();
     const render::DepthOfFieldReport dof = render::ApplyPreviewDepthOfField(
         camera.aperture_m, camera.focus_depth_m, camera.camera.fx, core.depth, &core.colour);
     stats_.silhouette_pixels = dof.silhouette_pixels;

@@ -240,7 +240,7 @@ StatusOr<CalibratedViews> ImageSetViews(const FrameSet& capture,
     return FailedPreconditionError(name + ": an image set needs at least 2 images, got " +
                                    std::to_string(capture.frames.size()));
   }
-  const Clock::time_point start = Clock::now();
+  const StageClock::time_point start = StageClock::now();
   std::vector<calib::SfmImage> images;
   std::vector<size_t> frame_of_image;
   int with_exif_focal = 0;
@@ -274,7 +274,7 @@ StatusOr<CalibratedViews> ImageSetViews(const FrameSet& capture,
   }
   std::vector<std::string> image_names;
   for (size_t frame : frame_of_image) image_names.push_back(FrameName(capture, frame));
-  const Clock::time_point calib_start = Clock::now();
+  const StageClock::time_point calib_start = StageClock::now();
   PX_ASSIGN_OR_RETURN(CalibratedViews out,
                       SfmViews(name, images, frame_of_image, image_names, calib_options, sfm, warnings));
   if (with_exif_focal > 0) {
@@ -296,7 +296,7 @@ StatusOr<CalibratedViews> BlindLatticeViews(const FrameSet& capture,
                                             const LatticeOptions& lattice,
                                             std::vector<std::string>* warnings,
                                             std::vector<StageTiming>* timings) {
-  const Clock::time_point lattice_start = Clock::now();
+  const StageClock::time_point lattice_start = StageClock::now();
   size_t chosen = capture.frames.size();
   for (size_t i = 0; i < capture.frames.size() && chosen == capture.frames.size(); ++i) {
     if (capture.frames[i].status == FrameStatus::kOk) chosen = i;
@@ -316,7 +316,7 @@ StatusOr<CalibratedViews> BlindLatticeViews(const FrameSet& capture,
   warnings->push_back(reason);
   Logger("calib")->warn("{}", reason);
 
-  const Clock::time_point calib_start = Clock::now();
+  const StageClock::time_point calib_start = StageClock::now();
   std::vector<calib::SfmImage> images;
   std::vector<size_t> view_ids;
   std::vector<std::string> image_names;
@@ -383,7 +383,7 @@ StatusOr<CalibratedViews> CalibrateCapture(const FrameSet& capture,
   if (rig.lattice.rows == 0) return BlindLatticeViews(capture, rig, calib, sfm, blind_lattice, warnings, timings);
   PX_RETURN_IF_ERROR(rig.Validate().WithContext("rig calibration '" + rig.rig_name + "'"));
 
-  const Clock::time_point lattice_start = Clock::now();
+  const StageClock::time_point lattice_start = StageClock::now();
   size_t chosen = capture.frames.size();
   for (size_t i = 0; i < capture.frames.size(); ++i) {
     if (capture.frames[i].status == FrameStatus::kOk) {
@@ -413,7 +413,7 @@ StatusOr<CalibratedViews> CalibrateCapture(const FrameSet& capture,
   if (!tiles.ok()) return tiles.status().WithContext(FrameName(capture, chosen));
   timings->push_back({"lattice", MsSince(lattice_start)});
 
-  const Clock::time_point calib_start = Clock::now();
+  const StageClock::time_point calib_start = StageClock::now();
   CalibratedViews out;
   out.depth_min_m = rig.nominal_depth_min_m;
   out.depth_max_m = rig.nominal_depth_max_m;

@@ -14,7 +14,7 @@ OverlappedFrameSink::OverlappedFrameSink(FrameSink* sink, int capacity)
 OverlappedFrameSink::~OverlappedFrameSink() { (void)Finish(); }
 
 Status OverlappedFrameSink::Consume(int index, const cv::Mat& bgr) {
-  const Clock::time_point start = Clock::now();
+  const StageClock::time_point start = StageClock::now();
   std::unique_lock<std::mutex> lock(mutex_);
   changed_.wait(lock, [&] { return queue_.size() < capacity_ || !error_.ok() || closing_; });
   wait_ms_ += MsSince(start);
@@ -26,7 +26,7 @@ Status OverlappedFrameSink::Consume(int index, const cv::Mat& bgr) {
 }
 
 Status OverlappedFrameSink::Finish() {
-  const Clock::time_point start = Clock::now();
+  const StageClock::time_point start = StageClock::now();
   {
     std::lock_guard<std::mutex> lock(mutex_);
     closing_ = true;
@@ -48,7 +48,7 @@ void OverlappedFrameSink::Run() {
     changed_.notify_all();       // room in the queue
     if (!error_.ok()) continue;  // drop the frames after an error
     lock.unlock();
-    const Clock::time_point start = Clock::now();
+    const StageClock::time_point start = StageClock::now();
     Status consumed;
     try {
       consumed = sink_->Consume(frame.first, frame.second);

@@ -89,7 +89,7 @@ Status RenderFrames(const std::vector<View>& views,
                     double framing_margin,
                     PipelineReport* report) {
   const auto log = Logger("pipeline");
-  const Clock::time_point start = Clock::now();
+  const StageClock::time_point start = StageClock::now();
   const CameraPath& path = report->path;
   const View* flat_source = nullptr;
   if (path.kind == PathKind::kPanZoom2d) {
@@ -227,7 +227,7 @@ StatusOr<PipelineReport> RunUncalibrated(const FrameSet& capture,
                                          const std::function<Status(const char*, double)>& report_progress,
                                          PipelineReport report) {
   const auto log = Logger("pipeline");
-  Clock::time_point start = Clock::now();
+  StageClock::time_point start = StageClock::now();
   std::vector<View> views;
   for (size_t i = 0; i < capture.frames.size(); ++i) {
     const Frame& frame = capture.frames[i];
@@ -264,7 +264,7 @@ StatusOr<PipelineReport> RunUncalibrated(const FrameSet& capture,
   log->warn("{}: morphing instead", reason);
 
   PX_RETURN_IF_ERROR(report_progress("direct", 0));
-  start = Clock::now();
+  start = StageClock::now();
   DirectionContext direction;
   direction.depth_trusted = false;
   direction.distrust_reason = "no calibration";
@@ -375,7 +375,7 @@ StatusOr<PipelineReport> RunPipeline(const FrameSet& shot,
   }
 
   // Stage 3: depth.
-  Clock::time_point start = Clock::now();
+  StageClock::time_point start = StageClock::now();
   DepthOptions depth_options = options.depth.WithDefaultDepthRange(calibrated.depth_min_m, calibrated.depth_max_m);
   if (depth_options.num_threads == 0) depth_options.num_threads = options.num_threads;
   // A depth stage with its own OpenCV worker count changes the process-wide pool, which would pull
@@ -452,7 +452,7 @@ StatusOr<PipelineReport> RunPipeline(const FrameSet& shot,
 
   // Stage 4: the camera path, its viewpoints checked against what the renderer can cover.
   PX_RETURN_IF_ERROR(report_progress("direct", 0));
-  start = Clock::now();
+  start = StageClock::now();
   PX_ASSIGN_OR_RETURN(std::unique_ptr<render::gl::BackendSceneRenderer> renderer,
                       render::gl::BackendSceneRenderer::Create(views, layers, options.render, options.render_backend));
   report.render_backend = std::string(renderer->BackendName());

@@ -1,6 +1,8 @@
 # Checks that every project #include respects the module layering (run by ctest as
 # layering/includes_test; cmake -DSOURCE_DIR=<root> -P check_layering.cmake):
-#   pipeline/  includes only pipeline/
+#   pipeline/  includes only pipeline/; a stage (lattice, calib, depth, direct, render, clip)
+#              only itself, pipeline/core/ and pipeline/io/ (pipeline/run joins the stages;
+#              a stage's tests and benchmarks may use the others)
 #   drivers/   includes only drivers/ and pipeline/core/
 #   capture/   includes only capture/, drivers/source/ (the frame-source interface) and pipeline/core/
 #   sim/       includes only sim/, capture/, drivers/source/ and pipeline/core/
@@ -23,6 +25,9 @@ set(allowed_eval "eval/;pipeline/;capture/;sim/;drivers/source/")
 set(test_allowed_capture "sim/synthetic/")
 set(allowed_device "device/;pipeline/;capture/;sim/;drivers/;tests/")
 
+# The stages do not include each other: each is a computation on core's types.
+set(stages lattice calib depth direct render clip)
+
 set(violations 0)
 set(checked 0)
 foreach(module pipeline drivers capture sim eval device)
@@ -30,6 +35,13 @@ foreach(module pipeline drivers capture sim eval device)
   foreach(source IN LISTS sources)
     math(EXPR checked "${checked} + 1")
     set(allowed ${allowed_${module}})
+    if(module STREQUAL "pipeline" AND source MATCHES "^pipeline/([a-z_]+)/")
+      set(stage "${CMAKE_MATCH_1}")
+      # Tests and benchmarks may combine stages (a render benchmark that encodes its clip).
+      if(stage IN_LIST stages AND NOT source MATCHES "(_test|_benchmark|test_util)[^/]*$")
+        set(allowed "pipeline/${stage}/;pipeline/core/;pipeline/io/")
+      endif()
+    endif()
     if(source MATCHES "(_test|_benchmark|test_util)[^/]*$")
       list(APPEND allowed "tests/" ${test_allowed_${module}})
     endif()
@@ -54,4 +66,5 @@ endforeach()
 if(violations GREATER 0)
   message(FATAL_ERROR "${violations} include(s) break the module layering")
 endif()
-message(STATUS "layering: ${checked} files of pipeline/, drivers/, capture/, sim/, eval/ and device/ include only what they may")
+string(REPLACE ";" ", " stage_names "${stages}")
+message(STATUS "layering: ${checked} files of pipeline/, drivers/, capture/, sim/, eval/ and device/ include only what they may; the stages (${stage_names}) only themselves, pipeline/core/ and pipeline/io/")
