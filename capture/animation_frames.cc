@@ -14,7 +14,7 @@ extern "C" {
 #include <libswscale/swscale.h>
 }
 
-#include "pipeline/core/image_file.h"
+#include "pipeline/io/image_file.h"
 
 namespace px {
 namespace {

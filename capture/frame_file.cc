@@ -6,8 +6,8 @@
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
-#include "pipeline/core/image_file.h"
 #include "pipeline/core/size_text.h"
+#include "pipeline/io/image_file.h"
 
 namespace px::capture {
 namespace {

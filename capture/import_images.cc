@@ -8,9 +8,9 @@
 
 #include "capture/animation_frames.h"
 #include "capture/mpo.h"
-#include "pipeline/core/exif.h"
-#include "pipeline/core/image_file.h"
 #include "pipeline/core/pixel_format.h"
+#include "pipeline/io/exif.h"
+#include "pipeline/io/image_file.h"
 
 namespace px {
 

@@ -10,10 +10,10 @@
 #include "capture/frame_file.h"
 #include "capture/recording_manifest.h"
 #include "capture/sha256.h"
-#include "pipeline/core/durable_file.h"
-#include "pipeline/core/image_file.h"
 #include "pipeline/core/json_fields.h"
 #include "pipeline/core/log.h"
+#include "pipeline/io/durable_file.h"
+#include "pipeline/io/image_file.h"
 
 namespace px {
 namespace {

@@ -16,7 +16,7 @@
 #include "capture/recording_manifest.h"
 #include "capture/recording_test_util.h"
 #include "capture/sha256.h"
-#include "pipeline/core/durable_file.h"
+#include "pipeline/io/durable_file.h"
 
 namespace px {
 namespace {

@@ -11,8 +11,8 @@
 
 #include "capture/sha256.h"
 #include "device/control/control_protocol.h"
-#include "pipeline/core/durable_file.h"
 #include "pipeline/core/unique_fd.h"
+#include "pipeline/io/durable_file.h"
 
 namespace px::device {
 

@@ -12,10 +12,10 @@
 #include "capture/recording.h"
 #include "device/storage/job_journal.h"
 #include "device/storage/storage_layout.h"
-#include "pipeline/core/durable_file.h"
 #include "pipeline/core/log.h"
 #include "pipeline/core/stage_clock.h"
 #include "pipeline/direct/camera_path.h"
+#include "pipeline/io/durable_file.h"
 
 namespace px::device {
 namespace {

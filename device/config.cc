@@ -8,10 +8,10 @@
 
 #include "device/trigger/key_codes.h"
 #include "pipeline/clip/clip_writer.h"
-#include "pipeline/core/durable_file.h"
 #include "pipeline/core/json_fields.h"
 #include "pipeline/core/pixel_format.h"
 #include "pipeline/direct/clip_timing.h"
+#include "pipeline/io/durable_file.h"
 #include "pipeline/render/gl/render_backend.h"
 
 namespace px::device {

@@ -6,7 +6,7 @@
 #include <nlohmann/json.hpp>
 
 #include "device/daemon_factory.h"
-#include "pipeline/core/durable_file.h"
+#include "pipeline/io/durable_file.h"
 #include "pipeline/render/gl/render_backend.h"
 #include "tests/testing/temp_dir.h"
 

@@ -9,11 +9,11 @@
 #include "device/control/control_protocol.h"
 #include "device/storage/storage_quota.h"
 #include "device/test_pause.h"
-#include "pipeline/core/durable_file.h"
 #include "pipeline/core/json_fields.h"
 #include "pipeline/core/log.h"
 #include "pipeline/direct/direct_options.h"
 #include "pipeline/direct/shot_file.h"
+#include "pipeline/io/durable_file.h"
 
 namespace px::device {
 namespace {

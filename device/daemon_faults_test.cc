@@ -15,7 +15,7 @@
 #include "capture/recording.h"
 #include "device/control/control_client.h"
 #include "device/daemon_factory.h"
-#include "pipeline/core/durable_file.h"
+#include "pipeline/io/durable_file.h"
 #include "tests/testing/temp_dir.h"
 #include "tests/testing/video_probe.h"
 

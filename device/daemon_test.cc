@@ -21,7 +21,7 @@
 #include "device/clip_fetch.h"
 #include "device/control/control_client.h"
 #include "device/control/control_protocol.h"
-#include "pipeline/core/durable_file.h"
+#include "pipeline/io/durable_file.h"
 #include "tests/testing/temp_dir.h"
 
 namespace px::device {

@@ -21,7 +21,7 @@
 #include "device/process/daemon_process.h"
 #include "device/storage/storage_layout.h"
 #include "device/test_pause.h"
-#include "pipeline/core/durable_file.h"
+#include "pipeline/io/durable_file.h"
 #include "tests/testing/temp_dir.h"
 #include "tests/testing/video_probe.h"
 

@@ -10,8 +10,8 @@
 
 #include "capture/sha256.h"
 #include "device/storage/storage_layout.h"
-#include "pipeline/core/durable_file.h"
 #include "pipeline/core/log.h"
+#include "pipeline/io/durable_file.h"
 #include "tools/batch_runner.h"
 #include "tools/clip_flags.h"
 #include "tools/run_or_fail.h"

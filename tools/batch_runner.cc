@@ -19,8 +19,8 @@
 
 #include "capture/sha256.h"
 #include "device/storage/storage_layout.h"
-#include "pipeline/core/durable_file.h"
 #include "pipeline/core/log.h"
+#include "pipeline/io/durable_file.h"
 
 extern char** environ;
 

@@ -10,9 +10,9 @@
 
 #include "capture/recording.h"
 #include "pipeline/calib/rig_calibrator.h"
-#include "pipeline/core/image_file.h"
 #include "pipeline/core/log.h"
 #include "pipeline/core/rig_calibration_json.h"
+#include "pipeline/io/image_file.h"
 #include "pipeline/lattice/lattice_detector.h"
 #include "pipeline/lattice/split_lattice.h"
 #include "tools/run_or_fail.h"

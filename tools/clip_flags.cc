@@ -5,9 +5,9 @@
 #include <utility>
 
 #include "device/face_cascades.h"
-#include "pipeline/core/durable_file.h"
 #include "pipeline/core/log.h"
 #include "pipeline/direct/shot_file.h"
+#include "pipeline/io/durable_file.h"
 #include "pipeline/render/gl/render_backend.h"
 
 namespace px::cli {

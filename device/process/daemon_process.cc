@@ -11,7 +11,7 @@
 #include <map>
 #include <thread>
 
-#include "pipeline/core/durable_file.h"
+#include "pipeline/io/durable_file.h"
 
 extern char** environ;
 

@@ -6,8 +6,8 @@
 #include <sstream>
 
 #include "device/process/daemon_process.h"
-#include "pipeline/core/durable_file.h"
 #include "pipeline/core/log.h"
+#include "pipeline/io/durable_file.h"
 
 namespace px::device {
 namespace {

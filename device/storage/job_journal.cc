@@ -7,9 +7,9 @@
 #include <nlohmann/json.hpp>
 #include <system_error>
 
-#include "pipeline/core/durable_file.h"
 #include "pipeline/core/json_fields.h"
 #include "pipeline/core/log.h"
+#include "pipeline/io/durable_file.h"
 
 namespace px::device {
 namespace {

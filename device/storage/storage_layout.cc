@@ -7,8 +7,8 @@
 #include <cstring>
 #include <system_error>
 
-#include "pipeline/core/durable_file.h"
 #include "pipeline/core/log.h"
+#include "pipeline/io/durable_file.h"
 
 namespace px::device {
 namespace {

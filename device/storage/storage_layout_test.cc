@@ -3,7 +3,7 @@
 #include <gtest/gtest.h>
 #include <sys/stat.h>
 
-#include "pipeline/core/durable_file.h"
+#include "pipeline/io/durable_file.h"
 #include "tests/testing/temp_dir.h"
 
 namespace px::device {

@@ -12,7 +12,7 @@
 
 #include "device/control/control_client.h"
 #include "device/systemd/notify_test_util.h"
-#include "pipeline/core/durable_file.h"
+#include "pipeline/io/durable_file.h"
 #include "tests/testing/temp_dir.h"
 
 namespace px::device {

@@ -6,7 +6,7 @@
 #include <cstdio>
 #include <regex>
 
-#include "pipeline/core/durable_file.h"
+#include "pipeline/io/durable_file.h"
 #include "tests/testing/temp_dir.h"
 
 namespace px::device {

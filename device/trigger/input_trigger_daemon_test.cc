@@ -10,7 +10,7 @@
 #include "device/daemon.h"
 #include "device/trigger/input_trigger.h"
 #include "device/trigger/input_trigger_test_util.h"
-#include "pipeline/core/durable_file.h"
+#include "pipeline/io/durable_file.h"
 #include "tests/testing/temp_dir.h"
 
 namespace px::device {

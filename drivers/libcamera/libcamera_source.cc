@@ -19,9 +19,9 @@
 #include "drivers/libcamera/libcamera_formats.h"
 #include "drivers/libcamera/mapped_plane.h"
 #include "drivers/libcamera/plane_copy.h"
-#include "pipeline/core/durable_file.h"
 #include "pipeline/core/log.h"
 #include "pipeline/core/rig_calibration_json.h"
+#include "pipeline/io/durable_file.h"
 
 namespace px::libcamera_driver {
 

@@ -5,9 +5,9 @@
 #include <opencv2/imgproc.hpp>
 #include <optional>
 
-#include "pipeline/core/exif.h"
-#include "pipeline/core/image_file.h"
 #include "pipeline/core/log.h"
+#include "pipeline/io/exif.h"
+#include "pipeline/io/image_file.h"
 
 namespace px {
 namespace {

@@ -9,10 +9,10 @@
 #include <thread>
 
 #include "drivers/v4l2/v4l2_formats.h"
-#include "pipeline/core/durable_file.h"
 #include "pipeline/core/log.h"
 #include "pipeline/core/rig_calibration_json.h"
 #include "pipeline/core/size_text.h"
+#include "pipeline/io/durable_file.h"
 
 namespace px {
 namespace {

@@ -10,7 +10,7 @@
 #include "eval/datasets/hci_light_field.h"
 #include "eval/datasets/image_folder.h"
 #include "eval/datasets/middlebury_mview.h"
-#include "pipeline/core/exif.h"
+#include "pipeline/io/exif.h"
 #include "sim/synthetic/data_paths.h"
 
 namespace px::eval {

@@ -2,7 +2,7 @@
 
 #include <cstdlib>
 
-#include "pipeline/core/durable_file.h"
+#include "pipeline/io/durable_file.h"
 
 namespace px::eval {
 namespace {

@@ -5,7 +5,7 @@
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
-#include "pipeline/core/exif.h"
+#include "pipeline/io/exif.h"
 
 namespace px::eval {
 

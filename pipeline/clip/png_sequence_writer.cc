@@ -7,7 +7,7 @@
 #include <system_error>
 #include <vector>
 
-#include "pipeline/core/durable_file.h"
+#include "pipeline/io/durable_file.h"
 
 namespace px::clip {
 namespace {

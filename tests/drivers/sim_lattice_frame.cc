@@ -3,8 +3,8 @@
 #include <chrono>
 #include <mutex>
 
-#include "pipeline/core/durable_file.h"
 #include "pipeline/core/rig_calibration_json.h"
+#include "pipeline/io/durable_file.h"
 #include "sim/synthetic/data_paths.h"
 #include "sim/synthetic/synthetic_source.h"
 

@@ -15,7 +15,7 @@
 #include "device/control/control_protocol.h"
 #include "drivers/ptp/ptp_container.h"
 #include "drivers/ptp/ptp_datasets.h"
-#include "pipeline/core/image_file.h"
+#include "pipeline/io/image_file.h"
 
 namespace px::fuzz {
 namespace {

@@ -3,9 +3,10 @@
 #   pipeline/  includes only pipeline/; a stage (lattice, calib, depth, direct, render, clip)
 #              only itself, pipeline/core/ and pipeline/io/ (pipeline/run joins the stages;
 #              a stage's tests and benchmarks may use the others)
-#   drivers/   includes only drivers/ and pipeline/core/
-#   capture/   includes only capture/, drivers/source/ (the frame-source interface) and pipeline/core/
-#   sim/       includes only sim/, capture/, drivers/source/ and pipeline/core/
+#   drivers/   includes only drivers/, pipeline/core/ and pipeline/io/
+#   capture/   includes only capture/, drivers/source/ (the frame-source interface), pipeline/core/
+#              and pipeline/io/
+#   sim/       includes only sim/, capture/, drivers/source/, pipeline/core/ and pipeline/io/
 #   eval/      includes only eval/, pipeline/, capture/, sim/ and drivers/source/
 #   device/    includes anything but eval/ and tools/ (the daemon is not a tool)
 #   tools/     may include everything
@@ -18,9 +19,9 @@ if(NOT SOURCE_DIR)
 endif()
 
 set(allowed_pipeline "pipeline/")
-set(allowed_drivers "drivers/;pipeline/core/")
-set(allowed_capture "capture/;drivers/source/;pipeline/core/")
-set(allowed_sim "sim/;capture/;drivers/source/;pipeline/core/")
+set(allowed_drivers "drivers/;pipeline/core/;pipeline/io/")
+set(allowed_capture "capture/;drivers/source/;pipeline/core/;pipeline/io/")
+set(allowed_sim "sim/;capture/;drivers/source/;pipeline/core/;pipeline/io/")
 set(allowed_eval "eval/;pipeline/;capture/;sim/;drivers/source/")
 set(test_allowed_capture "sim/synthetic/")
 set(allowed_device "device/;pipeline/;capture/;sim/;drivers/;tests/")

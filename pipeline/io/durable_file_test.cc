@@ -1,4 +1,4 @@
-#include "pipeline/core/durable_file.h"
+#include "pipeline/io/durable_file.h"
 
 #include <fcntl.h>
 #include <gmock/gmock.h>

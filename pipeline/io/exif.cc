@@ -1,4 +1,4 @@
-#include "pipeline/core/exif.h"
+#include "pipeline/io/exif.h"
 
 #include <cmath>
 #include <fstream>

@@ -1,4 +1,4 @@
-#include "pipeline/core/image_file.h"
+#include "pipeline/io/image_file.h"
 
 #include <algorithm>
 #include <array>

@@ -1,6 +1,6 @@
 // Photos from outside are not trusted: the size a header claims is checked before decoding, a JPEG
 // is decoded reduced when asked, and every failure names the file.
-#include "pipeline/core/image_file.h"
+#include "pipeline/io/image_file.h"
 
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
