@@ -9,7 +9,7 @@
 
 #include "capture/recording_test_util.h"
 #include "sim/synthetic/data_paths.h"
-#include "tests/testing/exif_jpeg.h"
+#include "sim/synthetic/exif_jpeg.h"
 
 namespace px {
 namespace {
@@ -94,7 +94,7 @@ TEST(ImportImagesTest, AJpegsExifFocalLengthComesThrough) {
   const cv::Mat bgr = GradientNoiseBgr(96, 64, 5);
   std::vector<uint8_t> jpeg;
   ASSERT_TRUE(cv::imencode(".jpg", bgr, jpeg));
-  const std::vector<uint8_t> with_exif = px::testing::WithExifFocalLength(jpeg, 140.0, 96, 64);
+  const std::vector<uint8_t> with_exif = px::sim::WithExifFocalLength(jpeg, 140.0, 96, 64);
   {
     std::ofstream(dir.path() / "a.jpg", std::ios::binary)
         .write(reinterpret_cast<const char*>(with_exif.data()), static_cast<std::streamsize>(with_exif.size()));

@@ -11,8 +11,8 @@
 #include "capture/recording.h"
 #include "eval/calib/sim_image_set.h"
 #include "pipeline/run/capture_calibration.h"
+#include "sim/synthetic/exif_jpeg.h"
 #include "tests/drivers/ptp_test_util.h"
-#include "tests/testing/exif_jpeg.h"
 #include "tests/testing/temp_dir.h"
 
 namespace px::sim_calib {
@@ -27,7 +27,7 @@ FrameSet CaptureAndReplay(const ImageSet& set, bool with_exif) {
     std::vector<uint8_t> jpeg;
     EXPECT_TRUE(cv::imencode(".jpg", image.image, jpeg, {cv::IMWRITE_JPEG_QUALITY, 95}));
     camera.jpegs.push_back(
-        with_exif ? px::testing::WithExifFocalLength(jpeg, set.camera.fx, set.camera.width, set.camera.height) : jpeg);
+        with_exif ? px::sim::WithExifFocalLength(jpeg, set.camera.fx, set.camera.width, set.camera.height) : jpeg);
   }
   auto responder = std::make_shared<ptp::testing::PtpResponder>(camera);
   StatusOr<std::unique_ptr<FrameSource>> source = MakePtpSource(ptp::testing::ResponderSourceOptions(responder));

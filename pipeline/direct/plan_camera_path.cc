@@ -9,6 +9,7 @@
 #include <optional>
 
 #include "pipeline/core/stage_clock.h"
+#include "pipeline/direct/detail_size.h"
 #include "pipeline/direct/morph_framing.h"
 #include "pipeline/direct/pan_zoom_2d.h"
 #include "pipeline/direct/scene_geometry.h"
@@ -427,11 +428,16 @@ StatusOr<CameraPath> PlanCameraPath(const std::vector<View>& views,
   // The region search probes the splatted depth (splat_coverage.h) when asked, else the renderer
   // at search_scale; the chosen path's frames are always checked through the renderer.
   const CoverageFunction splat_function = splat ? splat->AsFunction() : CoverageFunction();
+  // Frames enlarged beyond the capture's detail are drawn at that detail (detail_size.h), and
+  // checked there. (The search keeps its fraction of the output: much smaller, its estimate
+  // reads too many holes.)
+  const double detail = framed_scale > direct::kDrawAtDetailAbove ? 1 / framed_scale : 1.0;
+  const double verify_scale = std::min(options.search.verify_scale, detail);
   direct::CoverageProbe search(splat ? &splat_function : &context.coverage,
                                splat ? 1.0 : options.search.search_scale,
                                options.search.valid_hole_score,
                                /*concurrent=*/splat.has_value() || context.coverage_concurrent);
-  direct::CoverageProbe verify(&context.coverage, options.search.verify_scale, options.search.valid_hole_score);
+  direct::CoverageProbe verify(&context.coverage, verify_scale, options.search.valid_hole_score);
   // 3D moves need each subject's depth; a subject without it still frames a flat clip.
   std::vector<Subject> with_depth;
   for (const Subject& subject : planner.subjects) {

@@ -188,14 +188,18 @@ StatusOr<CalibratedViews> SfmViews(const std::string& name,
   char text[256];
   std::snprintf(text,
                 sizeof(text),
-                "%d of %d images registered, %d points, reprojection RMS %.2f px, focal %s%s, %.0f ms",
+                "%d of %d images registered, %d points, reprojection RMS %.2f px, focal %s%s, %.0f ms (features %.0f, "
+                "matching %.0f, reconstruction %.0f)",
                 report.num_registered,
                 report.num_images,
                 report.num_points,
                 report.rms_px,
                 report.focal_source.c_str(),
                 report.focal_observable ? "" : " (unobservable)",
-                report.total_ms);
+                report.total_ms,
+                report.features_ms,
+                report.matching_ms,
+                report.reconstruction_ms);
   out.summary = text;
   std::vector<double> nears, fars;
   UndistortCache cache;

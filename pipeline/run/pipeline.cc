@@ -12,6 +12,7 @@
 #include "pipeline/core/pixel_format.h"
 #include "pipeline/core/stage_clock.h"
 #include "pipeline/depth/depth_stage.h"
+#include "pipeline/direct/detail_size.h"
 #include "pipeline/direct/morph_framing.h"
 #include "pipeline/direct/pan_zoom_2d.h"
 #include "pipeline/direct/plan_camera_path.h"
@@ -108,6 +109,8 @@ Status RenderFrames(const std::vector<View>& views,
     return InternalError("render: a novel-view path without a renderer");
   }
   const int num_frames = path.NumFrames();
+  // A frame enlarged beyond the capture's detail is drawn at that detail (detail_size.h).
+  const bool at_detail = path.kind == PathKind::kNovelView && path.output_scale > direct::kDrawAtDetailAbove;
   double hole_sum = 0;
   // The sink (the encoder) works on frame i on its own thread while frame i + 1 is rendered.
   constexpr int kQueuedFrames = 2;
@@ -132,14 +135,14 @@ Status RenderFrames(const std::vector<View>& views,
       CoverageReport holes;
       switch (path.kind) {
         case PathKind::kNovelView: {
-          const VirtualCamera camera = path.FrameAt(t);
+          const VirtualCamera camera = direct::CameraAtDetail(path.FrameAt(t), path.output_scale);
           StatusOr<FrameRender> frame = renderer->Render(camera);
           if (!frame.ok()) return frame.status().WithContext("render frame " + std::to_string(i));
           if (observer != nullptr) observer->OnFrame(i, camera, *frame);
           holes = frame->holes;
           hole_sum += frame->holes.hole_ratio;
           report->frame_coverage.push_back(frame->holes);
-          bgr = std::move(frame->bgr);
+          bgr = direct::EnlargeToOutput(frame->bgr, path.width, path.height);
           break;
         }
         case PathKind::kMorph:
@@ -187,6 +190,13 @@ Status RenderFrames(const std::vector<View>& views,
       report->frames_reused,
       100 * report->mean_hole_ratio,
       sink_ms);
+  if (at_detail) {
+    const CameraModel drawn_at = direct::CameraAtDetail(path.FrameAt(0), path.output_scale).camera;
+    log->info("render: frames drawn at the capture's detail, {}x{}, and enlarged {:.2f}x",
+              drawn_at.width,
+              drawn_at.height,
+              path.output_scale);
+  }
   if (report->mean_hole_ratio > kHighHoleRatio) {
     char text[160];
     std::snprintf(text,

@@ -1,8 +1,8 @@
-#include "tests/testing/exif_jpeg.h"
+#include "sim/synthetic/exif_jpeg.h"
 
 #include <cmath>
 
-namespace px::testing {
+namespace px::sim {
 namespace {
 
 // Little-endian TIFF writer.
@@ -54,4 +54,4 @@ std::vector<uint8_t> WithExifFocalLength(const std::vector<uint8_t>& jpeg, doubl
   return out;
 }
 
-}  // namespace px::testing
+}  // namespace px::sim

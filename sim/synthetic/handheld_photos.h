@@ -1,0 +1,35 @@
+// A simulated hand-held set as a phone or camera writes it: a scene shot from a few places by
+// hand (centres a few centimetres apart, each shot turned by a degree or two), each photo a JPEG
+// with its focal length in EXIF. What `parallax clip FOLDER` and the benchmarks read as a user's
+// photos, at any resolution (a 12 MP phone's 4000x3000 included).
+#pragma once
+
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "pipeline/core/status.h"
+
+namespace px::sim {
+
+struct HandHeldPhotoOptions {
+  int width = 640;
+  int height = 480;
+  // Focal length in pixels of the photo's width: the default is the simulated Pop9's field of
+  // view (560 px at 640 px wide), scaled with the width.
+  double focal_px = 0;
+  int shots = 4;             // 2..4, left to right, about 8 cm apart
+  double noise_sigma = 2.0;  // Gaussian sensor noise, 8-bit levels
+  int jpeg_quality = 92;
+  int supersampling = 1;  // rays per pixel side; 1 is plenty at a phone's resolution
+  Status Validate() const;
+};
+
+// Renders `scene_file` (a scene JSON) as `options.shots` photos and writes them into `folder`
+// (created) as shot_0.jpg, shot_1.jpg, ...; returns their paths. Errors: the scene's, bad
+// options (naming the field), a file that cannot be written.
+StatusOr<std::vector<std::filesystem::path>> WriteHandHeldPhotos(const std::filesystem::path& scene_file,
+                                                                 const HandHeldPhotoOptions& options,
+                                                                 const std::filesystem::path& folder);
+
+}  // namespace px::sim
