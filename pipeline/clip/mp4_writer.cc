@@ -37,9 +37,8 @@ class LibavMp4Writer final : public Mp4Writer {
     spec.configure = [fps = options.fps](AVCodecContext* codec) {
       codec->gop_size = std::max(1, static_cast<int>(std::lround(2 * fps)));  // a keyframe every 2 s
       // One encoder thread: the clip is encoded beside the renderer, which keeps both cores busy;
-      // x264's own frame threads (auto: 1.5 a core) only competed with it for them. Session 19,
-      // build/bench/render_clip_benchmark, alternating: 7.57 s for the 5 s 1200x800 clip with 9
-      // views against 7.95 s (mean of 5), 7.90 against 8.17 s with 20 (of 3).
+      // x264's own frame threads (auto: 1.5 a core) only compete with it for them
+      // (render_clip_benchmark times the whole clip either way).
       codec->thread_count = 1;
       codec->color_range = AVCOL_RANGE_MPEG;
       codec->colorspace = AVCOL_SPC_BT709;
