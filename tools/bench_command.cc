@@ -14,6 +14,7 @@
 #include "pipeline/clip/mp4_writer.h"
 #include "pipeline/core/log.h"
 #include "pipeline/direct/output_frame.h"
+#include "pipeline/render/gl/render_backend.h"
 #include "pipeline/run/pipeline.h"
 #include "sim/synthetic/handheld_photos.h"
 #include "sim/synthetic/synthetic_source.h"
@@ -42,6 +43,7 @@ struct BenchArgs {
   double fps = 30.0;
   std::string size;    // "WxH"; "" = the preset's
   std::string output;  // where the clip goes; default: a temporary file removed afterwards
+  std::string gl = "auto";  // render back end
   bool json = false;
   std::vector<std::string> depth_overrides;  // "matching.sgm_paths=0"
   ConsistentBlendOptions consistent_blend;
@@ -160,6 +162,7 @@ Status RunBench(const BenchArgs& args) {
     PX_RETURN_IF_ERROR(ParseOutputSize(size, &options.direct.output).WithContext("--size"));
   }
   options.render.consistent_blend = args.consistent_blend;
+  PX_ASSIGN_OR_RETURN(options.render_backend.backend, render::gl::ParseRenderBackend(args.gl));
   for (const std::string& text : args.depth_overrides) {
     PX_RETURN_IF_ERROR(ApplyDepthOptionOverride(text, &options.depth));
   }
@@ -219,6 +222,8 @@ Status RunBench(const BenchArgs& args) {
                         {"pipeline_ms", total_ms - capture.capture_ms},
                         {"ms_per_frame_render", report.frames_rendered > 0 ? render_ms / report.frames_rendered : 0.0},
                         {"mean_hole_ratio", report.mean_hole_ratio},
+                        {"render_backend", report.render_backend},
+                        {"render_backend_reason", report.render_backend_reason},
                         {"peak_rss_mib", PeakRssMiB()},
                         {"machine",
                          {{"cpu", machine.cpu_model},
@@ -258,6 +263,7 @@ Status RunBench(const BenchArgs& args) {
               total_ms - capture.capture_ms);
   std::printf("  %-22s %10.2f ms\n", "render per frame", result["ms_per_frame_render"].get<double>());
   std::printf("  %-22s %10.3f\n", "mean hole ratio", report.mean_hole_ratio);
+  std::printf("  %-22s %s (%s)\n", "rendered on", report.render_backend.c_str(), report.render_backend_reason.c_str());
   std::printf("  %-22s %10.1f MiB\n", "peak RSS", PeakRssMiB());
   return OkStatus();
 }
@@ -285,6 +291,9 @@ void AddBenchCommand(CLI::App& app) {
                     args->depth_overrides,
                     "Override one depth option, name=value as in pipeline/depth/depth_options.h (repeatable), "
                     "e.g. --option matching.sgm_paths=0");
+  bench->add_option("--gl", args->gl, "Render back end: auto, cpu, egl or osmesa (as parallax clip --gl)")
+      ->check(CLI::IsMember({"auto", "cpu", "egl", "osmesa"}))
+      ->capture_default_str();
   AddConsistentBlendFlags(*bench, &args->consistent_blend);
   bench->add_flag("--json", args->json, "Print the figures as JSON (machine-readable)");
   bench->callback(RunOrFail("bench", [args] { return RunBench(*args); }));

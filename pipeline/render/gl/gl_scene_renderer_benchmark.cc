@@ -1,5 +1,5 @@
-// Frames per second of the render back ends at the preview size (480x320) and a clip size
-// (1200x800), with 9 (3x3) and 20 (4x5) input views of the analytic two-plane scene cut into
+// Frames per second of the render back ends at the preview size (480x320) and clip sizes
+// (1200x800; GL also 1920x1080), with 9 (3x3) and 20 (4x5) input views of the analytic two-plane scene cut into
 // 16 px segments (~600 per 480x320 view, ~3750 per 1200x800 view), along a dolly across the rig.
 // Back ends: gl (OSMesa llvmpipe, or EGL: PX_GL=egl|osmesa picks, default auto), and the CPU
 // reference renderer on the same segments.
@@ -27,8 +27,9 @@ constexpr double kBaselineM = 0.025;
 constexpr int kTilePx = 16;
 
 CameraModel CameraOfWidth(int width) {
-  // The Pop9 tile's field of view (640 px wide, f 560) at any width, 3:2.
-  return CameraModel::Pinhole(width, width * 2 / 3, 560.0 * width / 640.0);
+  // The Pop9 tile's field of view (640 px wide, f 560) at any width: 3:2, or 16:9 for a 1080p
+  // clip's 1920.
+  return CameraModel::Pinhole(width, width == 1920 ? 1080 : width * 2 / 3, 560.0 * width / 640.0);
 }
 void RigShape(int views, int* rows, int* cols) {
   *rows = views == 20 ? 4 : 3;
@@ -89,7 +90,7 @@ bool RenderDollyFrame(
   return true;
 }
 
-// range(0): output width (480 or 1200); range(1): input views (9 or 20).
+// range(0): output width (480, 1200 or 1920: 480x320, 1200x800, 1920x1080); range(1): input views (9 or 20).
 void BM_GlRenderFrame(benchmark::State& state) {
   const CameraModel camera = CameraOfWidth(static_cast<int>(state.range(0)));
   int rows, cols;
@@ -108,7 +109,7 @@ void BM_GlRenderFrame(benchmark::State& state) {
   state.counters["hole_ratio"] = holes / std::max(frame, 1);
 }
 BENCHMARK(BM_GlRenderFrame)
-    ->ArgsProduct({{480, 1200}, {9, 20}})
+    ->ArgsProduct({{480, 1200, 1920}, {9, 20}})
     ->Unit(benchmark::kMillisecond)
     ->MeasureProcessCPUTime()
     ->UseRealTime();
