@@ -41,8 +41,8 @@ struct BenchArgs {
   std::string camera;  // "" = the preset's
   double duration_s = 5.0;
   double fps = 30.0;
-  std::string size;    // "WxH"; "" = the preset's
-  std::string output;  // where the clip goes; default: a temporary file removed afterwards
+  std::string size;         // "WxH"; "" = the preset's
+  std::string output;       // where the clip goes; default: a temporary file removed afterwards
   std::string gl = "auto";  // render back end
   bool json = false;
   std::vector<std::string> depth_overrides;  // "matching.sgm_paths=0"

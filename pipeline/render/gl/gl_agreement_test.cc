@@ -271,7 +271,8 @@ TEST_P(GlAgreementTest, HolesFromOtherViewsAgreeWithTheCpuReference) {
 // The caller's soft z gamma and hole window reach GL as they reach the CPU reference: outside the
 // rig (holes at the frame's edge, filled by the reverse soft z) with a gamma 2.5 times the
 // paper's and a 5x5 window, both back ends agree as with the defaults (71.4 dB, at most 1 level
-// apart). With GL on its old fixed gamma and 7x7 window: 47.1 dB, pixels 107 levels apart.
+// apart). A GL back end that kept the default gamma and 7x7 window here would be 47.1 dB, with
+// pixels 107 levels apart.
 TEST_P(GlAgreementTest, TheCallersSoftZAndHoleWindowAgree) {
   RenderOptions render;
   render.soft_z_gamma_fraction = 0.25;
