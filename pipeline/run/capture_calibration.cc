@@ -135,11 +135,11 @@ RigCalibration RefinedRig(const std::vector<cv::Mat>& tiles,
     return rig;
   }
   const calib::RigRefinementReport& report = refined->report;
-  char text[256];
+  char text[320];
   std::snprintf(text,
                 sizeof(text),
                 "%d lens pairs, %d matches, %d inliers, %d tracks, reprojection RMS %.2f -> %.2f px, max change "
-                "%.3f deg, %.2f mm, focal %.2f %%, %.0f ms",
+                "%.3f deg, %.2f mm, focal %.2f %%, %.0f ms (features %.0f, matching %.0f, adjustment %.0f)",
                 report.num_pairs,
                 report.num_matches,
                 report.num_inliers,
@@ -149,7 +149,10 @@ RigCalibration RefinedRig(const std::vector<cv::Mat>& tiles,
                 report.max_rotation_change_deg,
                 1000 * report.max_centre_change_m,
                 100 * report.max_focal_change_relative,
-                report.total_ms);
+                report.total_ms,
+                report.features_ms,
+                report.matching_ms,
+                report.adjustment_ms);
   out->summary = text;
   if (report.factory_fits) {
     out->calibration = "factory (confirmed by refinement)";
@@ -185,7 +188,7 @@ StatusOr<CalibratedViews> SfmViews(const std::string& name,
   for (const std::string& warning : report.warnings) warnings->push_back("calib: " + warning);
   CalibratedViews out;
   out.calibration = "structure from motion";
-  char text[256];
+  char text[320];
   std::snprintf(text,
                 sizeof(text),
                 "%d of %d images registered, %d points, reprojection RMS %.2f px, focal %s%s, %.0f ms (features %.0f, "
