@@ -2,6 +2,7 @@
 
 #include <ceres/ceres.h>
 #include <ceres/rotation.h>
+#include <glog/logging.h>
 
 #include <array>
 #include <chrono>
@@ -14,6 +15,19 @@
 
 namespace px::calib {
 namespace {
+
+// Ceres logs through glog, which, never initialised, prints a banner and every routine warning
+// (a Levenberg-Marquardt step whose Cholesky factorisation failed, retried with more damping)
+// on the user's terminal. Once per process: glog initialised to stderr, errors only.
+void QuietCeresLogging() {
+  static const bool quiet = [] {
+    FLAGS_logtostderr = true;
+    FLAGS_minloglevel = google::GLOG_ERROR;
+    if (!google::IsGoogleLoggingInitialized()) google::InitGoogleLogging("parallax");
+    return true;
+  }();
+  (void)quiet;
+}
 
 // Intrinsics block layout: focal (fx; fy = aspect * fx), cx, cy, k1, k2.
 constexpr int kIntrinsicsSize = 5;
@@ -314,6 +328,7 @@ StatusOr<BundleAdjustmentReport> BundleAdjust(BaProblem* problem,
     }
   }
 
+  QuietCeresLogging();
   ceres::Solver::Options solver_options;
   solver_options.linear_solver_type = ceres::DENSE_SCHUR;
   solver_options.max_num_iterations = options.max_iterations;
