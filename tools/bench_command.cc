@@ -13,6 +13,7 @@
 #include "capture/import_images.h"
 #include "pipeline/clip/mp4_writer.h"
 #include "pipeline/core/log.h"
+#include "pipeline/core/stage_clock.h"
 #include "pipeline/direct/output_frame.h"
 #include "pipeline/render/gl/render_backend.h"
 #include "pipeline/run/pipeline.h"
@@ -28,12 +29,6 @@
 
 namespace px::cli {
 namespace {
-
-using Clock = std::chrono::steady_clock;
-
-double MsSince(Clock::time_point start) {
-  return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
-}
 
 struct BenchArgs {
   std::string preset = "standard";
@@ -55,7 +50,7 @@ class TimedMp4Sink final : public FrameSink {
  public:
   TimedMp4Sink(std::filesystem::path path, double fps) : path_(std::move(path)) { options_.fps = fps; }
   Status Consume(int /*index*/, const cv::Mat& bgr) override {
-    const auto start = Clock::now();
+    const auto start = StageClock::now();
     if (!writer_) {
       PX_ASSIGN_OR_RETURN(writer_, clip::Mp4Writer::Open(path_, bgr.cols, bgr.rows, options_));
     }
@@ -65,7 +60,7 @@ class TimedMp4Sink final : public FrameSink {
   }
   Status Finish() {
     if (!writer_) return InternalError("the pipeline rendered no frames");
-    const auto start = Clock::now();
+    const auto start = StageClock::now();
     Status status = writer_->Finish();
     encode_ms_ += MsSince(start);
     return status;
@@ -99,7 +94,7 @@ StatusOr<BenchCapture> CaptureLattice(const SimCameraSpec& camera, const std::fi
   PX_ASSIGN_OR_RETURN(ConfigureResult configured, source->Configure(SourceConfig{sim.camera.pixel_format}, &granted));
   (void)configured;
   BenchCapture capture;
-  const auto start = Clock::now();
+  const auto start = StageClock::now();
   PX_ASSIGN_OR_RETURN(capture.frames, source->Next(std::chrono::milliseconds(600000)));
   capture.capture_ms = MsSince(start);
   capture.rig = *source->Describe().rig;
@@ -130,10 +125,10 @@ StatusOr<BenchCapture> CaptureHandHeld(const sim::HandHeldPhotoOptions& photos,
       std::filesystem::temp_directory_path() / ("parallax_bench_photos_" + std::to_string(::getpid()));
   RemoveFolder remove(folder);
   BenchCapture capture;
-  auto start = Clock::now();
+  auto start = StageClock::now();
   PX_ASSIGN_OR_RETURN(std::vector<std::filesystem::path> files, sim::WriteHandHeldPhotos(scene_file, photos, folder));
   capture.capture_ms = MsSince(start);
-  start = Clock::now();
+  start = StageClock::now();
   std::vector<std::string> warnings;
   PX_ASSIGN_OR_RETURN(Recording recording, RecordingFromImages(files, &warnings));
   capture.import_ms = MsSince(start);
@@ -170,7 +165,7 @@ Status RunBench(const BenchArgs& args) {
   PX_ASSIGN_OR_RETURN(const std::filesystem::path scene_file, ResolveScenePath(args.scene));
 
   Logger("bench")->info("preset {}: {}; simulating the capture", preset.name, preset.description);
-  const auto total_start = Clock::now();
+  const auto total_start = StageClock::now();
   PX_ASSIGN_OR_RETURN(
       BenchCapture capture,
       preset.handheld ? CaptureHandHeld(preset.photos, scene_file) : CaptureLattice(preset.camera, scene_file));

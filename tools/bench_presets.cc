@@ -12,21 +12,23 @@ SimCameraSpec WithTiles(SimCameraSpec spec, int width, int height) {
   return spec;
 }
 
+BenchPreset LatticePreset(std::string name, std::string description, SimCameraSpec camera, std::string size) {
+  BenchPreset preset;
+  preset.name = std::move(name);
+  preset.description = std::move(description);
+  preset.camera = std::move(camera);
+  preset.size = std::move(size);
+  return preset;
+}
+
 std::vector<BenchPreset> MakePresets() {
   std::vector<BenchPreset> presets;
-  BenchPreset standard;
-  standard.name = "standard";
-  standard.description = "simulated Pop9, 9 views of 640x480, a 640x480 clip";
-  standard.camera = SimCameraSpec::Pop9();
-  presets.push_back(standard);
-
-  BenchPreset pop9 = standard;
-  pop9.name = "pop9-12mp";
-  pop9.description = "simulated Pop9 on a 12 MP sensor, 9 views of 1330x1000, a 1920x1080 clip";
-  pop9.camera = WithTiles(SimCameraSpec::Pop9(), 1330, 1000);
-  pop9.size = "1920x1080";
-  presets.push_back(pop9);
-
+  presets.push_back(LatticePreset(
+      "standard", "simulated Pop9, 9 views of 640x480, a 640x480 clip", SimCameraSpec::Pop9(), /*size=*/""));
+  presets.push_back(LatticePreset("pop9-12mp",
+                                  "simulated Pop9 on a 12 MP sensor, 9 views of 1330x1000, a 1920x1080 clip",
+                                  WithTiles(SimCameraSpec::Pop9(), 1330, 1000),
+                                  "1920x1080"));
   BenchPreset handheld;
   handheld.name = "handheld-4x12mp";
   handheld.description = "four simulated hand-held photos of 4000x3000 (JPEG, EXIF focal), a 1080x1920 clip";
@@ -36,13 +38,11 @@ std::vector<BenchPreset> MakePresets() {
   handheld.photos.shots = 4;
   handheld.size = "1080x1920";
   presets.push_back(handheld);
-
-  BenchPreset integral;
-  integral.name = "integral-20";
-  integral.description = "simulated 5x4 integral lens on a 10 MP sensor, 20 views of 800x600, a 1920x1080 clip";
-  integral.camera = WithTiles(SimCameraSpec::Integral5x4(), 800, 600);
-  integral.size = "1920x1080";
-  presets.push_back(integral);
+  presets.push_back(
+      LatticePreset("integral-20",
+                    "simulated 5x4 integral lens on a 10 MP sensor, 20 views of 800x600, a 1920x1080 clip",
+                    WithTiles(SimCameraSpec::Integral5x4(), 800, 600),
+                    "1920x1080"));
   return presets;
 }
 

@@ -8,6 +8,7 @@
 
 #include "eval/calib/pose_alignment.h"
 #include "sim/synthetic/data_paths.h"
+#include "sim/synthetic/handheld_photos.h"
 #include "sim/synthetic/ray_caster.h"
 #include "sim/synthetic/scene_json.h"
 
@@ -79,10 +80,12 @@ ImageSet RenderCameras(const std::string& scene_name,
 }
 
 ImageSet HandHeld(bool known_focal, const std::string& scene) {
-  return Render(scene,
-                {{-0.12, 0.0, 0.0}, {-0.04, 0.01, 0.005}, {0.04, -0.005, -0.01}, {0.12, 0.008, 0.0}},
-                {{0.5, 1.5, -0.3}, {-0.8, 0.4, 0.6}, {1.2, -1.0, 0.2}, {-0.3, -2.0, -0.7}},
-                known_focal);
+  std::vector<Eigen::Vector3d> centres, turns;
+  for (const sim::HandHeldPlace& place : sim::HandHeldPlaces()) {
+    centres.push_back(place.centre_m);
+    turns.push_back(place.turn_deg);
+  }
+  return Render(scene, centres, turns, known_focal);
 }
 
 Figures Compare(const calib::SfmResult& result, const ImageSet& set) {

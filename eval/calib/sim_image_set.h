@@ -33,7 +33,7 @@ ImageSet RenderCameras(const std::string& scene_name,
                        const std::vector<Rigid3>& cam_from_world,
                        bool known_intrinsics);
 
-// Four hand-held shots 8 cm apart (about 3 inches), each turned by up to 2 degrees.
+// Four hand-held shots 8 cm apart (about 3 inches), each turned by up to 2 degrees (sim::HandHeldPlaces()).
 ImageSet HandHeld(bool known_focal, const std::string& scene = "still_life");
 
 struct Figures {

@@ -12,6 +12,7 @@
 #include "eval/render/render_eval_steps.h"
 #include "pipeline/core/pixel_format.h"
 #include "pipeline/run/capture_calibration.h"
+#include "sim/synthetic/handheld_photos.h"
 #include "sim/synthetic/ray_caster.h"
 #include "sim/synthetic/scene_json.h"
 
@@ -21,23 +22,9 @@ namespace {
 constexpr double kFocalPx = 560;     // at 640x480
 constexpr double kNoiseSigma = 2.0;  // 8-bit levels, as eval/calib's simulated hand-held sets
 
-Eigen::Quaterniond Turn(double x_deg, double y_deg, double z_deg) {
-  const double r = M_PI / 180;
-  return Eigen::AngleAxisd(x_deg * r, Eigen::Vector3d::UnitX()) *
-         Eigen::AngleAxisd(y_deg * r, Eigen::Vector3d::UnitY()) *
-         Eigen::AngleAxisd(z_deg * r, Eigen::Vector3d::UnitZ());
-}
-
-// The shots (eval/calib's HandHeld: centres in metres, turns in degrees) and the viewpoints scored,
-// each taken as a photo too: posed with the others, left out of the sources (LLFF's protocol).
-struct Place {
-  Eigen::Vector3d centre;
-  Eigen::Vector3d turn_deg;
-};
-const Place kShots[] = {{{-0.12, 0.0, 0.0}, {0.5, 1.5, -0.3}},
-                        {{-0.04, 0.01, 0.005}, {-0.8, 0.4, 0.6}},
-                        {{0.04, -0.005, -0.01}, {1.2, -1.0, 0.2}},
-                        {{0.12, 0.008, 0.0}, {-0.3, -2.0, -0.7}}};
+// The shots (sim/synthetic/handheld_photos.h) and the viewpoints scored, each taken as a photo
+// too: posed with the others, left out of the sources (LLFF's protocol).
+using Place = sim::HandHeldPlace;
 struct Viewpoint {
   const char* name;
   Place place;
@@ -66,11 +53,6 @@ StatusOr<sim::Scene> WithFaceMoved(const sim::Scene& scene, double turn_deg, dou
   return NotFoundError(scene.name + ": no plane named 'face' to move between the shots");
 }
 
-Rigid3 PoseOf(const Place& place) {
-  const Eigen::Quaterniond rotation = Turn(place.turn_deg.x(), place.turn_deg.y(), place.turn_deg.z());
-  return Rigid3(rotation, -(rotation * place.centre));
-}
-
 // The cases of one set of photos: with the focal length as EXIF gives it, or without (phones'
 // photos passed through messaging apps lose their EXIF), self-calibrated.
 // `scenes[i]` is the scene photo i saw (the shots, then the held-out viewpoints; one scene for all
@@ -85,15 +67,16 @@ StatusOr<std::vector<RenderEvalCase>> EvaluateShots(const std::vector<const sim:
       static_cast<int>(std::lround(640 * s)), static_cast<int>(std::lround(480 * s)), kFocalPx * s);
 
   // The shots, as the camera delivers them (noise, the focal length as EXIF gives it).
-  constexpr size_t kSources = std::size(kShots);
-  std::vector<Place> places(std::begin(kShots), std::end(kShots));
+  const std::vector<Place>& shots = sim::HandHeldPlaces();
+  const size_t num_sources = shots.size();
+  std::vector<Place> places = shots;
   for (const Viewpoint& viewpoint : kViewpoints) places.push_back(viewpoint.place);
   Progress(options, dataset + ": ray casting " + std::to_string(places.size()) + " photos");
   FrameSet capture;
   capture.kind = FrameSetKind::kImageSet;
   std::vector<Rigid3> true_poses;
   for (size_t i = 0; i < places.size(); ++i) {
-    true_poses.push_back(PoseOf(places[i]));
+    true_poses.push_back(sim::CamFromWorldAt(places[i]));
     PX_ASSIGN_OR_RETURN(sim::RenderedView shot, sim::RenderView(scene_of(i), camera, true_poses.back()));
     cv::Mat noise(shot.bgr.size(), CV_16SC3), noisy;
     cv::RNG rng(100 + i);
@@ -150,15 +133,15 @@ StatusOr<std::vector<RenderEvalCase>> EvaluateShots(const std::vector<const sim:
   std::map<size_t, const View*> held_out;
   for (const View& view : calibrated.views) {
     const size_t place = static_cast<size_t>(view.id.value);
-    if (place < kSources) {
+    if (place < num_sources) {
       sources.push_back(view);
     } else {
-      held_out[place - kSources] = &view;
+      held_out[place - num_sources] = &view;
     }
   }
   if (sources.size() < 2) {
     return FailedPreconditionError(dataset + ": structure from motion posed " + std::to_string(sources.size()) +
-                                   " of the " + std::to_string(kSources) + " source shots");
+                                   " of the " + std::to_string(num_sources) + " source shots");
   }
   // Exact depth in the reconstruction's units (depth scales by 1 / s).
   std::vector<DepthMap> exact;
@@ -187,7 +170,7 @@ StatusOr<std::vector<RenderEvalCase>> EvaluateShots(const std::vector<const sim:
         continue;
       }
       PX_ASSIGN_OR_RETURN(sim::RenderedView truth,
-                          sim::RenderView(scene_of(kSources + k), camera, PoseOf(viewpoint.place)));
+                          sim::RenderView(scene_of(num_sources + k), camera, sim::CamFromWorldAt(viewpoint.place)));
       const cv::Mat truth_depth = truth.depth_m / align.scale;
       PX_ASSIGN_OR_RETURN(RenderEvalCase result,
                           RenderCase(*renderer,
@@ -223,7 +206,7 @@ StatusOr<std::vector<RenderEvalCase>> EvaluateSimulatedHandheldMotion(const std:
   PX_RETURN_IF_ERROR(options.Validate());
   PX_ASSIGN_OR_RETURN(sim::Scene scene, sim::LoadScene(scene_file));
   std::vector<sim::Scene> shot_scenes;
-  for (size_t i = 0; i < std::size(kShots); ++i) {
+  for (size_t i = 0; i < sim::HandHeldPlaces().size(); ++i) {
     PX_ASSIGN_OR_RETURN(sim::Scene moved, WithFaceMoved(scene, kFaceTurnDeg[i], kFaceShiftM[i]));
     shot_scenes.push_back(std::move(moved));
   }
@@ -232,9 +215,9 @@ StatusOr<std::vector<RenderEvalCase>> EvaluateSimulatedHandheldMotion(const std:
   for (const sim::Scene& shot : shot_scenes) scenes.push_back(&shot);
   for (const Viewpoint& viewpoint : kViewpoints) {
     size_t nearest = 0;
-    for (size_t i = 1; i < std::size(kShots); ++i) {
-      if ((kShots[i].centre - viewpoint.place.centre).norm() <
-          (kShots[nearest].centre - viewpoint.place.centre).norm()) {
+    for (size_t i = 1; i < sim::HandHeldPlaces().size(); ++i) {
+      if ((sim::HandHeldPlaces()[i].centre_m - viewpoint.place.centre_m).norm() <
+          (sim::HandHeldPlaces()[nearest].centre_m - viewpoint.place.centre_m).norm()) {
         nearest = i;
       }
     }

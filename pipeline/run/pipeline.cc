@@ -60,7 +60,7 @@ void LogDirection(const PipelineReport& report, std::vector<std::string>* warnin
             d.coverage_ms,
             report.timings.back().ms);
   log->info("direct: {}", report.path.reason);
-  if (report.path.output_scale > 1.05) {  // 5 %: below that, resampling hides it
+  if (report.path.output_scale > direct::kDrawAtDetailAbove) {  // below that, resampling hides it
     char text[160];
     std::snprintf(text,
                   sizeof(text),

@@ -18,26 +18,6 @@ namespace {
 
 constexpr std::string_view kPhotoOptions = "hand-held photo options";
 
-// Where a person stands for each shot (metres) and how far each shot is turned (degrees about
-// x, y, z): the drift of a hand, not a rig.
-struct Shot {
-  Eigen::Vector3d centre_m;
-  Eigen::Vector3d turn_deg;
-};
-constexpr int kMaxShots = 4;
-const Shot kShots[kMaxShots] = {{{-0.12, 0.0, 0.0}, {0.5, 1.5, -0.3}},
-                                {{-0.04, 0.01, 0.005}, {-0.8, 0.4, 0.6}},
-                                {{0.04, -0.005, -0.01}, {1.2, -1.0, 0.2}},
-                                {{0.12, 0.008, 0.0}, {-0.3, -2.0, -0.7}}};
-
-Rigid3 CamFromWorld(const Shot& shot) {
-  const double k = M_PI / 180.0;
-  const Eigen::Quaterniond rotation(Eigen::AngleAxisd(shot.turn_deg.x() * k, Eigen::Vector3d::UnitX()) *
-                                    Eigen::AngleAxisd(shot.turn_deg.y() * k, Eigen::Vector3d::UnitY()) *
-                                    Eigen::AngleAxisd(shot.turn_deg.z() * k, Eigen::Vector3d::UnitZ()));
-  return Rigid3(rotation, -(rotation * shot.centre_m));
-}
-
 cv::Mat WithNoise(const cv::Mat& bgr, double sigma, uint64_t seed) {
   if (sigma <= 0) return bgr;
   cv::Mat noise(bgr.size(), CV_16SC3);
@@ -52,11 +32,28 @@ cv::Mat WithNoise(const cv::Mat& bgr, double sigma, uint64_t seed) {
 
 }  // namespace
 
+const std::vector<HandHeldPlace>& HandHeldPlaces() {
+  static const std::vector<HandHeldPlace> places = {{{-0.12, 0.0, 0.0}, {0.5, 1.5, -0.3}},
+                                                    {{-0.04, 0.01, 0.005}, {-0.8, 0.4, 0.6}},
+                                                    {{0.04, -0.005, -0.01}, {1.2, -1.0, 0.2}},
+                                                    {{0.12, 0.008, 0.0}, {-0.3, -2.0, -0.7}}};
+  return places;
+}
+
+Rigid3 CamFromWorldAt(const HandHeldPlace& place) {
+  const double k = M_PI / 180.0;
+  const Eigen::Quaterniond rotation(Eigen::AngleAxisd(place.turn_deg.x() * k, Eigen::Vector3d::UnitX()) *
+                                    Eigen::AngleAxisd(place.turn_deg.y() * k, Eigen::Vector3d::UnitY()) *
+                                    Eigen::AngleAxisd(place.turn_deg.z() * k, Eigen::Vector3d::UnitZ()));
+  return Rigid3(rotation, -(rotation * place.centre_m));
+}
+
 Status HandHeldPhotoOptions::Validate() const {
   if (width < 64 || width > 16384) return OptionOutOfRange(kPhotoOptions, "width", width, "[64, 16384]");
   if (height < 64 || height > 16384) return OptionOutOfRange(kPhotoOptions, "height", height, "[64, 16384]");
   if (focal_px < 0) return OptionOutOfRange(kPhotoOptions, "focal_px", focal_px, "0 (the default) or > 0");
-  if (shots < 2 || shots > kMaxShots) return OptionOutOfRange(kPhotoOptions, "shots", shots, "[2, 4]");
+  if (shots < 2 || shots > static_cast<int>(HandHeldPlaces().size()))
+    return OptionOutOfRange(kPhotoOptions, "shots", shots, "[2, 4]");
   if (noise_sigma < 0 || noise_sigma > 50)
     return OptionOutOfRange(kPhotoOptions, "noise_sigma", noise_sigma, "[0, 50]");
   if (jpeg_quality < 1 || jpeg_quality > 100) {
@@ -82,7 +79,7 @@ StatusOr<std::vector<std::filesystem::path>> WriteHandHeldPhotos(const std::file
   render.supersampling = options.supersampling;
   std::vector<std::filesystem::path> paths;
   for (int i = 0; i < options.shots; ++i) {
-    PX_ASSIGN_OR_RETURN(RenderedView view, RenderView(scene, camera, CamFromWorld(kShots[i]), render));
+    PX_ASSIGN_OR_RETURN(RenderedView view, RenderView(scene, camera, CamFromWorldAt(HandHeldPlaces()[i]), render));
     std::vector<uint8_t> jpeg;
     if (!cv::imencode(".jpg",
                       WithNoise(view.bgr, options.noise_sigma, 100 + i),

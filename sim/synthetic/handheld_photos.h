@@ -4,13 +4,27 @@
 // photos, at any resolution (a 12 MP phone's 4000x3000 included).
 #pragma once
 
+#include <Eigen/Core>
 #include <filesystem>
 #include <string>
 #include <vector>
 
+#include "pipeline/core/rigid3.h"
 #include "pipeline/core/status.h"
 
 namespace px::sim {
+
+// Where a person stands for a shot (metres) and how far the shot is turned (degrees about x, y,
+// z, applied in that order), all looking down +z: the drift of a hand, not a rig.
+struct HandHeldPlace {
+  Eigen::Vector3d centre_m;
+  Eigen::Vector3d turn_deg;
+};
+// The four shots of a hand-held set, left to right, about 8 cm apart, each turned by up to 2
+// degrees (what the structure-from-motion tests, `eval render`'s hand-held group and the
+// hand-held photos below are shot from).
+const std::vector<HandHeldPlace>& HandHeldPlaces();
+Rigid3 CamFromWorldAt(const HandHeldPlace& place);
 
 struct HandHeldPhotoOptions {
   int width = 640;
@@ -18,7 +32,7 @@ struct HandHeldPhotoOptions {
   // Focal length in pixels of the photo's width: the default is the simulated Pop9's field of
   // view (560 px at 640 px wide), scaled with the width.
   double focal_px = 0;
-  int shots = 4;             // 2..4, left to right, about 8 cm apart
+  int shots = 4;             // 2..4: the first of HandHeldPlaces()
   double noise_sigma = 2.0;  // Gaussian sensor noise, 8-bit levels
   int jpeg_quality = 92;
   int supersampling = 1;  // rays per pixel side; 1 is plenty at a phone's resolution
