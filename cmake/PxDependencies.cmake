@@ -23,6 +23,10 @@ endif()
 # capture reads wigglegrams' animated WebP files (FFmpeg 5.1 has no animated WebP decoder);
 # the tests decode WebP clips back with it too.
 pkg_check_modules(WEBPDEMUX REQUIRED IMPORTED_TARGET libwebpdemux)
+# device/http: the web app's HTTP server (Debian builds cpp-httplib as a library), and the QR code
+# that carries its access token to a phone.
+pkg_check_modules(HTTPLIB REQUIRED IMPORTED_TARGET cpp-httplib)
+pkg_check_modules(QRENCODE REQUIRED IMPORTED_TARGET libqrencode)
 if(PX_BUILD_TESTS)
   find_package(GTest REQUIRED)
 endif()

@@ -117,6 +117,12 @@ Status RangeError(const std::string& field, double value, const std::string& ran
   return InvalidArgumentError(field + ": " + FormatNumber(value) + " is not in " + range);
 }
 
+// OK when lo <= value <= hi, else the RangeError naming [lo, hi].
+Status CheckInRange(const std::string& field, int value, int lo, int hi) {
+  if (value >= lo && value <= hi) return OkStatus();
+  return RangeError(field, value, "[" + std::to_string(lo) + ", " + std::to_string(hi) + "]");
+}
+
 Status ValidateLibcamera(const LibcameraSourceSettings& settings) {
   if (!ParsePixelFormat(settings.pixel_format)) {
     return InvalidArgumentError("source.libcamera.pixel_format: '" + settings.pixel_format +
@@ -174,14 +180,29 @@ Status ValidatePtp(const PtpSourceSettings& settings) {
   return OkStatus();
 }
 
+Status ValidateHttp(const HttpSettings& http) {
+  if (!http.listen.empty()) {
+    const size_t colon = http.listen.rfind(':');
+    const std::string port = colon == std::string::npos ? "" : http.listen.substr(colon + 1);
+    if (colon == 0 || colon == std::string::npos || port.empty() || port.size() > 5 ||
+        port.find_first_not_of("0123456789") != std::string::npos || std::stoi(port) > 65535) {
+      return InvalidArgumentError("http.listen: '" + http.listen + "' is not HOST:PORT (e.g. 127.0.0.1:8080)");
+    }
+  }
+  if (http.token_required != "remote" && http.token_required != "always") {
+    return InvalidArgumentError("http.token_required: '" + http.token_required + "' is not one of remote, always");
+  }
+  PX_RETURN_IF_ERROR(CheckInRange("http.max_body_kb", http.max_body_kb, 1, 65536));
+  PX_RETURN_IF_ERROR(CheckInRange("http.max_requests_in_flight", http.max_requests_in_flight, 1, 4096));
+  PX_RETURN_IF_ERROR(CheckInRange("http.requests_per_s", http.requests_per_s, 1, 100000));
+  PX_RETURN_IF_ERROR(CheckInRange("http.max_event_streams", http.max_event_streams, 1, 64));
+  return OkStatus();
+}
+
 Status ValidateTrigger(const TriggerSettings& trigger) {
   if (auto key = ParseKeyCode(trigger.key); !key.ok()) return key.status().WithContext("trigger.key");
-  if (trigger.debounce_ms < 0 || trigger.debounce_ms > 10000) {
-    return RangeError("trigger.debounce_ms", trigger.debounce_ms, "[0, 10000]");
-  }
-  if (trigger.retry_ms < 10 || trigger.retry_ms > 600000) {
-    return RangeError("trigger.retry_ms", trigger.retry_ms, "[10, 600000]");
-  }
+  PX_RETURN_IF_ERROR(CheckInRange("trigger.debounce_ms", trigger.debounce_ms, 0, 10000));
+  PX_RETURN_IF_ERROR(CheckInRange("trigger.retry_ms", trigger.retry_ms, 10, 600000));
   return OkStatus();
 }
 
@@ -189,12 +210,8 @@ Status ValidateWorker(const WorkerSettings& worker) {
   if (worker.memory_limit_mb != 0 && (worker.memory_limit_mb < 64 || worker.memory_limit_mb > 1048576)) {
     return RangeError("worker.memory_limit_mb", worker.memory_limit_mb, "0 or [64, 1048576]");
   }
-  if (worker.timeout_s < 10 || worker.timeout_s > 86400) {
-    return RangeError("worker.timeout_s", worker.timeout_s, "[10, 86400]");
-  }
-  if (worker.max_crashes < 1 || worker.max_crashes > 100) {
-    return RangeError("worker.max_crashes", worker.max_crashes, "[1, 100]");
-  }
+  PX_RETURN_IF_ERROR(CheckInRange("worker.timeout_s", worker.timeout_s, 10, 86400));
+  PX_RETURN_IF_ERROR(CheckInRange("worker.max_crashes", worker.max_crashes, 1, 100));
   return OkStatus();
 }
 
@@ -250,6 +267,7 @@ Status DaemonConfig::Validate() const {
   PX_RETURN_IF_ERROR(ValidatePtp(source.ptp));
   PX_RETURN_IF_ERROR(ValidateTrigger(trigger));
   PX_RETURN_IF_ERROR(ValidateWorker(worker));
+  PX_RETURN_IF_ERROR(ValidateHttp(http));
   if (source.timeout_ms <= 0 || source.timeout_ms > 600000) {
     return RangeError("source.timeout_ms", source.timeout_ms, "(0, 600000]");
   }
@@ -393,6 +411,15 @@ StatusOr<DaemonConfig> DaemonConfigFromJson(const nlohmann::json& j) {
   PX_RETURN_IF_ERROR(worker.Int("max_crashes", &config.worker.max_crashes));
   PX_RETURN_IF_ERROR(worker.CheckNoUnknownFields());
 
+  PX_ASSIGN_OR_RETURN(ObjectReader http, root.Child("http"));
+  PX_RETURN_IF_ERROR(http.String("listen", &config.http.listen));
+  PX_RETURN_IF_ERROR(http.String("token_required", &config.http.token_required));
+  PX_RETURN_IF_ERROR(http.Int("max_body_kb", &config.http.max_body_kb));
+  PX_RETURN_IF_ERROR(http.Int("max_requests_in_flight", &config.http.max_requests_in_flight));
+  PX_RETURN_IF_ERROR(http.Int("requests_per_s", &config.http.requests_per_s));
+  PX_RETURN_IF_ERROR(http.Int("max_event_streams", &config.http.max_event_streams));
+  PX_RETURN_IF_ERROR(http.CheckNoUnknownFields());
+
   PX_ASSIGN_OR_RETURN(ObjectReader log, root.Child("log"));
   PX_RETURN_IF_ERROR(log.String("levels", &config.log_levels));
   PX_RETURN_IF_ERROR(log.CheckNoUnknownFields());
@@ -465,6 +492,12 @@ nlohmann::json DaemonConfigToJson(const DaemonConfig& config) {
   j["worker"] = {{"memory_limit_mb", config.worker.memory_limit_mb},
                  {"timeout_s", config.worker.timeout_s},
                  {"max_crashes", config.worker.max_crashes}};
+  j["http"] = {{"listen", config.http.listen},
+               {"token_required", config.http.token_required},
+               {"max_body_kb", config.http.max_body_kb},
+               {"max_requests_in_flight", config.http.max_requests_in_flight},
+               {"requests_per_s", config.http.requests_per_s},
+               {"max_event_streams", config.http.max_event_streams}};
   j["log"] = {{"levels", config.log_levels}};
   return j;
 }

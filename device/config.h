@@ -130,6 +130,20 @@ struct WorkerSettings {
   int max_crashes = 3;
 };
 
+// The web app and its JSON API (device/http).
+struct HttpSettings {
+  // "HOST:PORT" to listen on; "" = no HTTP. Port 0 takes a free port (the log and status name it).
+  // An address other than loopback makes every request from another host need the access token.
+  std::string listen = "127.0.0.1:8080";
+  // Who must present the access token: "remote" (requests not from loopback) or "always" (behind
+  // a reverse proxy on the same machine every request comes from loopback).
+  std::string token_required = "remote";
+  int max_body_kb = 256;            // request bodies (a shot file is a few kB), [1, 65536]
+  int max_requests_in_flight = 64;  // more at once get 503, [1, 4096]
+  int requests_per_s = 50;          // per client address, with a burst of twice that; more get 429, [1, 100000]
+  int max_event_streams = 8;        // open /api/events streams; more get 503, [1, 64]
+};
+
 struct DaemonConfig {
   StorageOptions storage;  // JSON: storage.root, storage.min_free_mb, storage.quota_mb
   std::filesystem::path control_socket = "/run/parallax/control.sock";  // JSON: control.socket; "" = no socket
@@ -144,6 +158,7 @@ struct DaemonConfig {
   RenderSettings render;  // JSON: render.backend
   TriggerSettings trigger;
   WorkerSettings worker;            // JSON: worker.memory_limit_mb, worker.timeout_s, worker.max_crashes
+  HttpSettings http;                // JSON: http.listen, http.token_required, http.max_body_kb, ...
   std::string log_levels = "info";  // JSON: log.levels, e.g. "info" or "info,depth=debug"
 
   // Checks ranges and names; errors name the JSON field ("clip.fps: 0 is not in (0, 240]").

@@ -128,7 +128,27 @@ TEST(DaemonConfigTest, ErrorsNameTheField) {
             "worker.memory_limit_mb: 10 is not in 0 or [64, 1048576]");
   EXPECT_EQ(ErrorOf(R"({"worker": {"timeout_s": 5}})"), "worker.timeout_s: 5 is not in [10, 86400]");
   EXPECT_EQ(ErrorOf(R"({"worker": {"max_crashes": 0}})"), "worker.max_crashes: 0 is not in [1, 100]");
+  EXPECT_EQ(ErrorOf(R"({"http": {"listen": "8080"}})"), "http.listen: '8080' is not HOST:PORT (e.g. 127.0.0.1:8080)");
+  EXPECT_EQ(ErrorOf(R"({"http": {"listen": "0.0.0.0:99999"}})"),
+            "http.listen: '0.0.0.0:99999' is not HOST:PORT (e.g. 127.0.0.1:8080)");
+  EXPECT_EQ(ErrorOf(R"({"http": {"token_required": "never"}})"),
+            "http.token_required: 'never' is not one of remote, always");
+  EXPECT_EQ(ErrorOf(R"({"http": {"max_body_kb": 0}})"), "http.max_body_kb: 0 is not in [1, 65536]");
+  EXPECT_EQ(ErrorOf(R"({"http": {"max_event_streams": 100}})"), "http.max_event_streams: 100 is not in [1, 64]");
   EXPECT_EQ(ErrorOf(R"([1, 2])"), "config: want an object, got array");
+}
+
+TEST(DaemonConfigTest, WebAppListensOnLoopbackByDefault) {
+  const DaemonConfig config;
+  EXPECT_EQ(config.http.listen, "127.0.0.1:8080");
+  EXPECT_EQ(config.http.token_required, "remote");
+  auto off = DaemonConfigFromJson(nlohmann::json::parse(R"({"http": {"listen": ""}})"));
+  ASSERT_TRUE(off.ok()) << off.status().ToString();
+  EXPECT_EQ(off->http.listen, "");
+  auto anywhere =
+      DaemonConfigFromJson(nlohmann::json::parse(R"({"http": {"listen": "[::]:80", "token_required": "always"}})"));
+  ASSERT_TRUE(anywhere.ok()) << anywhere.status().ToString();
+  EXPECT_EQ(anywhere->http.token_required, "always");
 }
 
 TEST(DaemonConfigTest, ReadsAndChecksTheV4l2Source) {
@@ -219,6 +239,8 @@ TEST(DaemonConfigTest, PrintedConfigParsesBackToTheSameConfig) {
   config.worker.memory_limit_mb = 2048;
   config.worker.timeout_s = 120;
   config.worker.max_crashes = 5;
+  config.http.listen = "0.0.0.0:9000";
+  config.http.requests_per_s = 7;
   const nlohmann::json printed = DaemonConfigToJson(config);
   auto parsed = DaemonConfigFromJson(nlohmann::json::parse(printed.dump(2)));
   ASSERT_TRUE(parsed.ok()) << parsed.status().ToString();

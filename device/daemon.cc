@@ -75,6 +75,25 @@ void Daemon::SetClipListener(std::function<void(const fs::path& clip)> listener)
   clip_listener_ = std::move(listener);
 }
 
+void Daemon::SetEventListener(std::function<void(const nlohmann::json& event)> listener) {
+  event_listener_ = std::move(listener);
+}
+
+Status Daemon::DeleteJob(const std::string& id) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  std::optional<JobRecord> record = journal_->Get(id);
+  if (!record) return NotFoundError("job '" + id + "': no such job");
+  if (!IsFinal(record->state) || id == capturing_id_ || id == processing_id_) {
+    return FailedPreconditionError("job " + id + " is " + std::string(JobStateName(record->state)) +
+                                   "; only a done or failed job can be deleted");
+  }
+  PX_RETURN_IF_ERROR(RemoveJobFiles(layout_, id, "delete"));
+  PX_RETURN_IF_ERROR(journal_->Remove(id));
+  Logger("device")->info("job {}: deleted on request (clip and raw capture removed)", id);
+  if (event_listener_) event_listener_({{"type", "deleted"}, {"job", id}});
+  return OkStatus();
+}
+
 void Daemon::SetStateListener(std::function<void(const std::string& state, bool stopping)> listener) {
   state_listener_ = std::move(listener);
 }
@@ -218,6 +237,7 @@ StatusOr<std::string> Daemon::Press() {
     log->error("press refused: cannot journal job {}: {}", record.id, journaled.ToString());
     return journaled;
   }
+  if (event_listener_) event_listener_({{"type", "job"}, {"job", JobRecordToJson(record)}});
   capture_queue_.push_back(record.id);
   log->info("job {}: pressed ({} waiting for capture, {} for processing)",
             record.id,
@@ -297,6 +317,14 @@ void Daemon::OnProgressLocked() {
       state_listener_(state, stopping_);
     }
   }
+  if (event_listener_) {
+    const std::string state = StateNameLocked();
+    if (state != evented_state_ || stopping_ != evented_stopping_) {
+      evented_state_ = state;
+      evented_stopping_ = stopping_;
+      event_listener_({{"type", "state"}, {"state", state}, {"stopping", stopping_}});
+    }
+  }
   changed_.notify_all();
 }
 
@@ -314,6 +342,7 @@ void Daemon::Record(const JobRecord& record) {
     Logger("device")->error(
         "job {}: journal not updated to '{}': {}", record.id, JobStateName(record.state), status.ToString());
   }
+  if (event_listener_) event_listener_({{"type", "job"}, {"job", JobRecordToJson(record)}});
 }
 
 JobRecord Daemon::FailJob(JobRecord record, const Status& status, const std::string& during) {
@@ -508,6 +537,9 @@ std::optional<JobRecord> Daemon::ProcessJob(const std::string& id) {
     std::lock_guard<std::mutex> lock(mutex_);
     processing_stage_ = stage;
     processing_fraction_ = fraction;
+    if (event_listener_) {
+      event_listener_({{"type", "progress"}, {"job", id}, {"stage", stage}, {"progress", fraction}});
+    }
     return !(stopping_ && !drain_) && cancel_id_ != id;
   };
   context.worker = [this](int pid) {

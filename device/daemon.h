@@ -113,6 +113,24 @@ class Daemon {
   // Set before Start. (systemd STATUS= and STOPPING=1.)
   void SetStateListener(std::function<void(const std::string& state, bool stopping)> listener);
 
+  // Called with each event, as JSON, for the web app's live view (device/http/event_hub.h):
+  //   {"type":"job","job":<record>}            every journal write (pressed, saved, done, failed)
+  //   {"type":"progress","job":ID,"stage":S,"progress":F}   the processing job's stage and 0..1
+  //   {"type":"state","state":S,"stopping":B}  as for the state listener
+  // Possibly with the daemon's lock held: the listener must only queue the event. Set before Start.
+  void SetEventListener(std::function<void(const nlohmann::json& event)> listener);
+
+  // Deletes a finished (done or failed) job: its clip, report, poster, preview, raw capture and
+  // journal record. FAILED_PRECONDITION while it is still being captured or processed or waits
+  // for either; NOT_FOUND for an unknown id.
+  Status DeleteJob(const std::string& id);
+
+  // One control request (a JSON line, device/control/control_protocol.h), answered exactly as on
+  // the control socket; `respond` is called once, later for "wait". The web API goes through here.
+  void HandleControlRequest(const std::string& line, ControlServer::Respond respond) {
+    HandleRequest(line, std::move(respond));
+  }
+
   nlohmann::json StatusJson() const;  // the reply to {"cmd":"status"}
   nlohmann::json ListJson() const;    // the reply to {"cmd":"list"}
   std::optional<JobRecord> Job(const std::string& id) const;
@@ -152,8 +170,11 @@ class Daemon {
   JobRunner runner_;
   std::function<void(const std::filesystem::path&)> clip_listener_;
   std::function<void(const std::string&, bool)> state_listener_;
+  std::function<void(const nlohmann::json&)> event_listener_;
   std::string reported_state_;  // the last state given to state_listener_ (guarded by mutex_)
   bool reported_stopping_ = false;
+  std::string evented_state_;  // the last state given to event_listener_ (guarded by mutex_)
+  bool evented_stopping_ = false;
   std::unique_ptr<JobJournal> journal_;
   std::unique_ptr<ControlServer> server_;
 

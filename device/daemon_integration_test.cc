@@ -8,6 +8,7 @@
 #include "capture/recording.h"
 #include "device/control/control_client.h"
 #include "device/daemon_factory.h"
+#include "device/small_daemon_config.h"
 #include "pipeline/direct/camera_path.h"
 #include "tests/testing/animation_probe.h"
 #include "tests/testing/temp_dir.h"
@@ -16,31 +17,10 @@
 namespace px::device {
 namespace {
 
-// Jobs run in worker processes of the built parallaxd (this test binary serves no --job-worker).
-DaemonRunFlags WorkerFlags() {
-  DaemonRunFlags flags;
-  flags.worker_binary = std::filesystem::path(PX_BINARY_DIR) / "parallaxd";
-  return flags;
-}
-
 namespace fs = std::filesystem;
 using ::testing::HasSubstr;
 
 using DaemonIntegrationTest = px::testing::TempDirTest;
-
-// A 3x3 lattice of 160x120 tiles and a 0.5 s clip at 10 fps: the whole job takes seconds.
-DaemonConfig SmallConfig(const fs::path& dir) {
-  DaemonConfig config;
-  config.storage.root = dir / "store";
-  config.storage.min_free_bytes = 1'000'000;
-  config.control_socket = dir / "ctl.sock";
-  config.source.sim.tile_width = 160;
-  config.source.sim.tile_height = 120;
-  config.clip.duration_s = 0.5;
-  config.clip.fps = 10;
-  config.clip.preset = "ultrafast";
-  return config;
-}
 
 nlohmann::json Call(ControlClient& client,
                     const std::string& request,
@@ -67,7 +47,7 @@ struct PressedDaemon {
 };
 
 void PressAndWait(const DaemonConfig& config, PressedDaemon* out) {
-  auto daemon = BuildDaemon(config, WorkerFlags());
+  auto daemon = BuildDaemon(config, BuiltWorkerFlags());
   ASSERT_TRUE(daemon.ok()) << daemon.status().ToString();
   out->daemon = std::move(daemon).value();
   out->daemon->SetClipListener([mutex = out->announced_mutex, announced = out->announced](const fs::path& clip) {
@@ -86,7 +66,7 @@ void PressAndWait(const DaemonConfig& config, PressedDaemon* out) {
 }
 
 TEST_F(DaemonIntegrationTest, PressThroughSocketGivesRecordingThenClip) {
-  const DaemonConfig config = SmallConfig(dir());
+  const DaemonConfig config = SmallDaemonConfig(dir());
   PressedDaemon run;
   ASSERT_NO_FATAL_FAILURE(PressAndWait(config, &run));
   const std::string& id = run.id;
@@ -125,7 +105,7 @@ TEST_F(DaemonIntegrationTest, PressThroughSocketGivesRecordingThenClip) {
 // clip.format gif: the clip is clips/<id>.gif, announced and journalled under that name, found by
 // the storage accounting, and a fetch returns its bytes.
 TEST_F(DaemonIntegrationTest, ConfiguredClipFormatNamesTheClip) {
-  DaemonConfig config = SmallConfig(dir());
+  DaemonConfig config = SmallDaemonConfig(dir());
   config.clip.format = "gif";
   PressedDaemon run;
   ASSERT_NO_FATAL_FAILURE(PressAndWait(config, &run));
@@ -154,18 +134,18 @@ TEST_F(DaemonIntegrationTest, ConfiguredClipFormatNamesTheClip) {
 }
 
 TEST_F(DaemonIntegrationTest, MissingSceneFileIsAnErrorNamingTheField) {
-  DaemonConfig config = SmallConfig(dir());
+  DaemonConfig config = SmallDaemonConfig(dir());
   config.source.sim.scene = dir() / "no_such_scene.json";
-  auto daemon = BuildDaemon(config, WorkerFlags());
+  auto daemon = BuildDaemon(config, BuiltWorkerFlags());
   ASSERT_FALSE(daemon.ok());
   EXPECT_THAT(daemon.status().message(), HasSubstr("source.sim"));
   EXPECT_THAT(daemon.status().message(), HasSubstr("no_such_scene.json"));
 }
 
 TEST_F(DaemonIntegrationTest, UnknownMoveIsAnErrorNamingTheField) {
-  DaemonConfig config = SmallConfig(dir());
+  DaemonConfig config = SmallDaemonConfig(dir());
   config.clip.move = "barrel_roll";
-  auto daemon = BuildDaemon(config, WorkerFlags());
+  auto daemon = BuildDaemon(config, BuiltWorkerFlags());
   EXPECT_EQ(daemon.status().message(), "clip.move: 'barrel_roll' is not a known camera move");
 }
 

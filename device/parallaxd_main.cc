@@ -7,7 +7,9 @@
 #include <CLI/CLI.hpp>
 #include <cstdio>
 #include <cstdlib>
+#include <filesystem>
 #include <iostream>
+#include <memory>
 #include <mutex>
 #include <nlohmann/json.hpp>
 #include <string>
@@ -15,6 +17,8 @@
 
 #include "device/config.h"
 #include "device/daemon_factory.h"
+#include "device/http/access_token.h"
+#include "device/http/http_server.h"
 #include "device/systemd/systemd_notifier.h"
 #include "device/worker/worker_main.h"
 #include "device/worker/worker_protocol.h"
@@ -46,6 +50,8 @@ int main(int argc, char** argv) {
   std::string root;
   std::string socket;
   std::string log_levels;
+  std::string http_listen;
+  bool print_token = false;
   app.add_option("--config", config_path, "config file (JSON); else $PARALLAX_CONFIG; else built-in defaults");
   app.add_flag("--print-config", print_config, "print the effective config as JSON and exit");
   app.add_flag("--stdin-trigger",
@@ -56,6 +62,10 @@ int main(int argc, char** argv) {
                "exit once nothing is queued (after resuming leftover jobs; with --stdin-trigger, after EOF)");
   auto* root_option = app.add_option("--root", root, "override storage.root");
   auto* socket_option = app.add_option("--socket", socket, "override control.socket (\"\" disables the socket)");
+  auto* http_option =
+      app.add_option("--http", http_listen, "override http.listen, HOST:PORT (\"\" disables the web app)");
+  app.add_flag(
+      "--print-token", print_token, "print the web app's access token (made on first use, kept in the store) and exit");
   auto* log_option = app.add_option("--log", log_levels, "override log.levels, e.g. info or info,device=debug");
   CLI11_PARSE(app, argc, argv);
 
@@ -66,9 +76,18 @@ int main(int argc, char** argv) {
   if (root_option->count() > 0) config.storage.root = root;
   if (socket_option->count() > 0) config.control_socket = socket;
   if (log_option->count() > 0) config.log_levels = log_levels;
+  if (http_option->count() > 0) config.http.listen = http_listen;
   if (px::Status valid = config.Validate(); !valid.ok()) return Fail(valid);
   if (print_config) {
     std::cout << px::device::DaemonConfigToJson(config).dump(2) << std::endl;
+    return 0;
+  }
+  if (print_token) {
+    std::error_code ec;
+    std::filesystem::create_directories(config.storage.root, ec);
+    auto token = px::device::LoadOrCreateAccessToken(std::filesystem::absolute(config.storage.root) / "http_token");
+    if (!token.ok()) return Fail(token.status());
+    std::cout << *token << std::endl;
     return 0;
   }
   if (px::Status levels = px::SetLogLevels(config.log_levels); !levels.ok()) {
@@ -101,7 +120,19 @@ int main(int argc, char** argv) {
       notifier->ReportState(state, stopping);
     });
   }
+  auto http_options = px::device::HttpServerOptionsFromConfig(config.http, config.storage.root);
+  if (!http_options.ok()) return Fail(http_options.status());
+  std::unique_ptr<px::device::HttpServer> http;
+  if (*http_options) http = std::make_unique<px::device::HttpServer>(**http_options, daemon->get());
   if (px::Status started = (*daemon)->Start(); !started.ok()) return Fail(started);
+  // The web app is a convenience beside the button and the control socket: a port already taken
+  // is logged, and the camera works on without it.
+  if (http) {
+    if (px::Status serving = http->Start(); !serving.ok()) {
+      px::Logger("device")->error("{}; the web app is off, the button and control socket work", serving.ToString());
+      http.reset();
+    }
+  }
   if (*systemd) (*systemd)->Ready();  // the control socket listens now
 
   std::atomic<bool> finished{false};
@@ -116,6 +147,7 @@ int main(int argc, char** argv) {
     }
   });
   (*daemon)->Wait();
+  if (http) http->Stop();
   if (*systemd) (*systemd)->Stopping();
   finished = true;
   pthread_kill(signal_thread.native_handle(), SIGTERM);  // wakes the sigwait so the thread ends

@@ -170,6 +170,18 @@ Status JobJournal::Put(const JobRecord& record) {
   return OkStatus();
 }
 
+Status JobJournal::Remove(const std::string& id) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  if (records_.find(id) == records_.end()) return NotFoundError("job '" + id + "': no such job");
+  const fs::path path = jobs_dir_ / (id + ".json");
+  std::error_code ec;
+  fs::remove(path, ec);
+  if (ec) return ErrnoToStatus(ec.value(), "remove", path);
+  PX_RETURN_IF_ERROR(FsyncDir(jobs_dir_));
+  records_.erase(id);
+  return OkStatus();
+}
+
 std::optional<JobRecord> JobJournal::Get(const std::string& id) const {
   std::lock_guard<std::mutex> lock(mutex_);
   auto it = records_.find(id);

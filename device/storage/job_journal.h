@@ -70,6 +70,9 @@ class JobJournal {
   Status Put(const JobRecord& record);
   std::optional<JobRecord> Get(const std::string& id) const;
   std::vector<JobRecord> List() const;  // in id (press) order
+  // Deletes the record's file (the folder fsynced), then forgets it; NOT_FOUND for an unknown id.
+  // Its id is never given out again by this journal.
+  Status Remove(const std::string& id);
 
   // A fresh id, greater than every id in the journal and every name in `also_taken`
   // (e.g. folders under captures/ whose journal records were lost).

@@ -96,17 +96,7 @@ Status Shortfall(const StorageLayout& layout,
 }
 
 Status Evict(const StorageLayout& layout, JobJournal* journal, const std::string& id, const std::string& why) {
-  std::error_code ec;
-  const fs::path clip = layout.FindClip(id);
-  fs::remove_all(clip, ec);
-  if (ec) return ErrnoToStatus(ec.value(), "evict", clip);
-  fs::remove(ClipReportPathFor(clip), ec);
-  fs::remove(ClipPosterPathFor(clip), ec);
-  fs::remove(ClipPreviewPathFor(clip), ec);
-  fs::remove_all(layout.CaptureDir(id), ec);
-  if (ec) return ErrnoToStatus(ec.value(), "evict", layout.CaptureDir(id));
-  PX_RETURN_IF_ERROR(FsyncDir(layout.ClipsDir()));
-  PX_RETURN_IF_ERROR(FsyncDir(layout.CapturesDir()));
+  PX_RETURN_IF_ERROR(RemoveJobFiles(layout, id, "evict"));
   std::optional<JobRecord> record = journal->Get(id);
   if (!record) return OkStatus();
   record->clip_path.clear();
@@ -116,6 +106,20 @@ Status Evict(const StorageLayout& layout, JobJournal* journal, const std::string
 }
 
 }  // namespace
+
+Status RemoveJobFiles(const StorageLayout& layout, const std::string& id, std::string_view why) {
+  std::error_code ec;
+  const fs::path clip = layout.FindClip(id);
+  fs::remove_all(clip, ec);
+  if (ec) return ErrnoToStatus(ec.value(), why, clip);
+  fs::remove(ClipReportPathFor(clip), ec);
+  fs::remove(ClipPosterPathFor(clip), ec);
+  fs::remove(ClipPreviewPathFor(clip), ec);
+  fs::remove_all(layout.CaptureDir(id), ec);
+  if (ec) return ErrnoToStatus(ec.value(), why, layout.CaptureDir(id));
+  PX_RETURN_IF_ERROR(FsyncDir(layout.ClipsDir()));
+  return FsyncDir(layout.CapturesDir());
+}
 
 StatusOr<StorageUsage> MeasureStorage(const StorageLayout& layout,
                                       const StorageOptions& options,

@@ -10,6 +10,7 @@
 #include <cstdint>
 #include <nlohmann/json_fwd.hpp>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "device/storage/job_journal.h"
@@ -35,6 +36,10 @@ StatusOr<StorageUsage> MeasureStorage(const StorageLayout& layout,
 
 // {"used_mb":..,"free_mb":..,"quota_mb":..,"min_free_mb":..,"evictable_mb":..,"full":false,"reason":""}
 nlohmann::json StorageUsageToJson(const StorageUsage& usage, const StorageOptions& options);
+
+// Removes a job's clip (any format), its report, poster and preview, and its raw capture, then
+// fsyncs both folders. `why` names the operation in errors ("evict", "delete").
+Status RemoveJobFiles(const StorageLayout& layout, const std::string& id, std::string_view why);
 
 // Before a capture: evicts the oldest evictable jobs until the files under root plus one more
 // job (the newest capture and its clip, as an estimate) fit storage.quota_mb, and
