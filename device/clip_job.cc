@@ -15,6 +15,7 @@
 #include "pipeline/core/log.h"
 #include "pipeline/core/stage_clock.h"
 #include "pipeline/direct/camera_path.h"
+#include "pipeline/direct/shot_file.h"
 #include "pipeline/io/durable_file.h"
 
 namespace px::device {
@@ -298,10 +299,17 @@ StatusOr<ClipJobReport> RunClipJob(const Recording& recording,
   report.clip_bytes = BytesOf(report.clip_path);
   report.preview_bytes = BytesOf(report.preview_path);
   report.total_ms = MsSince(start);
+  // The shot that reproduces this clip, for replaying or editing it (parallax clip --shot, the web
+  // app's authoring); written before the report, which completes the clip's files.
+  const fs::path shot_path = ClipShotPathFor(report.clip_path);
+  PX_RETURN_IF_ERROR(
+      WriteFileAtomically(shot_path, direct::ShotToJson(direct::ShotFromPath(report.pipeline.path)).dump(2) + "\n"));
+  RemoveOnExit remove_shot(shot_path);
   PX_RETURN_IF_ERROR(WriteFileAtomically(report.report_path, ClipJobReportToJson(report).dump(2) + "\n"));
   remove_clip.Release();
   remove_poster.Release();
   remove_preview.Release();
+  remove_shot.Release();
   log->info("clip job: wrote {} ({} {} frames {}x{}, {:.2f} MB, encode {:.0f} ms) in {:.0f} ms",
             report.clip_path.string(),
             report.format,

@@ -1,9 +1,9 @@
 // The one capture-to-clip job, shared by the daemon and the `parallax` command line: read a
 // recording, run the pipeline, stream the frames into a clip (MP4, GIF, WebP or a folder of PNG
 // frames; pipeline/clip) beside the destination, then put the clip in place atomically with its
-// poster (clips/<id>.poster.jpg), a small looping preview (clips/<id>.preview.webp) and its
-// camera path and report (clips/<id>.json) beside it. A failed or cancelled job leaves no clip
-// behind.
+// poster (clips/<id>.poster.jpg), a small looping preview (clips/<id>.preview.webp), the shot that
+// reproduces it (clips/<id>.shot.json) and its camera path and report (clips/<id>.json) beside it. A failed or
+// cancelled job leaves no clip behind.
 #pragma once
 
 #include <cstdint>

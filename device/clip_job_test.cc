@@ -73,7 +73,8 @@ TEST_F(ClipJobTest, MakesAPlayableClipWithItsCameraPathBesideIt) {
   ASSERT_TRUE(report.ok()) << report.status().ToString();
 
   EXPECT_EQ(ClipsFolder(),
-            (std::vector<std::string>{"000001.json", "000001.mp4", "000001.poster.jpg", "000001.preview.webp"}));
+            (std::vector<std::string>{
+                "000001.json", "000001.mp4", "000001.poster.jpg", "000001.preview.webp", "000001.shot.json"}));
   const int want_frames = NumFrames(10, 0.5);
   EXPECT_EQ(report->frames_written, want_frames);
   EXPECT_EQ(report->pipeline.num_views, 9);
@@ -181,10 +182,15 @@ TEST_F(ClipJobTest, WritesEveryClipFormat) {
     ASSERT_TRUE(text.ok());
     EXPECT_EQ(nlohmann::json::parse(*text)["format"], clip::ClipFormatName(format));
   }
-  // Only the clips and their report: no temporaries, no older PNG folder left aside.
+  // Only the clips, their report and shot: no temporaries, no older PNG folder left aside.
   EXPECT_EQ(ClipsFolder(),
-            (std::vector<std::string>{
-                "000002", "000002.gif", "000002.json", "000002.poster.jpg", "000002.preview.webp", "000002.webp"}));
+            (std::vector<std::string>{"000002",
+                                      "000002.gif",
+                                      "000002.json",
+                                      "000002.poster.jpg",
+                                      "000002.preview.webp",
+                                      "000002.shot.json",
+                                      "000002.webp"}));
 }
 
 // Photos in memory (`parallax clip PHOTOS_FOLDER`): the job runs on the recording as given and the
@@ -223,7 +229,8 @@ TEST_F(ClipJobTest, LatticeRecordingWithoutRigIsFoundBlind) {
   ASSERT_TRUE(report.ok()) << report.status().ToString();
   EXPECT_EQ(report->pipeline.calibration, "structure from motion (no rig calibration)");
   EXPECT_EQ(report->pipeline.num_views, 9);
-  EXPECT_EQ(ClipsFolder(), (std::vector<std::string>{"x.json", "x.mp4", "x.poster.jpg", "x.preview.webp"}));
+  EXPECT_EQ(ClipsFolder(),
+            (std::vector<std::string>{"x.json", "x.mp4", "x.poster.jpg", "x.preview.webp", "x.shot.json"}));
 }
 
 TEST_F(ClipJobTest, CancelledJobLeavesNoClipOrTemporary) {

@@ -764,16 +764,72 @@ std::string Daemon::SetMove(const std::string& move) {
   return Dump({{"ok", true}, {"move", move}});
 }
 
+namespace {
+
+// A shot file's text checked as the pipeline will read it: its JSON and segment count.
+StatusOr<std::pair<nlohmann::json, int>> CheckShot(const std::string& shot_json) {
+  PX_ASSIGN_OR_RETURN(nlohmann::json j, json::Parse(shot_json, "shot"));
+  PX_ASSIGN_OR_RETURN(direct::Shot shot, direct::ShotFromJson(j));
+  return std::make_pair(std::move(j), static_cast<int>(shot.segments.size()));
+}
+
+// Links every file of `from` into `to` (a new folder), copying where a link cannot be made, via
+// a temporary folder renamed into place: `to` appears complete or not at all.
+Status LinkCapture(const fs::path& from, const fs::path& to) {
+  const fs::path temp = to.parent_path() / ("." + to.filename().string() + ".tmp-link");
+  std::error_code ec;
+  fs::remove_all(temp, ec);
+  fs::copy(from, temp, fs::copy_options::recursive | fs::copy_options::create_hard_links, ec);
+  if (ec) {
+    fs::remove_all(temp, ec);
+    fs::copy(from, temp, fs::copy_options::recursive, ec);
+    if (ec) return ErrnoToStatus(ec.value(), "copy capture", from);
+  }
+  PX_RETURN_IF_ERROR(FsyncDir(temp));
+  return RenameDurably(temp, to);
+}
+
+}  // namespace
+
+StatusOr<std::string> Daemon::RenderShot(const std::string& source_id, const std::string& shot_json) {
+  auto log = Logger("device");
+  PX_ASSIGN_OR_RETURN(auto checked, CheckShot(shot_json));
+  std::lock_guard<std::mutex> lock(mutex_);
+  if (stopping_) return FailedPreconditionError("daemon is shutting down; render ignored");
+  std::optional<JobRecord> source = journal_->Get(source_id);
+  if (!source) return NotFoundError("job '" + source_id + "': no such job");
+  std::error_code ec;
+  if (source->state == JobState::kCapturing || source->capture_dir.empty() ||
+      !fs::exists(fs::path(source->capture_dir) / "manifest.json", ec)) {
+    return FailedPreconditionError("job " + source_id + " has no saved capture (" +
+                                   (source->state == JobState::kCapturing ? "still capturing" : "evicted") + ")");
+  }
+  JobRecord record;
+  record.id = journal_->NewId(taken_ids_);
+  taken_ids_.clear();
+  const fs::path capture_dir = layout_.CaptureDir(record.id);
+  PX_RETURN_IF_ERROR(LinkCapture(source->capture_dir, capture_dir).WithContext("render shot"));
+  record.state = JobState::kSaved;
+  record.capture_dir = capture_dir.string();
+  record.shot = shot_json;
+  record.note = "authored shot of " + std::to_string(checked.second) + " segment(s) on the capture of job " + source_id;
+  record.created_at = NowIso8601Utc();
+  record.updated_at = record.created_at;
+  Record(record);
+  log->info("job {}: {}", record.id, record.note);
+  process_queue_.push_back(record.id);
+  OnProgressLocked();
+  return record.id;
+}
+
 std::string Daemon::SetShot(const std::string& shot_json) {
   int segments = 0;
   nlohmann::json value;  // null: no shot
   if (!shot_json.empty()) {
-    StatusOr<nlohmann::json> j = json::Parse(shot_json, "shot");
-    if (!j.ok()) return ControlErrorReply(j.status());
-    StatusOr<direct::Shot> shot = direct::ShotFromJson(*j);
-    if (!shot.ok()) return ControlErrorReply(shot.status());
-    segments = static_cast<int>(shot->segments.size());
-    value = std::move(*j);
+    StatusOr<std::pair<nlohmann::json, int>> checked = CheckShot(shot_json);
+    if (!checked.ok()) return ControlErrorReply(checked.status());
+    value = std::move(checked->first);
+    segments = checked->second;
   }
   std::lock_guard<std::mutex> lock(mutex_);
   shot_ = shot_json;

@@ -120,6 +120,13 @@ class Daemon {
   // Possibly with the daemon's lock held: the listener must only queue the event. Set before Start.
   void SetEventListener(std::function<void(const nlohmann::json& event)> listener);
 
+  // A new job that makes a clip of an earlier job's raw capture with `shot_json` (a shot file,
+  // pipeline/direct/SHOT_FORMAT.md; the web app's authoring): the capture is linked into the new
+  // job's folder (hard links: no second copy of the pixels), journaled as saved with the shot and
+  // queued for processing. NOT_FOUND for an unknown job; FAILED_PRECONDITION when its capture is
+  // not saved yet or was evicted; INVALID_ARGUMENT naming the field for a bad shot.
+  StatusOr<std::string> RenderShot(const std::string& source_id, const std::string& shot_json);
+
   // Deletes a finished (done or failed) job: its clip, report, poster, preview, raw capture and
   // journal record. FAILED_PRECONDITION while it is still being captured or processed or waits
   // for either; NOT_FOUND for an unknown id.

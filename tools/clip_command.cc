@@ -11,6 +11,7 @@
 #include "capture/import_images.h"
 #include "device/clip_job.h"
 #include "device/face_cascades.h"
+#include "device/storage/storage_layout.h"
 #include "pipeline/core/log.h"
 #include "pipeline/direct/shot_file.h"
 #include "pipeline/io/durable_file.h"
@@ -99,12 +100,7 @@ Status RunClip(const ClipArgs& args) {
                         device::RunClipJob(recording, std::filesystem::absolute(source), output, options, show));
   }
   progress.Finish();
-  // The shot that reproduces this clip, for replaying or editing it (--shot).
-  std::filesystem::path shot_path = report.clip_path;
-  shot_path.replace_extension(".shot.json");
-  PX_RETURN_IF_ERROR(
-      WriteFileAtomically(shot_path, direct::ShotToJson(direct::ShotFromPath(report.pipeline.path)).dump(2) + "\n"));
-  log->info("shot written to {}", shot_path.string());
+  log->info("shot written to {}", device::ClipShotPathFor(report.clip_path).string());
   for (const std::string& warning : report.pipeline.warnings) log->warn("{}", warning);
   for (const StageTiming& t : report.pipeline.timings) log->info("{:<8} {:8.1f} ms", t.stage, t.ms);
   if (!report.pipeline.render_backend.empty()) {

@@ -94,7 +94,8 @@ std::optional<JobRecord> FindJob(const ApiContext& api, const Request& req, Resp
 
 nlohmann::json JobLinks(const std::string& id) {
   const std::string base = "/api/jobs/" + id;
-  return {{"clip", base + "/clip"}, {"poster", base + "/poster"}, {"preview", base + "/preview"}};
+  return {
+      {"clip", base + "/clip"}, {"poster", base + "/poster"}, {"preview", base + "/preview"}, {"shot", base + "/shot"}};
 }
 
 void JobDetails(const ApiContext& api, const Request& req, Response& res) {
@@ -116,7 +117,8 @@ void JobDetails(const ApiContext& api, const Request& req, Response& res) {
          {"files",
           {{"clip", fs::exists(clip, ec) ? nlohmann::json(clip.filename().string()) : nlohmann::json(nullptr)},
            {"poster", fs::exists(ClipPosterPathFor(clip), ec)},
-           {"preview", fs::exists(ClipPreviewPathFor(clip), ec)}}}});
+           {"preview", fs::exists(ClipPreviewPathFor(clip), ec)},
+           {"shot", fs::exists(ClipShotPathFor(clip), ec)}}}});
 }
 
 void ServeJobFile(const ApiContext& api, const Request& req, Response& res, const std::string& which) {
@@ -130,7 +132,22 @@ void ServeJobFile(const ApiContext& api, const Request& req, Response& res, cons
     }
     return ServeFile(clip, res, "parallax-" + record->id + clip.extension().string());
   }
+  if (which == "shot") return ServeFile(ClipShotPathFor(clip), res);
   ServeFile(which == "poster" ? ClipPosterPathFor(clip) : ClipPreviewPathFor(clip), res);
+}
+
+// An authored shot rendered on a job's capture: a new job, in the gallery once its clip is made.
+void RenderShot(const ApiContext& api, const Request& req, Response& res) {
+  std::optional<nlohmann::json> body = JsonBody(req, res);
+  if (!body) return;
+  if (!body->contains("shot") || !(*body)["shot"].is_object()) {
+    return ReplyError(res, 400, "shot: missing or not an object (a shot file, pipeline/direct/SHOT_FORMAT.md)");
+  }
+  StatusOr<std::string> job = api.daemon->RenderShot(req.matches[1], (*body)["shot"].dump());
+  if (!job.ok()) {
+    return ReplyError(res, HttpStatusForCode(std::string(StatusCodeName(job.status().code()))), job.status().message());
+  }
+  Reply(res, 202, {{"ok", true}, {"job", *job}});
 }
 
 void DeleteJob(const ApiContext& api, const Request& req, Response& res) {
@@ -221,7 +238,8 @@ void RegisterApiRoutes(httplib::Server& server, const ApiContext& api) {
   server.Post(std::string(kJob) + "/cancel", [api](const Request& req, Response& res) {
     AnswerControl(api, {{"cmd", "cancel"}, {"job", std::string(req.matches[1])}}, res);
   });
-  for (const std::string which : {"clip", "poster", "preview"}) {
+  server.Post(std::string(kJob) + "/render", [api](const Request& req, Response& res) { RenderShot(api, req, res); });
+  for (const std::string which : {"clip", "poster", "preview", "shot"}) {
     server.Get(std::string(kJob) + "/" + which,
                [api, which](const Request& req, Response& res) { ServeJobFile(api, req, res, which); });
   }

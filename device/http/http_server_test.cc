@@ -419,6 +419,50 @@ TEST_F(HttpApiTest, CrossOriginPressIsRefused) {
   EXPECT_EQ(Json(client.Get("/api/jobs"))["jobs"].size(), 1u);
 }
 
+TEST_F(HttpApiTest, AnAuthoredShotRendersAsANewJob) {
+  httplib::Client client = camera_->Client();
+  auto shot = client.Get("/api/jobs/" + *job_ + "/shot");
+  ASSERT_TRUE(shot);
+  ASSERT_EQ(shot->status, 200);
+  nlohmann::json edited = Json(shot);
+  ASSERT_EQ(edited["format"], "parallax-shot");
+  // Pull the end back to where the clip started, and focus there at 0.5 m.
+  auto& keyframes = edited["segments"][0]["keyframes"];
+  keyframes.back()["position_m"] = keyframes.front()["position_m"];
+  keyframes.back()["aperture_m"] = 0.004;
+  keyframes.back()["focus_depth_m"] = 0.5;
+
+  EXPECT_EQ(
+      client.Post("/api/jobs/" + *job_ + "/render", R"({"shot": {"format": "parallax-shot"}})", "application/json")
+          ->status,
+      400);
+  EXPECT_EQ(
+      client.Post("/api/jobs/424242/render", nlohmann::json({{"shot", edited}}).dump(), "application/json")->status,
+      404);
+  auto rendered =
+      client.Post("/api/jobs/" + *job_ + "/render", nlohmann::json({{"shot", edited}}).dump(), "application/json");
+  ASSERT_TRUE(rendered);
+  ASSERT_EQ(rendered->status, 202) << rendered->body;
+  const std::string id = Json(rendered)["job"];
+  EXPECT_NE(id, *job_);
+  nlohmann::json job;
+  for (int i = 0; i < 1200; ++i) {
+    job = Json(client.Get("/api/jobs/" + id))["job"];
+    if (job["state"] == "done" || job["state"] == "failed") break;
+    std::this_thread::sleep_for(std::chrono::milliseconds(100));
+  }
+  ASSERT_EQ(job["state"], "done") << job.dump();
+  // The new clip was made from the same capture, with the shot as edited.
+  nlohmann::json replayed = Json(client.Get("/api/jobs/" + id + "/shot"));
+  const auto& last = replayed["segments"][0]["keyframes"].back();
+  for (int axis = 0; axis < 3; ++axis) {
+    EXPECT_NEAR(last["position_m"][axis].get<double>(), keyframes.front()["position_m"][axis].get<double>(), 1e-6);
+  }
+  EXPECT_NEAR(last["aperture_m"].get<double>(), 0.004, 1e-9);
+  EXPECT_EQ(client.Delete("/api/jobs/" + id)->status, 200);
+  EXPECT_TRUE(fs::exists(camera_->daemon->layout().CaptureDir(*job_) / "manifest.json"));  // the source's capture stays
+}
+
 // Last: deletes the shared job.
 TEST_F(HttpApiTest, ZDeleteRemovesEverything) {
   httplib::Client client = camera_->Client();

@@ -102,4 +102,10 @@ fs::path ClipPreviewPathFor(const fs::path& clip_path) {
   return preview;
 }
 
+fs::path ClipShotPathFor(const fs::path& clip_path) {
+  fs::path shot = clip_path;
+  shot.replace_extension(".shot.json");
+  return shot;
+}
+
 }  // namespace px::device

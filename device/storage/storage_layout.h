@@ -62,5 +62,8 @@ std::filesystem::path ClipReportPathFor(const std::filesystem::path& clip_path);
 // clips/<id>.preview.webp (a gallery shows these before the clip itself).
 std::filesystem::path ClipPosterPathFor(const std::filesystem::path& clip_path);
 std::filesystem::path ClipPreviewPathFor(const std::filesystem::path& clip_path);
+// The shot that reproduces the clip exactly (pipeline/direct/SHOT_FORMAT.md), for replaying or
+// editing it: clips/<id>.shot.json.
+std::filesystem::path ClipShotPathFor(const std::filesystem::path& clip_path);
 
 }  // namespace px::device

@@ -115,6 +115,7 @@ Status RemoveJobFiles(const StorageLayout& layout, const std::string& id, std::s
   fs::remove(ClipReportPathFor(clip), ec);
   fs::remove(ClipPosterPathFor(clip), ec);
   fs::remove(ClipPreviewPathFor(clip), ec);
+  fs::remove(ClipShotPathFor(clip), ec);
   fs::remove_all(layout.CaptureDir(id), ec);
   if (ec) return ErrnoToStatus(ec.value(), why, layout.CaptureDir(id));
   PX_RETURN_IF_ERROR(FsyncDir(layout.ClipsDir()));

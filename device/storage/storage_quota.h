@@ -37,7 +37,7 @@ StatusOr<StorageUsage> MeasureStorage(const StorageLayout& layout,
 // {"used_mb":..,"free_mb":..,"quota_mb":..,"min_free_mb":..,"evictable_mb":..,"full":false,"reason":""}
 nlohmann::json StorageUsageToJson(const StorageUsage& usage, const StorageOptions& options);
 
-// Removes a job's clip (any format), its report, poster and preview, and its raw capture, then
+// Removes a job's clip (any format), its report, poster, preview and shot, and its raw capture, then
 // fsyncs both folders. `why` names the operation in errors ("evict", "delete").
 Status RemoveJobFiles(const StorageLayout& layout, const std::string& id, std::string_view why);
 
