@@ -205,6 +205,28 @@ nlohmann::json ClipJobReportToJson(const ClipJobReport& report) {
   };
 }
 
+RigCalibration RigCalibrationFor(const Recording& recording,
+                                 const fs::path& source,
+                                 PipelineOptions* pipeline_options) {
+  if (recording.source.rig) return *recording.source.rig;
+  if (recording.frames.kind == FrameSetKind::kLatticeFrame) {
+    // No rig calibration: the pipeline finds the lattice blind and poses its tiles by structure
+    // from motion, with what the source knows of the lattice.
+    if (recording.source.lattice) {
+      pipeline_options->lattice.rows = recording.source.lattice->rows;
+      pipeline_options->lattice.cols = recording.source.lattice->cols;
+      pipeline_options->lattice.orientation = recording.source.lattice->orientation;
+    }
+    Logger("device")->info("{}: a lattice frame without a rig calibration: its lattice is found blind ({} tiles, {})",
+                           source.string(),
+                           pipeline_options->lattice.rows > 0 ? std::to_string(pipeline_options->lattice.rows) + "x" +
+                                                                    std::to_string(pipeline_options->lattice.cols)
+                                                              : std::string("any number of"),
+                           std::string(TileOrientationName(pipeline_options->lattice.orientation)));
+  }
+  return RigCalibration();
+}
+
 StatusOr<ClipJobReport> RunClipJob(const fs::path& recording_dir,
                                    const fs::path& clip_path,
                                    const ClipJobOptions& options,
@@ -237,25 +259,8 @@ StatusOr<ClipJobReport> RunClipJob(const Recording& recording,
   if (ec) report.clip_path = clip_path;
   report.report_path = ClipReportPathFor(report.clip_path);
   report.source_model = recording.source.model;
-  RigCalibration rig;
   PipelineOptions pipeline_options = options.pipeline;
-  if (recording.source.rig) {
-    rig = *recording.source.rig;
-  } else if (recording.frames.kind == FrameSetKind::kLatticeFrame) {
-    // No rig calibration: the pipeline finds the lattice blind and poses its tiles by structure
-    // from motion, with what the source knows of the lattice.
-    if (recording.source.lattice) {
-      pipeline_options.lattice.rows = recording.source.lattice->rows;
-      pipeline_options.lattice.cols = recording.source.lattice->cols;
-      pipeline_options.lattice.orientation = recording.source.lattice->orientation;
-    }
-    log->info("{}: a lattice frame without a rig calibration: its lattice is found blind ({} tiles, {})",
-              report.recording_dir.string(),
-              pipeline_options.lattice.rows > 0
-                  ? std::to_string(pipeline_options.lattice.rows) + "x" + std::to_string(pipeline_options.lattice.cols)
-                  : std::string("any number of"),
-              std::string(TileOrientationName(pipeline_options.lattice.orientation)));
-  }
+  const RigCalibration rig = RigCalibrationFor(recording, source, &pipeline_options);
 
   clip::ClipOptions clip_options = options.clip;
   clip_options.fps = options.pipeline.direct.fps;

@@ -44,6 +44,13 @@ struct ClipJobReport {
 // warnings and timings.
 nlohmann::json ClipJobReportToJson(const ClipJobReport& report);
 
+// The rig calibration a recording is processed with (its own), or for a lattice frame without
+// one, an empty one with the lattice its source describes set in `pipeline_options` (the lattice
+// is then found blind). `source` names the recording in the log.
+RigCalibration RigCalibrationFor(const Recording& recording,
+                                 const std::filesystem::path& source,
+                                 PipelineOptions* pipeline_options);
+
 // `clip_path` is the file to write (a folder for png). Errors: the recording's read error (naming
 // its file), FAILED_PRECONDITION when a lattice frame comes without a rig calibration, the
 // pipeline's error, the encoder's, or RESOURCE_EXHAUSTED when the disk fills. CANCELLED when

@@ -19,6 +19,8 @@
 #include "device/daemon_factory.h"
 #include "device/http/access_token.h"
 #include "device/http/http_server.h"
+#include "device/preview/preview_protocol.h"
+#include "device/preview/preview_worker.h"
 #include "device/systemd/systemd_notifier.h"
 #include "device/worker/worker_main.h"
 #include "device/worker/worker_protocol.h"
@@ -42,6 +44,13 @@ int main(int argc, char** argv) {
     spdlog::apply_all([](const std::shared_ptr<spdlog::logger>& logger) { logger->flush(); });
     std::fflush(nullptr);
     std::_Exit(code);  // skip static destructors: the pipeline's thread pools need no orderly end
+  }
+  // An authoring session's preview worker (device/preview), started by the daemon itself.
+  if (argc == 4 && std::string(argv[1]) == px::device::kPreviewWorkerFlag && std::string(argv[2]) == "--parent") {
+    const int code = px::device::RunPreviewWorker(static_cast<pid_t>(std::atoll(argv[3])));
+    spdlog::apply_all([](const std::shared_ptr<spdlog::logger>& logger) { logger->flush(); });
+    std::fflush(nullptr);
+    std::_Exit(code);
   }
   CLI::App app{"parallaxd: turns each button press into a capture and a 3D pan & scan clip"};
   std::string config_path;
@@ -123,7 +132,11 @@ int main(int argc, char** argv) {
   auto http_options = px::device::HttpServerOptionsFromConfig(config.http, config.storage.root);
   if (!http_options.ok()) return Fail(http_options.status());
   std::unique_ptr<px::device::HttpServer> http;
-  if (*http_options) http = std::make_unique<px::device::HttpServer>(**http_options, daemon->get());
+  if (*http_options) {
+    (*http_options)->preview.binary = flags.worker_binary.empty() ? "/proc/self/exe" : flags.worker_binary;
+    (*http_options)->preview.config = px::device::DaemonConfigToJson(config);
+    http = std::make_unique<px::device::HttpServer>(**http_options, daemon->get());
+  }
   if (px::Status started = (*daemon)->Start(); !started.ok()) return Fail(started);
   // The web app is a convenience beside the button and the control socket: a port already taken
   // is logged, and the camera works on without it.

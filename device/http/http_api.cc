@@ -37,6 +37,10 @@ void ReplyError(Response& res, int status, const std::string& message) {
   Reply(res, status, {{"ok", false}, {"error", message}});
 }
 
+void ReplyStatus(Response& res, const Status& status) {
+  ReplyError(res, HttpStatusForCode(std::string(StatusCodeName(status.code()))), status.message());
+}
+
 // A control request answered through the daemon, exactly as the control socket answers it.
 void AnswerControl(const ApiContext& api, const nlohmann::json& request, Response& res, int ok_status = 200) {
   std::string reply;
@@ -145,13 +149,60 @@ void RenderShot(const ApiContext& api, const Request& req, Response& res) {
   }
   StatusOr<std::string> job = api.daemon->RenderShot(req.matches[1], (*body)["shot"].dump());
   if (!job.ok()) {
-    return ReplyError(res, HttpStatusForCode(std::string(StatusCodeName(job.status().code()))), job.status().message());
+    return ReplyStatus(res, job.status());
   }
   Reply(res, 202, {{"ok", true}, {"job", *job}});
 }
 
+// The job's live preview session, opened (its scene built) on first use.
+StatusOr<std::shared_ptr<PreviewSession>> PreviewFor(const ApiContext& api, const std::string& id) {
+  if (!api.previews || !api.previews->enabled()) return UnavailableError("live previews are off in this server");
+  std::optional<JobRecord> record = api.daemon->Job(id);
+  if (!record) return NotFoundError("job '" + id + "': no such job");
+  if (record->capture_dir.empty()) return FailedPreconditionError("job " + id + " has no saved capture");
+  return api.previews->ForJob(id, record->capture_dir);
+}
+
+void OpenPreview(const ApiContext& api, const Request& req, Response& res) {
+  StatusOr<std::shared_ptr<PreviewSession>> session = PreviewFor(api, req.matches[1]);
+  if (!session.ok()) return ReplyStatus(res, session.status());
+  Reply(res, 200, {{"ok", true}, {"scene", (*session)->scene()}});
+}
+
+void ServePreviewFrame(const ApiContext& api, const Request& req, Response& res) {
+  std::optional<nlohmann::json> viewpoint = JsonBody(req, res);
+  if (!viewpoint) return;
+  StatusOr<std::shared_ptr<PreviewSession>> session = PreviewFor(api, req.matches[1]);
+  if (!session.ok()) return ReplyStatus(res, session.status());
+  const bool coverage = viewpoint->value("coverage", false);
+  const bool draft = viewpoint->value("draft", false);
+  viewpoint->erase("coverage");
+  viewpoint->erase("draft");
+  StatusOr<PreviewFrame> frame = (*session)->Frame(*viewpoint, coverage, draft);
+  if (!frame.ok()) return ReplyStatus(res, frame.status());
+  res.set_header("Cache-Control", "no-store");
+  res.set_header("X-Preview", frame->figures.dump());
+  res.set_content(frame->jpeg, "image/jpeg");
+}
+
+void PreviewProbe(const ApiContext& api, const Request& req, Response& res) {
+  std::optional<nlohmann::json> body = JsonBody(req, res);
+  if (!body) return;
+  if (!body->contains("viewpoint") || !(*body)["x"].is_number() || !(*body)["y"].is_number()) {
+    return ReplyError(res, 400, "want {viewpoint, x, y}");
+  }
+  StatusOr<std::shared_ptr<PreviewSession>> session = PreviewFor(api, req.matches[1]);
+  if (!session.ok()) return ReplyStatus(res, session.status());
+  StatusOr<nlohmann::json> point =
+      (*session)->Probe((*body)["viewpoint"], (*body)["x"].get<int>(), (*body)["y"].get<int>());
+  if (!point.ok()) return ReplyStatus(res, point.status());
+  (*point)["ok"] = true;
+  Reply(res, 200, *point);
+}
+
 void DeleteJob(const ApiContext& api, const Request& req, Response& res) {
   const std::string id = req.matches[1];
+  if (api.previews) api.previews->Close(id);
   Status deleted = api.daemon->DeleteJob(id);
   if (!deleted.ok())
     return ReplyError(res, HttpStatusForCode(std::string(StatusCodeName(deleted.code()))), deleted.message());
@@ -223,6 +274,7 @@ int HttpStatusForCode(const std::string& code) {
   if (code == "FAILED_PRECONDITION" || code == "ALREADY_EXISTS") return 409;
   if (code == "RESOURCE_EXHAUSTED") return 507;
   if (code == "UNAVAILABLE") return 503;
+  if (code == "DEADLINE_EXCEEDED") return 504;
   if (code == "UNIMPLEMENTED") return 501;
   return 500;
 }
@@ -239,6 +291,15 @@ void RegisterApiRoutes(httplib::Server& server, const ApiContext& api) {
     AnswerControl(api, {{"cmd", "cancel"}, {"job", std::string(req.matches[1])}}, res);
   });
   server.Post(std::string(kJob) + "/render", [api](const Request& req, Response& res) { RenderShot(api, req, res); });
+  server.Post(std::string(kJob) + "/preview", [api](const Request& req, Response& res) { OpenPreview(api, req, res); });
+  server.Post(std::string(kJob) + "/preview/frame",
+              [api](const Request& req, Response& res) { ServePreviewFrame(api, req, res); });
+  server.Post(std::string(kJob) + "/preview/probe",
+              [api](const Request& req, Response& res) { PreviewProbe(api, req, res); });
+  server.Delete(std::string(kJob) + "/preview", [api](const Request& req, Response& res) {
+    if (api.previews) api.previews->Close(req.matches[1]);
+    Reply(res, 200, {{"ok", true}});
+  });
   for (const std::string which : {"clip", "poster", "preview", "shot"}) {
     server.Get(std::string(kJob) + "/" + which,
                [api, which](const Request& req, Response& res) { ServeJobFile(api, req, res, which); });

@@ -8,6 +8,7 @@
 #include <string>
 
 #include "device/http/event_hub.h"
+#include "device/preview/preview_session.h"
 
 namespace httplib {
 class Server;
@@ -22,8 +23,9 @@ struct ApiContext {
   std::shared_ptr<EventHub> events;
   std::shared_ptr<std::atomic<int>> event_streams;  // open /api/events streams
   int max_event_streams = 8;
-  std::string token;        // for the QR code shown at the device
-  std::string listen_host;  // the address the server listens on
+  std::string token;                          // for the QR code shown at the device
+  std::string listen_host;                    // the address the server listens on
+  std::shared_ptr<PreviewSessions> previews;  // authoring's live previews
 };
 
 void RegisterApiRoutes(httplib::Server& server, const ApiContext& api);

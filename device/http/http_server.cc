@@ -74,7 +74,8 @@ HttpServer::HttpServer(HttpServerOptions options, Daemon* daemon)
       rate_limiter_(options_.requests_per_s),
       events_(std::make_shared<EventHub>()),
       in_flight_(std::make_shared<std::atomic<int>>(0)),
-      event_streams_(std::make_shared<std::atomic<int>>(0)) {
+      event_streams_(std::make_shared<std::atomic<int>>(0)),
+      previews_(std::make_shared<PreviewSessions>(options_.preview)) {
   policy_.token_always = options_.token_always;
   daemon_->SetEventListener([events = events_](const nlohmann::json& event) { events->Publish(event); });
 }
@@ -157,6 +158,9 @@ Status HttpServer::Start() {
   server_->set_write_timeout(10);
   server_->set_keep_alive_timeout(2);
   server_->set_keep_alive_max_count(100);
+  // A reply's header and body leave in separate writes: with Nagle's algorithm the body waits for
+  // the client's delayed ACK (40 ms), a live preview's whole budget.
+  server_->set_tcp_nodelay(true);
   // SO_REUSEADDR only: the library's default adds SO_REUSEPORT, which would let a second daemon
   // bind the same port and share its requests instead of failing.
   server_->set_socket_options([](int socket) {
@@ -171,6 +175,7 @@ Status HttpServer::Start() {
   api.max_event_streams = options_.max_event_streams;
   api.token = policy_.token;
   api.listen_host = options_.host;
+  api.previews = previews_;
   RegisterApiRoutes(*server_, api);
   RegisterWebPages(*server_, api);
 
@@ -196,6 +201,7 @@ void HttpServer::Stop() {
   events_->Close();
   if (server_) server_->stop();
   if (thread_.joinable()) thread_.join();
+  previews_->CloseAll();
 }
 
 std::string HttpServer::Url() const {

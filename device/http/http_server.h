@@ -18,6 +18,7 @@
 #include "device/http/event_hub.h"
 #include "device/http/rate_limiter.h"
 #include "device/http/request_guard.h"
+#include "device/preview/preview_session.h"
 #include "pipeline/core/status.h"
 
 namespace httplib {
@@ -37,6 +38,7 @@ struct HttpServerOptions {
   int max_requests_in_flight = 64;
   double requests_per_s = 50;
   int max_event_streams = 8;
+  PreviewOptions preview;  // authoring's live previews (device/preview); binary "" = off
 };
 
 // From the config's http section (the token lives in the store's root); nullopt when
@@ -70,6 +72,7 @@ class HttpServer {
   std::shared_ptr<EventHub> events_;
   std::shared_ptr<std::atomic<int>> in_flight_;  // connections queued or being served
   std::shared_ptr<std::atomic<int>> event_streams_;
+  std::shared_ptr<PreviewSessions> previews_;
   std::unique_ptr<httplib::Server> server_;
   std::thread thread_;
   int port_ = 0;

@@ -15,6 +15,8 @@
 #include <atomic>
 #include <fstream>
 #include <nlohmann/json.hpp>
+#include <opencv2/core.hpp>
+#include <opencv2/imgcodecs.hpp>
 #include <regex>
 #include <thread>
 
@@ -52,6 +54,8 @@ struct Camera {
     camera->daemon = std::move(daemon).value();
     options.port = 0;
     options.token_path = dir / "store" / "http_token";
+    options.preview.binary = BuiltWorkerFlags().worker_binary;
+    options.preview.config = DaemonConfigToJson(SmallConfig(dir));
     camera->http = std::make_unique<HttpServer>(options, camera->daemon.get());
     Status started = camera->daemon->Start();
     EXPECT_TRUE(started.ok()) << started.ToString();
@@ -461,6 +465,71 @@ TEST_F(HttpApiTest, AnAuthoredShotRendersAsANewJob) {
   EXPECT_NEAR(last["aperture_m"].get<double>(), 0.004, 1e-9);
   EXPECT_EQ(client.Delete("/api/jobs/" + id)->status, 200);
   EXPECT_TRUE(fs::exists(camera_->daemon->layout().CaptureDir(*job_) / "manifest.json"));  // the source's capture stays
+}
+
+TEST_F(HttpApiTest, LivePreviewDrawsTheClipsFramesFromAnyViewpoint) {
+  httplib::Client client = camera_->Client();
+  auto opened = client.Post("/api/jobs/" + *job_ + "/preview");
+  ASSERT_TRUE(opened);
+  ASSERT_EQ(opened->status, 200) << opened->body;
+  const nlohmann::json scene = Json(opened)["scene"];
+  EXPECT_EQ(scene["views"].size(), 9u);
+  EXPECT_GT(scene["depth_max_m"].get<double>(), scene["depth_min_m"].get<double>());
+
+  // The clip's first frame, asked for at the clip's own size from the shot's first keyframe.
+  const nlohmann::json details = Json(client.Get("/api/jobs/" + *job_));
+  const nlohmann::json& path = details["report"]["camera_path"];
+  const nlohmann::json shot = Json(client.Get("/api/jobs/" + *job_ + "/shot"));
+  nlohmann::json viewpoint = {{"keyframe", shot["segments"][0]["keyframes"][0]},
+                              {"width", path["width"]},
+                              {"height", path["height"]},
+                              {"clip",
+                               {{"width", path["width"]},
+                                {"height", path["height"]},
+                                {"cx", path["cx"]},
+                                {"cy", path["cy"]},
+                                {"aspect", path["aspect"]},
+                                {"output_scale", path["output_scale"]}}}};
+  nlohmann::json measured = viewpoint;
+  measured["coverage"] = true;
+  auto frame = client.Post("/api/jobs/" + *job_ + "/preview/frame", measured.dump(), "application/json");
+  ASSERT_TRUE(frame);
+  ASSERT_EQ(frame->status, 200) << frame->body;
+  EXPECT_EQ(frame->get_header_value("Content-Type"), "image/jpeg");
+  const nlohmann::json figures = nlohmann::json::parse(frame->get_header_value("X-Preview"));
+  // The clip's start is a valid viewpoint, judged as the planner judged it.
+  EXPECT_TRUE(figures["valid"].get<bool>()) << figures.dump();
+  EXPECT_LT(figures["h_v"].get<double>(), 2.0);
+  cv::Mat preview = cv::imdecode(std::vector<uchar>(frame->body.begin(), frame->body.end()), cv::IMREAD_COLOR);
+  auto video = px::testing::ProbeVideo(camera_->daemon->layout().FindClip(*job_));
+  ASSERT_TRUE(video.ok()) << video.status().ToString();
+  ASSERT_EQ(preview.size(), video->first_frame.size());
+  EXPECT_GT(cv::PSNR(preview, video->first_frame), 30) << "the preview does not agree with the clip";
+
+  // A click on the middle of the picture finds a scene point in front of the camera.
+  auto probe = client.Post("/api/jobs/" + *job_ + "/preview/probe",
+                           nlohmann::json({{"viewpoint", viewpoint}, {"x", 80}, {"y", 60}}).dump(),
+                           "application/json");
+  ASSERT_TRUE(probe);
+  ASSERT_EQ(probe->status, 200) << probe->body;
+  const double depth = Json(probe)["depth_m"];
+  EXPECT_GT(depth, scene["depth_min_m"].get<double>() * 0.9);
+  EXPECT_LT(depth, scene["depth_max_m"].get<double>() * 1.1);
+
+  // Moved sideways by 2 cm, the picture changes.
+  nlohmann::json moved = viewpoint;
+  moved["keyframe"]["position_m"][0] = moved["keyframe"]["position_m"][0].get<double>() + 0.02;
+  auto shifted = client.Post("/api/jobs/" + *job_ + "/preview/frame", moved.dump(), "application/json");
+  ASSERT_TRUE(shifted);
+  ASSERT_EQ(shifted->status, 200);
+  EXPECT_NE(shifted->body, frame->body);
+
+  nlohmann::json bad = viewpoint;
+  bad["width"] = 100000;
+  auto refused = client.Post("/api/jobs/" + *job_ + "/preview/frame", bad.dump(), "application/json");
+  EXPECT_EQ(refused->status, 400);
+  EXPECT_THAT(refused->body, HasSubstr("pixels a side"));
+  EXPECT_EQ(client.Delete("/api/jobs/" + *job_ + "/preview")->status, 200);
 }
 
 // Last: deletes the shared job.

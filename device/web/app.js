@@ -186,6 +186,8 @@ async function showJob(id) {
   $('job-stages').tBodies[0].replaceChildren(...Object.entries(stages).map(([stage, ms]) =>
     element('tr', {}, [element('td', {textContent: stage}), element('td', {textContent: `${Math.round(ms)} ms`})])));
   $('job-report').textContent = JSON.stringify(report, null, 2);
+  $('job-author').href = `#author/${job.id}`;
+  $('job-author').hidden = !body.files.shot;
   $('job-delete').onclick = async () => {
     if (!confirm(`Delete job ${job.id}'s clip and its raw capture?`)) return;
     try {
@@ -230,12 +232,15 @@ async function showTokenQr() {
 function route() {
   const hash = location.hash || '#gallery';
   const jobMatch = hash.match(/^#job\/(\d+)$/);
+  const authorMatch = hash.match(/^#author\/(\d+)$/);
   $('gallery-view').hidden = !(hash === '#gallery');
   $('shoot').hidden = !(hash === '#gallery');
   $('job-view').hidden = !jobMatch;
+  $('author-view').hidden = !authorMatch;
   $('settings-view').hidden = hash !== '#settings';
   if (!jobMatch) $('job-video').pause();
   if (jobMatch) showJob(jobMatch[1]).catch((error) => say(error.message));
+  if (authorMatch) window.Author.open(authorMatch[1]);
   if (hash === '#settings') { loadStatus(); showTokenQr(); }
 }
 

@@ -3,7 +3,6 @@
 #include <fcntl.h>
 #include <poll.h>
 #include <signal.h>
-#include <spawn.h>
 #include <sys/resource.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -15,11 +14,10 @@
 #include <string>
 #include <vector>
 
+#include "device/worker/spawn_child.h"
 #include "device/worker/worker_protocol.h"
 #include "pipeline/core/log.h"
 #include "pipeline/core/unique_fd.h"
-
-extern char** environ;
 
 namespace px::device {
 namespace {
@@ -70,38 +68,9 @@ Status WriteToPipe(int fd, const std::string& bytes) {
   return status;
 }
 
-// Starts `binary --job-worker --parent <pid>` with `request_fd` as its stdin, `message_fd` as fd
-// 3 and stdout on the daemon's stderr (the daemon's stdout carries "clip:" lines for scripts).
-// In its own process group (a terminal's ^C reaches the daemon, which cancels the job), with
-// no signal blocked (the daemon blocks SIGINT and SIGTERM for its sigwait thread).
+// Starts `binary --job-worker` with `request_fd` as its stdin and `message_fd` as fd 3.
 StatusOr<pid_t> SpawnWorker(const std::filesystem::path& binary, int request_fd, int message_fd) {
-  posix_spawn_file_actions_t actions;
-  posix_spawn_file_actions_init(&actions);
-  posix_spawn_file_actions_adddup2(&actions, request_fd, 0);
-  posix_spawn_file_actions_adddup2(&actions, message_fd, kWorkerMessageFd);
-  posix_spawn_file_actions_adddup2(&actions, 2, 1);
-  posix_spawnattr_t attr;
-  posix_spawnattr_init(&attr);
-  sigset_t none;
-  sigemptyset(&none);
-  sigset_t defaults;
-  sigemptyset(&defaults);
-  for (int signal : {SIGINT, SIGTERM, SIGPIPE, SIGCHLD, SIGHUP}) sigaddset(&defaults, signal);
-  posix_spawnattr_setsigmask(&attr, &none);
-  posix_spawnattr_setsigdefault(&attr, &defaults);
-  posix_spawnattr_setpgroup(&attr, 0);
-  posix_spawnattr_setflags(&attr, POSIX_SPAWN_SETSIGMASK | POSIX_SPAWN_SETSIGDEF | POSIX_SPAWN_SETPGROUP);
-  const std::string parent = std::to_string(::getpid());
-  std::vector<std::string> args = {binary.string(), kJobWorkerFlag, "--parent", parent};
-  std::vector<char*> argv;
-  for (std::string& arg : args) argv.push_back(arg.data());
-  argv.push_back(nullptr);
-  pid_t pid = -1;
-  const int err = ::posix_spawn(&pid, binary.c_str(), &actions, &attr, argv.data(), environ);
-  posix_spawn_file_actions_destroy(&actions);
-  posix_spawnattr_destroy(&attr);
-  if (err != 0) return InternalError("starting the job worker " + binary.string() + ": " + ErrnoText(err));
-  return pid;
+  return SpawnDaemonChild(binary, kJobWorkerFlag, {{0, request_fd}, {kWorkerMessageFd, message_fd}});
 }
 
 // Why the runner killed the worker, if it did.

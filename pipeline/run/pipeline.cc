@@ -326,26 +326,41 @@ StatusOr<std::vector<View>> MakeViewsFromCapture(const FrameSet& capture,
   return std::move(out.views);
 }
 
-StatusOr<PipelineReport> RunPipeline(const FrameSet& shot,
-                                     const RigCalibration& shot_rig,
-                                     const PipelineOptions& options,
-                                     FrameSink* sink,
-                                     const ProgressCallback& progress) {
-  PX_RETURN_IF_ERROR(options.Validate());
-  if (sink == nullptr) return InvalidArgumentError("pipeline: no frame sink");
-  const auto log = Logger("pipeline");
-  // Hand-held photos at a working size (image_set_scale.h); a lattice frame as it is.
-  const std::optional<WorkingImageSet> working = ImageSetAtWorkingSize(options.image_set_max_side_px, shot, shot_rig);
-  if (working) log->info("{}", working->note);
-  const FrameSet& capture = working ? working->capture : shot;
-  const RigCalibration& rig = working ? working->rig : shot_rig;
-  const ThreadCountScope threads(options.num_threads);
-  const auto report_progress = [&](const char* stage, double fraction) -> Status {
+namespace {
+
+// The progress callback as the stages call it: CANCELLED, naming the stage, when it says stop.
+std::function<Status(const char*, double)> StageReporter(const ProgressCallback& progress) {
+  return [progress](const char* stage, double fraction) -> Status {
     if (progress && !progress(stage, fraction))
       return CancelledError(std::string("pipeline cancelled during ") + stage);
     return OkStatus();
   };
-  PipelineReport report;
+}
+
+// What stages 1 to 3 leave for direction and rendering.
+struct SceneStages {
+  std::vector<View> views;
+  std::vector<DepthMap> depth_maps;
+  std::vector<LayeredDepthView> layers;
+  DirectionContext direction;  // the calibration's and depth's verdicts (scale, trust)
+};
+
+// Stages 1 to 3 (lattice, calibration, photometric equalisation, depth), views that match none of
+// the others dropped. A capture that cannot be calibrated leaves its reason in `*uncalibrated`
+// (and an OK empty result) for the caller's fallback. `on_calibrated`, when set, sees the views
+// before depth (face detection starts there); `centre_faces` is waited for when the depth stage
+// changes OpenCV's thread count.
+StatusOr<SceneStages> RunSceneStages(const FrameSet& capture,
+                                     const RigCalibration& rig,
+                                     const PipelineOptions& options,
+                                     const std::function<Status(const char*, double)>& report_progress,
+                                     PipelineReport* report_out,
+                                     Status* uncalibrated,
+                                     const std::function<void(const std::vector<View>&)>& on_calibrated,
+                                     std::future<direct::DetectedFaces>* centre_faces) {
+  const auto log = Logger("pipeline");
+  PipelineReport& report = *report_out;
+  SceneStages scene;
 
   // Stages 1 and 2: lattice and calibrated views.
   PX_RETURN_IF_ERROR(report_progress("lattice", 0));
@@ -354,13 +369,13 @@ StatusOr<PipelineReport> RunPipeline(const FrameSet& shot,
   const bool blind_lattice = capture.kind == FrameSetKind::kLatticeFrame && rig.lattice.rows == 0;
   if (!made.ok() && (capture.kind == FrameSetKind::kImageSet || blind_lattice) &&
       (made.status().code() == StatusCode::kUnimplemented || made.status().code() == StatusCode::kFailedPrecondition)) {
-    // Never fail the button: images that cannot be calibrated still morph (paper 4.5); a photo
-    // whose lattice cannot be found or posed gets a pan and zoom over the whole of it.
-    return RunUncalibrated(capture, made.status(), options, sink, report_progress, std::move(report));
+    *uncalibrated = made.status();
+    return scene;
   }
   if (!made.ok()) return made.status();
   CalibratedViews calibrated = std::move(made).value();
-  std::vector<View> views = std::move(calibrated.views);
+  std::vector<View>& views = scene.views;
+  views = std::move(calibrated.views);
   report.num_views = static_cast<int>(views.size());
   report.calibration = calibrated.calibration;
   report.calibration_summary = calibrated.summary;
@@ -372,17 +387,7 @@ StatusOr<PipelineReport> RunPipeline(const FrameSet& shot,
             report.timings[1].ms);
   EqualiseViews(options.photometric, direct::CentreViewIndex(views), &views, &report);
   PX_RETURN_IF_ERROR(report_progress("calib", 1));
-
-  // Face detection needs only the centre view's image: it runs beside the depth stage, so the
-  // direction stage after depth only places the faces it found.
-  std::future<direct::DetectedFaces> centre_faces;
-  if (options.face_detector != nullptr && options.direct.faces.enabled && options.direct.subject_boxes_px.empty()) {
-    const View& centre = views[direct::CentreViewIndex(views)];
-    // The image is shared (reference-counted), not borrowed: `views` may change meanwhile.
-    centre_faces = std::async(std::launch::async, [image = centre.image, id = centre.id, &options] {
-      return direct::DetectFaces(image, id, *options.face_detector, options.direct.faces);
-    });
-  }
+  if (on_calibrated) on_calibrated(views);
 
   // Stage 3: depth.
   StageClock::time_point start = StageClock::now();
@@ -390,8 +395,9 @@ StatusOr<PipelineReport> RunPipeline(const FrameSet& shot,
   if (depth_options.num_threads == 0) depth_options.num_threads = options.num_threads;
   // A depth stage with its own OpenCV worker count changes the process-wide pool, which would pull
   // it from under the face detection running beside it (a crash in TBB): detection finishes first.
-  if (depth_options.num_threads > 0 && depth_options.num_threads != cv::getNumThreads() && centre_faces.valid()) {
-    centre_faces.wait();
+  if (depth_options.num_threads > 0 && depth_options.num_threads != cv::getNumThreads() && centre_faces != nullptr &&
+      centre_faces->valid()) {
+    centre_faces->wait();
   }
   bool cancelled = false;
   StatusOr<DepthStageResult> depth = ComputeLayeredDepth(views, depth_options, [&](double fraction) {
@@ -403,7 +409,7 @@ StatusOr<PipelineReport> RunPipeline(const FrameSet& shot,
   report.timings.push_back({"depth", MsSince(start)});
   report.depth = depth->report;
   for (const std::string& warning : depth->report.warnings) report.warnings.push_back(warning);
-  DirectionContext direction;
+  DirectionContext& direction = scene.direction;
   direction.metric_scale = calibrated.metric_scale;
   {
     const double fraction = depth->report.confident_fraction;
@@ -435,8 +441,10 @@ StatusOr<PipelineReport> RunPipeline(const FrameSet& shot,
   }
   // Views that match none of the others (a lens that saw another scene, a black or saturated
   // frame) would paint wrong colour at wrong depth: drop them while two views remain.
-  std::vector<DepthMap> depth_maps = std::move(depth->maps);
-  std::vector<LayeredDepthView> layers = std::move(depth->layered);
+  std::vector<DepthMap>& depth_maps = scene.depth_maps;
+  std::vector<LayeredDepthView>& layers = scene.layers;
+  depth_maps = std::move(depth->maps);
+  layers = std::move(depth->layered);
   if (!depth->report.disagreeing_views.empty() && views.size() - depth->report.disagreeing_views.size() >= 2) {
     std::vector<View> kept_views;
     std::vector<DepthMap> kept_maps;
@@ -457,6 +465,84 @@ StatusOr<PipelineReport> RunPipeline(const FrameSet& shot,
     layers = std::move(kept_layers);
     report.num_views = static_cast<int>(views.size());
   }
+
+  return scene;
+}
+
+}  // namespace
+
+StatusOr<PipelineScene> BuildPipelineScene(const FrameSet& shot,
+                                           const RigCalibration& shot_rig,
+                                           const PipelineOptions& options,
+                                           const ProgressCallback& progress) {
+  PX_RETURN_IF_ERROR(options.Validate());
+  const std::optional<WorkingImageSet> working = ImageSetAtWorkingSize(options.image_set_max_side_px, shot, shot_rig);
+  const ThreadCountScope threads(options.num_threads);
+  PipelineScene scene;
+  Status uncalibrated;
+  PX_ASSIGN_OR_RETURN(SceneStages stages,
+                      RunSceneStages(working ? working->capture : shot,
+                                     working ? working->rig : shot_rig,
+                                     options,
+                                     StageReporter(progress),
+                                     &scene.report,
+                                     &uncalibrated,
+                                     {},
+                                     nullptr));
+  if (!uncalibrated.ok()) {
+    return FailedPreconditionError("the capture could not be calibrated, so it has no 3D scene: " +
+                                   uncalibrated.message());
+  }
+  scene.views = std::move(stages.views);
+  scene.depth_maps = std::move(stages.depth_maps);
+  scene.layers = std::move(stages.layers);
+  return scene;
+}
+
+StatusOr<PipelineReport> RunPipeline(const FrameSet& shot,
+                                     const RigCalibration& shot_rig,
+                                     const PipelineOptions& options,
+                                     FrameSink* sink,
+                                     const ProgressCallback& progress) {
+  PX_RETURN_IF_ERROR(options.Validate());
+  if (sink == nullptr) return InvalidArgumentError("pipeline: no frame sink");
+  const auto log = Logger("pipeline");
+  // Hand-held photos at a working size (image_set_scale.h); a lattice frame as it is.
+  const std::optional<WorkingImageSet> working = ImageSetAtWorkingSize(options.image_set_max_side_px, shot, shot_rig);
+  if (working) log->info("{}", working->note);
+  const FrameSet& capture = working ? working->capture : shot;
+  const RigCalibration& rig = working ? working->rig : shot_rig;
+  const ThreadCountScope threads(options.num_threads);
+  const auto report_progress = StageReporter(progress);
+  PipelineReport report;
+
+  // Face detection needs only the centre view's image: it runs beside the depth stage, so the
+  // direction stage after depth only places the faces it found.
+  std::future<direct::DetectedFaces> centre_faces;
+  auto start_face_detection = [&](const std::vector<View>& views) {
+    if (options.face_detector != nullptr && options.direct.faces.enabled && options.direct.subject_boxes_px.empty()) {
+      const View& centre = views[direct::CentreViewIndex(views)];
+      // The image is shared (reference-counted), not borrowed: `views` may change meanwhile.
+      centre_faces = std::async(std::launch::async, [image = centre.image, id = centre.id, &options] {
+        return direct::DetectFaces(image, id, *options.face_detector, options.direct.faces);
+      });
+    }
+  };
+  Status uncalibrated;
+  PX_ASSIGN_OR_RETURN(
+      SceneStages scene,
+      RunSceneStages(
+          capture, rig, options, report_progress, &report, &uncalibrated, start_face_detection, &centre_faces));
+  if (!uncalibrated.ok()) {
+    // Never fail the button: images that cannot be calibrated still morph (paper 4.5); a photo
+    // whose lattice cannot be found or posed gets a pan and zoom over the whole of it.
+    return RunUncalibrated(capture, uncalibrated, options, sink, report_progress, std::move(report));
+  }
+  std::vector<View>& views = scene.views;
+  std::vector<DepthMap>& depth_maps = scene.depth_maps;
+  std::vector<LayeredDepthView>& layers = scene.layers;
+  DirectionContext& direction = scene.direction;
+  StageClock::time_point start;
 
   if (options.observer != nullptr) options.observer->OnScene(views, depth_maps);
 

@@ -148,4 +148,20 @@ StatusOr<PipelineReport> RunPipeline(const FrameSet& capture,
                                      FrameSink* sink,
                                      const ProgressCallback& progress = {});
 
+// The scene a clip is drawn from, for the interactive preview of authoring (device/preview):
+// RunPipeline's stages 1 to 3 (lattice, calibration, photometric equalisation, depth), the views
+// that match none of the others dropped, exactly as RunPipeline draws from them.
+struct PipelineScene {
+  std::vector<View> views;
+  std::vector<DepthMap> depth_maps;
+  std::vector<LayeredDepthView> layers;
+  PipelineReport report;  // calibration, depth, warnings and timings of those stages
+};
+// FAILED_PRECONDITION, with the reason, when the capture cannot be calibrated (RunPipeline would
+// morph or pan over it instead).
+StatusOr<PipelineScene> BuildPipelineScene(const FrameSet& capture,
+                                           const RigCalibration& rig,
+                                           const PipelineOptions& options,
+                                           const ProgressCallback& progress = {});
+
 }  // namespace px

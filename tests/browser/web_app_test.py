@@ -1,10 +1,13 @@
 #!/usr/bin/python3
 """The camera's web app in a real browser (Debian's headless Chromium, driven by Selenium through
 chromedriver) against a real parallaxd on the simulated camera: the gallery loads, the button
-presses, progress events arrive, the clip appears and plays to its end in a video element, the
-settings page saves a move, and the pages fit a phone's screen.
+presses, progress events arrive, the clip appears and plays to its end in a video element; a shot
+is authored on the live preview (two keyframes, a drag between them, a focus point clicked on the
+picture) and rendered, and its clip's first and last frames match `parallax clip --shot` with the
+same shot file; the settings page saves a move; the pages fit a phone's screen. It prints the
+live preview's figures (pointer move to new picture, frames a second while dragging).
 
-Usage: web_app_test.py PARALLAXD [--screenshots DIR] [--keep-screenshots]
+Usage: web_app_test.py PARALLAXD PARALLAX [--screenshots DIR] [--keep-screenshots] [--tile WxH]
 Exit 77 (skipped) when Chromium, chromedriver or Selenium is missing. Screenshots of every page
 visited are saved to DIR when a check fails (always with --keep-screenshots)."""
 
@@ -33,6 +36,7 @@ def skip(reason):
 try:
     from selenium import webdriver
     from selenium.webdriver.chrome.service import Service
+    from selenium.webdriver.common.action_chains import ActionChains
     from selenium.webdriver.common.by import By
     from selenium.webdriver.support.ui import Select, WebDriverWait
 except ImportError:
@@ -42,18 +46,20 @@ except ImportError:
 class Daemon:
     """parallaxd on a temporary store, its web app on a free loopback port."""
 
-    def __init__(self, binary, root):
+    def __init__(self, binary, root, tile):
         config = {
             "storage": {"root": os.path.join(root, "store"), "min_free_mb": 1},
             "control": {"socket": ""},
             "http": {"listen": "127.0.0.1:0"},
-            "source": {"sim": {"tile_width": 160, "tile_height": 120}},
+            "source": {"sim": {"tile_width": tile[0], "tile_height": tile[1]}},
             "clip": {"duration_s": 1.0, "fps": 10, "preset": "ultrafast"},
         }
         config_path = os.path.join(root, "config.json")
         with open(config_path, "w") as f:
             json.dump(config, f)
         self.log = []
+        self.root = root
+        self.tile = tile
         self.process = subprocess.Popen([binary, "--config", config_path], stdout=subprocess.DEVNULL,
                                         stderr=subprocess.PIPE, text=True)
         self.url = None
@@ -128,7 +134,108 @@ class Checks:
         print(f"screenshots in {self.screenshots}")
 
 
-def run(daemon, driver, checks):
+def frame_psnr(a, b, which):
+    """PSNR in dB between the first (which=0) or last (which=-1) frames of two clips, by ffmpeg."""
+    stats = tempfile.NamedTemporaryFile(suffix=".log", delete=False).name
+    subprocess.run(["ffmpeg", "-v", "error", "-i", a, "-i", b, "-lavfi", f"psnr=stats_file={stats}", "-f", "null", "-"],
+                   check=True)
+    with open(stats) as f:
+        lines = [line for line in f if "psnr_avg" in line]
+    os.unlink(stats)
+    value = re.search(r"psnr_avg:(\S+)", lines[which]).group(1)
+    return float("inf") if value == "inf" else float(value)
+
+
+def author(daemon, driver, checks, parallax):
+    """Authors a shot on the live preview, renders it, and checks it against parallax clip --shot."""
+    by_id = lambda name: driver.find_element(By.ID, name)
+    source_job = daemon.api("/api/jobs")["jobs"][0]["id"]
+    by_id("job-author").click()
+    loaded = lambda: driver.execute_script("return document.getElementById('author-frame').dataset.frames || null;")
+    checks.wait(loaded, "the authoring page shows the live preview", timeout=120)
+    checks.wait(lambda: "inside the valid region" in by_id("author-status").text,
+                "the preview says the clip's start is inside H(V)")
+    by_id("author-add").click()
+
+    # Drag the picture: the camera moves across the lens plane and a new picture arrives.
+    before = loaded()
+    frame = by_id("author-frame")
+    ActionChains(driver).move_to_element(frame).click_and_hold().move_by_offset(-60, -20).move_by_offset(-60, -20) \
+        .release().perform()
+    checks.wait(lambda: loaded() and loaded() != before and "mm" in by_id("author-status").text,
+                "dragging the picture draws the scene from the moved camera")
+    time.sleep(0.5)
+
+    # A click on the middle of the picture sets the focus there, with an aperture.
+    by_id("author-focus-mode").click()
+    ActionChains(driver).move_to_element(frame).click().perform()
+    checks.wait(lambda: "focus at" in by_id("author-status").text, "a click on the picture focuses there")
+    time.sleep(0.5)
+    by_id("author-add").click()
+    keys = driver.find_elements(By.CSS_SELECTOR, "#author-keyframes li")
+    checks.expect(len(keys) == 2 and "focus at" in keys[1].text, f"two keyframes, the second focused ({len(keys)})")
+    checks.snap("author")
+    shot = driver.execute_script("return window.Author.shot();")
+
+    # The live preview's speed: pointer moves at 30 a second for 3 s while a drag is held.
+    figures = driver.execute_async_script("""
+        const done = arguments[arguments.length - 1];
+        const image = document.getElementById('author-frame');
+        const box = image.getBoundingClientRect();
+        const start = window.Author.stats.frames;
+        window.Author.stats.latencies.length = 0;
+        const at = (x) => ({clientX: box.left + x, clientY: box.top + box.height / 2, pointerId: 1, bubbles: true});
+        image.dispatchEvent(new PointerEvent('pointerdown', at(box.width / 2)));
+        let step = 0;
+        const began = performance.now();
+        const timer = setInterval(() => {
+          step += 1;
+          image.dispatchEvent(new PointerEvent('pointermove', at(box.width / 2 + 40 * Math.sin(step / 8))));
+          if (performance.now() - began > 3000) {
+            clearInterval(timer);
+            setTimeout(() => {
+              image.dispatchEvent(new PointerEvent('pointerup', at(box.width / 2)));
+              const l = window.Author.stats.latencies.slice().sort((a, b) => a - b);
+              done({frames: window.Author.stats.frames - start, moves: step, stats: window.Author.stats, seconds: (performance.now() - began) / 1000,
+                    median_ms: l[Math.floor(l.length / 2)], p90_ms: l[Math.floor(l.length * 0.9)]});
+            }, 300);
+          }
+        }, 33);
+    """)
+    print(f"figure: live preview 640 px wide, views of {daemon.tile[0]}x{daemon.tile[1]}: pointer move to new picture median {figures['median_ms']:.0f} ms, "
+          f"90th percentile {figures['p90_ms']:.0f} ms; {figures['frames'] / figures['seconds']:.1f} frames a second "
+          f"while dragging ({figures['frames']} frames for {figures['moves']} pointer moves in {figures['seconds']:.1f} s)")
+
+    # Render the authored shot: a new job, and its clip matches parallax clip --shot on the capture.
+    by_id("author-render").click()
+    deadline = time.time() + 180
+    rendered = None
+    while time.time() < deadline and not rendered:
+        jobs = daemon.api("/api/jobs")["jobs"]
+        done = [j for j in jobs if j["id"] != source_job and j["state"] in ("done", "failed")]
+        rendered = done[0] if done else None
+        time.sleep(0.3)
+    checks.expect(rendered is not None and rendered["state"] == "done", f"the authored shot renders as a new job ({rendered})")
+    if not rendered or rendered["state"] != "done":
+        return
+    checks.wait(lambda: len(driver.find_elements(By.CSS_SELECTOR, "li.card.state-done")) == 2,
+                "the authored clip appears in the gallery")
+    workdir = tempfile.mkdtemp(prefix="px_author_")
+    shot_path = os.path.join(workdir, "authored.shot.json")
+    with open(shot_path, "w") as f:
+        json.dump(shot, f)
+    reference = os.path.join(workdir, "reference.mp4")
+    subprocess.run([parallax, "clip", rendered["capture_dir"], "--shot", shot_path, "-o", reference,
+                    "--preset", "ultrafast", "--quiet"], check=True, stdout=subprocess.DEVNULL,
+                   stderr=subprocess.DEVNULL)
+    made = os.path.join(daemon.root, "store", "clips", rendered["id"] + ".mp4")
+    first, last = frame_psnr(made, reference, 0), frame_psnr(made, reference, -1)
+    checks.expect(first > 40 and last > 40,
+                  f"the authored clip's first and last frames match parallax clip --shot ({first:.1f}, {last:.1f} dB)")
+    shutil.rmtree(workdir, ignore_errors=True)
+
+
+def run(daemon, driver, checks, parallax):
     by_id = lambda name: driver.find_element(By.ID, name)
     driver.get(daemon.url)
     checks.wait(lambda: by_id("daemon-state").text == "idle", "the gallery loads and shows the daemon idle")
@@ -178,6 +285,7 @@ def run(daemon, driver, checks):
     checks.expect("Move" in facts and "Made as" in facts, "the job's page names its move and how it was made")
     checks.expect(len(driver.find_elements(By.CSS_SELECTOR, "#job-stages tr")) >= 4, "the job's page lists stage timings")
     checks.snap("job")
+    author(daemon, driver, checks, parallax)
 
     # Settings: the move for the next presses.
     driver.get(daemon.url + "#settings")
@@ -202,20 +310,23 @@ def run(daemon, driver, checks):
 def main():
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("parallaxd")
+    parser.add_argument("parallax", help="the parallax command, for the clip an authored shot is checked against")
     parser.add_argument("--screenshots", default="web_app_screenshots")
+    parser.add_argument("--tile", default="160x120",
+                        help="the simulated Pop9's tile size, WxH (640x480 is the camera's own: for the preview's figures)")
     parser.add_argument("--keep-screenshots", action="store_true", help="save the screenshots even when all checks pass")
     args = parser.parse_args()
     for path in (CHROMIUM, CHROMEDRIVER):
         if not shutil.which(path):
             skip(f"{path} is missing (scripts/bootstrap --test installs chromium and chromium-driver)")
     root = tempfile.mkdtemp(prefix="px_web_")
-    daemon = Daemon(args.parallaxd, root)
+    daemon = Daemon(args.parallaxd, root, [int(v) for v in args.tile.split("x")])
     driver = None
     try:
         driver = browser(os.path.join(root, "profile"))
         checks = Checks(driver, os.path.abspath(args.screenshots))
         try:
-            run(daemon, driver, checks)
+            run(daemon, driver, checks, args.parallax)
         except Exception as error:
             checks.expect(False, f"the run stopped: {type(error).__name__}: {error}")
         console = [entry for entry in driver.get_log("browser") if entry.get("level") == "SEVERE"]

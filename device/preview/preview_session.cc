@@ -1,0 +1,228 @@
+#include "device/preview/preview_session.h"
+
+#include <fcntl.h>
+#include <poll.h>
+#include <pthread.h>
+#include <signal.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <cerrno>
+#include <cstring>
+
+#include "device/preview/preview_protocol.h"
+#include "device/worker/spawn_child.h"
+#include "pipeline/core/log.h"
+
+namespace px::device {
+
+namespace {
+
+std::string ErrnoMessage(int err) { return std::strerror(err); }
+
+// A worker's error reply as a status with its code.
+Status StatusFromReply(const nlohmann::json& reply) {
+  const std::string code = reply.value("code", "INTERNAL");
+  const std::string message = reply.value("message", "preview worker failed");
+  const std::optional<StatusCode> parsed = StatusCodeFromName(code);
+  return Status(parsed.value_or(StatusCode::kInternal), message);
+}
+
+}  // namespace
+
+StatusOr<std::unique_ptr<PreviewSession>> PreviewSession::Open(const PreviewOptions& options,
+                                                               const std::filesystem::path& capture_dir) {
+  int request_pipe[2];
+  int reply_pipe[2];
+  if (::pipe2(request_pipe, O_CLOEXEC) != 0) return InternalError("preview pipes: " + ErrnoMessage(errno));
+  if (::pipe2(reply_pipe, O_CLOEXEC) != 0) {
+    ::close(request_pipe[0]);
+    ::close(request_pipe[1]);
+    return InternalError("preview pipes: " + ErrnoMessage(errno));
+  }
+  StatusOr<pid_t> pid =
+      SpawnDaemonChild(options.binary, kPreviewWorkerFlag, {{0, request_pipe[0]}, {kPreviewMessageFd, reply_pipe[1]}});
+  ::close(request_pipe[0]);
+  ::close(reply_pipe[1]);
+  auto session = std::unique_ptr<PreviewSession>(new PreviewSession());
+  session->options_ = options;
+  session->request_fd_ = request_pipe[1];
+  session->reply_fd_ = reply_pipe[0];
+  if (!pid.ok()) return pid.status();
+  session->pid_ = *pid;
+  std::lock_guard<std::mutex> lock(session->mutex_);
+  PX_RETURN_IF_ERROR(session->Send({{"capture_dir", capture_dir.string()}, {"config", options.config}}));
+  PX_ASSIGN_OR_RETURN(nlohmann::json reply, session->ReadReply(options.load_timeout));
+  if (!reply.value("ok", false)) return StatusFromReply(reply);
+  session->scene_ = reply["scene"];
+  return session;
+}
+
+PreviewSession::~PreviewSession() {
+  if (request_fd_ >= 0) ::close(request_fd_);  // the worker's end of input: it exits
+  if (reply_fd_ >= 0) ::close(reply_fd_);
+  if (pid_ > 0) {
+    // A worker busy on a frame gets a moment to notice, then is killed.
+    for (int i = 0; i < 20; ++i) {
+      if (::waitpid(pid_, nullptr, WNOHANG) == pid_) return;
+      ::usleep(10000);
+    }
+    ::kill(pid_, SIGKILL);
+    ::waitpid(pid_, nullptr, 0);
+  }
+}
+
+PreviewSession::Clock::time_point PreviewSession::last_used() const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  return last_used_;
+}
+
+Status PreviewSession::Send(const nlohmann::json& request) {
+  const std::string line = request.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace) + "\n";
+  // A worker that died leaves a pipe whose write raises SIGPIPE: blocked here, and a pending one
+  // consumed, so it becomes an error for this session instead of the daemon's end.
+  sigset_t pipe_signal;
+  sigemptyset(&pipe_signal);
+  sigaddset(&pipe_signal, SIGPIPE);
+  sigset_t old_mask;
+  pthread_sigmask(SIG_BLOCK, &pipe_signal, &old_mask);
+  Status status;
+  size_t written = 0;
+  while (written < line.size()) {
+    const ssize_t n = ::write(request_fd_, line.data() + written, line.size() - written);
+    if (n < 0 && errno == EINTR) continue;
+    if (n <= 0) {
+      status = UnavailableError("the preview worker is gone: " + ErrnoMessage(errno));
+      const timespec none{0, 0};
+      (void)sigtimedwait(&pipe_signal, nullptr, &none);
+      break;
+    }
+    written += static_cast<size_t>(n);
+  }
+  pthread_sigmask(SIG_SETMASK, &old_mask, nullptr);
+  return status;
+}
+
+StatusOr<bool> PreviewSession::Fill(Clock::time_point deadline) {
+  const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(deadline - Clock::now()).count();
+  if (left <= 0) return DeadlineExceededError("the preview worker did not answer in time");
+  pollfd fd{reply_fd_, POLLIN, 0};
+  const int ready = ::poll(&fd, 1, static_cast<int>(std::min<long long>(left, 1000)));
+  if (ready < 0 && errno != EINTR) return InternalError("poll: " + ErrnoMessage(errno));
+  if (ready <= 0) return false;
+  char chunk[65536];
+  const ssize_t n = ::read(reply_fd_, chunk, sizeof(chunk));
+  if (n < 0 && errno == EINTR) return false;
+  if (n <= 0) return UnavailableError("the preview worker ended (it may have crashed; see the log)");
+  buffer_.append(chunk, static_cast<size_t>(n));
+  return true;
+}
+
+StatusOr<nlohmann::json> PreviewSession::ReadReply(std::chrono::milliseconds timeout) {
+  const Clock::time_point deadline = Clock::now() + timeout;
+  size_t newline;
+  while ((newline = buffer_.find('\n')) == std::string::npos) PX_RETURN_IF_ERROR(Fill(deadline).status());
+  nlohmann::json reply = nlohmann::json::parse(buffer_.substr(0, newline), nullptr, /*allow_exceptions=*/false);
+  buffer_.erase(0, newline + 1);
+  if (!reply.is_object()) return DataLossError("the preview worker's reply is not a JSON object");
+  return reply;
+}
+
+StatusOr<std::string> PreviewSession::ReadBytes(size_t size, std::chrono::milliseconds timeout) {
+  const Clock::time_point deadline = Clock::now() + timeout;
+  while (buffer_.size() < size) PX_RETURN_IF_ERROR(Fill(deadline).status());
+  std::string bytes = buffer_.substr(0, size);
+  buffer_.erase(0, size);
+  return bytes;
+}
+
+StatusOr<PreviewFrame> PreviewSession::Frame(const nlohmann::json& viewpoint, bool coverage, bool draft) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  last_used_ = Clock::now();
+  PX_RETURN_IF_ERROR(Send({{"frame", viewpoint}, {"coverage", coverage}, {"draft", draft}}));
+  PX_ASSIGN_OR_RETURN(nlohmann::json reply, ReadReply(options_.frame_timeout));
+  if (!reply.value("ok", false)) return StatusFromReply(reply);
+  const uint64_t size = reply.value("bytes", uint64_t{0});
+  if (size == 0 || size > (64u << 20))
+    return DataLossError("the preview worker announced a frame of " + std::to_string(size) + " bytes");
+  PreviewFrame frame;
+  PX_ASSIGN_OR_RETURN(frame.jpeg, ReadBytes(size, options_.frame_timeout));
+  reply.erase("ok");
+  reply.erase("bytes");
+  frame.figures = std::move(reply);
+  return frame;
+}
+
+StatusOr<nlohmann::json> PreviewSession::Probe(const nlohmann::json& viewpoint, int x, int y) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  last_used_ = Clock::now();
+  PX_RETURN_IF_ERROR(Send({{"probe", viewpoint}, {"x", x}, {"y", y}}));
+  PX_ASSIGN_OR_RETURN(nlohmann::json reply, ReadReply(options_.frame_timeout));
+  if (!reply.value("ok", false)) return StatusFromReply(reply);
+  reply.erase("ok");
+  return reply;
+}
+
+StatusOr<std::shared_ptr<PreviewSession>> PreviewSessions::ForJob(const std::string& job_id,
+                                                                  const std::filesystem::path& capture_dir) {
+  CloseIdle();
+  if (auto open = Find(job_id)) return open;
+  std::lock_guard<std::mutex> opening(open_mutex_);
+  if (auto open = Find(job_id)) return open;  // opened while this request waited
+  {
+    // Room for one more: the least recently used goes.
+    std::lock_guard<std::mutex> lock(mutex_);
+    while (static_cast<int>(sessions_.size()) >= options_.max_sessions) {
+      auto oldest = sessions_.begin();
+      for (auto it = sessions_.begin(); it != sessions_.end(); ++it) {
+        if (it->second->last_used() < oldest->second->last_used()) oldest = it;
+      }
+      Logger("device")->info("preview of job {} closed for a new one", oldest->first);
+      sessions_.erase(oldest);
+    }
+  }
+  Logger("device")->info("preview of job {}: building its scene", job_id);
+  PX_ASSIGN_OR_RETURN(std::unique_ptr<PreviewSession> opened, PreviewSession::Open(options_, capture_dir));
+  std::shared_ptr<PreviewSession> session = std::move(opened);
+  std::lock_guard<std::mutex> lock(mutex_);
+  sessions_[job_id] = session;
+  return session;
+}
+
+std::shared_ptr<PreviewSession> PreviewSessions::Find(const std::string& job_id) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  auto it = sessions_.find(job_id);
+  return it == sessions_.end() ? nullptr : it->second;
+}
+
+void PreviewSessions::Close(const std::string& job_id) {
+  std::shared_ptr<PreviewSession> closing;
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    auto it = sessions_.find(job_id);
+    if (it == sessions_.end()) return;
+    closing = std::move(it->second);
+    sessions_.erase(it);
+  }
+}
+
+void PreviewSessions::CloseIdle() {
+  std::vector<std::shared_ptr<PreviewSession>> closing;  // ended outside the lock
+  std::lock_guard<std::mutex> lock(mutex_);
+  for (auto it = sessions_.begin(); it != sessions_.end();) {
+    if (PreviewSession::Clock::now() - it->second->last_used() > options_.idle_limit) {
+      Logger("device")->info("preview of job {} closed after {} s idle", it->first, options_.idle_limit.count());
+      closing.push_back(std::move(it->second));
+      it = sessions_.erase(it);
+    } else {
+      ++it;
+    }
+  }
+}
+
+void PreviewSessions::CloseAll() {
+  std::lock_guard<std::mutex> lock(mutex_);
+  sessions_.clear();
+}
+
+}  // namespace px::device

@@ -1,0 +1,91 @@
+// Authoring sessions' live previews, on the daemon's side: each session is a preview worker
+// process (preview_worker.h) holding one capture's scene, asked for frames over pipes. A session
+// builds its scene once (seconds: calibration and depth), then answers a frame in tens of
+// milliseconds. Sessions idle longer than the idle limit are closed, and at most `max_sessions`
+// live at once (the least recently used is closed for a new one): each holds a scene in memory.
+#pragma once
+
+#include <sys/types.h>
+
+#include <chrono>
+#include <filesystem>
+#include <map>
+#include <memory>
+#include <mutex>
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+
+#include "pipeline/core/status.h"
+
+namespace px::device {
+
+struct PreviewOptions {
+  std::filesystem::path binary;  // serves --preview-worker (parallaxd); "" = previews off
+  nlohmann::json config;         // the daemon's effective config, handed to each worker
+  int max_sessions = 2;
+  std::chrono::seconds idle_limit{120};
+  std::chrono::seconds load_timeout{300};  // building the scene
+  std::chrono::seconds frame_timeout{20};  // one frame or probe
+};
+
+struct PreviewFrame {
+  std::string jpeg;
+  nlohmann::json figures;  // render_ms, hole_ratio; h_v and valid when coverage was asked for
+};
+
+class PreviewSession {
+ public:
+  using Clock = std::chrono::steady_clock;
+  // Starts a worker on `capture_dir` and waits until its scene is built. The worker's error
+  // (a capture that cannot be calibrated: FAILED_PRECONDITION) comes back as it is.
+  static StatusOr<std::unique_ptr<PreviewSession>> Open(const PreviewOptions& options,
+                                                        const std::filesystem::path& capture_dir);
+  ~PreviewSession();  // ends the worker (stdin closed, then SIGKILL) and reaps it
+
+  const nlohmann::json& scene() const { return scene_; }
+  // `coverage`: also measure H(V) there (an extra pass); `draft`: a frame of a drag, drawn at half
+  // the size at most.
+  StatusOr<PreviewFrame> Frame(const nlohmann::json& viewpoint, bool coverage, bool draft = false);
+  // The scene point under preview pixel (x, y): {"point_m": [...], "depth_m": d}.
+  StatusOr<nlohmann::json> Probe(const nlohmann::json& viewpoint, int x, int y);
+  Clock::time_point last_used() const;
+
+ private:
+  PreviewSession() = default;
+  Status Send(const nlohmann::json& request);
+  StatusOr<nlohmann::json> ReadReply(std::chrono::milliseconds timeout);
+  StatusOr<std::string> ReadBytes(size_t size, std::chrono::milliseconds timeout);
+  StatusOr<bool> Fill(std::chrono::steady_clock::time_point deadline);  // more bytes into buffer_
+
+  PreviewOptions options_;
+  pid_t pid_ = -1;
+  int request_fd_ = -1;
+  int reply_fd_ = -1;
+  std::string buffer_;  // read from reply_fd_, not yet consumed
+  nlohmann::json scene_;
+  mutable std::mutex mutex_;  // one request at a time
+  Clock::time_point last_used_ = Clock::now();
+};
+
+// The sessions by job id. Thread-safe; a session being opened blocks only requests for it.
+class PreviewSessions {
+ public:
+  explicit PreviewSessions(PreviewOptions options) : options_(std::move(options)) {}
+  bool enabled() const { return !options_.binary.empty(); }
+  // The job's session, opened on `capture_dir` when there is none.
+  StatusOr<std::shared_ptr<PreviewSession>> ForJob(const std::string& job_id, const std::filesystem::path& capture_dir);
+  // The job's session if it is open.
+  std::shared_ptr<PreviewSession> Find(const std::string& job_id);
+  void Close(const std::string& job_id);
+  void CloseIdle();
+  void CloseAll();
+
+ private:
+  PreviewOptions options_;
+  std::mutex mutex_;
+  std::map<std::string, std::shared_ptr<PreviewSession>> sessions_;
+  std::mutex open_mutex_;  // one scene built at a time: two would halve each other's cores
+};
+
+}  // namespace px::device

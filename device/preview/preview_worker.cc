@@ -1,0 +1,188 @@
+#include "device/preview/preview_worker.h"
+
+#include <signal.h>
+#include <sys/prctl.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <iostream>
+#include <numeric>
+#include <opencv2/imgcodecs.hpp>
+#include <string>
+
+#include "capture/recording.h"
+#include "device/clip_job.h"
+#include "device/config.h"
+#include "device/daemon_factory.h"
+#include "device/preview/preview_protocol.h"
+#include "pipeline/core/log.h"
+#include "pipeline/core/stage_clock.h"
+#include "pipeline/direct/coverage_probe.h"
+#include "pipeline/direct/detail_size.h"
+
+namespace px::device {
+
+namespace {
+
+constexpr int kPreviewJpegQuality = 80;
+constexpr double kDraftScale = 2;  // a draft frame is drawn at 1 / kDraftScale of the preview's size
+
+bool SendBytes(const char* data, size_t size) {
+  size_t written = 0;
+  while (written < size) {
+    const ssize_t n = ::write(kPreviewMessageFd, data + written, size - written);
+    if (n < 0 && errno == EINTR) continue;
+    if (n <= 0) return false;  // the daemon is gone; PR_SET_PDEATHSIG ends us
+    written += static_cast<size_t>(n);
+  }
+  return true;
+}
+
+bool SendLine(const nlohmann::json& reply) {
+  const std::string line = reply.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace) + "\n";
+  return SendBytes(line.data(), line.size());
+}
+
+// The scene and the renderer a session draws with.
+struct PreviewScene {
+  PipelineScene scene;
+  std::unique_ptr<render::gl::BackendSceneRenderer> renderer;
+  double focal_px = 0;          // the views' mean horizontal focal length: a keyframe's focal_scale is relative to it
+  double valid_hole_score = 2;  // H(V) below which the planner calls a viewpoint valid
+};
+
+StatusOr<PreviewScene> LoadScene(const nlohmann::json& request) {
+  if (!request.is_object() || !request.contains("capture_dir") || !request["capture_dir"].is_string()) {
+    return InvalidArgumentError("preview: the first request names capture_dir");
+  }
+  PX_ASSIGN_OR_RETURN(DaemonConfig config, DaemonConfigFromJson(request.value("config", nlohmann::json::object())));
+  PX_RETURN_IF_ERROR(SetLogLevels(config.log_levels));
+  PX_ASSIGN_OR_RETURN(ClipJobOptions options, ClipJobOptionsFromConfig(config));
+  const std::filesystem::path capture_dir = request["capture_dir"].get<std::string>();
+  PX_ASSIGN_OR_RETURN(Recording recording, ReadRecording(capture_dir));
+  PipelineOptions pipeline = options.pipeline;
+  const RigCalibration rig = RigCalibrationFor(recording, capture_dir, &pipeline);
+  PreviewScene preview;
+  preview.valid_hole_score = pipeline.direct.search.valid_hole_score;
+  PX_ASSIGN_OR_RETURN(preview.scene, BuildPipelineScene(recording.frames, rig, pipeline));
+  PX_ASSIGN_OR_RETURN(preview.renderer,
+                      render::gl::BackendSceneRenderer::Create(
+                          preview.scene.views, preview.scene.layers, pipeline.render, pipeline.render_backend));
+  for (const View& view : preview.scene.views) preview.focal_px += view.camera.fx / preview.scene.views.size();
+  return preview;
+}
+
+nlohmann::json SceneSummary(const PreviewScene& preview, double ms) {
+  nlohmann::json views = nlohmann::json::array();
+  double min_depth = 0;
+  double max_depth = 0;
+  for (const View& view : preview.scene.views) {
+    const Eigen::Vector3d centre = view.cam_from_world.Inverse().translation;
+    views.push_back({{"id", view.id.value},
+                     {"centre_m", {centre.x(), centre.y(), centre.z()}},
+                     {"width", view.camera.width},
+                     {"height", view.camera.height}});
+  }
+  for (const DepthMap& map : preview.scene.depth_maps) {
+    double lo = 0;
+    double hi = 0;
+    cv::minMaxLoc(map.depth_m, &lo, &hi, nullptr, nullptr, map.depth_m > 0);
+    if (lo > 0 && (min_depth == 0 || lo < min_depth)) min_depth = lo;
+    max_depth = std::max(max_depth, hi);
+  }
+  return {{"views", views},
+          {"focal_px", preview.focal_px},
+          {"depth_min_m", min_depth},
+          {"depth_max_m", max_depth},
+          {"render_backend", std::string(preview.renderer->BackendName())},
+          {"warnings", preview.scene.report.warnings},
+          {"ms", ms}};
+}
+
+Status ServeFrame(PreviewScene& preview, const nlohmann::json& request) {
+  const auto start = StageClock::now();
+  PX_ASSIGN_OR_RETURN(PreviewCamera view, PreviewCameraFromJson(request["frame"], preview.focal_px));
+  // Beyond the capture's detail a bigger frame shows nothing more: drawn at that detail, enlarged.
+  // A draft (a frame of a drag, replaced when the pointer rests) is drawn at half the preview's
+  // size at most: a quarter of the work, so the picture keeps up with the pointer.
+  const double draw_scale = std::max(view.output_scale, request.value("draft", false) ? kDraftScale : 1.0);
+  const VirtualCamera drawn = direct::CameraAtDetail(view.camera, draw_scale);
+  PX_ASSIGN_OR_RETURN(FrameRender frame, preview.renderer->Render(drawn));
+  const cv::Mat bgr = direct::EnlargeToOutput(frame.bgr, view.camera.camera.width, view.camera.camera.height);
+  std::vector<uchar> jpeg;
+  if (!cv::imencode(".jpg", bgr, jpeg, {cv::IMWRITE_JPEG_QUALITY, kPreviewJpegQuality})) {
+    return InternalError("preview: JPEG encoding failed");
+  }
+  nlohmann::json reply = {{"ok", true},
+                          {"bytes", jpeg.size()},
+                          {"drawn", {drawn.camera.width, drawn.camera.height}},
+                          {"hole_ratio", frame.holes.hole_ratio}};
+  if (request.value("coverage", false)) {
+    // H(V) exactly as the path planner judges a viewpoint (its verify probe).
+    const CoverageFunction coverage = [&preview](const CameraModel& camera, const Rigid3& cam_from_world) {
+      return preview.renderer->Coverage(camera, cam_from_world);
+    };
+    direct::CoverageProbe probe(&coverage, view.verify_scale, preview.valid_hole_score);
+    PX_ASSIGN_OR_RETURN(const double h_v, probe.HoleScore(view.clip_camera.camera, view.clip_camera.cam_from_world));
+    reply["h_v"] = h_v;
+    reply["valid"] = h_v < preview.valid_hole_score;
+  }
+  reply["render_ms"] = MsSince(start);
+  SendLine(reply);
+  SendBytes(reinterpret_cast<const char*>(jpeg.data()), jpeg.size());
+  return OkStatus();
+}
+
+// The scene point under pixel (x, y) of the viewpoint: what a click on the preview focuses on.
+Status ServeProbe(PreviewScene& preview, const nlohmann::json& request) {
+  PX_ASSIGN_OR_RETURN(PreviewCamera view, PreviewCameraFromJson(request["probe"], preview.focal_px));
+  const VirtualCamera& camera = view.camera;
+  if (!request.contains("x") || !request.contains("y") || !request["x"].is_number() || !request["y"].is_number()) {
+    return InvalidArgumentError("probe: x and y (preview pixels) are required");
+  }
+  const int x = request["x"].get<int>();
+  const int y = request["y"].get<int>();
+  if (x < 0 || y < 0 || x >= camera.camera.width || y >= camera.camera.height) {
+    return OutOfRangeError("probe: pixel (" + std::to_string(x) + ", " + std::to_string(y) +
+                           ") is outside the preview");
+  }
+  PX_ASSIGN_OR_RETURN(FrameRender frame, preview.renderer->Render(camera));
+  const double depth = frame.depth_m.at<float>(y, x);
+  if (!(depth > 0)) return NotFoundError("probe: no scene depth at that pixel");
+  const Eigen::Vector3d in_camera(
+      (x - camera.camera.cx) / camera.camera.fx * depth, (y - camera.camera.cy) / camera.camera.fy * depth, depth);
+  const Eigen::Vector3d in_world = camera.cam_from_world.Inverse() * in_camera;
+  SendLine({{"ok", true}, {"point_m", {in_world.x(), in_world.y(), in_world.z()}}, {"depth_m", depth}});
+  return OkStatus();
+}
+
+}  // namespace
+
+int RunPreviewWorker(pid_t parent) {
+  ::prctl(PR_SET_PDEATHSIG, SIGKILL);  // never outlive the daemon
+  if (::getppid() != parent) return 1;
+  std::string line;
+  if (!std::getline(std::cin, line)) return 1;
+  const auto start = StageClock::now();
+  nlohmann::json first = nlohmann::json::parse(line, nullptr, /*allow_exceptions=*/false);
+  StatusOr<PreviewScene> preview = LoadScene(first);
+  if (!preview.ok()) {
+    SendLine(PreviewErrorReply(preview.status()));
+    return 1;
+  }
+  Logger("device")->info("preview: scene of {} views ready in {:.0f} ms", preview->scene.views.size(), MsSince(start));
+  if (!SendLine({{"ok", true}, {"scene", SceneSummary(*preview, MsSince(start))}})) return 1;
+  while (std::getline(std::cin, line)) {
+    nlohmann::json request = nlohmann::json::parse(line, nullptr, /*allow_exceptions=*/false);
+    Status served = InvalidArgumentError("preview: a request is a JSON object with frame or probe");
+    if (request.is_object() && request.contains("frame")) {
+      served = ServeFrame(*preview, request);
+    } else if (request.is_object() && request.contains("probe")) {
+      served = ServeProbe(*preview, request);
+    }
+    if (!served.ok() && !SendLine(PreviewErrorReply(served))) return 1;
+  }
+  return 0;
+}
+
+}  // namespace px::device

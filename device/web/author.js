@@ -1,0 +1,295 @@
+// Authoring (paper section 4.4): a virtual camera that follows the pointer over a capture's scene,
+// drawn live by the device's own renderer (POST /api/jobs/ID/preview/frame), keyframes on a
+// Catmull-Rom spline, focal length, aperture and a focus point picked by clicking the picture,
+// and a render of the shot as a new clip (POST /api/jobs/ID/render). Each frame's coverage says
+// whether the viewpoint is inside H(V), the region the views can draw without visible holes.
+'use strict';
+
+const Author = (() => {
+  const PREVIEW_WIDTH = 640;
+  const VALID_H_V = 2;  // a viewpoint is valid when H(V) < 2 (pipeline/core/coverage_report.h)
+  const el = (id) => document.getElementById(id);
+  let job = null;       // the capture's job id
+  let clip = null;      // the clip's frame: width, height, cx, cy, aspect
+  let scene = null;     // from the preview session: views, focal_px, depth range
+  let camera = null;    // the keyframe being looked through: position_m, direction, up, focal_px, ...
+  let baseFocal = 1;    // the clip's first keyframe's focal length
+  let extent = 0.1;     // the lens plane's extent, metres: how far one picture width of drag moves
+  let keyframes = [];   // [{key, h_v}]
+  let inFlight = 0;
+  let pending = false;
+  let lastFigures = {};
+  let measured = null;  // {key, h_v, valid}: H(V) of the last viewpoint it was measured at
+  const stats = {frames: 0, asked: 0, dropped: 0, coalesced: 0, latencies: []};  // pointer-to-picture times, for the preview benchmark
+
+  const copy = (value) => JSON.parse(JSON.stringify(value));
+
+  function viewpoint(key, width) {
+    const height = Math.round(width * clip.height / clip.width);
+    return {keyframe: key, width, height,
+            clip: {width: clip.width, height: clip.height, cx: clip.cx, cy: clip.cy, aspect: clip.aspect,
+                   output_scale: clip.output_scale}};
+  }
+
+  async function post(path, body) {
+    const reply = await fetch(path, {method: 'POST', headers: {'Content-Type': 'application/json'}, body: JSON.stringify(body)});
+    if (!reply.ok) {
+      const error = await reply.json().catch(() => ({}));
+      throw new Error(error.error || `HTTP ${reply.status}`);
+    }
+    return reply;
+  }
+
+  // Draws the current camera. One frame is on its way at a time (the worker draws one at a time,
+  // and two requests could be answered out of order); moves meanwhile coalesce into one more, and
+  // a frame older than the one on show would be dropped.
+  let asked = 0;
+  let shown = 0;
+  async function draw(since = performance.now()) {
+    if (!camera) return;
+    if (inFlight >= 1) {
+      if (pending !== false) stats.coalesced += 1;
+      pending = pending === false ? since : pending;
+      return;
+    }
+    inFlight += 1;
+    const number = ++asked;
+    stats.asked += 1;
+    try {
+      // H(V) costs a second pass: measured when the pointer rests, not on every frame of a drag.
+      const key = copy(camera);
+      const coverage = !drag;
+      const draft = Boolean(drag);  // half size while dragging; the full frame when the pointer rests
+      const reply = await post(`/api/jobs/${job}/preview/frame`, {...viewpoint(key, PREVIEW_WIDTH), coverage, draft});
+      const figures = JSON.parse(reply.headers.get('X-Preview') || '{}');
+      if (coverage) measured = {key: JSON.stringify(key), h_v: figures.h_v, valid: figures.valid};
+      const bitmap = await createImageBitmap(await reply.blob());
+      if (number > shown) {
+        shown = number;
+        const canvas = el('author-frame');
+        if (canvas.width !== bitmap.width || canvas.height !== bitmap.height) {
+          canvas.width = bitmap.width;
+          canvas.height = bitmap.height;
+        }
+        canvas.getContext('2d').drawImage(bitmap, 0, 0);
+        canvas.dataset.frames = String(Number(canvas.dataset.frames || 0) + 1);
+        lastFigures = figures;
+        stats.frames += 1;
+        stats.latencies.push(performance.now() - since);
+        showStatus();
+      } else stats.dropped += 1;
+      bitmap.close();
+    } catch (error) {
+      el('author-status').textContent = `Preview failed: ${error.message}`;
+    } finally {
+      inFlight -= 1;
+      if (pending !== false) {
+        const next = pending;
+        pending = false;
+        draw(next);
+      }
+    }
+  }
+
+  function showStatus() {
+    const current = measured && measured.key === JSON.stringify(camera);
+    const position = camera.position_m.map((v) => (v * 1000).toFixed(0)).join(', ');
+    const focus = camera.focus_at_m ? ` · focus at (${camera.focus_at_m.map((v) => v.toFixed(2)).join(', ')}) m` : '';
+    el('author-status').textContent =
+      `(${position}) mm · ${Math.round(lastFigures.render_ms)} ms · holes ${(100 * lastFigures.hole_ratio).toFixed(1)}% · ` +
+      (!current ? 'H(V) is measured when the pointer rests'
+        : measured.valid ? 'inside the valid region H(V)'
+          : `outside the valid region: H(V) ${measured.h_v.toFixed(1)} ≥ ${VALID_H_V}`) +
+      focus;
+    el('author-status').className = current && !measured.valid ? 'warning' : '';
+  }
+
+  function renderKeyframes() {
+    el('author-keyframes').replaceChildren(...keyframes.map((entry, index) => {
+      const key = entry.key;
+      const item = document.createElement('li');
+      const flagged = entry.h_v >= VALID_H_V;
+      item.className = flagged ? 'warning' : '';
+      const focus = key.focus_at_m ? `, focus at ${key.focus_at_m.map((v) => v.toFixed(2)).join(', ')} m` : '';
+      item.textContent = `(${key.position_m.map((v) => (v * 1000).toFixed(0)).join(', ')}) mm, ` +
+        `focal ${(key.focal_px / baseFocal).toFixed(2)}x, aperture ${(key.aperture_m * 1000).toFixed(1)} mm${focus}` +
+        (flagged ? ' — outside H(V)' : '');
+      const go = document.createElement('button');
+      go.textContent = 'Look';
+      go.onclick = () => { camera = copy(key); syncControls(); draw(); };
+      const remove = document.createElement('button');
+      remove.textContent = 'Remove';
+      remove.onclick = () => { keyframes.splice(index, 1); renderKeyframes(); };
+      item.append(' ', go, ' ', remove);
+      return item;
+    }));
+    el('author-render').disabled = keyframes.length < 2;
+    el('author-play').disabled = keyframes.length < 2;
+  }
+
+  function syncControls() {
+    el('author-focal').value = (camera.focal_px / baseFocal).toFixed(2);
+    el('author-aperture').value = (camera.aperture_m || 0) * 1000;
+    el('author-aperture-text').textContent = camera.aperture_m > 0 ? `${(camera.aperture_m * 1000).toFixed(1)} mm` : 'pinhole';
+  }
+
+  // Uniform Catmull-Rom through the keyframes' positions (what the renderer's spline does), the
+  // rest linear: the path preview's camera at t in [0, 1].
+  function keyAt(t) {
+    const keys = keyframes.map((entry) => entry.key);
+    const segments = keys.length - 1;
+    const s = Math.min(segments - 1e-9, Math.max(0, t * segments));
+    const i = Math.floor(s);
+    const u = s - i;
+    const p = (k) => keys[Math.max(0, Math.min(keys.length - 1, k))].position_m;
+    const [p0, p1, p2, p3] = [p(i - 1), p(i), p(i + 1), p(i + 2)];
+    const position = [0, 1, 2].map((a) => 0.5 * ((2 * p1[a]) + (-p0[a] + p2[a]) * u +
+      (2 * p0[a] - 5 * p1[a] + 4 * p2[a] - p3[a]) * u * u + (-p0[a] + 3 * p1[a] - 3 * p2[a] + p3[a]) * u * u * u));
+    const key = copy(keys[i]);
+    const next = keys[i + 1];
+    key.position_m = position;
+    key.direction = key.direction.map((v, a) => v + (next.direction[a] - v) * u);
+    key.focal_px += (next.focal_px - key.focal_px) * u;
+    key.aperture_m += (next.aperture_m - key.aperture_m) * u;
+    return key;
+  }
+
+  async function playPath() {
+    const steps = 24;
+    for (let s = 0; s <= steps; ++s) {
+      camera = keyAt(s / steps);
+      await draw();
+      while (inFlight > 0) await new Promise((resolve) => setTimeout(resolve, 5));
+    }
+  }
+
+  function shot() {
+    const count = keyframes.length;
+    return {
+      format: 'parallax-shot', version: 1,
+      duration_s: Number(el('author-duration').value), fps: clip.fps,
+      segments: [{interpolation: count > 2 ? 'catmull_rom' : 'linear', keyframes: keyframes.map((entry, index) => {
+        const key = copy(entry.key);
+        key.t = index / (count - 1);
+        return key;
+      })}],
+    };
+  }
+
+  async function renderClip() {
+    el('author-render').disabled = true;
+    try {
+      const reply = await post(`/api/jobs/${job}/render`, {shot: shot()});
+      const body = await reply.json();
+      el('author-status').textContent = `Rendering as job ${body.job}; it appears in the gallery when done.`;
+      location.hash = '#gallery';
+    } catch (error) {
+      el('author-status').textContent = `Not rendered: ${error.message}`;
+      el('author-render').disabled = false;
+    }
+  }
+
+  // ---- Pointer: drag moves across the lens plane, wheel dollies, a click may focus ----
+  let drag = null;
+  function onPointerDown(event) {
+    drag = {x: event.clientX, y: event.clientY, start: copy(camera.position_m), moved: false};
+    event.target.setPointerCapture(event.pointerId);
+  }
+  function onPointerMove(event) {
+    if (!drag) return;
+    const since = performance.now();
+    const canvas = el('author-frame');
+    const dx = (event.clientX - drag.x) / canvas.clientWidth;
+    const dy = (event.clientY - drag.y) / canvas.clientWidth;
+    if (Math.abs(dx) + Math.abs(dy) > 0.003) drag.moved = true;
+    // Dragging the picture right moves the camera left, as if pulling the scene along.
+    camera.position_m = [drag.start[0] - dx * extent * 2, drag.start[1] - dy * extent * 2, drag.start[2]];
+    draw(since);
+  }
+  async function onPointerUp(event) {
+    const wasDrag = drag && drag.moved;
+    drag = null;
+    if (wasDrag) draw();  // at rest: with its H(V)
+    if (wasDrag || !el('author-focus-mode').checked) return;
+    const rect = el('author-frame').getBoundingClientRect();
+    const width = PREVIEW_WIDTH;
+    const x = Math.round((event.clientX - rect.left) / rect.width * width);
+    const y = Math.round((event.clientY - rect.top) / rect.height * Math.round(width * clip.height / clip.width));
+    try {
+      const reply = await post(`/api/jobs/${job}/preview/probe`, {viewpoint: viewpoint(camera, width), x, y});
+      const body = await reply.json();
+      camera.focus_at_m = body.point_m;
+      delete camera.focus_depth_m;
+      if (!(camera.aperture_m > 0)) camera.aperture_m = 0.005;
+      syncControls();
+      draw();
+    } catch (error) {
+      el('author-status').textContent = `No focus there: ${error.message}`;
+    }
+  }
+  function onWheel(event) {
+    event.preventDefault();
+    camera.position_m[2] -= Math.sign(event.deltaY) * extent * 0.1;
+    draw();
+  }
+
+  async function open(id) {
+    job = id;
+    keyframes = [];
+    camera = null;
+    renderKeyframes();
+    el('author-title').textContent = `Authoring on the capture of job ${id}`;
+    el('author-back').href = `#job/${id}`;
+    el('author-status').textContent = 'Building the scene (calibration and depth)…';
+    try {
+      const details = await (await fetch(`/api/jobs/${id}`)).json();
+      const path = details.report.camera_path;
+      clip = {width: path.width, height: path.height, cx: path.cx, cy: path.cy, aspect: path.aspect, fps: path.fps,
+              output_scale: path.output_scale || 1};
+      el('author-duration').value = path.duration_s;
+      const original = await (await fetch(`/api/jobs/${id}/shot`)).json();
+      const opened = await (await post(`/api/jobs/${id}/preview`, {})).json();
+      scene = opened.scene;
+      const centres = scene.views.map((view) => view.centre_m);
+      const span = (axis) => Math.max(...centres.map((c) => c[axis])) - Math.min(...centres.map((c) => c[axis]));
+      extent = Math.max(span(0), span(1), 0.02);
+      camera = copy(original.segments[0].keyframes[0]);
+      delete camera.t;
+      baseFocal = camera.focal_px;
+      syncControls();
+      await draw();
+    } catch (error) {
+      el('author-status').textContent = `This capture cannot be authored: ${error.message}`;
+    }
+  }
+
+  function init() {
+    const canvas = el('author-frame');
+    canvas.addEventListener('pointerdown', onPointerDown);
+    canvas.addEventListener('pointermove', onPointerMove);
+    canvas.addEventListener('pointerup', onPointerUp);
+    canvas.addEventListener('wheel', onWheel, {passive: false});
+    el('author-focal').addEventListener('input', () => { camera.focal_px = baseFocal * Number(el('author-focal').value); draw(); });
+    el('author-aperture').addEventListener('input', () => {
+      camera.aperture_m = Number(el('author-aperture').value) / 1000;
+      if (camera.aperture_m > 0 && !camera.focus_at_m && !camera.focus_depth_m) {
+        camera.focus_depth_m = (scene.depth_min_m + scene.depth_max_m) / 2;
+      }
+      syncControls();
+      draw();
+    });
+    el('author-add').addEventListener('click', async () => {
+      if (!measured || measured.key !== JSON.stringify(camera)) await draw();  // its H(V), to flag it
+      while (inFlight > 0) await new Promise((resolve) => setTimeout(resolve, 5));
+      keyframes.push({key: copy(camera), h_v: measured ? measured.h_v : 0});
+      renderKeyframes();
+    });
+    el('author-play').addEventListener('click', playPath);
+    el('author-render').addEventListener('click', renderClip);
+  }
+
+  return {open, init, stats, shot: () => shot()};
+})();
+
+window.Author = Author;
+Author.init();
