@@ -200,6 +200,18 @@ void PreviewProbe(const ApiContext& api, const Request& req, Response& res) {
   Reply(res, 200, *point);
 }
 
+void PreviewRegion(const ApiContext& api, const Request& req, Response& res) {
+  std::optional<nlohmann::json> body = JsonBody(req, res);
+  if (!body) return;
+  if (!body->contains("viewpoint") || !body->contains("rect")) return ReplyError(res, 400, "want {viewpoint, rect}");
+  StatusOr<std::shared_ptr<PreviewSession>> session = PreviewFor(api, req.matches[1]);
+  if (!session.ok()) return ReplyStatus(res, session.status());
+  StatusOr<nlohmann::json> region = (*session)->Region((*body)["viewpoint"], (*body)["rect"]);
+  if (!region.ok()) return ReplyStatus(res, region.status());
+  (*region)["ok"] = true;
+  Reply(res, 200, *region);
+}
+
 void DeleteJob(const ApiContext& api, const Request& req, Response& res) {
   const std::string id = req.matches[1];
   if (api.previews) api.previews->Close(id);
@@ -296,6 +308,8 @@ void RegisterApiRoutes(httplib::Server& server, const ApiContext& api) {
               [api](const Request& req, Response& res) { ServePreviewFrame(api, req, res); });
   server.Post(std::string(kJob) + "/preview/probe",
               [api](const Request& req, Response& res) { PreviewProbe(api, req, res); });
+  server.Post(std::string(kJob) + "/preview/region",
+              [api](const Request& req, Response& res) { PreviewRegion(api, req, res); });
   server.Delete(std::string(kJob) + "/preview", [api](const Request& req, Response& res) {
     if (api.previews) api.previews->Close(req.matches[1]);
     Reply(res, 200, {{"ok", true}});

@@ -309,17 +309,24 @@ TEST_F(HttpApiTest, EveryMoveThePageOffersIsAccepted) {
   for (const EmbeddedFile& file : WebAssets()) {
     if (file.name == "index.html") index = file.bytes;
   }
+  // The moves of the settings' select and of the authoring page's region select.
+  std::string moves;
+  for (const char* select : {"<select id=\"setting-move\"", "<select id=\"author-region-move\""}) {
+    const size_t start = index.find(select);
+    ASSERT_NE(start, std::string::npos) << select;
+    moves += index.substr(start, index.find("</select>", start) - start);
+  }
   const std::regex option(R"rx(<option value="([a-z_0-9]+)")rx");
   int offered = 0;
   httplib::Client client = camera_->Client();
-  for (auto it = std::sregex_iterator(index.begin(), index.end(), option); it != std::sregex_iterator(); ++it) {
+  for (auto it = std::sregex_iterator(moves.begin(), moves.end(), option); it != std::sregex_iterator(); ++it) {
     const std::string move = (*it)[1];
     auto set = client.Put("/api/settings/move", nlohmann::json({{"move", move}}).dump(), "application/json");
     ASSERT_TRUE(set);
     EXPECT_EQ(set->status, 200) << move << ": " << set->body;
     ++offered;
   }
-  EXPECT_GE(offered, 8);
+  EXPECT_GE(offered, 13);
   auto bad = client.Put("/api/settings/move", R"({"move":"barrel_roll"})", "application/json");
   EXPECT_EQ(bad->status, 400);
   EXPECT_THAT(Json(bad)["error"].get<std::string>(), HasSubstr("barrel_roll"));

@@ -12,6 +12,9 @@
 //      preview's size at most and enlarged)
 //   -> {"probe": VIEWPOINT, "x": 320, "y": 240}
 //   <- {"ok": true, "point_m": [x, y, z], "depth_m": 1.3}
+//   -> {"region": VIEWPOINT, "rect": [x, y, w, h]}          a rectangle drawn on the preview
+//   <- {"ok": true, "region_min_m": [..], "region_max_m": [..], "view": 4, "box_px": [x, y, w, h]}
+//      (the 3D box a colour effect takes, and the box in the centre view a taxonomy move takes)
 //   <- {"ok": false, "code": "INVALID_ARGUMENT", "message": "..."}       for any request
 // VIEWPOINT: {"keyframe": <a shot keyframe, SHOT_FORMAT.md, focal_px in the clip's pixels>,
 //             "width": 640, "height": 480,        the preview's size

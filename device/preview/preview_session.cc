@@ -153,14 +153,22 @@ StatusOr<PreviewFrame> PreviewSession::Frame(const nlohmann::json& viewpoint, bo
   return frame;
 }
 
-StatusOr<nlohmann::json> PreviewSession::Probe(const nlohmann::json& viewpoint, int x, int y) {
+StatusOr<nlohmann::json> PreviewSession::Ask(const nlohmann::json& request) {
   std::lock_guard<std::mutex> lock(mutex_);
   last_used_ = Clock::now();
-  PX_RETURN_IF_ERROR(Send({{"probe", viewpoint}, {"x", x}, {"y", y}}));
+  PX_RETURN_IF_ERROR(Send(request));
   PX_ASSIGN_OR_RETURN(nlohmann::json reply, ReadReply(options_.frame_timeout));
   if (!reply.value("ok", false)) return StatusFromReply(reply);
   reply.erase("ok");
   return reply;
+}
+
+StatusOr<nlohmann::json> PreviewSession::Probe(const nlohmann::json& viewpoint, int x, int y) {
+  return Ask({{"probe", viewpoint}, {"x", x}, {"y", y}});
+}
+
+StatusOr<nlohmann::json> PreviewSession::Region(const nlohmann::json& viewpoint, const nlohmann::json& rect) {
+  return Ask({{"region", viewpoint}, {"rect", rect}});
 }
 
 StatusOr<std::shared_ptr<PreviewSession>> PreviewSessions::ForJob(const std::string& job_id,

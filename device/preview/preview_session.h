@@ -49,11 +49,14 @@ class PreviewSession {
   StatusOr<PreviewFrame> Frame(const nlohmann::json& viewpoint, bool coverage, bool draft = false);
   // The scene point under preview pixel (x, y): {"point_m": [...], "depth_m": d}.
   StatusOr<nlohmann::json> Probe(const nlohmann::json& viewpoint, int x, int y);
+  // What the rectangle [x, y, w, h] of the preview covers: region_min_m, region_max_m, view, box_px.
+  StatusOr<nlohmann::json> Region(const nlohmann::json& viewpoint, const nlohmann::json& rect);
   Clock::time_point last_used() const;
 
  private:
   PreviewSession() = default;
   Status Send(const nlohmann::json& request);
+  StatusOr<nlohmann::json> Ask(const nlohmann::json& request);  // a request answered by one JSON line
   StatusOr<nlohmann::json> ReadReply(std::chrono::milliseconds timeout);
   StatusOr<std::string> ReadBytes(size_t size, std::chrono::milliseconds timeout);
   StatusOr<bool> Fill(std::chrono::steady_clock::time_point deadline);  // more bytes into buffer_

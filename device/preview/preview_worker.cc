@@ -19,6 +19,7 @@
 #include "pipeline/core/stage_clock.h"
 #include "pipeline/direct/coverage_probe.h"
 #include "pipeline/direct/detail_size.h"
+#include "pipeline/direct/scene_geometry.h"
 
 namespace px::device {
 
@@ -156,6 +157,69 @@ Status ServeProbe(PreviewScene& preview, const nlohmann::json& request) {
   return OkStatus();
 }
 
+// What a rectangle drawn on the preview covers in the scene: its points' 3D box (trimmed of the
+// outer 5 % on each axis: a stray background pixel must not stretch it) for a colour effect's
+// region, and its box in the centre view's pixels, for a taxonomy move's subject.
+Status ServeRegion(PreviewScene& preview, const nlohmann::json& request) {
+  PX_ASSIGN_OR_RETURN(PreviewCamera view, PreviewCameraFromJson(request["region"], preview.focal_px));
+  const nlohmann::json& rect = request.value("rect", nlohmann::json());
+  if (!rect.is_array() || rect.size() != 4 ||
+      !std::all_of(rect.begin(), rect.end(), [](auto& v) { return v.is_number(); })) {
+    return InvalidArgumentError("region: rect [x, y, w, h] in preview pixels is required");
+  }
+  const cv::Rect2d wanted(rect[0].get<double>(), rect[1].get<double>(), rect[2].get<double>(), rect[3].get<double>());
+  const cv::Rect2d frame_rect(0, 0, view.camera.camera.width, view.camera.camera.height);
+  const cv::Rect2d area = wanted & frame_rect;
+  if (area.width < 2 || area.height < 2)
+    return OutOfRangeError("region: the rectangle is outside the preview or too small");
+  PX_ASSIGN_OR_RETURN(FrameRender frame, preview.renderer->Render(view.camera));
+  const Rigid3 world_from_cam = view.camera.cam_from_world.Inverse();
+  std::vector<Eigen::Vector3d> points;
+  constexpr int kSamples = 24;  // per side
+  for (int i = 0; i < kSamples; ++i) {
+    for (int j = 0; j < kSamples; ++j) {
+      const int x = static_cast<int>(area.x + (j + 0.5) * area.width / kSamples);
+      const int y = static_cast<int>(area.y + (i + 0.5) * area.height / kSamples);
+      const double depth = frame.depth_m.at<float>(y, x);
+      if (!(depth > 0)) continue;
+      const CameraModel& c = view.camera.camera;
+      points.push_back(world_from_cam * Eigen::Vector3d((x - c.cx) / c.fx * depth, (y - c.cy) / c.fy * depth, depth));
+    }
+  }
+  if (points.size() < 8) return NotFoundError("region: no scene depth inside the rectangle");
+  Eigen::Vector3d low;
+  Eigen::Vector3d high;
+  for (int axis = 0; axis < 3; ++axis) {
+    std::vector<double> values;
+    for (const Eigen::Vector3d& p : points) values.push_back(p[axis]);
+    std::sort(values.begin(), values.end());
+    low[axis] = values[values.size() / 20];
+    high[axis] = values[values.size() - 1 - values.size() / 20];
+  }
+  // The points as the centre view saw them: a taxonomy move's subject box.
+  const View& centre = preview.scene.views[direct::CentreViewIndex(preview.scene.views)];
+  cv::Rect2d in_view;
+  bool any = false;
+  for (const Eigen::Vector3d& p : points) {
+    Eigen::Vector2d pixel;
+    if (!centre.camera.Project(centre.cam_from_world * p, &pixel)) continue;
+    const cv::Rect2d dot(pixel.x(), pixel.y(), 0, 0);
+    in_view = any ? (in_view | dot) : dot;
+    any = true;
+  }
+  in_view &= cv::Rect2d(0, 0, centre.camera.width, centre.camera.height);
+  nlohmann::json reply = {{"ok", true},
+                          {"region_min_m", {low.x(), low.y(), low.z()}},
+                          {"region_max_m", {high.x(), high.y(), high.z()}},
+                          {"points", points.size()}};
+  if (any && in_view.width >= 1 && in_view.height >= 1) {
+    reply["view"] = centre.id.value;
+    reply["box_px"] = {in_view.x, in_view.y, in_view.width, in_view.height};
+  }
+  SendLine(reply);
+  return OkStatus();
+}
+
 }  // namespace
 
 int RunPreviewWorker(pid_t parent) {
@@ -174,11 +238,13 @@ int RunPreviewWorker(pid_t parent) {
   if (!SendLine({{"ok", true}, {"scene", SceneSummary(*preview, MsSince(start))}})) return 1;
   while (std::getline(std::cin, line)) {
     nlohmann::json request = nlohmann::json::parse(line, nullptr, /*allow_exceptions=*/false);
-    Status served = InvalidArgumentError("preview: a request is a JSON object with frame or probe");
+    Status served = InvalidArgumentError("preview: a request is a JSON object with frame, probe or region");
     if (request.is_object() && request.contains("frame")) {
       served = ServeFrame(*preview, request);
     } else if (request.is_object() && request.contains("probe")) {
       served = ServeProbe(*preview, request);
+    } else if (request.is_object() && request.contains("region")) {
+      served = ServeRegion(*preview, request);
     }
     if (!served.ok() && !SendLine(PreviewErrorReply(served))) return 1;
   }

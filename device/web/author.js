@@ -16,6 +16,9 @@ const Author = (() => {
   let baseFocal = 1;    // the clip's first keyframe's focal length
   let extent = 0.1;     // the lens plane's extent, metres: how far one picture width of drag moves
   let keyframes = [];   // [{key, h_v}]
+  let region = null;    // the last region drawn: its 3D box and its box in the centre view
+  let regionMove = null;  // a taxonomy segment for a region, played before the keyframes
+  let lastBitmap = null;  // the picture on show, to draw a region's rectangle over
   let inFlight = 0;
   let pending = false;
   let lastFigures = {};
@@ -72,13 +75,17 @@ const Author = (() => {
           canvas.height = bitmap.height;
         }
         canvas.getContext('2d').drawImage(bitmap, 0, 0);
+        if (lastBitmap) lastBitmap.close();
+        lastBitmap = bitmap;
         canvas.dataset.frames = String(Number(canvas.dataset.frames || 0) + 1);
         lastFigures = figures;
         stats.frames += 1;
         stats.latencies.push(performance.now() - since);
         showStatus();
-      } else stats.dropped += 1;
-      bitmap.close();
+      } else {
+        stats.dropped += 1;
+        bitmap.close();
+      }
     } catch (error) {
       el('author-status').textContent = `Preview failed: ${error.message}`;
     } finally {
@@ -95,12 +102,15 @@ const Author = (() => {
     const current = measured && measured.key === JSON.stringify(camera);
     const position = camera.position_m.map((v) => (v * 1000).toFixed(0)).join(', ');
     const focus = camera.focus_at_m ? ` · focus at (${camera.focus_at_m.map((v) => v.toFixed(2)).join(', ')}) m` : '';
+    const effects = (camera.effects || []).length;
+    const layers = effects ? ` · ${effects} colour effect${effects > 1 ? 's' : ''} on regions` : '';
+    const move = regionMove ? ` · opens with a ${regionMove.move} on a region` : '';
     el('author-status').textContent =
       `(${position}) mm · ${Math.round(lastFigures.render_ms)} ms · holes ${(100 * lastFigures.hole_ratio).toFixed(1)}% · ` +
       (!current ? 'H(V) is measured when the pointer rests'
         : measured.valid ? 'inside the valid region H(V)'
           : `outside the valid region: H(V) ${measured.h_v.toFixed(1)} ≥ ${VALID_H_V}`) +
-      focus;
+      focus + layers + move;
     el('author-status').className = current && !measured.valid ? 'warning' : '';
   }
 
@@ -123,7 +133,7 @@ const Author = (() => {
       item.append(' ', go, ' ', remove);
       return item;
     }));
-    el('author-render').disabled = keyframes.length < 2;
+    el('author-render').disabled = keyframes.length < 2 && !regionMove;
     el('author-play').disabled = keyframes.length < 2;
   }
 
@@ -165,15 +175,72 @@ const Author = (() => {
 
   function shot() {
     const count = keyframes.length;
-    return {
-      format: 'parallax-shot', version: 1,
-      duration_s: Number(el('author-duration').value), fps: clip.fps,
-      segments: [{interpolation: count > 2 ? 'catmull_rom' : 'linear', keyframes: keyframes.map((entry, index) => {
+    const segments = regionMove ? [copy(regionMove)] : [];
+    if (count >= 2) {
+      segments.push({interpolation: count > 2 ? 'catmull_rom' : 'linear', keyframes: keyframes.map((entry, index) => {
         const key = copy(entry.key);
         key.t = index / (count - 1);
         return key;
-      })}],
-    };
+      })});
+    }
+    return {format: 'parallax-shot', version: 1, duration_s: Number(el('author-duration').value), fps: clip.fps, segments};
+  }
+
+  // ---- Regions: a rectangle on the picture becomes a colour effect's 3D box or a move's subject ----
+  const EFFECTS = {
+    saturation: {kind: 'saturation', amount: 1.6, invert: false},
+    brightness: {kind: 'brightness', amount: 1.3, invert: false},
+    desaturate_background: {kind: 'saturation', amount: 0.15, invert: true},
+    dim_background: {kind: 'brightness', amount: 0.45, invert: true},
+  };
+
+  function drawRectangle(from, to) {
+    const canvas = el('author-frame');
+    const context = canvas.getContext('2d');
+    if (lastBitmap) context.drawImage(lastBitmap, 0, 0);
+    context.strokeStyle = '#ffd43b';
+    context.lineWidth = 2;
+    context.strokeRect(from.x, from.y, to.x - from.x, to.y - from.y);
+  }
+
+  function canvasPoint(event) {
+    const canvas = el('author-frame');
+    const rect = canvas.getBoundingClientRect();
+    return {x: (event.clientX - rect.left) / rect.width * canvas.width, y: (event.clientY - rect.top) / rect.height * canvas.height};
+  }
+
+  async function measureRegion(from, to) {
+    const rect = [Math.min(from.x, to.x), Math.min(from.y, to.y), Math.abs(to.x - from.x), Math.abs(to.y - from.y)];
+    try {
+      const reply = await post(`/api/jobs/${job}/preview/region`, {viewpoint: viewpoint(copy(camera), el('author-frame').width), rect});
+      region = await reply.json();
+      const size = region.region_max_m.map((v, a) => ((v - region.region_min_m[a]) * 100).toFixed(0)).join(' x ');
+      el('author-region-text').textContent = `Region: a box of ${size} cm in the scene` +
+        (region.box_px ? `, seen by view ${region.view}` : '');
+      el('author-region').hidden = false;
+    } catch (error) {
+      el('author-status').textContent = `No region there: ${error.message}`;
+    }
+  }
+
+  function applyRegion() {
+    if (!region) return;
+    const effect = EFFECTS[el('author-region-effect').value];
+    if (effect) {
+      const diagonal = Math.hypot(...region.region_max_m.map((v, a) => v - region.region_min_m[a]));
+      const layer = {...effect, region_min_m: region.region_min_m, region_max_m: region.region_max_m,
+                     falloff_m: Math.max(0.01, 0.1 * diagonal)};
+      // Every keyframe lists the same layers in the same order (SHOT_FORMAT.md).
+      for (const key of [camera, ...keyframes.map((entry) => entry.key)]) key.effects = [...(key.effects || []), layer];
+    }
+    const move = el('author-region-move').value;
+    regionMove = move && region.box_px
+      ? {move, effect: 'auto', subjects: [{box_px: region.box_px}], subject_view: -1} : regionMove;
+    el('author-status').textContent = (effect ? `Effect ${el('author-region-effect').value} on the region. ` : '') +
+      (move ? `The clip opens with a ${move} on the region.` : '');
+    el('author-region').hidden = true;
+    renderKeyframes();
+    draw();
   }
 
   async function renderClip() {
@@ -191,11 +258,21 @@ const Author = (() => {
 
   // ---- Pointer: drag moves across the lens plane, wheel dollies, a click may focus ----
   let drag = null;
+  let band = null;  // a region being drawn: its first corner, in canvas pixels
   function onPointerDown(event) {
+    if (el('author-region-mode').checked) {
+      band = {from: canvasPoint(event), to: canvasPoint(event)};
+      return;
+    }
     drag = {x: event.clientX, y: event.clientY, start: copy(camera.position_m), moved: false};
     event.target.setPointerCapture(event.pointerId);
   }
   function onPointerMove(event) {
+    if (band) {
+      band.to = canvasPoint(event);
+      drawRectangle(band.from, band.to);
+      return;
+    }
     if (!drag) return;
     const since = performance.now();
     const canvas = el('author-frame');
@@ -207,6 +284,11 @@ const Author = (() => {
     draw(since);
   }
   async function onPointerUp(event) {
+    if (band) {
+      const drawn = band;
+      band = null;
+      return measureRegion(drawn.from, canvasPoint(event));
+    }
     const wasDrag = drag && drag.moved;
     drag = null;
     if (wasDrag) draw();  // at rest: with its H(V)
@@ -237,6 +319,8 @@ const Author = (() => {
     job = id;
     keyframes = [];
     camera = null;
+    region = null;
+    regionMove = null;
     renderKeyframes();
     el('author-title').textContent = `Authoring on the capture of job ${id}`;
     el('author-back').href = `#job/${id}`;
@@ -285,6 +369,7 @@ const Author = (() => {
       renderKeyframes();
     });
     el('author-play').addEventListener('click', playPath);
+    el('author-region-apply').addEventListener('click', applyRegion);
     el('author-render').addEventListener('click', renderClip);
   }
 

@@ -171,6 +171,27 @@ def author(daemon, driver, checks, parallax):
     ActionChains(driver).move_to_element(frame).click().perform()
     checks.wait(lambda: "focus at" in by_id("author-status").text, "a click on the picture focuses there")
     time.sleep(0.5)
+
+    # A region drawn on the picture, everything else desaturated: the preview shows it at once.
+    by_id("author-focus-mode").click()
+    by_id("author-region-mode").click()
+    frames_before = int(loaded())
+    ActionChains(driver).move_to_element_with_offset(frame, -80, -60).click_and_hold().move_by_offset(160, 120) \
+        .release().perform()
+    checks.wait(lambda: by_id("author-region").is_displayed() and "cm in the scene" in by_id("author-region-text").text,
+                "a rectangle drawn on the picture becomes a region of the scene")
+    Select(by_id("author-region-effect")).select_by_value("desaturate_background")
+    by_id("author-region-apply").click()
+    checks.wait(lambda: int(loaded()) > frames_before and "colour effect" in by_id("author-status").text,
+                "the region's colour effect shows in the preview")
+    saturation = driver.execute_script("""
+        const c = document.getElementById('author-frame');
+        const d = c.getContext('2d').getImageData(0, 0, 40, 40).data;  // a corner, outside the region
+        let spread = 0;
+        for (let i = 0; i < d.length; i += 4) spread += Math.max(d[i], d[i + 1], d[i + 2]) - Math.min(d[i], d[i + 1], d[i + 2]);
+        return spread / (d.length / 4);""")
+    checks.expect(saturation < 25, f"outside the region the picture is desaturated (mean channel spread {saturation:.1f})")
+    by_id("author-region-mode").click()
     by_id("author-add").click()
     keys = driver.find_elements(By.CSS_SELECTOR, "#author-keyframes li")
     checks.expect(len(keys) == 2 and "focus at" in keys[1].text, f"two keyframes, the second focused ({len(keys)})")
