@@ -12,6 +12,7 @@ Exit 77 (skipped) when Chromium, chromedriver or Selenium is missing. Screenshot
 visited are saved to DIR when a check fails (always with --keep-screenshots)."""
 
 import argparse
+import contextlib
 import json
 import os
 import re
@@ -46,13 +47,13 @@ except ImportError:
 class Daemon:
     """parallaxd on a temporary store, its web app on a free loopback port."""
 
-    def __init__(self, binary, root, tile):
+    def __init__(self, binary, root, tile, duration_s=1.0):
         config = {
             "storage": {"root": os.path.join(root, "store"), "min_free_mb": 1},
             "control": {"socket": ""},
             "http": {"listen": "127.0.0.1:0"},
             "source": {"sim": {"tile_width": tile[0], "tile_height": tile[1]}},
-            "clip": {"duration_s": 1.0, "fps": 10, "preset": "ultrafast"},
+            "clip": {"duration_s": duration_s, "fps": 10, "preset": "ultrafast"},
         }
         config_path = os.path.join(root, "config.json")
         with open(config_path, "w") as f:
@@ -98,6 +99,22 @@ def browser(profile):
                  "--window-size=1200,900"):
         options.add_argument(flag)
     return webdriver.Chrome(service=Service(CHROMEDRIVER), options=options)
+
+
+@contextlib.contextmanager
+def camera_and_browser(parallaxd, tile, duration_s=1.0):
+    """A daemon on a temporary store and a headless Chromium, both ended (and the store removed) after."""
+    root = tempfile.mkdtemp(prefix="px_web_")
+    daemon = Daemon(parallaxd, root, tile, duration_s)
+    driver = None
+    try:
+        driver = browser(os.path.join(root, "profile"))
+        yield daemon, driver
+    finally:
+        if driver:
+            driver.quit()
+        daemon.stop()
+        shutil.rmtree(root, ignore_errors=True)
 
 
 class Checks:
@@ -340,11 +357,7 @@ def main():
     for path in (CHROMIUM, CHROMEDRIVER):
         if not shutil.which(path):
             skip(f"{path} is missing (scripts/bootstrap --test installs chromium and chromium-driver)")
-    root = tempfile.mkdtemp(prefix="px_web_")
-    daemon = Daemon(args.parallaxd, root, [int(v) for v in args.tile.split("x")])
-    driver = None
-    try:
-        driver = browser(os.path.join(root, "profile"))
+    with camera_and_browser(args.parallaxd, [int(v) for v in args.tile.split("x")]) as (daemon, driver):
         checks = Checks(driver, os.path.abspath(args.screenshots))
         try:
             run(daemon, driver, checks, args.parallax)
@@ -360,11 +373,6 @@ def main():
             checks.save_screenshots()
         print(f"all {len(checks.pages)} pages checked")
         return 0
-    finally:
-        if driver:
-            driver.quit()
-        daemon.stop()
-        shutil.rmtree(root, ignore_errors=True)
 
 
 if __name__ == "__main__":
