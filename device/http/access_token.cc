@@ -1,7 +1,9 @@
 #include "device/http/access_token.h"
 
+#include <fcntl.h>
 #include <sys/random.h>
 #include <sys/stat.h>
+#include <unistd.h>
 
 #include <cerrno>
 #include <cstring>
@@ -40,6 +42,35 @@ StatusOr<std::string> RandomHex(size_t bytes) {
   return hex;
 }
 
+// Writes `text` to `path` atomically with mode 0600 from its creation (never readable by the
+// store's group, not even for a moment): a temporary made with O_EXCL, fsynced, renamed into place.
+Status WritePrivateFile(const std::filesystem::path& path, const std::string& text) {
+  const std::filesystem::path temp = path.parent_path() / ("." + path.filename().string() + ".tmp");
+  ::unlink(temp.c_str());
+  const int fd = ::open(temp.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0600);
+  if (fd < 0) return ErrnoToStatus(errno, "create", temp);
+  size_t written = 0;
+  while (written < text.size()) {
+    const ssize_t n = ::write(fd, text.data() + written, text.size() - written);
+    if (n < 0 && errno == EINTR) continue;
+    if (n <= 0) {
+      const int err = errno;
+      ::close(fd);
+      ::unlink(temp.c_str());
+      return ErrnoToStatus(err, "write", temp);
+    }
+    written += static_cast<size_t>(n);
+  }
+  const bool synced = ::fsync(fd) == 0;
+  const int err = errno;
+  ::close(fd);
+  if (!synced) {
+    ::unlink(temp.c_str());
+    return ErrnoToStatus(err, "fsync", temp);
+  }
+  return RenameDurably(temp, path);
+}
+
 }  // namespace
 
 StatusOr<std::string> LoadOrCreateAccessToken(const std::filesystem::path& path) {
@@ -55,8 +86,7 @@ StatusOr<std::string> LoadOrCreateAccessToken(const std::filesystem::path& path)
     return text;
   }
   PX_ASSIGN_OR_RETURN(std::string token, RandomHex(kTokenBytes));
-  PX_RETURN_IF_ERROR(WriteFileAtomically(path, token + "\n"));
-  if (chmod(path.c_str(), 0600) != 0) return ErrnoToStatus(errno, "chmod", path);
+  PX_RETURN_IF_ERROR(WritePrivateFile(path, token + "\n"));
   return token;
 }
 

@@ -11,7 +11,8 @@
 
 namespace px::device {
 
-// Reads the token at `path`, or makes one there (atomically, mode 0600) when there is none. A file
+// Reads the token at `path`, or makes one there (atomically, mode 0600 from its creation) when
+// there is none. A file
 // that holds anything but 64 hex digits is an error naming it (never silently replaced: a user
 // may have written their own on purpose, and a half-written one cannot happen).
 StatusOr<std::string> LoadOrCreateAccessToken(const std::filesystem::path& path);
