@@ -103,6 +103,10 @@ JobRunner MakeClipJobRunner(const ClipJobOptions& options) {
   };
 }
 
+std::filesystem::path WorkerBinary(const DaemonRunFlags& flags) {
+  return flags.worker_binary.empty() ? std::filesystem::path("/proc/self/exe") : flags.worker_binary;
+}
+
 StatusOr<std::unique_ptr<Daemon>> BuildDaemon(const DaemonConfig& config, const DaemonRunFlags& flags) {
   PX_RETURN_IF_ERROR(config.Validate());
   // Checked here, so a bad clip setting stops the daemon at start rather than failing each job.
@@ -117,7 +121,7 @@ StatusOr<std::unique_ptr<Daemon>> BuildDaemon(const DaemonConfig& config, const 
     PX_ASSIGN_OR_RETURN(options.storage.group, ResolveGroup(config.storage_group, "storage.group"));
   }
   WorkerRunnerOptions worker;
-  worker.binary = flags.worker_binary.empty() ? std::filesystem::path("/proc/self/exe") : flags.worker_binary;
+  worker.binary = WorkerBinary(flags);
   worker.config = DaemonConfigToJson(config);
   worker.memory_limit_bytes = config.worker.memory_limit_mb > 0
                                   ? static_cast<uint64_t>(config.worker.memory_limit_mb) << 20

@@ -21,6 +21,10 @@ struct DaemonRunFlags {
   std::filesystem::path worker_binary;
 };
 
+// The executable the daemon's children run (job and preview workers): flags.worker_binary, or
+// this one.
+std::filesystem::path WorkerBinary(const DaemonRunFlags& flags);
+
 // The pipeline and encoder options for the config's clip settings. Errors name the field
 // ("clip.move: 'spin' is not a known move").
 StatusOr<ClipJobOptions> ClipJobOptionsFromConfig(const DaemonConfig& config);

@@ -133,7 +133,7 @@ int main(int argc, char** argv) {
   if (!http_options.ok()) return Fail(http_options.status());
   std::unique_ptr<px::device::HttpServer> http;
   if (*http_options) {
-    (*http_options)->preview.binary = flags.worker_binary.empty() ? "/proc/self/exe" : flags.worker_binary;
+    (*http_options)->preview.binary = px::device::WorkerBinary(flags);
     (*http_options)->preview.config = px::device::DaemonConfigToJson(config);
     http = std::make_unique<px::device::HttpServer>(**http_options, daemon->get());
   }

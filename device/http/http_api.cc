@@ -61,16 +61,6 @@ std::optional<nlohmann::json> JsonBody(const Request& req, Response& res) {
   return body;
 }
 
-std::string ContentTypeFor(const fs::path& path) {
-  const std::string ext = path.extension().string();
-  if (ext == ".mp4") return "video/mp4";
-  if (ext == ".gif") return "image/gif";
-  if (ext == ".webp") return "image/webp";
-  if (ext == ".jpg") return "image/jpeg";
-  if (ext == ".json") return "application/json";
-  return "application/octet-stream";
-}
-
 // Streams a file; the library answers Range requests (206) from a provider of known length.
 void ServeFile(const fs::path& path, Response& res, const std::string& download_name = "") {
   std::error_code ec;
@@ -279,6 +269,21 @@ void Login(const Request& req, Response& res, const std::string& token) {
 }
 
 }  // namespace
+
+std::string ContentTypeFor(const std::filesystem::path& path) {
+  const std::string ext = path.extension().string();
+  if (ext == ".mp4") return "video/mp4";
+  if (ext == ".gif") return "image/gif";
+  if (ext == ".webp") return "image/webp";
+  if (ext == ".jpg") return "image/jpeg";
+  if (ext == ".json") return "application/json";
+  if (ext == ".html") return "text/html; charset=utf-8";
+  if (ext == ".js") return "text/javascript; charset=utf-8";
+  if (ext == ".css") return "text/css; charset=utf-8";
+  if (ext == ".svg") return "image/svg+xml";
+  if (ext == ".yaml") return "application/yaml";
+  return "application/octet-stream";
+}
 
 int HttpStatusForCode(const std::string& code) {
   if (code == "INVALID_ARGUMENT" || code == "OUT_OF_RANGE") return 400;

@@ -4,6 +4,7 @@
 #pragma once
 
 #include <atomic>
+#include <filesystem>
 #include <memory>
 #include <string>
 
@@ -29,6 +30,9 @@ struct ApiContext {
 };
 
 void RegisterApiRoutes(httplib::Server& server, const ApiContext& api);
+
+// The Content-Type of a file the server sends (a clip, a poster, a page), by its extension.
+std::string ContentTypeFor(const std::filesystem::path& path);
 
 // The HTTP status for a control reply's "code" (StatusCodeName): NOT_FOUND 404, ...
 int HttpStatusForCode(const std::string& code);

@@ -15,18 +15,6 @@ namespace px::device {
 
 namespace {
 
-std::string ContentTypeForAsset(std::string_view name) {
-  auto ends = [&](std::string_view ext) {
-    return name.size() >= ext.size() && name.substr(name.size() - ext.size()) == ext;
-  };
-  if (ends(".html")) return "text/html; charset=utf-8";
-  if (ends(".js")) return "text/javascript; charset=utf-8";
-  if (ends(".css")) return "text/css; charset=utf-8";
-  if (ends(".svg")) return "image/svg+xml";
-  if (ends(".yaml")) return "application/yaml";
-  return "application/octet-stream";
-}
-
 // Where a phone on the same network reaches this server: the listen address, or for a wildcard
 // one the first non-loopback IPv4 address of the machine; "" when there is none.
 std::string ReachableAddress(const std::string& listen_host) {
@@ -95,7 +83,7 @@ StatusOr<std::string> QrCodeSvg(const std::string& text) {
 
 void RegisterWebPages(httplib::Server& server, const ApiContext& api) {
   for (const EmbeddedFile& file : WebAssets()) {
-    const std::string type = ContentTypeForAsset(file.name);
+    const std::string type = ContentTypeFor(std::string(file.name));
     const std::string_view bytes = file.bytes;
     auto serve = [bytes, type](const httplib::Request&, httplib::Response& res) {
       res.set_header("Cache-Control", "no-cache");
