@@ -1,6 +1,8 @@
 #include "device/http/http_server.h"
 
+#include <arpa/inet.h>
 #include <httplib.h>
+#include <netinet/in.h>
 #include <sys/socket.h>
 
 #include <cerrno>
@@ -38,6 +40,31 @@ class CountingThreadPool : public httplib::TaskQueue {
   httplib::ThreadPool pool_;
   std::shared_ptr<std::atomic<int>> in_flight_;
 };
+
+// Debian's library is built with a listen backlog of 5: a burst of phones (or a page's parallel
+// fetches) overflows it, and the kernel drops the overflow's handshakes, which the clients only
+// retry after a second or more. Listening again on the same socket widens the queue; the guard
+// then answers the burst with pages or 503s instead of silence.
+void WidenListenBacklog(int socket, int port) {
+  constexpr int kListenBacklog = 512;
+  int accepting = 0;
+  socklen_t size = sizeof(accepting);
+  sockaddr_storage address{};
+  socklen_t address_size = sizeof(address);
+  if (socket < 0 || getsockopt(socket, SOL_SOCKET, SO_ACCEPTCONN, &accepting, &size) != 0 || !accepting ||
+      getsockname(socket, reinterpret_cast<sockaddr*>(&address), &address_size) != 0) {
+    Logger("http")->warn("http: the listening socket was not found; the library's backlog of 5 stays");
+    return;
+  }
+  const int bound_port = address.ss_family == AF_INET6 ? ntohs(reinterpret_cast<sockaddr_in6*>(&address)->sin6_port)
+                                                       : ntohs(reinterpret_cast<sockaddr_in*>(&address)->sin_port);
+  if (bound_port != port) {
+    Logger("http")->warn(
+        "http: socket {} is on port {}, not {}; the library's backlog of 5 stays", socket, bound_port, port);
+  } else if (::listen(socket, kListenBacklog) != 0) {
+    Logger("http")->warn("http: could not widen the listen backlog: {}", std::strerror(errno));
+  }
+}
 
 void Refuse(httplib::Response& res, int status, const std::string& reason) {
   res.status = status;
@@ -163,9 +190,11 @@ Status HttpServer::Start() {
   server_->set_tcp_nodelay(true);
   // SO_REUSEADDR only: the library's default adds SO_REUSEPORT, which would let a second daemon
   // bind the same port and share its requests instead of failing.
-  server_->set_socket_options([](int socket) {
+  auto listening_socket = std::make_shared<std::atomic<int>>(-1);
+  server_->set_socket_options([listening_socket](int socket) {
     const int yes = 1;
     setsockopt(socket, SOL_SOCKET, SO_REUSEADDR, &yes, sizeof(yes));
+    listening_socket->store(socket);
   });
   InstallGuards();
   ApiContext api;
@@ -190,6 +219,7 @@ Status HttpServer::Start() {
     }
     port_ = options_.port;
   }
+  WidenListenBacklog(listening_socket->load(), port_);
   thread_ = std::thread([this] { server_->listen_after_bind(); });
   log->info("web app at {} (token required {})",
             Url(),
