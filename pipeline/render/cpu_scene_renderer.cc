@@ -236,7 +236,11 @@ CpuSceneRenderer::Core CpuSceneRenderer::RenderCore(const CameraModel& camera,
   stats_.weights_ms += MsSince(start);
 
   start = StageClock::now();
-  render::SetUpFrame(scene_, camera, cam_from_world, slots_, options_.texture_stretch, &frame_views_);
+  // Witnesses vote only in the preview's colour consensus (preview_compositor.cc).
+  const ConsistentBlendOptions& consistent = options_.consistent_blend;
+  const bool with_witnesses = quality == RenderQuality::kPreview && consistent.enabled &&
+                              consistent.colour_apart_levels > consistent.colour_agree_levels;
+  render::SetUpFrame(scene_, camera, cam_from_world, slots_, options_.texture_stretch, with_witnesses, &frame_views_);
   const std::vector<render::FrameView>& frame_views = frame_views_;
   stats_.setup_ms += MsSince(start);
   stats_.views_drawn = static_cast<int>(frame_views.size());
@@ -394,7 +398,7 @@ StatusOr<CoverageReport> CpuSceneRenderer::Coverage(const CameraModel& camera, c
   // hole measure does not depend on how the blend shares a pixel among its views.
   scene.mesh().ComputeWeights(camera, cam_from_world, &slots);
   std::vector<render::FrameView> frame_views;
-  render::SetUpFrame(scene, camera, cam_from_world, slots, options_.texture_stretch, &frame_views);
+  render::SetUpFrame(scene, camera, cam_from_world, slots, options_.texture_stretch, false, &frame_views);
   render::FrameComposite composite;
   render::CompositePreview(scene, frame_views, slots, camera.width, camera.height, false, &composite);
   return MeasureCoverage(composite.alpha >= options_.covered_alpha);

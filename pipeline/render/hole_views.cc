@@ -53,8 +53,12 @@ std::vector<ViewFromNovel> ViewsByDistance(const LayeredScene& scene, const Rigi
   return views;
 }
 
+// Whether the mesh could blend `view` at a pixel with these slots (a witness was never blended).
 bool InSlots(const ViewSlots& slots, int view) {
-  return std::find(slots.view.begin(), slots.view.end(), static_cast<uint8_t>(view)) != slots.view.end();
+  for (int k = 0; k < 3; ++k) {
+    if (slots.view[k] == view && k != slots.witness) return true;
+  }
+  return false;
 }
 
 }  // namespace
@@ -181,7 +185,7 @@ int CoverLargeHolesFromOtherViews(const LayeredScene& scene,
   crop_camera.cx -= crop.x;
   crop_camera.cy -= crop.y;
   std::vector<FrameView> frame_views;
-  SetUpFrame(scene, crop_camera, cam_from_world, crop_slots, stretch, &frame_views);
+  SetUpFrame(scene, crop_camera, cam_from_world, crop_slots, stretch, false, &frame_views);
   FrameComposite drawn;
   if (quality == RenderQuality::kOffline) {
     CompositeOffline(scene, frame_views, crop_slots, crop.width, crop.height, &drawn);

@@ -42,6 +42,7 @@ void CompositeOffline(const LayeredScene& scene,
       fragments.clear();
       for (const BandEntry& entry : bands[band]) {
         const FrameView& fv = frame_views[entry.frame_view];
+        if (!fv.blends) continue;  // a witness only: the offline blend never asks one
         const SceneView& view = scene.views()[fv.view];
         RasterizeSegment(
             view,
@@ -52,7 +53,7 @@ void CompositeOffline(const LayeredScene& scene,
             row_begin,
             row_end,
             true,
-            [](int, int, int) { return false; },
+            [&](int x, int y, int slot) { return slot == slots[static_cast<size_t>(y) * width + x].witness; },
             [&](int x, int y, int slot, float alpha, const float* bgr, float z) {
               const float inv = 1.0f / alpha;
               fragments.push_back({static_cast<int32_t>(((y - row_begin) * width + x) * 3 + slot),
@@ -94,7 +95,7 @@ void CompositeOffline(const LayeredScene& scene,
           for (int k = 0; k < 3; ++k) tier1 = tier1 || (slot_alpha[k] > 0 && vs.weight[k] > 0);
           float view_weight[3];
           for (int k = 0; k < 3; ++k) {
-            view_weight[k] = tier1 ? vs.weight[k] : (slot_alpha[k] > 0 ? 1.0f : 0.0f);
+            view_weight[k] = tier1 ? vs.weight[k] : (slot_alpha[k] > 0 && k != vs.witness ? 1.0f : 0.0f);
           }
           // Reference depth: the nearest fragment covering most of its pixel, else the nearest.
           float z_ref = std::numeric_limits<float>::infinity(), z_any = z_ref;

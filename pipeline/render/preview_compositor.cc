@@ -32,7 +32,8 @@ struct BandBuffers {
   std::vector<float> depths;
   std::vector<float> contra;
   std::vector<uint8_t> contested;
-  int pixels = 0;  // pixels per slot plane: rows * width of the current band layout
+  std::vector<uint8_t> wants_witness;  // per row of the band: some pixel's witness is wanted
+  int pixels = 0;                      // pixels per slot plane: rows * width of the current band layout
 
   void Reserve(int band_pixels) {
     pixels = band_pixels;
@@ -51,38 +52,99 @@ BandBuffers& ThreadBandBuffers() {
   return buffers;
 }
 
-// Segment `s` of frame view `fv` into the band's rendering buffers (ALGORITHM.md section 4):
-// the same fragments, samples and saturating blend as RasterizeSegment + the preview's emit, with
-// the per-row terms hoisted. Returns the fragments generated.
+// Whether a pixel's witness must be drawn: both other slots saw something and disagree in colour
+// beyond `agree_levels` (else no vote can change the pixel, OutvotedYield). Their cells are final:
+// witnesses are drawn after every blendable slot of the band.
+inline bool WitnessWanted(const float* const row_cells[3], int x, int witness, float agree_levels) {
+  const int a = (witness + 1) % 3, b = (witness + 2) % 3;
+  const float* ca = row_cells[a] + 4 * x;
+  const float* cb = row_cells[b] + 4 * x;
+  if (!(ca[3] > kSeenAlpha) || !(cb[3] > kSeenAlpha)) return false;
+  const float ia = 1.0f / ca[3], ib = 1.0f / cb[3];
+  for (int c = 0; c < 3; ++c) {
+    if (std::abs(ca[c] * ia - cb[c] * ib) > agree_levels) return true;
+  }
+  return false;
+}
+
+// The rows of the band [row_begin, row_end), its blendable slots drawn, that hold a pixel whose
+// witness is wanted (WitnessWanted), as [*first, *end); false when none does.
+bool RowsWantingWitnesses(const std::vector<ViewSlots>& slots,
+                          BandBuffers& band,
+                          int width,
+                          int row_begin,
+                          int row_end,
+                          float agree_levels,
+                          int* first,
+                          int* end) {
+  const size_t plane = static_cast<size_t>(band.pixels);
+  *first = row_end;
+  *end = row_begin;
+  band.wants_witness.assign(row_end - row_begin, 0);
+  for (int y = row_begin; y < row_end; ++y) {
+    const ViewSlots* slot_row = slots.data() + static_cast<size_t>(y) * width;
+    const size_t row_offset = static_cast<size_t>(y - row_begin) * width;
+    const float* const row_cells[3] = {band.cells.data() + 4 * row_offset,
+                                       band.cells.data() + 4 * (plane + row_offset),
+                                       band.cells.data() + 4 * (2 * plane + row_offset)};
+    for (int x = 0; x < width; ++x) {
+      if (slot_row[x].witness == ViewSlots::kNone || !WitnessWanted(row_cells, x, slot_row[x].witness, agree_levels))
+        continue;
+      *first = std::min(*first, y);
+      *end = y + 1;
+      band.wants_witness[y - row_begin] = 1;
+      break;
+    }
+  }
+  return *first < *end;
+}
+
+// Which fragments CompositeSegment draws: the blendable slots', or (after them) the witnesses'
+// where they are wanted.
+enum class SlotPass { kBlendable, kWitness };
+
+// Segment `s` of frame view `fv`, rows [row_begin, row_end) of the band that starts at row
+// `band_begin`, into the band's rendering buffers (ALGORITHM.md section 4): the same fragments,
+// samples and saturating blend as RasterizeSegment + the preview's emit, with the per-row terms
+// hoisted. Returns the fragments generated.
 long CompositeSegment(const SceneView& view,
                       const FrameView& fv,
                       const SegmentSetup& s,
                       const std::vector<ViewSlots>& slots,
                       int width,
+                      int band_begin,
                       int row_begin,
                       int row_end,
                       bool with_colour,
                       bool contradictions,
+                      SlotPass pass,
+                      float agree_levels,
                       BandBuffers* band) {
   const int view_index = fv.view;
   const SceneSegment& segment = view.segments[s.segment];
   float* cells = band->cells.data();
   float* depths = band->depths.data();
   const size_t plane = static_cast<size_t>(band->pixels);
-  const bool check = contradictions && segment.contradicted;
+  const bool witness_pass = pass == SlotPass::kWitness;
+  // A witness's own contradictions are never asked (it is not blended).
+  const bool check = contradictions && segment.contradicted && !witness_pass;
   const bool faded = s.texture_weight < 1.0f;  // stretched (texture_stretch.h)
   const cv::v_float32x4 fade = cv::v_setall_f32(s.texture_weight);
   long fragments = 0;
   ForEachSegmentRow(fv, s, width, row_begin, row_end, [&](const SegmentRow& r) {
+    if (witness_pass && !band->wants_witness[r.y - band_begin]) return;
     const ViewSlots* slot_row = slots.data() + static_cast<size_t>(r.y) * width;
     // This row's cells and depth sums in each slot's plane.
-    const size_t row_offset = static_cast<size_t>(r.y - row_begin) * width;
+    const size_t row_offset = static_cast<size_t>(r.y - band_begin) * width;
     float* const row_cells[3] = {
         cells + 4 * row_offset, cells + 4 * (plane + row_offset), cells + 4 * (2 * plane + row_offset)};
     float* const row_depths[3] = {depths + row_offset, depths + plane + row_offset, depths + 2 * plane + row_offset};
     for (int x = r.x_begin; x < r.x_end; ++x) {
       const int slot = SlotOf(slot_row[x], view_index);
       if (slot < 0) continue;
+      const bool is_witness = slot == slot_row[x].witness;
+      if (is_witness != witness_pass) continue;
+      if (witness_pass && !WitnessWanted(row_cells, x, slot, agree_levels)) continue;
       float* cell = row_cells[slot] + 4 * x;
       if (cell[3] >= 1.0f) continue;  // saturated: nothing behind can add to it
       const float fx = static_cast<float>(x);
@@ -117,7 +179,7 @@ long CompositeSegment(const SceneView& view,
       for (int m = 0; m < 2; ++m) {
         const int other = (slot + 1 + m) % 3;
         const uint8_t other_view = slot_row[x].view[other];
-        if (other_view == ViewSlots::kNone) continue;
+        if (other_view == ViewSlots::kNone || other == slot_row[x].witness) continue;
         const int bit = view.neighbour_bit[other_view];
         if (bit < 0 || !((mask >> bit) & 1)) continue;
         band->contra[(2 * slot + m) * plane + row_offset + x] += f;
@@ -178,11 +240,11 @@ inline void ResolvePixel(const float* const cells[3],
     seen |= (slots.view[k] != ViewSlots::kNone && cells[k][3] > kSeenAlpha) << k;
     weighted |= (slots.weight[k] > 0) << k;
   }
-  // Tier 1: the slots of weighted views that saw something; else every slot that saw something,
-  // each weighing 1.
+  // Tier 1: the slots of weighted views that saw something; else every slot but a witness's that
+  // saw something, each weighing 1.
   int in = seen & weighted;
   const bool tier1 = in != 0;
-  if (!tier1) in = seen;
+  if (!tier1) in = seen & slots.BlendableBits();
   *alpha = 0;
   *depth = 0;
   if (bgr != nullptr) bgr[0] = bgr[1] = bgr[2] = 0;
@@ -215,6 +277,7 @@ inline void ResolvePixel(const float* const cells[3],
 // that slot j's view contradicts (contradictions.h).
 struct ContestedSlots {
   int in = 0;
+  int seen = 0;  // the slots that saw something, blended or not (a witness): depth and colour set
   float z[3] = {0, 0, 0};
   float view_weight[3] = {0, 0, 0};
   float exponent = 1;
@@ -256,6 +319,36 @@ void Trust(const ContestedSlots& p, const float (&contradicted)[3][3], float tru
     }
     std::copy(next, next + 3, trust);
   }
+}
+
+// A blended slot whose colour both other slots contradict while they agree with each other is
+// outvoted: it yields whatever its weight (the one view that moved, or whose depth is off there),
+// instead of sharing the pixel by weight with the two that agree. The other two may include a
+// witness (ViewSlots: seen, not blended), which settles a disagreement between two blended views.
+// `apart` holds the blended slots' disagreements; a witness's are its colour's against theirs.
+// Whether it lowered a slot's trust.
+bool OutvotedYield(
+    const ContestedSlots& p, const float (&apart)[3][3], const SoftZ& soft_z, const BlendRules& rules, float trust[3]) {
+  if (p.seen != 7) return false;
+  bool lowered = false;
+  const float span = rules.colour_apart_levels - rules.colour_agree_levels;
+  const auto disagree = [&](int k, int j) {
+    if (p.TakesPart(k) && p.TakesPart(j)) return std::max(apart[k][j], apart[j][k]);
+    return std::clamp((p.ColourDistance(j, k) - rules.colour_agree_levels) / span, 0.0f, 1.0f) *
+           soft_z.Weight(std::abs(p.z[j] - p.z[k]));
+  };
+  for (int k = 0; k < 3; ++k) {
+    if (!p.TakesPart(k)) continue;
+    const int a = (k + 1) % 3, b = (k + 2) % 3;
+    const float against = std::min(disagree(k, a), disagree(k, b));
+    const float others_agree = 1.0f - disagree(a, b);
+    const float outvoted = 1.0f - against * others_agree;
+    if (outvoted < trust[k]) {
+      trust[k] = outvoted;
+      lowered = true;
+    }
+  }
+  return lowered;
 }
 
 // The soft z across the slots with each slot's blend and depth weight multiplied by its trust,
@@ -353,8 +446,9 @@ void ResolveContestedPixel(const float* const cells[3],
     weighted |= (slots.weight[k] > 0) << k;
   }
   p.in = seen & weighted;
+  p.seen = seen;
   const bool tier1 = p.in != 0;
-  if (!tier1) p.in = seen;
+  if (!tier1) p.in = seen & slots.BlendableBits();
   *alpha = *depth = 0;
   if (bgr != nullptr) bgr[0] = bgr[1] = bgr[2] = 0;
   if (double_image != nullptr) *double_image = 0;
@@ -362,10 +456,10 @@ void ResolveContestedPixel(const float* const cells[3],
   if (p.in == 0) return;
   for (int k = 0; k < 3; ++k) {
     p.view_weight[k] = tier1 ? slots.weight[k] : 1.0f;
-    if (!p.TakesPart(k)) continue;
+    if (!((seen >> k) & 1)) continue;
     p.z[k] = depth_sums[k] / cells[k][3];
     for (int c = 0; c < 3; ++c) p.colour[k][c] = cells[k][c] / cells[k][3];
-    if (contra == nullptr) continue;
+    if (contra == nullptr || !p.TakesPart(k)) continue;
     for (int m = 0; m < 2; ++m) p.contradicted[k][(k + 1 + m) % 3] = std::min(1.0f, contra[2 * k + m] / cells[k][3]);
   }
   p.exponent = rules.dominance_exponent;
@@ -391,8 +485,12 @@ void ResolveContestedPixel(const float* const cells[3],
       }
     }
   }
-  if (!differs) return;
+  // With no colour disagreement, a vote can change the pixel only through a contradiction or a
+  // witness (most pixels here have neither: skip the work).
+  if (!differs && contra == nullptr && (p.seen & ~p.in) == 0) return;
   Trust(p, apart, trust);
+  const bool outvoted = OutvotedYield(p, apart, soft_z, rules, trust);
+  if (!differs && !outvoted) return;
   if (!TrustedBlend(cells, p, trust, soft_z, consensus->alpha, consensus->depth, consensus->bgr, share)) return;
   *consensus->mark =
       kConsensusDiffers | (double_image != nullptr && ShowsDoubleImage(p, share, rules) ? kConsensusDouble : 0);
@@ -622,7 +720,7 @@ void ResolveBand(const std::vector<ViewSlots>& slots,
 
 // The colour consensus where it changes a region of pixels, not a lone pixel or a line one or
 // two pixels wide (which is what views a fraction of a pixel out of register leave along the
-// edges of fine texture, where their blend is the better estimate): what a 3x3 opening of the
+// edges of fine texture, where their blend is the better estimate): what a 5x5 opening of the
 // changed pixels keeps takes the consensus's colour, alpha and depth, and its double-image mark.
 void TakeRegionalConsensus(FrameComposite* out) {
   cv::Mat regions;
@@ -672,24 +770,40 @@ void CompositePreview(const LayeredScene& scene,
   const std::vector<std::vector<BandEntry>> bands = BinSegmentsIntoBands(frame_views, height);
   const SoftZ& soft_z = scene.soft_z();
   std::atomic<long> fragments{0};
+  // Witnesses are drawn only for the colour consensus's votes (OutvotedYield).
+  const bool vote = !out->consensus_mark.empty();
   cv::parallel_for_(cv::Range(0, static_cast<int>(bands.size())), [&](const cv::Range& range) {
     BandBuffers& band = ThreadBandBuffers();
     band.Reserve(kBandRows * width);
     long count = 0;
     for (int b = range.start; b < range.end; ++b) {
       const int row_begin = b * kBandRows, row_end = std::min(height, row_begin + kBandRows);
-      for (const BandEntry& entry : bands[b]) {
-        const FrameView& fv = frame_views[entry.frame_view];
-        count += CompositeSegment(scene.views()[fv.view],
-                                  fv,
-                                  fv.segments[entry.setup],
-                                  slots,
-                                  width,
-                                  row_begin,
-                                  row_end,
-                                  with_colour,
-                                  rules != nullptr,
-                                  &band);
+      for (const SlotPass pass : {SlotPass::kBlendable, SlotPass::kWitness}) {
+        // Witnesses only over the rows where one is wanted.
+        int draw_begin = row_begin, draw_end = row_end;
+        if (pass == SlotPass::kWitness &&
+            (!vote ||
+             !RowsWantingWitnesses(
+                 slots, band, width, row_begin, row_end, rules->colour_agree_levels, &draw_begin, &draw_end))) {
+          break;
+        }
+        for (const BandEntry& entry : bands[b]) {
+          const FrameView& fv = frame_views[entry.frame_view];
+          if (!(pass == SlotPass::kWitness ? fv.witnesses : fv.blends)) continue;
+          count += CompositeSegment(scene.views()[fv.view],
+                                    fv,
+                                    fv.segments[entry.setup],
+                                    slots,
+                                    width,
+                                    row_begin,
+                                    draw_begin,
+                                    draw_end,
+                                    with_colour,
+                                    rules != nullptr,
+                                    pass,
+                                    vote ? rules->colour_agree_levels : 0.0f,
+                                    &band);
+        }
       }
       ResolveBand(slots, soft_z, width, row_begin, row_end, with_colour, rules, &band, out);
     }

@@ -97,6 +97,7 @@ void SetUpFrame(const LayeredScene& scene,
                 const Rigid3& cam_from_world,
                 const std::vector<ViewSlots>& slots,
                 const TextureStretchOptions& stretch,
+                bool with_witnesses,
                 std::vector<FrameView>* out) {
   const int num_views = static_cast<int>(scene.views().size());
   const int width = camera.width, height = camera.height;
@@ -104,17 +105,22 @@ void SetUpFrame(const LayeredScene& scene,
   std::vector<std::vector<std::array<int, 2>>> rows(num_views, std::vector<std::array<int, 2>>(height, {width, -1}));
   const int num_chunks = std::max(1, std::min(height, 4 * cv::getNumThreads()));
   std::vector<std::vector<double>> chunk_weights(num_chunks, std::vector<double>(num_views, 0.0));
+  // Per chunk and view: 1 where it holds a blendable slot, 2 where it holds a witness's.
+  std::vector<std::vector<uint8_t>> chunk_roles(num_chunks, std::vector<uint8_t>(num_views, 0));
   cv::parallel_for_(cv::Range(0, num_chunks), [&](const cv::Range& range) {
     for (int chunk = range.start; chunk < range.end; ++chunk) {
       std::vector<double>& weights = chunk_weights[chunk];
+      std::vector<uint8_t>& roles = chunk_roles[chunk];
       for (int y = chunk * height / num_chunks; y < (chunk + 1) * height / num_chunks; ++y) {
         const ViewSlots* row = slots.data() + static_cast<size_t>(y) * width;
         // Runs of pixels holding the same three views (a triangle of the mesh): spans and weight
         // sums are settled once per run.
         for (int run_begin = 0; run_begin < width;) {
           const std::array<uint8_t, 3> views = row[run_begin].view;
+          const uint8_t witness = row[run_begin].witness;
           const auto same_views = [&](const ViewSlots& slot) {
-            return slot.view[0] == views[0] && slot.view[1] == views[1] && slot.view[2] == views[2];
+            return slot.view[0] == views[0] && slot.view[1] == views[1] && slot.view[2] == views[2] &&
+                   slot.witness == witness;
           };
           double sum[3] = {0, 0, 0};
           int x = run_begin;
@@ -123,8 +129,9 @@ void SetUpFrame(const LayeredScene& scene,
           }
           for (int k = 0; k < 3; ++k) {
             const int v = views[k];
-            if (v == ViewSlots::kNone) continue;
+            if (v == ViewSlots::kNone || (k == witness && !with_witnesses)) continue;
             weights[v] += sum[k];
+            roles[v] |= k == witness ? 2 : 1;
             std::array<int, 2>& span = rows[v][y];
             span[0] = std::min(span[0], run_begin);
             span[1] = std::max(span[1], x - 1);
@@ -152,7 +159,12 @@ void SetUpFrame(const LayeredScene& scene,
     }
     if (x_hi < 0) continue;
     fv.region = cv::Rect(x_lo, y_lo, x_hi - x_lo + 1, y_hi - y_lo + 1);
-    for (int chunk = 0; chunk < num_chunks; ++chunk) fv.weight_sum += chunk_weights[chunk][v];
+    fv.blends = fv.witnesses = false;
+    for (int chunk = 0; chunk < num_chunks; ++chunk) {
+      fv.weight_sum += chunk_weights[chunk][v];
+      fv.blends = fv.blends || (chunk_roles[chunk][v] & 1) != 0;
+      fv.witnesses = fv.witnesses || (chunk_roles[chunk][v] & 2) != 0;
+    }
     fv.rows.swap(rows[v]);
     ++drawn;
   }

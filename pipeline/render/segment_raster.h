@@ -36,18 +36,23 @@ struct FrameView {
   cv::Rect region;                       // bounding box of the pixels holding it in a slot
   std::vector<std::array<int, 2>> rows;  // per output row: first and last x holding it (empty: x0 > x1)
   double weight_sum = 0;                 // its viewing weight summed over the frame
+  bool blends = false;                   // some pixel may blend it (a slot other than a witness's)
+  bool witnesses = false;                // some pixel holds it as its witness (ViewSlots)
   std::vector<SegmentSetup> segments;    // front to back
 };
 
 // The views the slots refer to and their segments, set up for one frame (parallel over views'
 // segments) into `frame_views`, whose storage is reused from the previous frame (a frame sets up
 // tens of thousands of segments). Views never referenced are absent. Segments stretched beyond
-// `stretch.fade_to` are culled, those beyond fade_from carry their texture_weight.
+// `stretch.fade_to` are culled, those beyond fade_from carry their texture_weight. Witness slots
+// (ViewSlots) count only `with_witnesses` (the preview's colour consensus votes with them; a
+// view that is only a witness costs the set-up of all its segments).
 void SetUpFrame(const LayeredScene& scene,
                 const CameraModel& camera,
                 const Rigid3& cam_from_world,
                 const std::vector<ViewSlots>& slots,
                 const TextureStretchOptions& stretch,
+                bool with_witnesses,
                 std::vector<FrameView>* frame_views);
 
 // Pixels [*x_begin, *x_end) of row y whose centres lie in the segment's projected rectangle,

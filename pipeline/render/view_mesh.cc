@@ -56,6 +56,21 @@ ViewSlots Merge(std::array<int, 3> views, std::array<double, 3> weights) {
   return slots;
 }
 
+// `slots` with `witness` (a view, or -1 for none) in its first free slot at weight 0.
+ViewSlots WithWitness(ViewSlots slots, int witness) {
+  if (witness < 0) return slots;
+  for (int k = 0; k < 3; ++k) {
+    if (slots.view[k] == witness) return slots;
+    if (slots.view[k] == ViewSlots::kNone) {
+      slots.view[k] = static_cast<uint8_t>(witness);
+      slots.witness = static_cast<uint8_t>(k);
+      slots.weight[k] = 0;
+      return slots;
+    }
+  }
+  return slots;
+}
+
 // Subdiv2D's triangles on `scaled` points whose outer virtual vertices sit `outer` units from
 // the frame of the points: the real triangles (virtual vertices dropped), counter-clockwise.
 std::vector<std::array<int, 3>> SubdivTriangles(const std::vector<cv::Point2f>& scaled,
@@ -195,6 +210,11 @@ StatusOr<ViewMesh> ViewMesh::Build(const std::vector<Eigen::Vector3d>& centres_i
     std::sort(mesh.line_order_.begin(), mesh.line_order_.end(), [&](int a, int b) {
       return mesh.vertices_[a].position.x() < mesh.vertices_[b].position.x();
     });
+    for (int i = 0; i + 1 < n; ++i) {
+      const int a = mesh.line_order_[i], b = mesh.line_order_[i + 1];
+      mesh.line_witness_.push_back(
+          mesh.NearestOtherView(0.5 * (mesh.vertices_[a].position + mesh.vertices_[b].position), {a, b, -1}));
+    }
     return mesh;
   }
   Eigen::Vector3d normal = eigen.eigenvectors().col(0);
@@ -273,10 +293,46 @@ void ViewMesh::BuildTriangleData() {
       }
     }
   }
+  // Witnesses (ViewSlots) where two views are blended: the ring's triangles and the outer edges
+  // carry a hull edge's two views; its Delaunay triangle's third corner witnesses them.
+  std::map<std::pair<int, int>, int> hull_edge_witness;
+  for (int t = 0; t < num_delaunay_triangles_; ++t) {
+    for (int k = 0; k < 3; ++k) {
+      const int a = vertices_[triangles_[t][(k + 1) % 3]].view, b = vertices_[triangles_[t][(k + 2) % 3]].view;
+      hull_edge_witness[{std::min(a, b), std::max(a, b)}] = vertices_[triangles_[t][k]].view;
+    }
+  }
+  // The witness of a triangle or edge carrying exactly two views among `views` (-1: no view).
+  const auto witness_of = [&](const std::array<int, 3>& views) {
+    int a = -1, b = -1;
+    for (const int view : views) {
+      if (view < 0 || view == a || view == b) continue;
+      if (a < 0) {
+        a = view;
+      } else if (b < 0) {
+        b = view;
+      } else {
+        return -1;  // three views
+      }
+    }
+    if (b < 0) return -1;
+    const auto it = hull_edge_witness.find({std::min(a, b), std::max(a, b)});
+    if (it != hull_edge_witness.end()) return it->second;
+    return NearestOtherView(0.5 * (vertices_[a].position + vertices_[b].position), {a, b, -1});
+  };
+  triangle_witness_.assign(count, -1);
+  for (int t = 0; t < count; ++t) {
+    triangle_witness_[t] = witness_of(
+        {vertices_[triangles_[t][0]].view, vertices_[triangles_[t][1]].view, vertices_[triangles_[t][2]].view});
+  }
   outer_edges_.clear();
+  outer_edge_witness_.clear();
   for (int t = 0; t < count; ++t) {
     for (int k = 0; k < 3; ++k) {
-      if (neighbours_[t][k] < 0) outer_edges_.push_back({triangles_[t][(k + 1) % 3], triangles_[t][(k + 2) % 3]});
+      if (neighbours_[t][k] >= 0) continue;
+      const int a = triangles_[t][(k + 1) % 3], b = triangles_[t][(k + 2) % 3];
+      outer_edges_.push_back({a, b});
+      outer_edge_witness_.push_back(witness_of({vertices_[a].view, vertices_[b].view, -1}));
     }
   }
   // Counter-clockwise triangles leave the outside to the right of their outer edges.
@@ -289,6 +345,21 @@ void ViewMesh::BuildTriangleData() {
       if (Cross2(ab, aq) < -1e-9 * ab.squaredNorm() - 1e-12 * aq.squaredNorm()) outline_convex_ = false;
     }
   }
+}
+
+int ViewMesh::NearestOtherView(const Eigen::Vector2d& at, const std::array<int, 3>& views) const {
+  int nearest = -1;
+  double best = std::numeric_limits<double>::infinity();
+  for (int i = 0; i < std::min<int>(num_views_, static_cast<int>(vertices_.size())); ++i) {
+    const int view = vertices_[i].view;
+    if (view == views[0] || view == views[1] || view == views[2]) continue;
+    const double d2 = (vertices_[i].position - at).squaredNorm();
+    if (d2 < best) {
+      best = d2;
+      nearest = view;
+    }
+  }
+  return nearest;
 }
 
 Eigen::Vector2d ViewMesh::ToPlane(const Eigen::Vector3d& point_in_world) const {
@@ -328,7 +399,7 @@ ViewSlots ViewMesh::LineWeights(const Eigen::Vector2d& q) const {
     if (x > xb) continue;
     const double span = xb - xa;
     const double tb = span > 0 ? (x - xa) / span : 0.0;
-    return Merge({a, b, -1}, {1 - tb, tb, 0});
+    return WithWitness(Merge({a, b, -1}, {1 - tb, tb, 0}), line_witness_[i]);
   }
   return Merge({last, -1, -1}, {1, 0, 0});
 }
@@ -353,7 +424,8 @@ std::pair<int, double> ViewMesh::NearestOuterEdge(const Eigen::Vector2d& q) cons
 ViewSlots ViewMesh::OutsideWeights(const Eigen::Vector2d& q) const {
   const auto [e, t] = NearestOuterEdge(q);
   if (e < 0) return ViewSlots{};
-  return Merge({vertices_[outer_edges_[e][0]].view, vertices_[outer_edges_[e][1]].view, -1}, {1 - t, t, 0});
+  return WithWitness(Merge({vertices_[outer_edges_[e][0]].view, vertices_[outer_edges_[e][1]].view, -1}, {1 - t, t, 0}),
+                     outer_edge_witness_[e]);
 }
 
 int ViewMesh::OutsideRegion(const Eigen::Vector2d& q) const {
@@ -393,7 +465,9 @@ int ViewMesh::Locate(const Eigen::Vector2d& q, int hint) const {
 
 ViewSlots ViewMesh::TriangleWeights(int triangle, const Eigen::Vector2d& q) const {
   const auto& tri = triangles_[triangle];
-  return Merge({vertices_[tri[0]].view, vertices_[tri[1]].view, vertices_[tri[2]].view}, Coordinates(triangle, q));
+  return WithWitness(
+      Merge({vertices_[tri[0]].view, vertices_[tri[1]].view, vertices_[tri[2]].view}, Coordinates(triangle, q)),
+      triangle_witness_[triangle]);
 }
 
 ViewSlots ViewMesh::WeightsAt(const Eigen::Vector2d& q, int* hint) const {
@@ -480,7 +554,8 @@ void ViewMesh::ComputeWeights(const CameraModel& camera,
     const double length2 = ab.squaredNorm();
     const double alpha = (map.q_centre - a).dot(ab) / length2;
     const Eigen::RowVector3d r = -map.height / length2 * (ab.transpose() * map.numerator);
-    const ViewSlots pattern = Merge({vertices_[edge[0]].view, vertices_[edge[1]].view, -1}, {0.5, 0.5, 0});
+    const ViewSlots pattern = WithWitness(Merge({vertices_[edge[0]].view, vertices_[edge[1]].view, -1}, {0.5, 0.5, 0}),
+                                          outer_edge_witness_[region]);
     const int slot_a = 0, slot_b = pattern.view[0] == vertices_[edge[1]].view ? 0 : 1;
     const double sx = map.denominator(0), s_y = map.denominator(1), s1 = map.denominator(2);
     for (int y = y0; y <= y1; ++y) {
@@ -490,6 +565,7 @@ void ViewMesh::ComputeWeights(const CameraModel& camera,
         const double t = std::clamp(alpha + (r(0) * x + r_row) / (sx * x + s_row), 0.0, 1.0);
         ViewSlots out;
         out.view = pattern.view;
+        out.witness = pattern.witness;
         out.weight[slot_a] += static_cast<float>(1 - t);
         out.weight[slot_b] += static_cast<float>(t);
         row[x] = out;
@@ -553,8 +629,9 @@ void ViewMesh::ComputeWeights(const CameraModel& camera,
       const Eigen::Vector2d alpha = b.inverse * (map.q_centre - b.p0);
       const Eigen::Matrix<double, 2, 3> r = -map.height * (b.inverse * map.numerator);
       const auto& tri = triangles_[triangle];
-      const ViewSlots pattern =
-          Merge({vertices_[tri[0]].view, vertices_[tri[1]].view, vertices_[tri[2]].view}, {1.0 / 3, 1.0 / 3, 1.0 / 3});
+      const ViewSlots pattern = WithWitness(
+          Merge({vertices_[tri[0]].view, vertices_[tri[1]].view, vertices_[tri[2]].view}, {1.0 / 3, 1.0 / 3, 1.0 / 3}),
+          triangle_witness_[triangle]);
       std::array<int, 3> slot_of_vertex{};
       for (int k = 0; k < 3; ++k) {
         for (int j = 0; j < 3; ++j) {
@@ -575,6 +652,8 @@ void ViewMesh::ComputeWeights(const CameraModel& camera,
           const double inv_sum = 1.0 / (l0 + l1 + l2);
           ViewSlots out;
           out.view = pattern.view;
+          out.witness = pattern.witness;
+          out.witness = pattern.witness;
           out.weight[slot_of_vertex[0]] += static_cast<float>(l0 * inv_sum);
           out.weight[slot_of_vertex[1]] += static_cast<float>(l1 * inv_sum);
           out.weight[slot_of_vertex[2]] += static_cast<float>(l2 * inv_sum);

@@ -21,11 +21,20 @@
 namespace px::render {
 
 // The (up to) three views blended at one pixel. A view appears at most once; unused slots hold
-// kNone with weight 0. Weights are >= 0 and sum to 1.
+// kNone with weight 0. Weights are >= 0 and sum to 1. Where fewer than three views are blended
+// (between two views of a line, in the extension ring, outside the mesh by an outer edge) a free
+// slot holds a witness at weight 0: the other view nearest that stretch of the mesh. It is drawn
+// but never blended, not even where the others saw nothing (the hole stages decide there); its
+// colour settles a disagreement between the two (the one it contradicts yields,
+// preview_compositor.cc).
 struct ViewSlots {
   static constexpr uint8_t kNone = 255;
   std::array<uint8_t, 3> view = {kNone, kNone, kNone};  // index into the views the mesh was built on
+  uint8_t witness = kNone;                              // the slot holding a witness, or kNone
   std::array<float, 3> weight = {0, 0, 0};
+
+  // The slots that may be blended, as bits (1 << slot): all but the witness's.
+  int BlendableBits() const { return witness == kNone ? 7 : 7 & ~(1 << witness); }
 };
 
 class ViewMesh {
@@ -59,8 +68,9 @@ class ViewMesh {
   const std::vector<std::array<int, 3>>& triangles() const { return triangles_; }
   int NumDelaunayTriangles() const { return num_delaunay_triangles_; }
 
-  // For each view, the other views that can share a pixel's slots with it (the views of the
-  // triangles it is a corner of, extension ring included, or its neighbours along a line), sorted.
+  // For each view, the other views that can be blended with it at a pixel (the views of the
+  // triangles it is a corner of, extension ring included, or its neighbours along a line), sorted;
+  // witnesses (ViewSlots) are not among them.
   std::vector<std::vector<int>> SlotNeighbours() const;
 
   // The weights at point q of the mesh plane. `hint` (may be null): the triangle to start the
@@ -94,6 +104,8 @@ class ViewMesh {
   // (an intersection of half-planes), so ComputeWeights may fill a tile whose corners share one.
   int OutsideRegion(const Eigen::Vector2d& q) const;
   ViewSlots LineWeights(const Eigen::Vector2d& q) const;
+  // The view, other than `views` (-1: none), whose vertex lies nearest `at`; -1 when there is none.
+  int NearestOtherView(const Eigen::Vector2d& at, const std::array<int, 3>& views) const;
 
   Kind kind_ = Kind::kPoint;
   int num_views_ = 0;
@@ -107,6 +119,9 @@ class ViewMesh {
   std::vector<Barycentric> barycentric_;         // per triangle
   std::vector<std::array<int, 3>> neighbours_;   // per triangle: across the edge opposite vertex k
   std::vector<std::array<int, 2>> outer_edges_;  // vertex pairs on the extended mesh's boundary
+  std::vector<int> outer_edge_witness_;          // per outer edge: its witness view (ViewSlots), or -1
+  std::vector<int> triangle_witness_;            // per triangle with fewer than three views: its witness, or -1
+  std::vector<int> line_witness_;                // kLine: per pair of neighbours along it, their witness
   bool outline_convex_ = false;                  // every outer vertex on or inside every outer edge
   std::vector<int> line_order_;                  // kLine: views sorted along axis_u
 };

@@ -161,6 +161,54 @@ TEST(ViewMeshTest, DegenerateSetsStillGiveWeightsThatSumToOne) {
   EXPECT_FALSE(ViewMesh::Build({}, {}).ok());
 }
 
+// Where fewer than three views are blended, the free slot holds the nearest other view at weight
+// 0 (a witness that settles their disagreements): along a line, in the extension ring, outside.
+TEST(ViewMeshTest, TwoBlendedViewsGetTheNearestOtherViewAsAWitness) {
+  const auto witness_of = [](const ViewSlots& s) {
+    int witness = -1, blended = 0;
+    for (int k = 0; k < 3; ++k) {
+      if (s.view[k] == ViewSlots::kNone) continue;
+      if (s.weight[k] > 0) {
+        ++blended;
+      } else {
+        witness = s.view[k];
+      }
+    }
+    return blended == 2 ? witness : -2;
+  };
+  std::vector<Eigen::Vector3d> row;
+  for (int i = 0; i < 4; ++i) row.emplace_back(0.1 * i, 0, 0);
+  const ViewMesh line = ViewMesh::Build(row, std::vector<Eigen::Matrix3d>(4, Eigen::Matrix3d::Identity())).value();
+  ASSERT_EQ(line.kind(), ViewMesh::Kind::kLine);
+  const auto on_line = [&](double x) { return line.WeightsAt(line.ToPlane(Eigen::Vector3d(x, 0, 0))); };
+  EXPECT_EQ(witness_of(on_line(0.05)), 2);  // between 0 and 1: 2 is the only other neighbour
+  EXPECT_EQ(witness_of(on_line(0.25)), 1);  // between 2 and 3: 1 is the nearer
+  std::vector<ViewSlots> slots;
+  const CameraModel camera = CameraModel::Pinhole(64, 48, 60);
+  line.ComputeWeights(camera, Rigid3(Eigen::Quaterniond::Identity(), Eigen::Vector3d(-0.15, 0, 0.5)), &slots, 0.5);
+  for (const ViewSlots& s : slots) EXPECT_NEAR(Sum(s), 1.0, 1e-5);
+
+  const ViewMesh lattice = Lattice3x3();
+  // Out beyond the hull edge between views 2 and 5: the third corner of
+  // the lattice's triangle on that edge witnesses.
+  const Eigen::Vector2d& p2 = lattice.vertices()[2].position;
+  const Eigen::Vector2d& p5 = lattice.vertices()[5].position;
+  int third = -1;
+  for (int t = 0; t < lattice.NumDelaunayTriangles(); ++t) {
+    std::set<int> corners;
+    for (const int v : lattice.triangles()[t]) corners.insert(lattice.vertices()[v].view);
+    if (corners.count(2) && corners.count(5))
+      third = *std::find_if(corners.begin(), corners.end(), [](int v) { return v != 2 && v != 5; });
+  }
+  ASSERT_GE(third, 0);
+  const Eigen::Vector2d outward = 0.5 * (p2 + p5) - lattice.vertices()[4].position;
+  for (const double reach : {0.5, 2.0, 3.5}) {  // in the ring, and outside the extended mesh
+    const ViewSlots beyond = lattice.WeightsAt(0.5 * (p2 + p5) + reach * outward);
+    EXPECT_GT(WeightOf(beyond, 2) + WeightOf(beyond, 5), 0.99) << reach;
+    EXPECT_EQ(witness_of(beyond), third) << reach;
+  }
+}
+
 // Four hand-held centres nearly on a line (kpankov_office_4views' sideways sweep, as its plane
 // holds them): the thin triangles along the hull have circumcircles reaching Subdiv2D's outer
 // vertices at its first distance, which left no triangle at all. The mesh covers their hull.
