@@ -57,7 +57,8 @@ std::string SafeFileName(const std::string& name) {
   for (char& c : safe) {
     if (!std::isalnum(static_cast<unsigned char>(c)) && c != '-' && c != '.') c = '_';
   }
-  return safe;
+  const size_t first = safe.find_first_not_of("._");
+  return first == std::string::npos ? std::string("set") : safe.substr(first);
 }
 
 Status WritePng(const std::filesystem::path& file, const cv::Mat& image) {

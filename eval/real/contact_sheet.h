@@ -20,7 +20,8 @@ struct LabelledImage {
 // dark grey sheet with its label in a strip below. Empty `cells`: an empty Mat.
 cv::Mat ContactSheet(const std::vector<LabelledImage>& cells, int columns, int cell_width);
 
-// `name` with every character but letters, digits, '-' and '.' turned into '_'.
+// `name` with every character but letters, digits, '-' and '.' turned into '_', and its leading
+// dots and underscores dropped (a set given as ../data/x would otherwise name hidden files).
 std::string SafeFileName(const std::string& name);
 
 // Writes `image` as a PNG, making the folder first; the error names the file.

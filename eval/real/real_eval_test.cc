@@ -72,6 +72,12 @@ struct SlitFixture {
   }
 };
 
+TEST(ContactSheetTest, FileNamesOfSetsGivenByRelativePathAreNotHidden) {
+  EXPECT_EQ(SafeFileName("../shared/data/handheld/office"), "shared_data_handheld_office");
+  EXPECT_EQ(SafeFileName("lattice_frames/scan.jpg"), "lattice_frames_scan.jpg");
+  EXPECT_EQ(SafeFileName("../.."), "set");
+}
+
 TEST(PathMeasuresTest, AGapTheSourcesDoNotShowIsTorn) {
   SlitFixture fixture(cv::Mat(80, 100, CV_32F, cv::Scalar(2.0f)));  // the source sees the wall unbroken
   cv::Mat map;
