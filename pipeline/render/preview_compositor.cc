@@ -321,6 +321,15 @@ void Trust(const ContestedSlots& p, const float (&contradicted)[3][3], float tru
   }
 }
 
+// How far apart slots j and k are in colour, 0 (within colour_agree_levels) to 1 (from
+// colour_apart_levels on), times the soft z weight of their depth difference: two images of one
+// place only when close in depth.
+float ColourApart(const ContestedSlots& p, int j, int k, const SoftZ& soft_z, const BlendRules& rules) {
+  const float span = rules.colour_apart_levels - rules.colour_agree_levels;
+  return std::clamp((p.ColourDistance(j, k) - rules.colour_agree_levels) / span, 0.0f, 1.0f) *
+         soft_z.Weight(std::abs(p.z[j] - p.z[k]));
+}
+
 // A blended slot whose colour both other slots contradict while they agree with each other is
 // outvoted: it yields whatever its weight (the one view that moved, or whose depth is off there),
 // instead of sharing the pixel by weight with the two that agree. The other two may include a
@@ -331,11 +340,9 @@ bool OutvotedYield(
     const ContestedSlots& p, const float (&apart)[3][3], const SoftZ& soft_z, const BlendRules& rules, float trust[3]) {
   if (p.seen != 7) return false;
   bool lowered = false;
-  const float span = rules.colour_apart_levels - rules.colour_agree_levels;
   const auto disagree = [&](int k, int j) {
     if (p.TakesPart(k) && p.TakesPart(j)) return std::max(apart[k][j], apart[j][k]);
-    return std::clamp((p.ColourDistance(j, k) - rules.colour_agree_levels) / span, 0.0f, 1.0f) *
-           soft_z.Weight(std::abs(p.z[j] - p.z[k]));
+    return ColourApart(p, j, k, soft_z, rules);
   };
   for (int k = 0; k < 3; ++k) {
     if (!p.TakesPart(k)) continue;
@@ -473,12 +480,10 @@ void ResolveContestedPixel(const float* const cells[3],
   float apart[3][3];
   std::copy(&p.contradicted[0][0], &p.contradicted[0][0] + 9, &apart[0][0]);
   bool differs = false;
-  const float span = rules.colour_apart_levels - rules.colour_agree_levels;
   for (int k = 0; k < 3; ++k) {
     for (int j = 0; j < 3; ++j) {
       if (j == k || !p.TakesPart(j) || !p.TakesPart(k)) continue;
-      const float level = std::clamp((p.ColourDistance(j, k) - rules.colour_agree_levels) / span, 0.0f, 1.0f) *
-                          soft_z.Weight(std::abs(p.z[j] - p.z[k]));
+      const float level = ColourApart(p, j, k, soft_z, rules);
       if (level > apart[k][j]) {
         apart[k][j] = level;
         differs = true;
