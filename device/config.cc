@@ -11,6 +11,8 @@
 #include "pipeline/core/json_fields.h"
 #include "pipeline/core/pixel_format.h"
 #include "pipeline/direct/clip_timing.h"
+#include "pipeline/direct/direct_options.h"
+#include "pipeline/direct/taxonomy.h"
 #include "pipeline/io/durable_file.h"
 #include "pipeline/render/gl/render_backend.h"
 
@@ -272,6 +274,9 @@ Status DaemonConfig::Validate() const {
     return RangeError("source.timeout_ms", source.timeout_ms, "(0, 600000]");
   }
   if (clip.move.empty()) return InvalidArgumentError("clip.move: empty");
+  if (clip.effect != "auto" && !direct::ParseEffect(clip.effect).ok()) {
+    return InvalidArgumentError("clip.effect: '" + clip.effect + "' is not one of " + KnownEffectsText());
+  }
   if (!(clip.duration_s > 0 && clip.duration_s <= 60)) return RangeError("clip.duration_s", clip.duration_s, "(0, 60]");
   if (!(clip.fps > 0 && clip.fps <= 240)) return RangeError("clip.fps", clip.fps, "(0, 240]");
   if (auto style = ParseClipStyle(clip.style); !style.ok()) return style.status().WithContext("clip.style");
@@ -376,6 +381,7 @@ StatusOr<DaemonConfig> DaemonConfigFromJson(const nlohmann::json& j) {
 
   PX_ASSIGN_OR_RETURN(ObjectReader clip, root.Child("clip"));
   PX_RETURN_IF_ERROR(clip.String("move", &config.clip.move));
+  PX_RETURN_IF_ERROR(clip.String("effect", &config.clip.effect));
   PX_RETURN_IF_ERROR(clip.Number("duration_s", &config.clip.duration_s));
   PX_RETURN_IF_ERROR(clip.String("style", &config.clip.style));
   PX_RETURN_IF_ERROR(clip.String("ease", &config.clip.ease));
@@ -468,6 +474,7 @@ nlohmann::json DaemonConfigToJson(const DaemonConfig& config) {
         {"timeout_ms", config.source.ptp.timeout_ms}}},
   };
   j["clip"] = {{"move", config.clip.move},
+               {"effect", config.clip.effect},
                {"duration_s", config.clip.duration_s},
                {"style", config.clip.style},
                {"ease", config.clip.ease},

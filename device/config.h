@@ -73,9 +73,10 @@ struct SourceSettings {
 
 // What the clip looks like (pipeline/direct, pipeline/clip).
 struct ClipSettings {
-  std::string move = "auto";  // camera move, see pipeline/direct/direct_options.h
-  double duration_s = 3.0;    // clip length in seconds, (0, 60]
-  double fps = 30.0;          // frames per second, (0, 240]
+  std::string move = "auto";    // camera move, see pipeline/direct/direct_options.h
+  std::string effect = "auto";  // image effect (auto, none, dof_change, ...), see there too
+  double duration_s = 3.0;      // clip length in seconds, (0, 60]
+  double fps = 30.0;            // frames per second, (0, 240]
   // How the clip plays the move (pipeline/direct/clip_timing.h): "once" (then hold_s on the last
   // frame), "loop" (out and back, seamless when repeated) or "boomerang"; eased "smooth" or "linear".
   std::string style = "once";

@@ -104,6 +104,12 @@ Status Daemon::Start() {
   PX_CHECK(!started_) << "Daemon::Start called twice";
   PX_RETURN_IF_ERROR(layout_.Prepare(options_.storage.group));
   PX_ASSIGN_OR_RETURN(journal_, JobJournal::Open(layout_.JobsDir()));
+  if (StatusOr<PressSettings> saved = LoadPressSettings(layout_.SettingsPath()); saved.ok()) {
+    settings_ = *saved;
+    if (!settings_.Empty()) log->info("settings for the presses: {}", PressSettingsToJson(settings_).dump());
+  } else {
+    log->warn("{}; the presses use the config's clip settings", saved.status().ToString());
+  }
   // Ids continue after any capture or clip whose journal record was lost.
   taken_ids_ = NamesIn(layout_.CapturesDir());
   for (std::string& name : NamesIn(layout_.ClipsDir())) taken_ids_.push_back(std::move(name));
@@ -227,7 +233,10 @@ StatusOr<std::string> Daemon::Press() {
   record.id = journal_->NewId(taken_ids_);
   taken_ids_.clear();
   record.state = JobState::kCapturing;
-  record.move = move_;
+  record.move = settings_.move;
+  record.effect = settings_.effect;
+  record.format = settings_.format;
+  record.size = settings_.size;
   record.shot = shot_;
   record.created_at = NowIso8601Utc();
   record.updated_at = record.created_at;
@@ -531,7 +540,7 @@ std::optional<JobRecord> Daemon::ProcessJob(const std::string& id) {
   context.job_id = id;
   context.capture_dir = layout_.CaptureDir(id);
   context.clip_path = layout_.ClipPath(id);
-  context.move = record.move;
+  context.settings = {record.move, record.effect, record.format, record.size};
   context.shot = record.shot;
   context.progress = [this, id](const std::string& stage, double fraction) {
     std::lock_guard<std::mutex> lock(mutex_);
@@ -692,6 +701,9 @@ void Daemon::HandleRequest(const std::string& line, ControlServer::Respond respo
     case ControlCommand::kSetMove:
       respond(SetMove(request->move));
       return;
+    case ControlCommand::kSetSettings:
+      respond(SetSettings(request->settings));
+      return;
     case ControlCommand::kCancel:
       respond(Cancel(request->job));
       return;
@@ -731,7 +743,8 @@ nlohmann::json Daemon::StatusJson() const {
                    processing_worker_pid_ == 0 ? nlohmann::json(nullptr) : nlohmann::json(processing_worker_pid_)}})},
       {"jobs", counts},
       {"last_job", records.empty() ? nlohmann::json(nullptr) : JobRecordToJson(records.back())},
-      {"move", move_.empty() ? nlohmann::json(nullptr) : nlohmann::json(move_)},
+      {"move", settings_.move.empty() ? nlohmann::json(nullptr) : nlohmann::json(settings_.move)},
+      {"settings", PressSettingsToJson(settings_)},
       {"shot", shot_value_},
   };
   // Free space, quota and whether a capture would be refused now (disk full).
@@ -758,10 +771,24 @@ std::string Daemon::SetMove(const std::string& move) {
   DirectOptions direct;
   direct.move = move;
   if (Status valid = direct.Validate(); !valid.ok()) return ControlErrorReply(valid);
+  const std::string reply = SetSettings(nlohmann::json({{"move", move}}).dump());
+  return reply.find("\"ok\":true") == std::string::npos ? reply : Dump({{"ok", true}, {"move", move}});
+}
+
+std::string Daemon::SetSettings(const std::string& changes_json) {
+  StatusOr<nlohmann::json> changes = json::Parse(changes_json, "settings");
+  if (!changes.ok()) return ControlErrorReply(changes.status());
   std::lock_guard<std::mutex> lock(mutex_);
-  move_ = move;
-  Logger("device")->info("camera move for the next presses: {}", move);
-  return Dump({{"ok", true}, {"move", move}});
+  StatusOr<PressSettings> updated = UpdatedPressSettings(settings_, *changes);
+  if (!updated.ok()) return ControlErrorReply(updated.status());
+  // Saved before it is answered: settings the page showed as saved survive a restart.
+  if (Status saved = SavePressSettings(layout_.SettingsPath(), *updated); !saved.ok()) {
+    return ControlErrorReply(saved.WithContext("settings not saved"));
+  }
+  settings_ = *updated;
+  const nlohmann::json now = PressSettingsToJson(settings_);
+  Logger("device")->info("settings for the next presses: {}", now.dump());
+  return Dump({{"ok", true}, {"settings", now}});
 }
 
 namespace {

@@ -21,6 +21,7 @@
 
 #include "device/control/control_server.h"
 #include "device/control/loop_input.h"
+#include "device/press_settings.h"
 #include "device/storage/job_journal.h"
 #include "device/storage/storage_layout.h"
 #include "drivers/source/frame_source.h"
@@ -60,8 +61,8 @@ struct JobContext {
   // stage: short name; fraction: 0..1 within it. Returns false when the daemon wants the job to
   // stop (shutdown, or a "cancel"): the runner should return CANCELLED soon.
   std::function<bool(const std::string& stage, double fraction)> progress;
-  std::string move;  // the camera move asked for at the press ("set_move"); "" = the runner's own
-  std::string shot;  // the shot (JSON text, validated) asked for at the press ("set_shot"); "" = none
+  PressSettings settings;  // what the press asked for ("set_settings"); each "" = the runner's own
+  std::string shot;        // the shot (JSON text, validated) asked for at the press ("set_shot"); "" = none
   // A runner that works in a child process tells its pid here when it starts, 0 when it has
   // ended (status shows it); may be empty.
   std::function<void(int pid)> worker;
@@ -168,6 +169,7 @@ class Daemon {
   // The control commands "fetch", "set_move" and "cancel": the reply line.
   std::string FetchReply(const std::string& id, bool inline_bytes) const;
   std::string SetMove(const std::string& move);
+  std::string SetSettings(const std::string& changes_json);
   std::string SetShot(const std::string& shot_json);
   std::string Cancel(const std::string& id);
 
@@ -200,7 +202,7 @@ class Daemon {
   std::string processing_stage_;
   int processing_worker_pid_ = 0;  // the job's worker process; 0 = none (or an in-process runner)
   std::string cancel_id_;          // the job being processed that a "cancel" asked to stop
-  std::string move_;               // from "set_move", for jobs pressed after it; "" = the config's
+  PressSettings settings_;         // from "set_settings" or "set_move", for jobs pressed after it
   std::string shot_;               // from "set_shot" (JSON text), for jobs pressed after it; "" = none
   nlohmann::json shot_value_;      // shot_ parsed once for status replies; null when none
   double processing_fraction_ = 0;

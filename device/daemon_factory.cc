@@ -22,6 +22,7 @@ StatusOr<ClipJobOptions> ClipJobOptionsFromConfig(const DaemonConfig& config) {
   }
   ClipJobOptions options;
   options.pipeline.direct.move = config.clip.move;
+  options.pipeline.direct.effect = config.clip.effect;
   options.pipeline.direct.duration_s = config.clip.duration_s;
   options.pipeline.direct.fps = config.clip.fps;
   // DaemonConfig::Validate checked the names.
@@ -76,7 +77,7 @@ DaemonOptions DaemonOptionsFromConfig(const DaemonConfig& config, const DaemonRu
 JobRunner MakeClipJobRunner(const ClipJobOptions& options) {
   return [options](const JobContext& context) -> StatusOr<JobOutcome> {
     ClipJobOptions job_options = options;
-    if (!context.move.empty()) job_options.pipeline.direct.move = context.move;  // set_move
+    PX_RETURN_IF_ERROR(ApplyPressSettings(context.settings, &job_options));  // set_settings, set_move
     if (!context.shot.empty()) {  // set_shot (validated when it was set; checked again here)
       PX_ASSIGN_OR_RETURN(nlohmann::json j, json::Parse(context.shot, "shot"));
       PX_ASSIGN_OR_RETURN(direct::Shot shot, direct::ShotFromJson(j));

@@ -560,7 +560,7 @@ TEST_F(DaemonTest, SetMoveAppliesToJobsPressedAfterIt) {
   std::map<std::string, std::string> moves;
   auto daemon = StartDaemon(Options(), [&](const JobContext& context) {
     std::lock_guard<std::mutex> lock(moves_mutex);
-    moves[context.job_id] = context.move;
+    moves[context.job_id] = context.settings.move;
     return PngJob(context);
   });
   const std::string before = Call(R"({"cmd":"capture"})")["job"];
@@ -580,6 +580,55 @@ TEST_F(DaemonTest, SetMoveAppliesToJobsPressedAfterIt) {
   EXPECT_EQ(moves[before], "");  // the config's move
   EXPECT_EQ(moves[after], "establishing_dolly");
   EXPECT_EQ(daemon->Job(after)->move, "establishing_dolly");  // journaled: a resumed job keeps it
+}
+
+TEST_F(DaemonTest, SetSettingsAppliesToJobsPressedAfterItAndSurvivesARestart) {
+  std::mutex settings_mutex;
+  std::map<std::string, PressSettings> settings;
+  const JobRunner runner = [&](const JobContext& context) {
+    std::lock_guard<std::mutex> lock(settings_mutex);
+    settings[context.job_id] = context.settings;
+    return PngJob(context);
+  };
+  std::string before, after;
+  {
+    auto daemon = StartDaemon(Options(), runner);
+    before = Call(R"({"cmd":"capture"})")["job"];
+    // A bad field is refused, named, and changes nothing.
+    nlohmann::json bad = Call(R"({"cmd":"set_settings","format":"gif","effect":"sepia"})");
+    EXPECT_EQ(bad["code"], "INVALID_ARGUMENT");
+    EXPECT_THAT(bad["error"].get<std::string>(), HasSubstr("effect: 'sepia' is not one of"));
+    EXPECT_EQ(Call(R"({"cmd":"status"})")["settings"]["format"], nullptr);
+    EXPECT_EQ(Call(R"({"cmd":"set_settings","fps":60})")["code"], "INVALID_ARGUMENT");
+
+    nlohmann::json set = Call(R"({"cmd":"set_settings","effect":"saturation","format":"gif","size":"1080x1920"})");
+    ASSERT_EQ(set["ok"], true) << set.dump();
+    EXPECT_EQ(set["settings"]["format"], "gif");
+    EXPECT_EQ(Call(R"({"cmd":"set_move","move":"dolly_in"})")["ok"], true);  // set_move is one field of them
+    after = Call(R"({"cmd":"capture"})")["job"];
+    daemon->WaitUntilIdle();
+    EXPECT_EQ(daemon->Job(after)->format, "gif");  // journaled: a resumed job keeps them
+    EXPECT_EQ(daemon->Job(after)->size, "1080x1920");
+  }
+  {
+    std::lock_guard<std::mutex> lock(settings_mutex);
+    EXPECT_TRUE(settings[before].Empty());  // the config's
+    EXPECT_EQ(settings[after].move, "dolly_in");
+    EXPECT_EQ(settings[after].effect, "saturation");
+    EXPECT_EQ(settings[after].format, "gif");
+    EXPECT_EQ(settings[after].size, "1080x1920");
+  }
+  // A restart keeps them; null puts a field back to the config's.
+  auto daemon = StartDaemon(Options(), runner);
+  nlohmann::json status = Call(R"({"cmd":"status"})");
+  EXPECT_EQ(status["settings"],
+            nlohmann::json({{"move", "dolly_in"}, {"effect", "saturation"}, {"format", "gif"}, {"size", "1080x1920"}}));
+  EXPECT_EQ(Call(R"({"cmd":"set_settings","format":null})")["settings"]["format"], nullptr);
+  const std::string third = Call(R"({"cmd":"capture"})")["job"];
+  daemon->WaitUntilIdle();
+  std::lock_guard<std::mutex> lock(settings_mutex);
+  EXPECT_EQ(settings[third].format, "");
+  EXPECT_EQ(settings[third].size, "1080x1920");
 }
 
 TEST_F(DaemonTest, SetShotAppliesToJobsPressedAfterItAndErrorsNameTheField) {

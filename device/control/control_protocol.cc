@@ -38,6 +38,8 @@ std::string_view ControlCommandName(ControlCommand command) {
       return "cancel";
     case ControlCommand::kSetShot:
       return "set_shot";
+    case ControlCommand::kSetSettings:
+      return "set_settings";
   }
   return "unknown";
 }
@@ -60,15 +62,17 @@ StatusOr<ControlRequest> ParseControlRequest(std::string_view line) {
                                  ControlCommand::kFetch,
                                  ControlCommand::kSetMove,
                                  ControlCommand::kCancel,
-                                 ControlCommand::kSetShot}) {
+                                 ControlCommand::kSetShot,
+                                 ControlCommand::kSetSettings}) {
     if (ControlCommandName(command) == name) {
       request.command = command;
       found = true;
     }
   }
   if (!found) {
-    return InvalidArgumentError("cmd: " + Quoted(name) +
-                                " is not one of capture, status, list, wait, quit, fetch, set_move, cancel, set_shot");
+    return InvalidArgumentError(
+        "cmd: " + Quoted(name) +
+        " is not one of capture, status, list, wait, quit, fetch, set_move, cancel, set_shot, set_settings");
   }
 
   std::vector<std::string> allowed = {"cmd"};
@@ -99,6 +103,18 @@ StatusOr<ControlRequest> ParseControlRequest(std::string_view line) {
     }
     request.shot = shot.is_null() ? "" : shot.dump();
     allowed.push_back("shot");
+  }
+  if (request.command == ControlCommand::kSetSettings) {
+    nlohmann::json changes = nlohmann::json::object();
+    for (const char* field : {"move", "effect", "format", "size"}) {
+      if (!j.contains(field)) continue;
+      if (!j[field].is_string() && !j[field].is_null()) {
+        return InvalidArgumentError(std::string(field) + ": want a string or null, got " + j[field].type_name());
+      }
+      changes[field] = j[field];
+      allowed.push_back(field);
+    }
+    request.settings = changes.dump();
   }
   if (request.command == ControlCommand::kQuit) {
     PX_ASSIGN_OR_RETURN(request.drain, json::GetBoolOr(j, "drain", "", false));

@@ -10,6 +10,9 @@
 //   {"cmd":"set_move","move":"establishing_dolly"} -> {"ok":true,"move":"..."}; jobs pressed from now on use it
 //   {"cmd":"set_shot","shot":{...}} -> {"ok":true,"shot":{...},"segments":N}; jobs pressed from now on follow the
 //                                      shot (pipeline/direct/SHOT_FORMAT.md); "shot":null goes back to the move
+//   {"cmd":"set_settings","format":"gif","size":null} -> {"ok":true,"settings":{"move":..,"effect":..,"format":..,
+//                                      "size":..}}; the fields given change (null: back to the config's), the
+//                                      rest stay; jobs pressed from now on use them; kept across restarts
 //   {"cmd":"cancel","job":"000007"} -> {"ok":true,"job":"000007","was":"saved"}; a queued job or the running
 //                                      clip stops and fails as CANCELLED; its raw capture is kept
 // Any problem with a request is {"ok":false,"error":"...","code":"..."} and the connection stays open.
@@ -23,7 +26,7 @@
 
 namespace px::device {
 
-enum class ControlCommand { kCapture, kStatus, kList, kWait, kQuit, kFetch, kSetMove, kCancel, kSetShot };
+enum class ControlCommand { kCapture, kStatus, kList, kWait, kQuit, kFetch, kSetMove, kCancel, kSetShot, kSetSettings };
 
 std::string_view ControlCommandName(ControlCommand command);
 
@@ -34,6 +37,7 @@ struct ControlRequest {
   bool inline_bytes = false;  // kFetch: the clip's bytes in the reply, base64 ("inline")
   std::string move;           // kSetMove: the camera move (validated by the daemon against pipeline/direct)
   std::string shot;           // kSetShot: the shot as JSON text (validated by the daemon); "" = none (null)
+  std::string settings;       // kSetSettings: the fields to change, a JSON object's text (validated by the daemon)
 };
 
 // The longest request line accepted; longer lines are answered with an error and dropped.
@@ -48,7 +52,7 @@ inline constexpr uint64_t kMaxInlineClipBytes = 16 * 1000 * 1000;
 
 // Parses one line (without its newline). Errors say what is wrong:
 //   "malformed JSON at byte 7: ...", "cmd: missing",
-//   "cmd: 'fly' is not one of capture, status, list, wait, quit, fetch, set_move, cancel, set_shot",
+//   "cmd: 'fly' is not one of capture, status, list, wait, quit, fetch, set_move, cancel, set_shot, set_settings",
 //   "job: missing (wait needs a job id)", "capture: unknown field 'jbo'",
 //   "job: '../x' is not a job id (1 to 18 digits, e.g. "000042")". Client text quoted in an
 //   error is cut to 40 bytes.

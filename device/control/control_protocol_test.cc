@@ -32,6 +32,14 @@ TEST(ControlProtocolTest, ParsesEveryCommand) {
   ASSERT_TRUE(move.ok());
   EXPECT_EQ(move->command, ControlCommand::kSetMove);
   EXPECT_EQ(move->move, "establishing_dolly");
+  auto settings = ParseControlRequest(R"({"cmd":"set_settings","format":"gif","size":null})");
+  ASSERT_TRUE(settings.ok()) << settings.status().ToString();
+  EXPECT_EQ(settings->command, ControlCommand::kSetSettings);
+  EXPECT_EQ(nlohmann::json::parse(settings->settings), nlohmann::json({{"format", "gif"}, {"size", nullptr}}));
+  EXPECT_EQ(ParseControlRequest(R"({"cmd":"set_settings","format":["gif"]})").status().message(),
+            "format: want a string or null, got array");
+  EXPECT_EQ(ParseControlRequest(R"({"cmd":"set_settings","fps":60})").status().message(),
+            "set_settings: unknown field 'fps'");
   auto cancel = ParseControlRequest(R"({"cmd":"cancel","job":"000002"})");
   ASSERT_TRUE(cancel.ok());
   EXPECT_EQ(cancel->command, ControlCommand::kCancel);
@@ -44,8 +52,9 @@ TEST(ControlProtocolTest, ErrorsSayWhatIsWrong) {
   EXPECT_EQ(ParseControlRequest("[1]").status().message(), "request: want an object, got array");
   EXPECT_EQ(ParseControlRequest("{}").status().message(), "cmd: missing");
   EXPECT_EQ(ParseControlRequest(R"({"cmd":7})").status().message(), "cmd: want a string, got number");
-  EXPECT_EQ(ParseControlRequest(R"({"cmd":"fly"})").status().message(),
-            "cmd: 'fly' is not one of capture, status, list, wait, quit, fetch, set_move, cancel, set_shot");
+  EXPECT_EQ(
+      ParseControlRequest(R"({"cmd":"fly"})").status().message(),
+      "cmd: 'fly' is not one of capture, status, list, wait, quit, fetch, set_move, cancel, set_shot, set_settings");
   EXPECT_EQ(ParseControlRequest(R"({"cmd":"fetch"})").status().message(), "job: missing (fetch needs a job id)");
   EXPECT_EQ(ParseControlRequest(R"({"cmd":"cancel"})").status().message(), "job: missing (cancel needs a job id)");
   EXPECT_EQ(ParseControlRequest(R"({"cmd":"set_move"})").status().message(),

@@ -330,6 +330,13 @@ void RegisterApiRoutes(httplib::Server& server, const ApiContext& api) {
       return ReplyError(res, 400, "move: missing or not a string");
     AnswerControl(api, {{"cmd", "set_move"}, {"move", (*body)["move"]}}, res);
   });
+  server.Put("/api/settings", [api](const Request& req, Response& res) {
+    std::optional<nlohmann::json> body = JsonBody(req, res);
+    if (!body) return;
+    nlohmann::json request = *body;
+    request["cmd"] = "set_settings";
+    AnswerControl(api, request, res);
+  });
   server.Put("/api/settings/shot", [api](const Request& req, Response& res) {
     std::optional<nlohmann::json> body = JsonBody(req, res);
     if (!body) return;

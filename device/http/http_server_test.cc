@@ -294,6 +294,7 @@ TEST_F(HttpApiTest, PagesAndTheApiDocument) {
                            "/api/jobs/{id}/clip:",
                            "/api/jobs/{id}/poster:",
                            "/api/jobs/{id}/preview:",
+                           "/api/settings:",
                            "/api/settings/move:",
                            "/api/settings/shot:",
                            "/api/events:",
@@ -332,6 +333,41 @@ TEST_F(HttpApiTest, EveryMoveThePageOffersIsAccepted) {
   EXPECT_THAT(Json(bad)["error"].get<std::string>(), HasSubstr("barrel_roll"));
   EXPECT_EQ(client.Put("/api/settings/move", "not json", "application/json")->status, 400);
   EXPECT_EQ(client.Put("/api/settings/move", R"({"move":"auto"})", "application/json")->status, 200);
+}
+
+TEST_F(HttpApiTest, EverySettingThePageOffersIsAcceptedAndStatusShowsIt) {
+  std::string index;
+  for (const EmbeddedFile& file : WebAssets()) {
+    if (file.name == "index.html") index = file.bytes;
+  }
+  httplib::Client client = camera_->Client();
+  const std::regex option(R"rx(<option value="([a-z_0-9]*)")rx");
+  for (const std::string field : {"effect", "format", "size"}) {
+    const size_t start = index.find("<select id=\"setting-" + field + "\"");
+    ASSERT_NE(start, std::string::npos) << field;
+    const std::string select = index.substr(start, index.find("</select>", start) - start);
+    int offered = 0;
+    for (auto it = std::sregex_iterator(select.begin(), select.end(), option); it != std::sregex_iterator(); ++it) {
+      const std::string value = (*it)[1];
+      // "" is the page's "as configured": null in the API.
+      const nlohmann::json wanted = value.empty() ? nlohmann::json(nullptr) : nlohmann::json(value);
+      auto set = client.Put("/api/settings", nlohmann::json({{field, wanted}}).dump(), "application/json");
+      ASSERT_TRUE(set);
+      EXPECT_EQ(set->status, 200) << field << " " << value << ": " << set->body;
+      EXPECT_EQ(Json(client.Get("/api/status"))["settings"][field], wanted) << field;
+      ++offered;
+    }
+    EXPECT_GE(offered, 4) << field;
+  }
+  auto bad = client.Put("/api/settings", R"({"format":"avi"})", "application/json");
+  ASSERT_TRUE(bad);
+  EXPECT_EQ(bad->status, 400);
+  EXPECT_THAT(Json(bad)["error"].get<std::string>(), HasSubstr("format: "));
+  // The body cannot smuggle another command or a field the settings do not have.
+  auto smuggled = client.Put("/api/settings", R"({"cmd":"quit","drain":true})", "application/json");
+  ASSERT_TRUE(smuggled);
+  EXPECT_EQ(smuggled->status, 400);
+  EXPECT_EQ(Json(client.Get("/api/status"))["stopping"], false);
 }
 
 TEST_F(HttpApiTest, TraversalInEveryPathParameterFindsNothing) {

@@ -98,6 +98,9 @@ nlohmann::json JobRecordToJson(const JobRecord& record) {
       {"error", record.error},
       {"note", record.note},
       {"move", record.move},
+      {"effect", record.effect},
+      {"format", record.format},
+      {"size", record.size},
       {"shot", record.shot},
   };
   return j;
@@ -125,6 +128,9 @@ StatusOr<JobRecord> JobRecordFromJson(const nlohmann::json& j, const std::string
   PX_ASSIGN_OR_RETURN(record.error, json::GetStringOr(j, "error", what, ""));
   PX_ASSIGN_OR_RETURN(record.note, json::GetStringOr(j, "note", what, ""));
   PX_ASSIGN_OR_RETURN(record.move, json::GetStringOr(j, "move", what, ""));
+  PX_ASSIGN_OR_RETURN(record.effect, json::GetStringOr(j, "effect", what, ""));
+  PX_ASSIGN_OR_RETURN(record.format, json::GetStringOr(j, "format", what, ""));
+  PX_ASSIGN_OR_RETURN(record.size, json::GetStringOr(j, "size", what, ""));
   PX_ASSIGN_OR_RETURN(record.shot, json::GetStringOr(j, "shot", what, ""));
   return record;
 }

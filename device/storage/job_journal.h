@@ -48,8 +48,12 @@ struct JobRecord {
   int worker_crashes = 0;   // attempts whose worker process died by a signal or was killed for a limit
   std::string error;        // why it failed: a Status::ToString()
   std::string note;         // a short human summary of the last step ("90 frames, 9 views")
-  std::string move;         // the camera move asked for at the press (set_move); "" = the config's clip.move
-  std::string shot;         // the shot (JSON text) asked for at the press (set_shot); "" = none
+  // The settings the press was made with (device/press_settings.h); "" = the config's clip.*.
+  std::string move;
+  std::string effect;
+  std::string format;
+  std::string size;
+  std::string shot;  // the shot (JSON text) asked for at the press (set_shot); "" = none
 };
 
 nlohmann::json JobRecordToJson(const JobRecord& record);

@@ -37,6 +37,8 @@ class StorageLayout {
   std::filesystem::path CapturesDir() const { return root_ / "captures"; }
   std::filesystem::path ClipsDir() const { return root_ / "clips"; }
   std::filesystem::path JobsDir() const { return root_ / "jobs"; }
+  // The owner's settings for the next presses (device/press_settings.h).
+  std::filesystem::path SettingsPath() const { return root_ / "settings.json"; }
 
   std::filesystem::path CaptureDir(const std::string& job_id) const { return CapturesDir() / job_id; }
   std::filesystem::path ClipPath(const std::string& job_id) const { return ClipsDir() / (job_id + ".mp4"); }

@@ -122,7 +122,7 @@ async function loadStatus() {
   $('daemon-state').textContent = status.stopping ? `${status.state}, stopping` : status.state;
   $('daemon-state').dataset.state = status.state;
   if (status.processing) showProgress(status.processing.job, status.processing.stage, status.processing.progress);
-  if (status.move) $('setting-move').value = status.move;
+  showSettings(status.settings);
   const storage = status.storage || {};
   $('storage-facts').replaceChildren(...facts({
     'Free': storage.free_mb !== undefined ? `${Math.round(storage.free_mb)} MB` : '?',
@@ -161,6 +161,11 @@ async function showJob(id) {
     video.removeAttribute('src');
     video.hidden = true;
   }
+  // A GIF or WebP clip (the settings' format) plays as an image.
+  const animated = /\.(gif|webp)$/.test(clipName);
+  if (animated && !$('job-animation').src.endsWith(body.links.clip)) $('job-animation').src = body.links.clip;
+  if (!animated) $('job-animation').removeAttribute('src');
+  $('job-animation').hidden = !animated;
   const downloads = [];
   if (clipName) downloads.push(element('a', {href: body.links.clip, download: `parallax-${clipName}`, textContent: `Download ${clipName}`}));
   if (body.files.preview) downloads.push(' ', element('a', {href: body.links.preview, download: `parallax-${job.id}.webp`, textContent: 'Download the preview (WebP)'}));
@@ -201,15 +206,27 @@ async function showJob(id) {
 
 // ---- Settings ----------------------------------------------------------------------------------------
 
+// What the settings page sets for the next presses; "" (null in the API) = the daemon's config.
+const SETTINGS = ['move', 'effect', 'format', 'size'];
+
+function showSettings(settings) {
+  for (const field of SETTINGS) $(`setting-${field}`).value = (settings && settings[field]) || '';
+  // The move has no "as configured" entry: the config's own move is shown as auto.
+  if (!$('setting-move').value) $('setting-move').value = 'auto';
+}
+
 async function saveSettings(event) {
   event.preventDefault();
   try {
-    const body = await api('/api/settings/move', {
+    const wanted = {};
+    for (const field of SETTINGS) wanted[field] = $(`setting-${field}`).value || null;
+    const body = await api('/api/settings', {
       method: 'PUT',
       headers: {'Content-Type': 'application/json'},
-      body: JSON.stringify({move: $('setting-move').value}),
+      body: JSON.stringify(wanted),
     });
-    $('settings-message').textContent = `The next presses use the move ${body.move}.`;
+    const said = SETTINGS.map((field) => `${field} ${body.settings[field] || 'as configured'}`);
+    $('settings-message').textContent = `Saved: the next presses use ${said.join(', ')}.`;
   } catch (error) {
     $('settings-message').textContent = `Not saved: ${error.message}`;
   }

@@ -43,7 +43,7 @@ StatusOr<JobOutcome> RunRequest(const WorkerRequest& request) {
   context.job_id = request.job_id;
   context.capture_dir = request.capture_dir;
   context.clip_path = request.clip_path;
-  context.move = request.move;
+  context.settings = request.settings;
   context.shot = request.shot;
   context.progress = [](const std::string& stage, double fraction) {
     Send(WorkerProgressLine(stage, fraction));

@@ -8,7 +8,10 @@ nlohmann::json WorkerRequestToJson(const WorkerRequest& request) {
   return {{"job_id", request.job_id},
           {"capture_dir", request.capture_dir.string()},
           {"clip_path", request.clip_path.string()},
-          {"move", request.move},
+          {"move", request.settings.move},
+          {"effect", request.settings.effect},
+          {"format", request.settings.format},
+          {"size", request.settings.size},
           {"shot", request.shot},
           {"config", request.config}};
 }
@@ -21,7 +24,10 @@ StatusOr<WorkerRequest> WorkerRequestFromJson(const nlohmann::json& j) {
   PX_ASSIGN_OR_RETURN(std::string clip_path, json::GetString(j, "clip_path", what));
   request.capture_dir = capture_dir;
   request.clip_path = clip_path;
-  PX_ASSIGN_OR_RETURN(request.move, json::GetStringOr(j, "move", what, ""));
+  PX_ASSIGN_OR_RETURN(request.settings.move, json::GetStringOr(j, "move", what, ""));
+  PX_ASSIGN_OR_RETURN(request.settings.effect, json::GetStringOr(j, "effect", what, ""));
+  PX_ASSIGN_OR_RETURN(request.settings.format, json::GetStringOr(j, "format", what, ""));
+  PX_ASSIGN_OR_RETURN(request.settings.size, json::GetStringOr(j, "size", what, ""));
   PX_ASSIGN_OR_RETURN(request.shot, json::GetStringOr(j, "shot", what, ""));
   PX_ASSIGN_OR_RETURN(const nlohmann::json* config, json::GetField(j, "config", what));
   if (!config->is_object()) return InvalidArgumentError(what + ".config: want an object");

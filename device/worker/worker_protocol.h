@@ -24,9 +24,9 @@ struct WorkerRequest {
   std::string job_id;
   std::filesystem::path capture_dir;
   std::filesystem::path clip_path;
-  std::string move;       // JobContext::move
-  std::string shot;       // JobContext::shot (JSON text)
-  nlohmann::json config;  // the daemon's effective config (DaemonConfigToJson)
+  PressSettings settings;  // JobContext::settings
+  std::string shot;        // JobContext::shot (JSON text)
+  nlohmann::json config;   // the daemon's effective config (DaemonConfigToJson)
 };
 
 nlohmann::json WorkerRequestToJson(const WorkerRequest& request);

@@ -99,7 +99,7 @@ class WorkerSupervisor {
     Logger("device")->info("job {}: worker {} started", context_.job_id, pid_);
 
     WorkerRequest request{
-        context_.job_id, context_.capture_dir, context_.clip_path, context_.move, context_.shot, options_.config};
+        context_.job_id, context_.capture_dir, context_.clip_path, context_.settings, context_.shot, options_.config};
     // A worker that dies before reading its request shows as its exit status below.
     (void)WriteToPipe(request_write.get(), WorkerRequestToJson(request).dump() + "\n");
     request_write.Close();

@@ -4,7 +4,8 @@ chromedriver) against a real parallaxd on the simulated camera: the gallery load
 presses, progress events arrive, the clip appears and plays to its end in a video element; a shot
 is authored on the live preview (two keyframes, a drag between them, a focus point clicked on the
 picture) and rendered, and its clip's first and last frames match `parallax clip --shot` with the
-same shot file; the settings page saves a move; the pages fit a phone's screen. It prints the
+same shot file; the settings page saves a move, effect, format and size, and the next press
+makes that clip; the pages fit a phone's screen. It prints the
 live preview's figures (pointer move to new picture, frames a second while dragging).
 
 Usage: web_app_test.py PARALLAXD PARALLAX [--screenshots DIR] [--keep-screenshots] [--tile WxH]
@@ -273,6 +274,32 @@ def author(daemon, driver, checks, parallax):
     shutil.rmtree(workdir, ignore_errors=True)
 
 
+def settings_make_the_next_clip(daemon, driver, checks):
+    """A press after the settings were saved makes a square GIF with the move and effect chosen."""
+    by_id = lambda name: driver.find_element(By.ID, name)
+    driver.get(daemon.url + "#gallery")
+    done_before = len(driver.find_elements(By.CSS_SELECTOR, "li.card.state-done"))
+    by_id("press").click()
+    checks.wait(lambda: len(driver.find_elements(By.CSS_SELECTOR, "li.card.state-done")) > done_before,
+                "a press after saving the settings makes a clip", timeout=180)
+    job = daemon.api("/api/jobs")["jobs"][-1]
+    checks.expect(job.get("clip_path", "").endswith(".gif") and job.get("format") == "gif",
+                  f"the clip is a GIF, as set ({job.get('clip_path')})")
+    report = daemon.api(f"/api/jobs/{job['id']}").get("report") or {}
+    path = report.get("camera_path") or {}
+    # The simulated scene has no face: the direction says it could not honour what needs one.
+    reason = path.get("reason", "")
+    checks.expect("requested dolly_in" in reason and "requested effect saturation" in reason,
+                  f"the clip's direction weighed the move and effect set ({reason[:160]})")
+    size = (report.get("width"), report.get("height"))
+    checks.expect(size == (1080, 1080), f"the clip has the size set ({size})")
+    driver.get(daemon.url + f"#job/{job['id']}")
+    checks.wait(lambda: driver.execute_script(
+        "const i = document.getElementById('job-animation');"
+        "return !i.hidden && i.complete && i.naturalWidth === 1080;"),
+        "the job's page plays the GIF clip as an image")
+
+
 def run(daemon, driver, checks, parallax):
     by_id = lambda name: driver.find_element(By.ID, name)
     driver.get(daemon.url)
@@ -325,15 +352,21 @@ def run(daemon, driver, checks, parallax):
     checks.snap("job")
     author(daemon, driver, checks, parallax)
 
-    # Settings: the move for the next presses.
+    # Settings: the move, effect, format and size for the next presses.
     driver.get(daemon.url + "#settings")
     checks.wait(lambda: by_id("settings-view").is_displayed(), "the settings page opens")
     Select(by_id("setting-move")).select_by_value("dolly_in")
+    Select(by_id("setting-effect")).select_by_value("saturation")
+    Select(by_id("setting-format")).select_by_value("gif")
+    Select(by_id("setting-size")).select_by_value("1080x1080")
     by_id("settings-form").find_element(By.TAG_NAME, "button").click()
     checks.wait(lambda: "dolly_in" in by_id("settings-message").text, "the settings page saves a move")
-    checks.expect(daemon.api("/api/status").get("move") == "dolly_in", "the daemon uses the saved move")
+    saved = daemon.api("/api/status").get("settings") or {}
+    checks.expect(saved == {"move": "dolly_in", "effect": "saturation", "format": "gif", "size": "1080x1080"},
+                  f"the daemon keeps the saved settings ({saved})")
     checks.wait(lambda: by_id("token-box").is_displayed(), "the page at the device shows the token's QR code")
     checks.snap("settings")
+    settings_make_the_next_clip(daemon, driver, checks)
 
     # A phone's screen: nothing wider than it.
     driver.set_window_size(390, 844)
