@@ -104,6 +104,11 @@ JobRunner MakeClipJobRunner(const ClipJobOptions& options) {
   };
 }
 
+uint64_t WorkerMemoryLimit(const DaemonConfig& config) {
+  return config.worker.memory_limit_mb > 0 ? static_cast<uint64_t>(config.worker.memory_limit_mb) << 20
+                                           : DefaultWorkerMemoryLimit();
+}
+
 std::filesystem::path WorkerBinary(const DaemonRunFlags& flags) {
   return flags.worker_binary.empty() ? std::filesystem::path("/proc/self/exe") : flags.worker_binary;
 }
@@ -124,9 +129,7 @@ StatusOr<std::unique_ptr<Daemon>> BuildDaemon(const DaemonConfig& config, const 
   WorkerRunnerOptions worker;
   worker.binary = WorkerBinary(flags);
   worker.config = DaemonConfigToJson(config);
-  worker.memory_limit_bytes = config.worker.memory_limit_mb > 0
-                                  ? static_cast<uint64_t>(config.worker.memory_limit_mb) << 20
-                                  : DefaultWorkerMemoryLimit();
+  worker.memory_limit_bytes = WorkerMemoryLimit(config);
   worker.timeout = std::chrono::seconds(config.worker.timeout_s);
   std::error_code ec;
   const std::filesystem::path shown = std::filesystem::read_symlink(worker.binary, ec);

@@ -24,6 +24,9 @@ struct DaemonRunFlags {
 // The executable the daemon's children run (job and preview workers): flags.worker_binary, or
 // this one.
 std::filesystem::path WorkerBinary(const DaemonRunFlags& flags);
+// The resident memory at which a worker process (a job's or a live preview's) is killed:
+// worker.memory_limit_mb, or three quarters of the machine's memory when it is 0.
+uint64_t WorkerMemoryLimit(const DaemonConfig& config);
 
 // The pipeline and encoder options for the config's clip settings. Errors name the field
 // ("clip.move: 'spin' is not a known move").

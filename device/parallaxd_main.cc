@@ -135,6 +135,7 @@ int main(int argc, char** argv) {
   if (*http_options) {
     (*http_options)->preview.binary = px::device::WorkerBinary(flags);
     (*http_options)->preview.config = px::device::DaemonConfigToJson(config);
+    (*http_options)->preview.memory_limit_bytes = px::device::WorkerMemoryLimit(config);
     http = std::make_unique<px::device::HttpServer>(**http_options, daemon->get());
   }
   if (px::Status started = (*daemon)->Start(); !started.ok()) return Fail(started);

@@ -8,6 +8,7 @@
 #include <cerrno>
 #include <cstring>
 
+#include "device/worker/write_all.h"
 #include "pipeline/io/durable_file.h"
 
 namespace px::device {
@@ -49,17 +50,10 @@ Status WritePrivateFile(const std::filesystem::path& path, const std::string& te
   ::unlink(temp.c_str());
   const int fd = ::open(temp.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0600);
   if (fd < 0) return ErrnoToStatus(errno, "create", temp);
-  size_t written = 0;
-  while (written < text.size()) {
-    const ssize_t n = ::write(fd, text.data() + written, text.size() - written);
-    if (n < 0 && errno == EINTR) continue;
-    if (n <= 0) {
-      const int err = errno;
-      ::close(fd);
-      ::unlink(temp.c_str());
-      return ErrnoToStatus(err, "write", temp);
-    }
-    written += static_cast<size_t>(n);
+  if (const int err = WriteAll(fd, text); err != 0) {
+    ::close(fd);
+    ::unlink(temp.c_str());
+    return ErrnoToStatus(err, "write", temp);
   }
   const bool synced = ::fsync(fd) == 0;
   const int err = errno;

@@ -510,6 +510,22 @@ TEST_F(HttpApiTest, AnAuthoredShotRendersAsANewJob) {
   EXPECT_TRUE(fs::exists(camera_->daemon->layout().CaptureDir(*job_) / "manifest.json"));  // the source's capture stays
 }
 
+TEST_F(HttpApiTest, APreviewWorkerOverItsMemoryLimitIsKilledAndTheServerGoesOn) {
+  PreviewOptions options;
+  options.binary = BuiltWorkerFlags().worker_binary;
+  options.config = DaemonConfigToJson(SmallConfig(dir_->path()));
+  options.memory_limit_bytes = 4 << 20;  // less than any process that loads a capture needs
+  StatusOr<std::unique_ptr<PreviewSession>> session =
+      PreviewSession::Open(options, camera_->daemon->layout().CaptureDir(*job_));
+  ASSERT_FALSE(session.ok());
+  EXPECT_EQ(session.status().code(), StatusCode::kAborted) << session.status().ToString();
+  EXPECT_THAT(session.status().message(), HasSubstr("over its limit of 4 MB (worker.memory_limit_mb); killed"));
+  httplib::Client client = camera_->Client();
+  auto status = client.Get("/api/status");
+  ASSERT_TRUE(status);
+  EXPECT_EQ(status->status, 200);
+}
+
 TEST_F(HttpApiTest, LivePreviewDrawsTheClipsFramesFromAnyViewpoint) {
   httplib::Client client = camera_->Client();
   auto opened = client.Post("/api/jobs/" + *job_ + "/preview");

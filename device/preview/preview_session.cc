@@ -12,6 +12,7 @@
 
 #include "device/preview/preview_protocol.h"
 #include "device/worker/spawn_child.h"
+#include "device/worker/write_all.h"
 #include "pipeline/core/log.h"
 
 namespace px::device {
@@ -79,35 +80,29 @@ PreviewSession::Clock::time_point PreviewSession::last_used() const {
 
 Status PreviewSession::Send(const nlohmann::json& request) {
   const std::string line = request.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace) + "\n";
-  // A worker that died leaves a pipe whose write raises SIGPIPE: blocked here, and a pending one
-  // consumed, so it becomes an error for this session instead of the daemon's end.
-  sigset_t pipe_signal;
-  sigemptyset(&pipe_signal);
-  sigaddset(&pipe_signal, SIGPIPE);
-  sigset_t old_mask;
-  pthread_sigmask(SIG_BLOCK, &pipe_signal, &old_mask);
-  Status status;
-  size_t written = 0;
-  while (written < line.size()) {
-    const ssize_t n = ::write(request_fd_, line.data() + written, line.size() - written);
-    if (n < 0 && errno == EINTR) continue;
-    if (n <= 0) {
-      status = UnavailableError("the preview worker is gone: " + ErrnoMessage(errno));
-      const timespec none{0, 0};
-      (void)sigtimedwait(&pipe_signal, nullptr, &none);
-      break;
-    }
-    written += static_cast<size_t>(n);
-  }
-  pthread_sigmask(SIG_SETMASK, &old_mask, nullptr);
-  return status;
+  // A worker that died is an error for this session (EPIPE), not the daemon's end (SIGPIPE).
+  const int error = WriteAll(request_fd_, line);
+  return error == 0 ? OkStatus() : UnavailableError("the preview worker is gone: " + ErrnoMessage(error));
 }
 
 StatusOr<bool> PreviewSession::Fill(Clock::time_point deadline) {
   const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(deadline - Clock::now()).count();
-  if (left <= 0) return DeadlineExceededError("the preview worker did not answer in time");
+  if (left <= 0) {
+    // Its late answer would be read as the next request's: the worker ends with this preview.
+    ::kill(pid_, SIGKILL);
+    return DeadlineExceededError("the preview worker did not answer in time; killed");
+  }
+  if (options_.memory_limit_bytes > 0) {
+    // Looked at while the worker works (building a scene takes seconds): a preview that would
+    // take the device's memory ends before the kernel's OOM killer picks a victim.
+    if (const uint64_t resident = ResidentBytes(pid_); resident > options_.memory_limit_bytes) {
+      ::kill(pid_, SIGKILL);
+      return AbortedError("the preview worker used " + MegaBytes(resident) + ", over its limit of " +
+                          MegaBytes(options_.memory_limit_bytes) + " (worker.memory_limit_mb); killed");
+    }
+  }
   pollfd fd{reply_fd_, POLLIN, 0};
-  const int ready = ::poll(&fd, 1, static_cast<int>(std::min<long long>(left, 1000)));
+  const int ready = ::poll(&fd, 1, static_cast<int>(std::min<long long>(left, 200)));
   if (ready < 0 && errno != EINTR) return InternalError("poll: " + ErrnoMessage(errno));
   if (ready <= 0) return false;
   char chunk[65536];

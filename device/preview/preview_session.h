@@ -27,6 +27,9 @@ struct PreviewOptions {
   std::chrono::seconds idle_limit{120};
   std::chrono::seconds load_timeout{300};  // building the scene
   std::chrono::seconds frame_timeout{20};  // one frame or probe
+  // A worker whose resident memory passes this is killed, and its preview with it (the daemon
+  // and the job worker go on); 0 = none. parallaxd gives it worker.memory_limit_mb's limit.
+  uint64_t memory_limit_bytes = 0;
 };
 
 struct PreviewFrame {

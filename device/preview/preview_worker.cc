@@ -28,16 +28,8 @@ namespace {
 constexpr int kPreviewJpegQuality = 80;
 constexpr double kDraftScale = 2;  // a draft frame is drawn at 1 / kDraftScale of the preview's size
 
-bool SendBytes(const char* data, size_t size) {
-  size_t written = 0;
-  while (written < size) {
-    const ssize_t n = ::write(kPreviewMessageFd, data + written, size - written);
-    if (n < 0 && errno == EINTR) continue;
-    if (n <= 0) return false;  // the daemon is gone; PR_SET_PDEATHSIG ends us
-    written += static_cast<size_t>(n);
-  }
-  return true;
-}
+// False when the daemon is gone (PR_SET_PDEATHSIG then ends us).
+bool SendBytes(const char* data, size_t size) { return WriteAll(kPreviewMessageFd, std::string_view(data, size)) == 0; }
 
 bool SendLine(const nlohmann::json& reply) {
   const std::string line = reply.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace) + "\n";

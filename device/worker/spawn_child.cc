@@ -5,6 +5,7 @@
 #include <unistd.h>
 
 #include <cstring>
+#include <fstream>
 #include <string>
 
 extern char** environ;
@@ -41,5 +42,15 @@ StatusOr<pid_t> SpawnDaemonChild(const std::filesystem::path& binary,
     return InternalError(std::string("starting ") + binary.string() + " " + flag + ": " + std::strerror(err));
   return pid;
 }
+
+uint64_t ResidentBytes(pid_t pid) {
+  std::ifstream statm("/proc/" + std::to_string(pid) + "/statm");
+  uint64_t size_pages = 0;
+  uint64_t resident_pages = 0;
+  if (!(statm >> size_pages >> resident_pages)) return 0;
+  return resident_pages * static_cast<uint64_t>(::sysconf(_SC_PAGESIZE));
+}
+
+std::string MegaBytes(uint64_t bytes) { return std::to_string((bytes + (1u << 19)) >> 20) + " MB"; }
 
 }  // namespace px::device

@@ -4,7 +4,9 @@
 
 #include <sys/types.h>
 
+#include <cstdint>
 #include <filesystem>
+#include <string>
 #include <utility>
 #include <vector>
 
@@ -20,5 +22,11 @@ namespace px::device {
 StatusOr<pid_t> SpawnDaemonChild(const std::filesystem::path& binary,
                                  const char* flag,
                                  const std::vector<std::pair<int, int>>& fds);
+
+// The resident memory of a live child (its VmRSS); 0 when it cannot be read (the process is gone).
+uint64_t ResidentBytes(pid_t pid);
+
+// "12 MB", rounded.
+std::string MegaBytes(uint64_t bytes);
 
 }  // namespace px::device

@@ -15,6 +15,7 @@
 #include "device/daemon_factory.h"
 #include "device/test_pause.h"
 #include "device/worker/worker_protocol.h"
+#include "device/worker/write_all.h"
 #include "pipeline/core/log.h"
 
 namespace px::device {
@@ -25,15 +26,8 @@ std::atomic<bool> stop_requested{false};
 void OnTerm(int) { stop_requested.store(true); }
 
 // One whole line to the daemon (a long result may take several writes).
-void Send(const std::string& line) {
-  size_t written = 0;
-  while (written < line.size()) {
-    const ssize_t n = ::write(kWorkerMessageFd, line.data() + written, line.size() - written);
-    if (n < 0 && errno == EINTR) continue;
-    if (n <= 0) return;  // the daemon is gone; PR_SET_PDEATHSIG ends us
-    written += static_cast<size_t>(n);
-  }
-}
+// A daemon that is gone is not an error here: PR_SET_PDEATHSIG ends us.
+void Send(const std::string& line) { (void)WriteAll(kWorkerMessageFd, line); }
 
 StatusOr<JobOutcome> RunRequest(const WorkerRequest& request) {
   PX_ASSIGN_OR_RETURN(DaemonConfig config, DaemonConfigFromJson(request.config));

@@ -16,6 +16,7 @@
 
 #include "device/worker/spawn_child.h"
 #include "device/worker/worker_protocol.h"
+#include "device/worker/write_all.h"
 #include "pipeline/core/log.h"
 #include "pipeline/core/unique_fd.h"
 
@@ -26,17 +27,6 @@ using Clock = std::chrono::steady_clock;
 
 std::string ErrnoText(int err) { return std::strerror(err); }
 
-std::string MegaBytes(uint64_t bytes) { return std::to_string((bytes + (1u << 19)) >> 20) + " MB"; }
-
-// VmRSS of a live process; 0 when it cannot be read (the process is gone).
-uint64_t ResidentBytes(pid_t pid) {
-  std::ifstream statm("/proc/" + std::to_string(pid) + "/statm");
-  uint64_t size_pages = 0;
-  uint64_t resident_pages = 0;
-  if (!(statm >> size_pages >> resident_pages)) return 0;
-  return resident_pages * static_cast<uint64_t>(::sysconf(_SC_PAGESIZE));
-}
-
 std::string SignalName(int signal) {
   const char* abbrev = ::sigabbrev_np(signal);
   return abbrev != nullptr ? std::string("SIG") + abbrev : "signal " + std::to_string(signal);
@@ -44,28 +34,8 @@ std::string SignalName(int signal) {
 
 // Writes all of `bytes` to a pipe whose reader may already be gone (EPIPE, never SIGPIPE).
 Status WriteToPipe(int fd, const std::string& bytes) {
-  sigset_t pipe_signal;
-  sigset_t old_mask;
-  sigemptyset(&pipe_signal);
-  sigaddset(&pipe_signal, SIGPIPE);
-  pthread_sigmask(SIG_BLOCK, &pipe_signal, &old_mask);
-  Status status = OkStatus();
-  size_t written = 0;
-  while (written < bytes.size()) {
-    const ssize_t n = ::write(fd, bytes.data() + written, bytes.size() - written);
-    if (n < 0 && errno == EINTR) continue;
-    if (n < 0) {
-      status = InternalError("writing the worker's request: " + ErrnoText(errno));
-      if (errno == EPIPE) {
-        const timespec none{0, 0};
-        (void)sigtimedwait(&pipe_signal, nullptr, &none);  // consume the pending SIGPIPE
-      }
-      break;
-    }
-    written += static_cast<size_t>(n);
-  }
-  pthread_sigmask(SIG_SETMASK, &old_mask, nullptr);
-  return status;
+  const int error = WriteAll(fd, bytes);
+  return error == 0 ? OkStatus() : InternalError("writing the worker's request: " + ErrnoText(error));
 }
 
 // Starts `binary --job-worker` with `request_fd` as its stdin and `message_fd` as fd 3.
