@@ -202,6 +202,20 @@ void PreviewRegion(const ApiContext& api, const Request& req, Response& res) {
   Reply(res, 200, *region);
 }
 
+void PreviewMap(const ApiContext& api, const Request& req, Response& res) {
+  std::optional<nlohmann::json> body = JsonBody(req, res);
+  if (!body) return;
+  if (!body->contains("viewpoint")) return ReplyError(res, 400, "want {viewpoint, cells}");
+  const nlohmann::json& cells = body->value("cells", nlohmann::json(12));
+  if (!cells.is_number_integer()) return ReplyError(res, 400, "cells: want an integer in [2, 32]");
+  StatusOr<std::shared_ptr<PreviewSession>> session = PreviewFor(api, req.matches[1]);
+  if (!session.ok()) return ReplyStatus(res, session.status());
+  StatusOr<nlohmann::json> map = (*session)->Map((*body)["viewpoint"], cells.get<int>());
+  if (!map.ok()) return ReplyStatus(res, map.status());
+  (*map)["ok"] = true;
+  Reply(res, 200, *map);
+}
+
 void DeleteJob(const ApiContext& api, const Request& req, Response& res) {
   const std::string id = req.matches[1];
   if (api.previews) api.previews->Close(id);
@@ -315,6 +329,8 @@ void RegisterApiRoutes(httplib::Server& server, const ApiContext& api) {
               [api](const Request& req, Response& res) { PreviewProbe(api, req, res); });
   server.Post(std::string(kJob) + "/preview/region",
               [api](const Request& req, Response& res) { PreviewRegion(api, req, res); });
+  server.Post(std::string(kJob) + "/preview/map",
+              [api](const Request& req, Response& res) { PreviewMap(api, req, res); });
   server.Delete(std::string(kJob) + "/preview", [api](const Request& req, Response& res) {
     if (api.previews) api.previews->Close(req.matches[1]);
     Reply(res, 200, {{"ok", true}});

@@ -294,6 +294,7 @@ TEST_F(HttpApiTest, PagesAndTheApiDocument) {
                            "/api/jobs/{id}/clip:",
                            "/api/jobs/{id}/poster:",
                            "/api/jobs/{id}/preview:",
+                           "/api/jobs/{id}/preview/map:",
                            "/api/settings:",
                            "/api/settings/move:",
                            "/api/settings/shot:",
@@ -508,6 +509,52 @@ TEST_F(HttpApiTest, AnAuthoredShotRendersAsANewJob) {
   EXPECT_NEAR(last["aperture_m"].get<double>(), 0.004, 1e-9);
   EXPECT_EQ(client.Delete("/api/jobs/" + id)->status, 200);
   EXPECT_TRUE(fs::exists(camera_->daemon->layout().CaptureDir(*job_) / "manifest.json"));  // the source's capture stays
+}
+
+TEST_F(HttpApiTest, ThePreviewMapsHVOverThePlaneTheCameraIsDraggedIn) {
+  httplib::Client client = camera_->Client();
+  const nlohmann::json shot = Json(client.Get("/api/jobs/" + *job_ + "/shot"));
+  const nlohmann::json& start = shot["segments"][0]["keyframes"][0];
+  const nlohmann::json path = Json(client.Get("/api/jobs/" + *job_))["report"]["camera_path"];
+  const nlohmann::json viewpoint = {{"keyframe", start},
+                                    {"width", path["width"]},
+                                    {"height", path["height"]},
+                                    {"clip",
+                                     {{"width", path["width"]},
+                                      {"height", path["height"]},
+                                      {"cx", path["cx"]},
+                                      {"cy", path["cy"]},
+                                      {"aspect", path["aspect"]},
+                                      {"output_scale", path["output_scale"]}}}};
+  auto map = client.Post("/api/jobs/" + *job_ + "/preview/map",
+                         nlohmann::json({{"viewpoint", viewpoint}, {"cells", 8}}).dump(),
+                         "application/json");
+  ASSERT_TRUE(map);
+  ASSERT_EQ(map->status, 200) << map->body;
+  const nlohmann::json body = Json(map);
+  ASSERT_EQ(body["x_m"].size(), 8u);
+  ASSERT_EQ(body["h_v"].size(), 8u);
+  EXPECT_NEAR(body["z_m"].get<double>(), start["position_m"][2].get<double>(), 1e-9);
+  int valid = 0;
+  for (const nlohmann::json& row : body["h_v"]) {
+    ASSERT_EQ(row.size(), 8u);
+    for (const nlohmann::json& h : row) valid += h.get<double>() < body["valid_below"].get<double>();
+  }
+  // Near the lenses the views cover the frame; at twice their spread, turned the same way, not all.
+  EXPECT_GT(valid, 0);
+  EXPECT_LT(valid, 64);
+  // The grid spans the lenses.
+  const nlohmann::json scene = Json(client.Post("/api/jobs/" + *job_ + "/preview"))["scene"];
+  for (const nlohmann::json& view : scene["views"]) {
+    EXPECT_GT(view["centre_m"][0].get<double>(), body["x_m"][0].get<double>());
+    EXPECT_LT(view["centre_m"][0].get<double>(), body["x_m"][7].get<double>());
+  }
+  auto bad = client.Post("/api/jobs/" + *job_ + "/preview/map",
+                         nlohmann::json({{"viewpoint", viewpoint}, {"cells", 100}}).dump(),
+                         "application/json");
+  ASSERT_TRUE(bad);
+  EXPECT_EQ(bad->status, 400);
+  EXPECT_THAT(bad->body, HasSubstr("cells 100 is not in [2, 32]"));
 }
 
 TEST_F(HttpApiTest, APreviewWorkerOverItsMemoryLimitIsKilledAndTheServerGoesOn) {

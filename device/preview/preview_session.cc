@@ -166,6 +166,10 @@ StatusOr<nlohmann::json> PreviewSession::Region(const nlohmann::json& viewpoint,
   return Ask({{"region", viewpoint}, {"rect", rect}});
 }
 
+StatusOr<nlohmann::json> PreviewSession::Map(const nlohmann::json& viewpoint, int cells) {
+  return Ask({{"map", viewpoint}, {"cells", cells}});
+}
+
 StatusOr<std::shared_ptr<PreviewSession>> PreviewSessions::ForJob(const std::string& job_id,
                                                                   const std::filesystem::path& capture_dir) {
   CloseIdle();

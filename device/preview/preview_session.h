@@ -54,6 +54,9 @@ class PreviewSession {
   StatusOr<nlohmann::json> Probe(const nlohmann::json& viewpoint, int x, int y);
   // What the rectangle [x, y, w, h] of the preview covers: region_min_m, region_max_m, view, box_px.
   StatusOr<nlohmann::json> Region(const nlohmann::json& viewpoint, const nlohmann::json& rect);
+  // H(V) over the plane the viewpoint's camera is dragged in: x_m, y_m (cells each), z_m, h_v
+  // (rows of y, columns of x), valid_below.
+  StatusOr<nlohmann::json> Map(const nlohmann::json& viewpoint, int cells);
   Clock::time_point last_used() const;
 
  private:

@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <iostream>
+#include <limits>
 #include <numeric>
 #include <opencv2/imgcodecs.hpp>
 #include <string>
@@ -42,6 +43,8 @@ struct PreviewScene {
   std::unique_ptr<render::gl::BackendSceneRenderer> renderer;
   double focal_px = 0;          // the views' mean horizontal focal length: a keyframe's focal_scale is relative to it
   double valid_hole_score = 2;  // H(V) below which the planner calls a viewpoint valid
+  double search_scale = 0.125;  // the size, against the clip's, at which the planner searches H(V)
+  double grid_extent = 2;       // the planner's grid side against the views' bounding box
 };
 
 StatusOr<PreviewScene> LoadScene(const nlohmann::json& request) {
@@ -57,6 +60,8 @@ StatusOr<PreviewScene> LoadScene(const nlohmann::json& request) {
   const RigCalibration rig = RigCalibrationFor(recording, capture_dir, &pipeline);
   PreviewScene preview;
   preview.valid_hole_score = pipeline.direct.search.valid_hole_score;
+  preview.search_scale = pipeline.direct.search.search_scale;
+  preview.grid_extent = pipeline.direct.search.grid_extent;
   PX_ASSIGN_OR_RETURN(preview.scene, BuildPipelineScene(recording.frames, rig, pipeline));
   PX_ASSIGN_OR_RETURN(preview.renderer,
                       render::gl::BackendSceneRenderer::Create(
@@ -212,6 +217,58 @@ Status ServeRegion(PreviewScene& preview, const nlohmann::json& request) {
   return OkStatus();
 }
 
+// H(V) over the plane the camera moves in while dragged (world x, y at its own z; its direction,
+// up and focal length kept): a cells x cells grid across grid_extent times the views' bounding
+// box (at least 4 cm, and wide enough to hold the camera), each cell probed as the planner's search probes
+// (paper 4.2.1), so the page can draw where the camera may go.
+Status ServeMap(PreviewScene& preview, const nlohmann::json& request) {
+  PX_ASSIGN_OR_RETURN(PreviewCamera view, PreviewCameraFromJson(request["map"], preview.focal_px));
+  const int cells = request.value("cells", 12);
+  if (cells < 2 || cells > 32) return OutOfRangeError("map: cells " + std::to_string(cells) + " is not in [2, 32]");
+  Eigen::Vector2d low(std::numeric_limits<double>::infinity(), std::numeric_limits<double>::infinity());
+  Eigen::Vector2d high = -low;
+  for (const View& v : preview.scene.views) {
+    const Eigen::Vector3d centre = v.cam_from_world.Inverse().translation;
+    low = low.cwiseMin(centre.head<2>());
+    high = high.cwiseMax(centre.head<2>());
+  }
+  const Eigen::Vector2d middle = (low + high) / 2;
+  const Rigid3 world_from_cam = view.clip_camera.cam_from_world.Inverse();
+  // Wide enough to show the camera itself, a cell beyond it.
+  const double reach = (world_from_cam.translation.head<2>() - middle).cwiseAbs().maxCoeff();
+  const double side =
+      std::max({0.04, preview.grid_extent * (high - low).maxCoeff(), 2 * reach * cells / (cells - 2.0)});
+  const double z = world_from_cam.translation.z();
+  const CoverageFunction coverage = [&preview](const CameraModel& camera, const Rigid3& cam_from_world) {
+    return preview.renderer->Coverage(camera, cam_from_world);
+  };
+  direct::CoverageProbe probe(&coverage, preview.search_scale, preview.valid_hole_score);
+  nlohmann::json xs = nlohmann::json::array(), ys = nlohmann::json::array(), h_v = nlohmann::json::array();
+  for (int i = 0; i < cells; ++i) {
+    xs.push_back(middle.x() + side * ((i + 0.5) / cells - 0.5));
+    ys.push_back(middle.y() + side * ((i + 0.5) / cells - 0.5));
+  }
+  const auto start = StageClock::now();
+  for (int row = 0; row < cells; ++row) {
+    nlohmann::json line = nlohmann::json::array();
+    for (int column = 0; column < cells; ++column) {
+      Rigid3 moved = world_from_cam;
+      moved.translation = Eigen::Vector3d(xs[column].get<double>(), ys[row].get<double>(), z);
+      PX_ASSIGN_OR_RETURN(const double score, probe.HoleScore(view.clip_camera.camera, moved.Inverse()));
+      line.push_back(score);
+    }
+    h_v.push_back(std::move(line));
+  }
+  SendLine({{"ok", true},
+            {"x_m", xs},
+            {"y_m", ys},
+            {"z_m", z},
+            {"h_v", h_v},
+            {"valid_below", preview.valid_hole_score},
+            {"ms", MsSince(start)}});
+  return OkStatus();
+}
+
 }  // namespace
 
 int RunPreviewWorker(pid_t parent) {
@@ -230,13 +287,15 @@ int RunPreviewWorker(pid_t parent) {
   if (!SendLine({{"ok", true}, {"scene", SceneSummary(*preview, MsSince(start))}})) return 1;
   while (std::getline(std::cin, line)) {
     nlohmann::json request = nlohmann::json::parse(line, nullptr, /*allow_exceptions=*/false);
-    Status served = InvalidArgumentError("preview: a request is a JSON object with frame, probe or region");
+    Status served = InvalidArgumentError("preview: a request is a JSON object with frame, probe, region or map");
     if (request.is_object() && request.contains("frame")) {
       served = ServeFrame(*preview, request);
     } else if (request.is_object() && request.contains("probe")) {
       served = ServeProbe(*preview, request);
     } else if (request.is_object() && request.contains("region")) {
       served = ServeRegion(*preview, request);
+    } else if (request.is_object() && request.contains("map")) {
+      served = ServeMap(*preview, request);
     }
     if (!served.ok() && !SendLine(PreviewErrorReply(served))) return 1;
   }

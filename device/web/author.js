@@ -2,7 +2,8 @@
 // drawn live by the device's own renderer (POST /api/jobs/ID/preview/frame), keyframes on a
 // Catmull-Rom spline, focal length, aperture and a focus point picked by clicking the picture,
 // and a render of the shot as a new clip (POST /api/jobs/ID/render). Each frame's coverage says
-// whether the viewpoint is inside H(V), the region the views can draw without visible holes.
+// whether the viewpoint is inside H(V), the region the views can draw without visible holes, and a
+// map shows H(V) over the plane the camera is dragged in, with the views, camera and keyframes.
 'use strict';
 
 const Author = (() => {
@@ -23,6 +24,8 @@ const Author = (() => {
   let pending = false;
   let lastFigures = {};
   let measured = null;  // {key, h_v, valid}: H(V) of the last viewpoint it was measured at
+  let map = null;       // H(V) over the plane the camera is dragged in (POST .../preview/map), and its key
+  let mapTimer = null;
   const stats = {frames: 0, asked: 0, dropped: 0, coalesced: 0, latencies: []};  // pointer-to-picture times, for the preview benchmark
 
   const copy = (value) => JSON.parse(JSON.stringify(value));
@@ -79,6 +82,7 @@ const Author = (() => {
         lastBitmap = bitmap;
         canvas.dataset.frames = String(Number(canvas.dataset.frames || 0) + 1);
         lastFigures = figures;
+        if (map) drawMap();
         stats.frames += 1;
         stats.latencies.push(performance.now() - since);
         showStatus();
@@ -114,6 +118,86 @@ const Author = (() => {
     el('author-status').className = current && !measured.valid ? 'warning' : '';
   }
 
+  // ---- The H(V) map: the plane the camera is dragged in, seen from behind the lenses ----------------
+  // Cells where the views leave few enough holes (H(V) below 2) are green, shading to red beyond;
+  // white dots are the views, the cross is the camera, numbered rings the keyframes (red: outside).
+  const MAP_CELLS = 12;
+  const mapKey = () => JSON.stringify([camera.position_m[2], camera.direction, camera.up, camera.focal_px]);
+
+  function measureMapSoon() {
+    clearTimeout(mapTimer);
+    mapTimer = setTimeout(measureMap, 400);  // once the wheel or slider rests
+  }
+
+  async function measureMap() {
+    if (!camera || (map && map.key === mapKey())) return drawMap();
+    const key = mapKey();
+    try {
+      const reply = await post(`/api/jobs/${job}/preview/map`, {viewpoint: viewpoint(camera, PREVIEW_WIDTH), cells: MAP_CELLS});
+      map = {...(await reply.json()), key};
+      const valid = map.h_v.flat().filter((h) => h < map.valid_below).length;
+      el('author-map-text').textContent =
+        `H(V) at the camera's depth (${(map.z_m * 1000).toFixed(0)} mm): ${valid} of ${MAP_CELLS * MAP_CELLS} places ` +
+        `valid, ${(map.x_m[MAP_CELLS - 1] - map.x_m[0] + map.x_m[1] - map.x_m[0]).toFixed(3)} m across; ` +
+        `measured in ${Math.round(map.ms)} ms.`;
+    } catch (error) {
+      el('author-map-text').textContent = `H(V) map not measured: ${error.message}`;
+    }
+    drawMap();
+  }
+
+  function drawMap() {
+    const canvas = el('author-map');
+    const context = canvas.getContext('2d');
+    context.fillStyle = '#222';
+    context.fillRect(0, 0, canvas.width, canvas.height);
+    if (!map || !camera) return;
+    const n = map.x_m.length;
+    const step = map.x_m[1] - map.x_m[0];
+    const x0 = map.x_m[0] - step / 2;
+    const y0 = map.y_m[0] - step / 2;
+    const cell = canvas.width / n;
+    const toCanvas = (p) => [(p[0] - x0) / step * cell, (p[1] - y0) / step * cell];
+    for (let row = 0; row < n; ++row) {
+      for (let column = 0; column < n; ++column) {
+        const h = map.h_v[row][column];
+        const over = Math.min(1, h / map.valid_below);
+        context.fillStyle = h < map.valid_below
+          ? `rgb(${Math.round(40 + 120 * over)}, ${Math.round(170 - 40 * over)}, 70)`
+          : `rgb(${Math.round(150 + 60 * Math.min(1, h / (4 * map.valid_below)))}, 45, 45)`;
+        context.fillRect(column * cell, row * cell, cell - 1, cell - 1);
+      }
+    }
+    context.fillStyle = '#fff';
+    for (const view of scene.views) {
+      const [x, y] = toCanvas(view.centre_m);
+      context.beginPath();
+      context.arc(x, y, 2.5, 0, 2 * Math.PI);
+      context.fill();
+    }
+    context.font = '11px system-ui, sans-serif';
+    keyframes.forEach((entry, index) => {
+      const [x, y] = toCanvas(entry.key.position_m);
+      context.strokeStyle = entry.h_v >= VALID_H_V ? '#ff4d4d' : '#ffd43b';
+      context.lineWidth = 2;
+      context.beginPath();
+      context.arc(x, y, 7, 0, 2 * Math.PI);
+      context.stroke();
+      context.fillStyle = context.strokeStyle;
+      context.fillText(String(index + 1), x + 9, y + 4);
+    });
+    const [cx, cy] = toCanvas(camera.position_m);
+    context.strokeStyle = '#4dabf7';
+    context.lineWidth = 2;
+    context.beginPath();
+    context.moveTo(cx - 7, cy);
+    context.lineTo(cx + 7, cy);
+    context.moveTo(cx, cy - 7);
+    context.lineTo(cx, cy + 7);
+    context.stroke();
+    canvas.dataset.cells = String(n * n);
+  }
+
   function renderKeyframes() {
     el('author-keyframes').replaceChildren(...keyframes.map((entry, index) => {
       const key = entry.key;
@@ -126,10 +210,10 @@ const Author = (() => {
         (flagged ? ' — outside H(V)' : '');
       const go = document.createElement('button');
       go.textContent = 'Look';
-      go.onclick = () => { camera = copy(key); syncControls(); draw(); };
+      go.onclick = () => { camera = copy(key); syncControls(); draw(); measureMapSoon(); };
       const remove = document.createElement('button');
       remove.textContent = 'Remove';
-      remove.onclick = () => { keyframes.splice(index, 1); renderKeyframes(); };
+      remove.onclick = () => { keyframes.splice(index, 1); renderKeyframes(); drawMap(); };
       item.append(' ', go, ' ', remove);
       return item;
     }));
@@ -313,6 +397,7 @@ const Author = (() => {
     event.preventDefault();
     camera.position_m[2] -= Math.sign(event.deltaY) * extent * 0.1;
     draw();
+    measureMapSoon();
   }
 
   async function open(id) {
@@ -340,8 +425,10 @@ const Author = (() => {
       camera = copy(original.segments[0].keyframes[0]);
       delete camera.t;
       baseFocal = camera.focal_px;
+      map = null;
       syncControls();
       await draw();
+      await measureMap();
     } catch (error) {
       el('author-status').textContent = `This capture cannot be authored: ${error.message}`;
     }
@@ -353,7 +440,11 @@ const Author = (() => {
     canvas.addEventListener('pointermove', onPointerMove);
     canvas.addEventListener('pointerup', onPointerUp);
     canvas.addEventListener('wheel', onWheel, {passive: false});
-    el('author-focal').addEventListener('input', () => { camera.focal_px = baseFocal * Number(el('author-focal').value); draw(); });
+    el('author-focal').addEventListener('input', () => {
+      camera.focal_px = baseFocal * Number(el('author-focal').value);
+      draw();
+      measureMapSoon();
+    });
     el('author-aperture').addEventListener('input', () => {
       camera.aperture_m = Number(el('author-aperture').value) / 1000;
       if (camera.aperture_m > 0 && !camera.focus_at_m && !camera.focus_depth_m) {
@@ -367,6 +458,7 @@ const Author = (() => {
       while (inFlight > 0) await new Promise((resolve) => setTimeout(resolve, 5));
       keyframes.push({key: copy(camera), h_v: measured ? measured.h_v : 0});
       renderKeyframes();
+      drawMap();
     });
     el('author-play').addEventListener('click', playPath);
     el('author-region-apply').addEventListener('click', applyRegion);

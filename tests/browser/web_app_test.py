@@ -173,6 +173,12 @@ def author(daemon, driver, checks, parallax):
     checks.wait(loaded, "the authoring page shows the live preview", timeout=120)
     checks.wait(lambda: "inside the valid region" in by_id("author-status").text,
                 "the preview says the clip's start is inside H(V)")
+    checks.wait(lambda: by_id("author-map").get_attribute("data-cells") == "144"
+                and " of 144 places valid" in by_id("author-map-text").text,
+                "the authoring page draws H(V) as a map of where the camera may go", timeout=60)
+    valid_places = int(by_id("author-map-text").text.split(":")[1].split(" of ")[0])
+    checks.expect(0 < valid_places < 144, f"the map shows valid and invalid places ({valid_places} of 144 valid)")
+    checks.snap("author_map")
     by_id("author-add").click()
 
     # Drag the picture: the camera moves across the lens plane and a new picture arrives.
