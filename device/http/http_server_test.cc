@@ -511,21 +511,27 @@ TEST_F(HttpApiTest, AnAuthoredShotRendersAsANewJob) {
   EXPECT_TRUE(fs::exists(camera_->daemon->layout().CaptureDir(*job_) / "manifest.json"));  // the source's capture stays
 }
 
+// A preview viewpoint at the clip's own size, looking through `keyframe` (a shot's).
+nlohmann::json ClipViewpoint(const nlohmann::json& camera_path, const nlohmann::json& keyframe) {
+  const nlohmann::json& p = camera_path;
+  return {{"keyframe", keyframe},
+          {"width", p["width"]},
+          {"height", p["height"]},
+          {"clip",
+           {{"width", p["width"]},
+            {"height", p["height"]},
+            {"cx", p["cx"]},
+            {"cy", p["cy"]},
+            {"aspect", p["aspect"]},
+            {"output_scale", p["output_scale"]}}}};
+}
+
 TEST_F(HttpApiTest, ThePreviewMapsHVOverThePlaneTheCameraIsDraggedIn) {
   httplib::Client client = camera_->Client();
   const nlohmann::json shot = Json(client.Get("/api/jobs/" + *job_ + "/shot"));
   const nlohmann::json& start = shot["segments"][0]["keyframes"][0];
   const nlohmann::json path = Json(client.Get("/api/jobs/" + *job_))["report"]["camera_path"];
-  const nlohmann::json viewpoint = {{"keyframe", start},
-                                    {"width", path["width"]},
-                                    {"height", path["height"]},
-                                    {"clip",
-                                     {{"width", path["width"]},
-                                      {"height", path["height"]},
-                                      {"cx", path["cx"]},
-                                      {"cy", path["cy"]},
-                                      {"aspect", path["aspect"]},
-                                      {"output_scale", path["output_scale"]}}}};
+  const nlohmann::json viewpoint = ClipViewpoint(path, start);
   auto map = client.Post("/api/jobs/" + *job_ + "/preview/map",
                          nlohmann::json({{"viewpoint", viewpoint}, {"cells", 8}}).dump(),
                          "application/json");
@@ -586,16 +592,7 @@ TEST_F(HttpApiTest, LivePreviewDrawsTheClipsFramesFromAnyViewpoint) {
   const nlohmann::json details = Json(client.Get("/api/jobs/" + *job_));
   const nlohmann::json& path = details["report"]["camera_path"];
   const nlohmann::json shot = Json(client.Get("/api/jobs/" + *job_ + "/shot"));
-  nlohmann::json viewpoint = {{"keyframe", shot["segments"][0]["keyframes"][0]},
-                              {"width", path["width"]},
-                              {"height", path["height"]},
-                              {"clip",
-                               {{"width", path["width"]},
-                                {"height", path["height"]},
-                                {"cx", path["cx"]},
-                                {"cy", path["cy"]},
-                                {"aspect", path["aspect"]},
-                                {"output_scale", path["output_scale"]}}}};
+  nlohmann::json viewpoint = ClipViewpoint(path, shot["segments"][0]["keyframes"][0]);
   nlohmann::json measured = viewpoint;
   measured["coverage"] = true;
   auto frame = client.Post("/api/jobs/" + *job_ + "/preview/frame", measured.dump(), "application/json");
