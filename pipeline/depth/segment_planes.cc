@@ -3,6 +3,7 @@
 #include <Eigen/Dense>
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <numeric>
 
 #include "pipeline/core/check.h"
@@ -184,6 +185,63 @@ std::vector<SegmentPlane> FitSegmentPlanes(const Superpixels& segments,
   return planes;
 }
 
+namespace {
+
+// A plane an unfitted segment may take: its matching cost over the segment, and the adjacent
+// segment it comes from (-1: the segment's own weak fronto-parallel plane).
+struct PlaneCandidate {
+  double cost = 0;
+  InversePlane plane;
+  int from = -1;
+};
+
+// Colour distances (Lab) closer than this count as equally close.
+constexpr float kSameColourLab = 4.0f;
+
+// The farthest candidate: smallest inverse depth at the segment's centre.
+InversePlane FarthestCandidate(const std::vector<PlaneCandidate>& candidates, const cv::Point2f& centre) {
+  const PlaneCandidate* chosen = &candidates.front();
+  for (const PlaneCandidate& c : candidates) {
+    if (c.plane.At(centre.x, centre.y) < chosen->plane.At(centre.x, centre.y)) chosen = &c;
+  }
+  return chosen->plane;
+}
+
+// Among the candidates within `margin` of the lowest cost, the neighbour closest in colour, and
+// of those equally close, the farthest. Where the cost cannot tell the planes apart (no texture;
+// an edge along the baselines, which matches at every depth), the surface the segment continues
+// is the one that looks like it: a lit strip of a desk's front edge goes with the desk top, not
+// with the dark recess below it. Where colour does not tell either, the background continues
+// behind an occluder. The segment's own weak plane is taken only when no neighbour ties.
+InversePlane TiedCandidate(const std::vector<PlaneCandidate>& candidates,
+                           const Superpixels& segments,
+                           int s,
+                           double margin) {
+  double best_cost = 1e300;
+  for (const PlaneCandidate& c : candidates) best_cost = std::min(best_cost, c.cost);
+  std::vector<const PlaneCandidate*> tied;
+  std::vector<float> distance;
+  float closest = std::numeric_limits<float>::infinity();
+  for (const PlaneCandidate& c : candidates) {
+    if (c.cost > best_cost + margin) continue;
+    tied.push_back(&c);
+    distance.push_back(c.from < 0 ? std::numeric_limits<float>::infinity()
+                                  : static_cast<float>(cv::norm(segments.mean_lab[c.from] - segments.mean_lab[s])));
+    closest = std::min(closest, distance.back());
+  }
+  const cv::Point2f centre = segments.centroids[s];
+  const PlaneCandidate* chosen = nullptr;
+  for (size_t i = 0; i < tied.size(); ++i) {
+    if (std::isfinite(closest) && !(distance[i] <= closest + kSameColourLab)) continue;
+    if (chosen == nullptr || tied[i]->plane.At(centre.x, centre.y) < chosen->plane.At(centre.x, centre.y)) {
+      chosen = tied[i];
+    }
+  }
+  return chosen->plane;
+}
+
+}  // namespace
+
 void AssignUnfittedSegments(const Superpixels& segments,
                             const PlaneCost& cost,
                             const std::vector<float>& occluded_fraction,
@@ -216,11 +274,11 @@ void AssignUnfittedSegments(const Superpixels& segments,
     for (const auto& [support, s] : pending) {
       (void)support;
       const cv::Point2f centre = segments.centroids[s];
-      std::vector<std::pair<double, InversePlane>> candidates;  // (cost, plane)
+      std::vector<PlaneCandidate> candidates;
       if ((*planes)[s].source == PlaneSource::kFronto)
-        candidates.emplace_back(cost(s, (*planes)[s].plane), (*planes)[s].plane);
+        candidates.push_back({cost(s, (*planes)[s].plane), (*planes)[s].plane, -1});
       for (int t : segments.adjacent[s]) {
-        if (settled[t]) candidates.emplace_back(cost(s, (*planes)[t].plane), (*planes)[t].plane);
+        if (settled[t]) candidates.push_back({cost(s, (*planes)[t].plane), (*planes)[t].plane, t});
       }
       if (candidates.empty()) continue;
       SegmentPlane assigned = (*planes)[s];
@@ -243,16 +301,8 @@ void AssignUnfittedSegments(const Superpixels& segments,
         }
       }
       const bool occluded = !occluded_fraction.empty() && occluded_fraction[s] > 0.5f;
-      double best_cost = 1e300;
-      for (const auto& candidate : candidates) best_cost = std::min(best_cost, candidate.first);
-      // Among the candidates within the margin of the best (all of them for an occluded
-      // segment), the farthest: smallest inverse depth at the segment's centre.
-      const InversePlane* chosen = nullptr;
-      for (const auto& [c, plane] : candidates) {
-        if (!occluded && c > best_cost + cost_margin) continue;
-        if (chosen == nullptr || plane.At(centre.x, centre.y) < chosen->At(centre.x, centre.y)) chosen = &plane;
-      }
-      assigned.plane = *chosen;
+      assigned.plane =
+          occluded ? FarthestCandidate(candidates, centre) : TiedCandidate(candidates, segments, s, cost_margin);
       updates.emplace_back(s, assigned);
     }
     for (auto& [s, plane] : updates) {

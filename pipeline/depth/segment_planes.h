@@ -69,8 +69,11 @@ using PlaneCost = std::function<double(int segment, const InversePlane& plane)>;
 // Gives every segment without a fitted plane (kNone, or kFronto with little support) one of its
 // neighbours' planes, best-supported segments first so that planes spread inwards from
 // textured regions: the candidate with the lowest cost, where costs within `cost_margin` of the
-// best count as ties broken towards the farther plane (the background continues behind an
-// occluder; the foreground rarely hides in flat regions). Segments whose pixels are mostly
+// best count as ties, broken towards the neighbour closest in colour (cost cannot tell planes
+// apart on a flat region, nor on an edge that runs along the baselines, which matches at every
+// depth; the surface a segment continues looks like it), and among neighbours alike in colour
+// towards the farther plane (the background continues behind an occluder; the foreground rarely
+// hides in flat regions). Segments whose pixels are mostly
 // occluded (`occluded_fraction` > 0.5) take the farthest neighbour plane outright. Segments mostly
 // outside every other view (`unseen_fraction` > 0.5: the strip along a border that no neighbour
 // sees, where all costs are kNoDataCost) have no occluder to go behind: they continue the
