@@ -771,24 +771,26 @@ std::string Daemon::SetMove(const std::string& move) {
   DirectOptions direct;
   direct.move = move;
   if (Status valid = direct.Validate(); !valid.ok()) return ControlErrorReply(valid);
-  const std::string reply = SetSettings(nlohmann::json({{"move", move}}).dump());
-  return reply.find("\"ok\":true") == std::string::npos ? reply : Dump({{"ok", true}, {"move", move}});
+  StatusOr<PressSettings> changed = ChangeSettings({{"move", move}});
+  return changed.ok() ? Dump({{"ok", true}, {"move", move}}) : ControlErrorReply(changed.status());
 }
 
 std::string Daemon::SetSettings(const std::string& changes_json) {
   StatusOr<nlohmann::json> changes = json::Parse(changes_json, "settings");
   if (!changes.ok()) return ControlErrorReply(changes.status());
+  StatusOr<PressSettings> changed = ChangeSettings(*changes);
+  if (!changed.ok()) return ControlErrorReply(changed.status());
+  return Dump({{"ok", true}, {"settings", PressSettingsToJson(*changed)}});
+}
+
+StatusOr<PressSettings> Daemon::ChangeSettings(const nlohmann::json& changes) {
   std::lock_guard<std::mutex> lock(mutex_);
-  StatusOr<PressSettings> updated = UpdatedPressSettings(settings_, *changes);
-  if (!updated.ok()) return ControlErrorReply(updated.status());
+  PX_ASSIGN_OR_RETURN(PressSettings updated, UpdatedPressSettings(settings_, changes));
   // Saved before it is answered: settings the page showed as saved survive a restart.
-  if (Status saved = SavePressSettings(layout_.SettingsPath(), *updated); !saved.ok()) {
-    return ControlErrorReply(saved.WithContext("settings not saved"));
-  }
-  settings_ = *updated;
-  const nlohmann::json now = PressSettingsToJson(settings_);
-  Logger("device")->info("settings for the next presses: {}", now.dump());
-  return Dump({{"ok", true}, {"settings", now}});
+  PX_RETURN_IF_ERROR(SavePressSettings(layout_.SettingsPath(), updated).WithContext("settings not saved"));
+  settings_ = updated;
+  Logger("device")->info("settings for the next presses: {}", PressSettingsToJson(settings_).dump());
+  return settings_;
 }
 
 namespace {

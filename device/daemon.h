@@ -170,6 +170,8 @@ class Daemon {
   std::string FetchReply(const std::string& id, bool inline_bytes) const;
   std::string SetMove(const std::string& move);
   std::string SetSettings(const std::string& changes_json);
+  // The settings with `changes` (UpdatedPressSettings) applied, saved and made the daemon's.
+  StatusOr<PressSettings> ChangeSettings(const nlohmann::json& changes);
   std::string SetShot(const std::string& shot_json);
   std::string Cancel(const std::string& id);
 

@@ -28,11 +28,10 @@ std::string* FieldOf(PressSettings& settings, const std::string& name) {
 StatusOr<OutputFrameOptions> FrameOfSize(const std::string& size) {
   OutputFrameOptions frame;
   if (size == "source") return frame;
-  Status parsed = ParseOutputSize(size, &frame);
-  if (!parsed.ok() || frame.width <= 0) {
-    return InvalidArgumentError("size: '" + size + "' is not WxH (e.g. 1920x1080) or source");
+  if (size.find('x') == std::string::npos) {
+    return InvalidArgumentError("size: '" + size.substr(0, 40) + "' is not WxH (e.g. 1920x1080) or source");
   }
-  PX_RETURN_IF_ERROR(frame.Validate().WithContext("size"));
+  PX_RETURN_IF_ERROR(ParseOutputSize(size, &frame).WithContext("size"));  // names a size out of range
   return frame;
 }
 
@@ -40,16 +39,17 @@ StatusOr<OutputFrameOptions> FrameOfSize(const std::string& size) {
 
 Status ValidatePressSettings(const PressSettings& settings) {
   if (!settings.move.empty() && !IsKnownMove(settings.move)) {
-    return InvalidArgumentError("move: '" + settings.move + "' is not one of " + KnownMovesText());
+    return InvalidArgumentError("move: '" + settings.move.substr(0, 40) + "' is not one of " + KnownMovesText());
   }
   if (!settings.effect.empty()) {
     if (settings.effect != "auto" && !direct::ParseEffect(settings.effect).ok()) {
-      return InvalidArgumentError("effect: '" + settings.effect + "' is not one of " + KnownEffectsText());
+      return InvalidArgumentError("effect: '" + settings.effect.substr(0, 40) + "' is not one of " +
+                                  KnownEffectsText());
     }
   }
   if (!settings.format.empty()) {
-    if (StatusOr<clip::ClipFormat> format = clip::ParseClipFormat(settings.format); !format.ok()) {
-      return InvalidArgumentError("format: " + format.status().message());
+    if (!clip::ParseClipFormat(settings.format).ok()) {
+      return InvalidArgumentError("format: '" + settings.format.substr(0, 40) + "' is not one of mp4, gif, webp, png");
     }
   }
   if (!settings.size.empty()) PX_RETURN_IF_ERROR(FrameOfSize(settings.size).status());

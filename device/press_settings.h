@@ -23,7 +23,7 @@ struct PressSettings {
   bool Empty() const { return move.empty() && effect.empty() && format.empty() && size.empty(); }
 };
 
-// INVALID_ARGUMENT naming the field: "effect: unknown effect \"sepia\", want one of ...".
+// INVALID_ARGUMENT naming the field: "effect: 'sepia' is not one of auto, none, dof_change, ...".
 Status ValidatePressSettings(const PressSettings& settings);
 
 // {"move": ..., "effect": ..., "format": ..., "size": ...}, null for a field left to the config.

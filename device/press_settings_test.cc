@@ -14,6 +14,7 @@ namespace px::device {
 namespace {
 
 using ::testing::HasSubstr;
+using ::testing::Not;
 using PressSettingsFileTest = px::testing::TempDirTest;
 
 std::string ErrorOf(const nlohmann::json& changes) {
@@ -24,9 +25,13 @@ std::string ErrorOf(const nlohmann::json& changes) {
 TEST(PressSettingsTest, EachBadFieldIsNamedWithWhatItMayBe) {
   EXPECT_THAT(ErrorOf({{"move", "barrel_roll"}}), HasSubstr("move: 'barrel_roll' is not one of auto,"));
   EXPECT_THAT(ErrorOf({{"effect", "sepia"}}), HasSubstr("effect: 'sepia' is not one of auto, none, dof_change"));
-  EXPECT_THAT(ErrorOf({{"format", "avi"}}), HasSubstr("format: "));
+  EXPECT_EQ(ErrorOf({{"format", "avi"}}), "format: 'avi' is not one of mp4, gif, webp, png");
   EXPECT_THAT(ErrorOf({{"size", "huge"}}), HasSubstr("size: 'huge' is not WxH (e.g. 1920x1080) or source"));
   EXPECT_THAT(ErrorOf({{"size", "16:9"}}), HasSubstr("size: '16:9' is not WxH"));
+  EXPECT_THAT(ErrorOf({{"size", "8x8"}}), HasSubstr("size: "));  // WxH, but too small: says why
+  EXPECT_THAT(ErrorOf({{"size", "8x8"}}), Not(HasSubstr("is not WxH")));
+  EXPECT_THAT(ErrorOf({{"size", "99999999999x1"}}), HasSubstr("want WIDTHxHEIGHT"));  // no int overflow
+  EXPECT_THAT(ErrorOf({{"size", "1080x1920 "}}), HasSubstr("want WIDTHxHEIGHT"));
   EXPECT_THAT(ErrorOf({{"format", 3}}), HasSubstr("format: want a string or null, got number"));
   EXPECT_THAT(ErrorOf({{"fps", "60"}}), HasSubstr("settings: unknown field 'fps'"));
   EXPECT_THAT(ErrorOf(nlohmann::json::array()), HasSubstr("settings: want an object"));

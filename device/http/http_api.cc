@@ -207,7 +207,8 @@ void PreviewMap(const ApiContext& api, const Request& req, Response& res) {
   if (!body) return;
   if (!body->contains("viewpoint")) return ReplyError(res, 400, "want {viewpoint, cells}");
   const nlohmann::json& cells = body->value("cells", nlohmann::json(12));
-  if (!cells.is_number_integer()) return ReplyError(res, 400, "cells: want an integer in [2, 32]");
+  if (!cells.is_number_integer() || cells.get<int64_t>() < 3 || cells.get<int64_t>() > 32)
+    return ReplyError(res, 400, "cells: want an integer in [3, 32]");
   StatusOr<std::shared_ptr<PreviewSession>> session = PreviewFor(api, req.matches[1]);
   if (!session.ok()) return ReplyStatus(res, session.status());
   StatusOr<nlohmann::json> map = (*session)->Map((*body)["viewpoint"], cells.get<int>());

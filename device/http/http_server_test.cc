@@ -560,10 +560,17 @@ TEST_F(HttpApiTest, ThePreviewMapsHVOverThePlaneTheCameraIsDraggedIn) {
                          "application/json");
   ASSERT_TRUE(bad);
   EXPECT_EQ(bad->status, 400);
-  EXPECT_THAT(bad->body, HasSubstr("cells 100 is not in [2, 32]"));
+  EXPECT_THAT(bad->body, HasSubstr("cells: want an integer in [3, 32]"));
+  for (const nlohmann::json& cells : {nlohmann::json(2), nlohmann::json(4294967308), nlohmann::json(-3)}) {
+    auto refused = client.Post("/api/jobs/" + *job_ + "/preview/map",
+                               nlohmann::json({{"viewpoint", viewpoint}, {"cells", cells}}).dump(),
+                               "application/json");
+    ASSERT_TRUE(refused);
+    EXPECT_EQ(refused->status, 400) << cells;
+  }
 }
 
-TEST_F(HttpApiTest, APreviewWorkerOverItsMemoryLimitIsKilledAndTheServerGoesOn) {
+TEST_F(HttpApiTest, APreviewWorkerOverItsMemoryLimitIsKilled) {
   PreviewOptions options;
   options.binary = BuiltWorkerFlags().worker_binary;
   options.config = DaemonConfigToJson(SmallConfig(dir_->path()));
@@ -573,10 +580,31 @@ TEST_F(HttpApiTest, APreviewWorkerOverItsMemoryLimitIsKilledAndTheServerGoesOn) 
   ASSERT_FALSE(session.ok());
   EXPECT_EQ(session.status().code(), StatusCode::kAborted) << session.status().ToString();
   EXPECT_THAT(session.status().message(), HasSubstr("over its limit of 4 MB (worker.memory_limit_mb); killed"));
+}
+
+TEST_F(HttpApiTest, APreviewWhoseWorkerIsGoneOpensAgainOnTheNextRequest) {
+  PreviewOptions options;
+  options.binary = BuiltWorkerFlags().worker_binary;
+  options.config = DaemonConfigToJson(SmallConfig(dir_->path()));
+  PreviewSessions sessions(options);
+  const fs::path capture = camera_->daemon->layout().CaptureDir(*job_);
+  StatusOr<std::shared_ptr<PreviewSession>> first = sessions.ForJob(*job_, capture);
+  ASSERT_TRUE(first.ok()) << first.status().ToString();
   httplib::Client client = camera_->Client();
-  auto status = client.Get("/api/status");
-  ASSERT_TRUE(status);
-  EXPECT_EQ(status->status, 200);
+  const nlohmann::json path = Json(client.Get("/api/jobs/" + *job_))["report"]["camera_path"];
+  const nlohmann::json shot = Json(client.Get("/api/jobs/" + *job_ + "/shot"));
+  const nlohmann::json viewpoint = ClipViewpoint(path, shot["segments"][0]["keyframes"][0]);
+  (*first)->Kill();  // as the memory limit or a missed deadline would
+  StatusOr<PreviewFrame> lost = (*first)->Frame(viewpoint, false);
+  ASSERT_FALSE(lost.ok());
+  EXPECT_EQ(lost.status().code(), StatusCode::kUnavailable) << lost.status().ToString();
+  EXPECT_EQ(sessions.Find(*job_), nullptr);
+  StatusOr<std::shared_ptr<PreviewSession>> again = sessions.ForJob(*job_, capture);
+  ASSERT_TRUE(again.ok()) << again.status().ToString();
+  EXPECT_NE(again->get(), first->get());
+  StatusOr<PreviewFrame> frame = (*again)->Frame(viewpoint, false);
+  ASSERT_TRUE(frame.ok()) << frame.status().ToString();
+  EXPECT_FALSE(frame->jpeg.empty());
 }
 
 TEST_F(HttpApiTest, LivePreviewDrawsTheClipsFramesFromAnyViewpoint) {

@@ -73,6 +73,11 @@ PreviewSession::~PreviewSession() {
   }
 }
 
+void PreviewSession::Kill() {
+  dead_ = true;
+  if (pid_ > 0) ::kill(pid_, SIGKILL);
+}
+
 PreviewSession::Clock::time_point PreviewSession::last_used() const {
   std::lock_guard<std::mutex> lock(mutex_);
   return last_used_;
@@ -81,22 +86,25 @@ PreviewSession::Clock::time_point PreviewSession::last_used() const {
 Status PreviewSession::Send(const nlohmann::json& request) {
   const std::string line = request.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace) + "\n";
   // A worker that died is an error for this session (EPIPE), not the daemon's end (SIGPIPE).
+  if (dead_) return UnavailableError("the preview worker is gone; the preview opens again on the next request");
   const int error = WriteAll(request_fd_, line);
-  return error == 0 ? OkStatus() : UnavailableError("the preview worker is gone: " + ErrnoMessage(error));
+  if (error == 0) return OkStatus();
+  dead_ = true;
+  return UnavailableError("the preview worker is gone: " + ErrnoMessage(error));
 }
 
 StatusOr<bool> PreviewSession::Fill(Clock::time_point deadline) {
   const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(deadline - Clock::now()).count();
   if (left <= 0) {
     // Its late answer would be read as the next request's: the worker ends with this preview.
-    ::kill(pid_, SIGKILL);
+    Kill();
     return DeadlineExceededError("the preview worker did not answer in time; killed");
   }
   if (options_.memory_limit_bytes > 0) {
     // Looked at while the worker works (building a scene takes seconds): a preview that would
     // take the device's memory ends before the kernel's OOM killer picks a victim.
     if (const uint64_t resident = ResidentBytes(pid_); resident > options_.memory_limit_bytes) {
-      ::kill(pid_, SIGKILL);
+      Kill();
       return AbortedError("the preview worker used " + MegaBytes(resident) + ", over its limit of " +
                           MegaBytes(options_.memory_limit_bytes) + " (worker.memory_limit_mb); killed");
     }
@@ -108,7 +116,10 @@ StatusOr<bool> PreviewSession::Fill(Clock::time_point deadline) {
   char chunk[65536];
   const ssize_t n = ::read(reply_fd_, chunk, sizeof(chunk));
   if (n < 0 && errno == EINTR) return false;
-  if (n <= 0) return UnavailableError("the preview worker ended (it may have crashed; see the log)");
+  if (n <= 0) {
+    dead_ = true;
+    return UnavailableError("the preview worker ended (it may have crashed; see the log)");
+  }
   buffer_.append(chunk, static_cast<size_t>(n));
   return true;
 }
@@ -148,26 +159,27 @@ StatusOr<PreviewFrame> PreviewSession::Frame(const nlohmann::json& viewpoint, bo
   return frame;
 }
 
-StatusOr<nlohmann::json> PreviewSession::Ask(const nlohmann::json& request) {
+StatusOr<nlohmann::json> PreviewSession::Ask(const nlohmann::json& request, std::chrono::milliseconds timeout) {
   std::lock_guard<std::mutex> lock(mutex_);
   last_used_ = Clock::now();
   PX_RETURN_IF_ERROR(Send(request));
-  PX_ASSIGN_OR_RETURN(nlohmann::json reply, ReadReply(options_.frame_timeout));
+  PX_ASSIGN_OR_RETURN(nlohmann::json reply, ReadReply(timeout));
   if (!reply.value("ok", false)) return StatusFromReply(reply);
   reply.erase("ok");
   return reply;
 }
 
 StatusOr<nlohmann::json> PreviewSession::Probe(const nlohmann::json& viewpoint, int x, int y) {
-  return Ask({{"probe", viewpoint}, {"x", x}, {"y", y}});
+  return Ask({{"probe", viewpoint}, {"x", x}, {"y", y}}, options_.frame_timeout);
 }
 
 StatusOr<nlohmann::json> PreviewSession::Region(const nlohmann::json& viewpoint, const nlohmann::json& rect) {
-  return Ask({{"region", viewpoint}, {"rect", rect}});
+  return Ask({{"region", viewpoint}, {"rect", rect}}, options_.frame_timeout);
 }
 
 StatusOr<nlohmann::json> PreviewSession::Map(const nlohmann::json& viewpoint, int cells) {
-  return Ask({{"map", viewpoint}, {"cells", cells}});
+  // Up to 32 x 32 probes: as long as building the scene may take, not one frame.
+  return Ask({{"map", viewpoint}, {"cells", cells}}, options_.load_timeout);
 }
 
 StatusOr<std::shared_ptr<PreviewSession>> PreviewSessions::ForJob(const std::string& job_id,
@@ -197,9 +209,17 @@ StatusOr<std::shared_ptr<PreviewSession>> PreviewSessions::ForJob(const std::str
 }
 
 std::shared_ptr<PreviewSession> PreviewSessions::Find(const std::string& job_id) {
+  std::shared_ptr<PreviewSession> gone;  // ended outside the lock
   std::lock_guard<std::mutex> lock(mutex_);
   auto it = sessions_.find(job_id);
-  return it == sessions_.end() ? nullptr : it->second;
+  if (it == sessions_.end()) return nullptr;
+  if (!it->second->alive()) {
+    Logger("device")->info("preview of job {}: its worker is gone; opened again on the next request", job_id);
+    gone = std::move(it->second);
+    sessions_.erase(it);
+    return nullptr;
+  }
+  return it->second;
 }
 
 void PreviewSessions::Close(const std::string& job_id) {

@@ -7,6 +7,7 @@
 
 #include <sys/types.h>
 
+#include <atomic>
 #include <chrono>
 #include <filesystem>
 #include <map>
@@ -58,11 +59,16 @@ class PreviewSession {
   // (rows of y, columns of x), valid_below.
   StatusOr<nlohmann::json> Map(const nlohmann::json& viewpoint, int cells);
   Clock::time_point last_used() const;
+  // False once its worker is gone (crashed, or killed for a limit or a missed deadline): the
+  // sessions then open the preview anew on its next request.
+  bool alive() const { return !dead_.load(); }
+  void Kill();  // ends the worker now (SIGKILL); the session is dead from then on
 
  private:
   PreviewSession() = default;
   Status Send(const nlohmann::json& request);
-  StatusOr<nlohmann::json> Ask(const nlohmann::json& request);  // a request answered by one JSON line
+  // A request answered by one JSON line within `timeout`.
+  StatusOr<nlohmann::json> Ask(const nlohmann::json& request, std::chrono::milliseconds timeout);
   StatusOr<nlohmann::json> ReadReply(std::chrono::milliseconds timeout);
   StatusOr<std::string> ReadBytes(size_t size, std::chrono::milliseconds timeout);
   StatusOr<bool> Fill(std::chrono::steady_clock::time_point deadline);  // more bytes into buffer_
@@ -73,6 +79,7 @@ class PreviewSession {
   int reply_fd_ = -1;
   std::string buffer_;  // read from reply_fd_, not yet consumed
   nlohmann::json scene_;
+  std::atomic<bool> dead_{false};
   mutable std::mutex mutex_;  // one request at a time
   Clock::time_point last_used_ = Clock::now();
 };

@@ -16,6 +16,7 @@
 #include "device/config.h"
 #include "device/daemon_factory.h"
 #include "device/preview/preview_protocol.h"
+#include "device/worker/write_all.h"
 #include "pipeline/core/log.h"
 #include "pipeline/core/stage_clock.h"
 #include "pipeline/direct/coverage_probe.h"
@@ -224,7 +225,7 @@ Status ServeRegion(PreviewScene& preview, const nlohmann::json& request) {
 Status ServeMap(PreviewScene& preview, const nlohmann::json& request) {
   PX_ASSIGN_OR_RETURN(PreviewCamera view, PreviewCameraFromJson(request["map"], preview.focal_px));
   const int cells = request.value("cells", 12);
-  if (cells < 2 || cells > 32) return OutOfRangeError("map: cells " + std::to_string(cells) + " is not in [2, 32]");
+  if (cells < 3 || cells > 32) return OutOfRangeError("map: cells " + std::to_string(cells) + " is not in [3, 32]");
   Eigen::Vector2d low(std::numeric_limits<double>::infinity(), std::numeric_limits<double>::infinity());
   Eigen::Vector2d high = -low;
   for (const View& v : preview.scene.views) {

@@ -211,8 +211,6 @@ const SETTINGS = ['move', 'effect', 'format', 'size'];
 
 function showSettings(settings) {
   for (const field of SETTINGS) $(`setting-${field}`).value = (settings && settings[field]) || '';
-  // The move has no "as configured" entry: the config's own move is shown as auto.
-  if (!$('setting-move').value) $('setting-move').value = 'auto';
 }
 
 async function saveSettings(event) {

@@ -1,6 +1,8 @@
 #include "pipeline/direct/output_frame.h"
 
 #include <algorithm>
+#include <cctype>
+#include <charconv>
 #include <cmath>
 #include <cstdio>
 #include <string>
@@ -30,9 +32,16 @@ Status OutputFrameOptions::Validate() const {
 Status ParseOutputSize(std::string_view text, OutputFrameOptions* options) {
   int width = 0;
   int height = 0;
-  char tail = 0;
   const std::string s(text);
-  if (std::sscanf(s.c_str(), "%dx%d%c", &width, &height, &tail) != 2) {
+  // from_chars: digits only, and a number too large for an int is an error, not overflow.
+  const char* const end = s.data() + s.size();
+  const auto [after_width, width_error] = std::from_chars(s.data(), end, width);
+  bool parsed = width_error == std::errc() && after_width != end && *after_width == 'x';
+  if (parsed) {
+    const auto [after_height, height_error] = std::from_chars(after_width + 1, end, height);
+    parsed = height_error == std::errc() && after_height == end;
+  }
+  if (!parsed || s.empty() || !std::isdigit(static_cast<unsigned char>(s.front()))) {
     return InvalidArgumentError("size '" + s + "': want WIDTHxHEIGHT, e.g. 1080x1920");
   }
   options->width = width;
