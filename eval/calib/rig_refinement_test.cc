@@ -95,5 +95,34 @@ INSTANTIATE_TEST_SUITE_P(Rigs,
                                            Case{"integral5x4", SimCameraSpec::Integral5x4(), 5}),
                          [](const auto& param) { return param.param.name; });
 
+// Lenses still where the factory put them: the factory calibration already explains the matches
+// to within the keypoints' noise, so it is kept without running an adjustment, and an adjustment
+// forced on the same shot gains nothing that would have replaced it.
+TEST(RigRefinementFitTest, LensesAsCalibratedKeepTheFactoryCalibrationWithoutAnAdjustment) {
+  StatusOr<LatticeShot> shot = CaptureLatticeShot(RealisticSpec(SimCameraSpec::Pop9(), 0), "still_life");
+  ASSERT_TRUE(shot.ok()) << shot.status().ToString();
+  StatusOr<calib::RigRefinementResult> kept =
+      calib::RefineRigCalibration(shot->tiles, shot->factory, calib::RigRefinementOptions());
+  ASSERT_TRUE(kept.ok()) << kept.status().ToString();
+  const calib::RigRefinementReport& report = kept->report;
+  std::printf("  factory RMS %.3f px: %s\n", report.rms_before_px, report.fallback_reason.c_str());
+  EXPECT_FALSE(report.refined);
+  EXPECT_TRUE(report.factory_fits);
+  EXPECT_EQ(report.adjustment_iterations, 0);
+  EXPECT_LE(report.rms_before_px, calib::RigRefinementOptions().factory_fits_rms_px);
+  EXPECT_NE(report.fallback_reason.find("not adjusted"), std::string::npos) << report.fallback_reason;
+  EXPECT_GT(report.num_observations, 1000);
+
+  calib::RigRefinementOptions always_adjust;
+  always_adjust.factory_fits_rms_px = 0;
+  StatusOr<calib::RigRefinementResult> adjusted =
+      calib::RefineRigCalibration(shot->tiles, shot->factory, always_adjust);
+  ASSERT_TRUE(adjusted.ok()) << adjusted.status().ToString();
+  std::printf("  adjusted anyway: %s\n", adjusted->report.fallback_reason.c_str());
+  EXPECT_GT(adjusted->report.adjustment_iterations, 0);
+  EXPECT_FALSE(adjusted->report.refined) << "an adjustment of lenses that did not move gained "
+                                         << adjusted->report.rms_before_px - adjusted->report.rms_after_px << " px";
+}
+
 }  // namespace
 }  // namespace px::sim_calib

@@ -167,6 +167,25 @@ StatusOr<double> FactoryRms(const BaProblem& problem, const RigCalibration& fact
   return report.final_rms_px;
 }
 
+// How well the factory calibration alone explains `problem`'s tracks (as triangulated through the
+// factory lenses): the RMS over the observations within outlier_error_px, and how many those are.
+struct FactoryFit {
+  double rms_px = std::numeric_limits<double>::infinity();
+  int observations = 0;
+};
+
+FactoryFit FitOfFactory(const BaProblem& problem, const RigRefinementOptions& options) {
+  FactoryFit fit;
+  double sum = 0;
+  for (const double error : ReprojectionErrors(problem)) {
+    if (!(error <= options.outlier_error_px)) continue;
+    sum += error * error;
+    ++fit.observations;
+  }
+  if (fit.observations > 0) fit.rms_px = std::sqrt(sum / fit.observations);
+  return fit;
+}
+
 // The tiles must fit the rig: one per lens, each of its lens's size.
 Status CheckTiles(const std::vector<cv::Mat>& upright_tiles, const RigCalibration& factory) {
   const int n = factory.NumViews();
@@ -647,8 +666,29 @@ StatusOr<RigRefinementResult> RefineRigCalibration(const std::vector<cv::Mat>& u
     return finish(TooFewMatchesReason(problem, held_views.refinable, options, report));
   }
 
-  // 5. Bundle adjustment with the factory calibration as the prior, twice (outliers dropped).
+  // 5. Nothing to refine when the factory calibration already explains the matches to within the
+  // keypoints' own noise: no adjustment could lower that by min_rms_gain_px.
   step = StageClock::now();
+  if (options.factory_fits_rms_px > 0) {
+    const FactoryFit fit = FitOfFactory(problem, options);
+    if (fit.rms_px <= options.factory_fits_rms_px) {
+      report.factory_fits = true;
+      report.rms_before_px = report.rms_after_px = fit.rms_px;
+      report.num_tracks = static_cast<int>(problem.points.size());
+      report.num_observations = fit.observations;
+      const std::vector<int> observations = ObservationsPerView(problem, n);
+      for (int v = 0; v < n; ++v) report.views[v].observations = observations[v];
+      AddHoldWarnings(&report);
+      report.adjustment_ms = MsSince(step);
+      return finish(
+          Format("the factory calibration already fits the shot (reprojection RMS %.3f px, within the "
+                 "keypoints' noise of %.2f px: not adjusted)",
+                 fit.rms_px,
+                 options.factory_fits_rms_px));
+    }
+  }
+
+  // 6. Bundle adjustment with the factory calibration as the prior, twice (outliers dropped).
   const std::vector<BaPrior> priors = FactoryPriors(factory, held_views.held, spacing, options);
   PX_ASSIGN_OR_RETURN(const AdjustmentPasses passes, AdjustTwice(priors, report.centres_held, options, &problem));
   report.adjustment_iterations = passes.first.iterations + passes.second.iterations;
@@ -658,7 +698,7 @@ StatusOr<RigRefinementResult> RefineRigCalibration(const std::vector<cv::Mat>& u
   PX_ASSIGN_OR_RETURN(report.rms_before_px, FactoryRms(problem, factory, options.num_threads));
   report.adjustment_ms = MsSince(step);
 
-  // 6. Trust: what moved, and whether it helped.
+  // 7. Trust: what moved, and whether it helped.
   RefinedRig refined =
       CompareWithFactory(factory, problem, held_views.held, ObservationsPerView(problem, n), spacing, options, &report);
   AddHoldWarnings(&report);

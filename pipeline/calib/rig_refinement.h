@@ -45,8 +45,9 @@ struct PairRefinement {
 struct RigRefinementReport {
   bool refined = false;         // the refined calibration is used
   std::string fallback_reason;  // why the factory calibration was kept ("" when refined)
-  // The factory calibration was kept because it fits the shot as well as a refined one would
-  // (RMS gain under RigRefinementOptions::min_rms_gain_px, factory RMS at most 1 px): no degradation.
+  // The factory calibration was kept because it fits the shot as well as a refined one would: its
+  // RMS within RigRefinementOptions::factory_fits_rms_px (not adjusted at all), or an adjustment's
+  // gain under min_rms_gain_px with the factory RMS at most 1 px. No degradation.
   bool factory_fits = false;
   std::vector<std::string> warnings;  // degraded parts (held lenses, held centres)
   int num_pairs = 0;                  // lens pairs matched

@@ -61,6 +61,8 @@ Status RigRefinementOptions::Validate() const {
   }
   if (!(min_rms_gain_px >= 0 && min_rms_gain_px <= 10))
     return OptionOutOfRange("rig refinement options", "min_rms_gain_px", min_rms_gain_px, "[0, 10]");
+  if (!(factory_fits_rms_px >= 0 && factory_fits_rms_px <= 10))
+    return OptionOutOfRange("rig refinement options", "factory_fits_rms_px", factory_fits_rms_px, "[0, 10]");
   if (num_threads < 1 || num_threads > 64)
     return OptionOutOfRange("rig refinement options", "num_threads", num_threads, "[1, 64]");
   return OkStatus();

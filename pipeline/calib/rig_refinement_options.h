@@ -69,6 +69,10 @@ struct RigRefinementOptions {
   // The refined calibration is used only when it lowers the reprojection RMS by at least this
   // many pixels, [0, 10]: below, the lenses have not measurably moved and the factory's stand.
   double min_rms_gain_px = 0.05;
+  // The factory calibration is kept without any adjustment when it explains the matches to
+  // within this RMS (pixels at the features' scale, [0, 10]; 0 = always adjust): about what
+  // SIFT keypoints on reduced tiles resolve, so an adjustment could only fit their noise.
+  double factory_fits_rms_px = 0.4;
 
   uint64_t seed = 1;    // RANSAC sampling: the same seed and shot give the same calibration
   int num_threads = 1;  // Ceres threads [1, 64]; features and pairs use OpenCV's pool
