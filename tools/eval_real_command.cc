@@ -111,6 +111,8 @@ nlohmann::json OutcomeJson(const SetOutcome& o) {
                  {"holes", p.holes},
                  {"holes_max", p.holes_max},
                  {"seconds", p.seconds},
+                 {"depth_confident", p.depth_confident},
+                 {"depth_consistent", p.depth_consistent},
                  {"warnings", p.warnings}};
   } else if (!o.path_skipped.empty()) {
     j["path"] = {{"skipped", o.path_skipped}};

@@ -202,6 +202,8 @@ StatusOr<PathResult> EvaluatePath(const RealSet& set, const PathEvalOptions& opt
   result.width = report.path.width;
   result.height = report.path.height;
   result.warnings = report.warnings;
+  result.depth_confident = report.depth.confident_fraction;
+  result.depth_consistent = report.depth.consistent_fraction;
   const auto& figures = watcher.figures();
   result.measured = !figures.empty();
   for (const auto& f : figures) {

@@ -32,6 +32,10 @@ struct PathResult {
   double flicker = 0, flicker_max = 0;
   double holes = 0, holes_max = 0;
   double seconds = 0;  // the whole run, clip included
+  // The depth stage's figures over its computed views: pixels with confident depth, and pixels whose
+  // depth another view confirms (what the direction stage's trust in depth rests on).
+  double depth_confident = 0;
+  double depth_consistent = 0;
   std::vector<std::string> warnings;
 };
 

@@ -167,9 +167,10 @@ struct DepthOptions {
   // resolution. (0, 1].
   double working_scale = 0.5;
   // Small views match at a larger scale: the working scale is raised (up to 1) so that matching
-  // runs on at least this many columns; a 320x240 lattice tile halved has too few pixels for
-  // its windows. [0, 4096]; 0 = working_scale as given.
-  int min_working_width_px = 320;
+  // runs on at least this many columns; hand-held photos reduced to 1000 px and 640x480 lattice
+  // tiles halved have too few pixels for their windows at a fern's fronds or a face's outline.
+  // [0, 4096]; 0 = working_scale as given.
+  int min_working_width_px = 512;
   MatchingOptions matching;
   SegmentOptions segments;
   // Consistency between views: a pixel whose depth no other view confirms within this many

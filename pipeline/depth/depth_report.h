@@ -38,7 +38,10 @@ struct ViewDepthReport {
 struct DepthReport {
   std::vector<ViewDepthReport> views;  // in the views' order
   std::vector<ViewId> disagreeing_views;
-  double confident_fraction = 0;      // over all computed views
+  double confident_fraction = 0;  // over all computed views
+  // Pixels whose depth another view confirms, over the computed views that match their neighbours
+  // (0 when none does): unlike confidence, it hardly depends on the working resolution.
+  double consistent_fraction = 0;
   std::vector<std::string> warnings;  // one line each, for the log and the clip's JSON
   bool light_field = false;           // ran with the light-field options (depth_mode.h)
   std::string mode;                   // which options, and why

@@ -572,11 +572,16 @@ StatusOr<DepthStageResult> ComputeWithModeOptions(const std::vector<View>& views
 
   result.report.views.resize(views.size());
   for (size_t k = 0; k < views.size(); ++k) result.report.views[k].id = views[k].id;
-  double confident_sum = 0;
+  double confident_sum = 0, consistent_sum = 0;
+  int agreeing_views = 0;
   for (size_t i = 0; i < reference_indices.size(); ++i) {
     FinishReport(options, &references[i]);
     ViewDepthReport& report = references[i].report;
     confident_sum += report.confident_fraction;
+    if (!report.disagrees) {
+      consistent_sum += report.consistent_fraction;
+      ++agreeing_views;
+    }
     if (report.disagrees) result.report.disagreeing_views.push_back(report.id);
     for (const std::string& reason : report.reasons) {
       result.report.warnings.push_back("depth: view " + std::to_string(report.id.value) + " " + reason);
@@ -586,13 +591,14 @@ StatusOr<DepthStageResult> ComputeWithModeOptions(const std::vector<View>& views
     result.layered.push_back(std::move(references[i].layered));
   }
   result.report.confident_fraction = reference_indices.empty() ? 0 : confident_sum / reference_indices.size();
+  result.report.consistent_fraction = agreeing_views == 0 ? 0 : consistent_sum / agreeing_views;
   result.report.matching_ms = times.matching_ms;
   result.report.segments_ms = times.segments_ms;
   result.report.layers_ms = times.layers_ms;
   if (progress) progress(1.0);
   Logger("depth")->info(
       "{} layered depth views in {:.0f} ms (matching {:.0f}, segments {:.0f}, layers {:.0f}, "
-      "consistency {:.0f}), {:.0f}% confident, {} disagreeing",
+      "consistency {:.0f}), {:.0f}% confident, {:.0f}% confirmed by another view, {} disagreeing",
       result.maps.size(),
       MsSince(start),
       times.matching_ms,
@@ -600,6 +606,7 @@ StatusOr<DepthStageResult> ComputeWithModeOptions(const std::vector<View>& views
       times.layers_ms,
       result.report.consistency_ms,
       100 * result.report.confident_fraction,
+      100 * result.report.consistent_fraction,
       result.report.disagreeing_views.size());
   for (const std::string& warning : result.report.warnings) Logger("depth")->warn("{}", warning);
   return result;

@@ -65,6 +65,7 @@ TEST(DepthStageTest, SquareBeforeWallLayeredAndAccurate) {
     EXPECT_GT(report.confident_fraction, 0.5);
     EXPECT_TRUE(report.reasons.empty()) << report.reasons.front();
   }
+  EXPECT_GT(result->report.consistent_fraction, 0.8) << "the shot's figure: the mean over its views";
 }
 
 TEST(DepthStageTest, TwoViewRectifiedPair) {

@@ -105,6 +105,9 @@ Status DirectOptions::Validate() const {
     return RangeError("direct.max_dolly_zoom", max_dolly_zoom, "(1, 4]");
   if (!(max_aperture_m > 0 && max_aperture_m <= 1))
     return RangeError("direct.max_aperture_m", max_aperture_m, "(0, 1]");
+  if (!InRange(min_consistent_fraction, 0, 1)) {
+    return RangeError("direct.min_consistent_fraction", min_consistent_fraction, "[0, 1]");
+  }
   if (!InRange(min_confident_fraction, 0, 1)) {
     return RangeError("direct.min_confident_fraction", min_confident_fraction, "[0, 1]");
   }

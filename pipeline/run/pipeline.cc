@@ -413,12 +413,16 @@ StatusOr<SceneStages> RunSceneStages(const FrameSet& capture,
   direction.metric_scale = calibrated.metric_scale;
   {
     const double fraction = depth->report.confident_fraction;
-    log->info("depth: {} layered views, {:.0f} to {:.2f} m, {:.0f}% confident, in {:.0f} ms",
-              depth->maps.size(),
-              depth_options.min_depth_m,
-              depth_options.max_depth_m,
-              100 * fraction,
-              report.timings.back().ms);
+    const double confirmed = depth->report.consistent_fraction;
+    log->info(
+        "depth: {} layered views, {:.0f} to {:.2f} m, {:.0f}% confident, {:.0f}% confirmed by another view, in {:.0f} "
+        "ms",
+        depth->maps.size(),
+        depth_options.min_depth_m,
+        depth_options.max_depth_m,
+        100 * fraction,
+        100 * confirmed,
+        report.timings.back().ms);
     if (fraction < kLowConfidentDepthFraction) {
       char text[160];
       std::snprintf(text,
@@ -428,14 +432,24 @@ StatusOr<SceneStages> RunSceneStages(const FrameSet& capture,
       report.warnings.push_back(text);
       log->warn("{}", text);
     }
-    if (fraction < options.direct.min_confident_fraction) {
-      direction.depth_trusted = false;
-      char text[160];
+    // The views' depths must agree with each other (a subject that moved, poses that are off, do
+    // not), and enough of them must be confident to hold a move.
+    char text[200] = "";
+    if (confirmed < options.direct.min_consistent_fraction) {
+      std::snprintf(text,
+                    sizeof(text),
+                    "another view confirms %.0f%% of the depth, want %.0f%%",
+                    100 * confirmed,
+                    100 * options.direct.min_consistent_fraction);
+    } else if (fraction < options.direct.min_confident_fraction) {
       std::snprintf(text,
                     sizeof(text),
                     "%.0f%% of the depth is confident, want %.0f%%",
                     100 * fraction,
                     100 * options.direct.min_confident_fraction);
+    }
+    if (text[0] != '\0') {
+      direction.depth_trusted = false;
       direction.distrust_reason = text;
     }
   }

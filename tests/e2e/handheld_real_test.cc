@@ -50,8 +50,8 @@ TEST_P(HandheldRealTest, MakesAClipAtTheWorkingSize) {
     EXPECT_FALSE(report->path.reason.empty());
   }
   std::printf(
-      "[figures] %s: %zu photos of %dx%d -> %dx%d clip; %s (%s); %.0f%% depth confident; %.1f s "
-      "(5 frames)\n",
+      "[figures] %s: %zu photos of %dx%d -> %dx%d clip; %s (%s); %.0f%% depth confident, %.0f%% "
+      "confirmed by another view; %.1f s (5 frames)\n",
       GetParam().set,
       files->size(),
       recording->frames.frames[0].image.width,
@@ -61,12 +61,14 @@ TEST_P(HandheldRealTest, MakesAClipAtTheWorkingSize) {
       report->path.move.c_str(),
       report->calibration.c_str(),
       100 * report->depth.confident_fraction,
+      100 * report->depth.consistent_fraction,
       seconds);
 }
 
-// Which sets hold a 3D move is measured, not wished: the excavator's wide turns and the
-// portrait's two different people leave no trusted depth; the French press's plain wall leaves a
-// quarter of its depth confident, enough (its held-out views: eval real).
+// Which sets hold a 3D move is measured, not wished: in the excavator (wide turns) and the
+// portrait (two different people) another view confirms under 40 % of the depth; the French
+// press's plain wall leaves under a fifth of its depth confident, but over 70 % of it confirmed,
+// enough (its held-out views: eval real).
 INSTANTIATE_TEST_SUITE_P(Sets,
                          HandheldRealTest,
                          ::testing::Values(Expected{"kpankov_office_4views", true},
