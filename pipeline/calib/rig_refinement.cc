@@ -167,25 +167,6 @@ StatusOr<double> FactoryRms(const BaProblem& problem, const RigCalibration& fact
   return report.final_rms_px;
 }
 
-// How well the factory calibration alone explains `problem`'s tracks (as triangulated through the
-// factory lenses): the RMS over the observations within outlier_error_px, and how many those are.
-struct FactoryFit {
-  double rms_px = std::numeric_limits<double>::infinity();
-  int observations = 0;
-};
-
-FactoryFit FitOfFactory(const BaProblem& problem, const RigRefinementOptions& options) {
-  FactoryFit fit;
-  double sum = 0;
-  for (const double error : ReprojectionErrors(problem)) {
-    if (!(error <= options.outlier_error_px)) continue;
-    sum += error * error;
-    ++fit.observations;
-  }
-  if (fit.observations > 0) fit.rms_px = std::sqrt(sum / fit.observations);
-  return fit;
-}
-
 // The tiles must fit the rig: one per lens, each of its lens's size.
 Status CheckTiles(const std::vector<cv::Mat>& upright_tiles, const RigCalibration& factory) {
   const int n = factory.NumViews();
@@ -612,6 +593,39 @@ std::string FallbackReason(const std::string& adjustment_message,
   return "";
 }
 
+// Whether the factory calibration alone explains `problem`'s tracks (as triangulated through the
+// factory lenses) to within the keypoints' own noise: the RMS over the observations within
+// outlier_error_px at most factory_fits_rms_px. Then no adjustment could lower it by
+// min_rms_gain_px: the report is filled as for a kept factory calibration and the reason returned;
+// otherwise "".
+std::string FactoryFitsReason(const BaProblem& problem,
+                              const RigRefinementOptions& options,
+                              RigRefinementReport* report) {
+  if (options.factory_fits_rms_px <= 0) return "";
+  double sum = 0;
+  int within = 0;
+  for (const double error : ReprojectionErrors(problem)) {
+    if (!(error <= options.outlier_error_px)) continue;
+    sum += error * error;
+    ++within;
+  }
+  const double rms_px = within > 0 ? std::sqrt(sum / within) : std::numeric_limits<double>::infinity();
+  if (!(rms_px <= options.factory_fits_rms_px)) return "";
+  report->factory_fits = true;
+  report->rms_before_px = report->rms_after_px = rms_px;
+  report->num_tracks = static_cast<int>(problem.points.size());
+  report->num_observations = within;
+  const int n = static_cast<int>(report->views.size());
+  const std::vector<int> observations = ObservationsPerView(problem, n);
+  for (int v = 0; v < n; ++v) report->views[v].observations = observations[v];
+  AddHoldWarnings(report);
+  return Format(
+      "the factory calibration already fits the shot (reprojection RMS %.3f px, within the keypoints' "
+      "noise of %.2f px: not adjusted)",
+      rms_px,
+      options.factory_fits_rms_px);
+}
+
 }  // namespace
 
 StatusOr<RigRefinementResult> RefineRigCalibration(const std::vector<cv::Mat>& upright_tiles,
@@ -666,26 +680,11 @@ StatusOr<RigRefinementResult> RefineRigCalibration(const std::vector<cv::Mat>& u
     return finish(TooFewMatchesReason(problem, held_views.refinable, options, report));
   }
 
-  // 5. Nothing to refine when the factory calibration already explains the matches to within the
-  // keypoints' own noise: no adjustment could lower that by min_rms_gain_px.
+  // 5. Nothing to refine when the factory calibration already explains the matches.
   step = StageClock::now();
-  if (options.factory_fits_rms_px > 0) {
-    const FactoryFit fit = FitOfFactory(problem, options);
-    if (fit.rms_px <= options.factory_fits_rms_px) {
-      report.factory_fits = true;
-      report.rms_before_px = report.rms_after_px = fit.rms_px;
-      report.num_tracks = static_cast<int>(problem.points.size());
-      report.num_observations = fit.observations;
-      const std::vector<int> observations = ObservationsPerView(problem, n);
-      for (int v = 0; v < n; ++v) report.views[v].observations = observations[v];
-      AddHoldWarnings(&report);
-      report.adjustment_ms = MsSince(step);
-      return finish(
-          Format("the factory calibration already fits the shot (reprojection RMS %.3f px, within the "
-                 "keypoints' noise of %.2f px: not adjusted)",
-                 fit.rms_px,
-                 options.factory_fits_rms_px));
-    }
+  if (std::string fits = FactoryFitsReason(problem, options, &report); !fits.empty()) {
+    report.adjustment_ms = MsSince(step);
+    return finish(std::move(fits));
   }
 
   // 6. Bundle adjustment with the factory calibration as the prior, twice (outliers dropped).

@@ -578,11 +578,12 @@ StatusOr<DepthStageResult> ComputeWithModeOptions(const std::vector<View>& views
     FinishReport(options, &references[i]);
     ViewDepthReport& report = references[i].report;
     confident_sum += report.confident_fraction;
-    if (!report.disagrees) {
+    if (report.disagrees) {
+      result.report.disagreeing_views.push_back(report.id);
+    } else {
       consistent_sum += report.consistent_fraction;
       ++agreeing_views;
     }
-    if (report.disagrees) result.report.disagreeing_views.push_back(report.id);
     for (const std::string& reason : report.reasons) {
       result.report.warnings.push_back("depth: view " + std::to_string(report.id.value) + " " + reason);
     }

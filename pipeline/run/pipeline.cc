@@ -414,15 +414,13 @@ StatusOr<SceneStages> RunSceneStages(const FrameSet& capture,
   {
     const double fraction = depth->report.confident_fraction;
     const double confirmed = depth->report.consistent_fraction;
-    log->info(
-        "depth: {} layered views, {:.0f} to {:.2f} m, {:.0f}% confident, {:.0f}% confirmed by another view, in {:.0f} "
-        "ms",
-        depth->maps.size(),
-        depth_options.min_depth_m,
-        depth_options.max_depth_m,
-        100 * fraction,
-        100 * confirmed,
-        report.timings.back().ms);
+    log->info("depth: {} layered views, {:.0f} to {:.2f} m, {:.0f}% confident, {:.0f}% confirmed, in {:.0f} ms",
+              depth->maps.size(),
+              depth_options.min_depth_m,
+              depth_options.max_depth_m,
+              100 * fraction,
+              100 * confirmed,
+              report.timings.back().ms);
     if (fraction < kLowConfidentDepthFraction) {
       char text[160];
       std::snprintf(text,
