@@ -11,6 +11,7 @@
 #include <utility>
 #include <vector>
 
+#include "pipeline/render/layered_from_depth.h"
 #include "pipeline/render/render_test_util.h"
 
 namespace px {
@@ -303,6 +304,49 @@ TEST_F(CpuSceneRendererTest, NanPlanesAndWeightsAreDroppedNotDrawn) {
               frame->holes.hole_ratio,
               MaskedPsnr(frame->bgr, views_[4].image));
   EXPECT_GT(MaskedPsnr(frame->bgr, views_[4].image), 25.0);
+}
+
+// A floor 10 cm below one view, a wall 5 m away: per output pixel covered by a source, the share
+// the floor draws (depth under 2 m), from a camera at `height_m` below the view's (y down).
+double FloorShare(double height_m) {
+  View view;
+  view.id.value = 0;
+  view.camera = kCamera;
+  view.cam_from_world = Rigid3(Eigen::Quaterniond::Identity(), Eigen::Vector3d::Zero());
+  view.image.create(kCamera.height, kCamera.width, CV_8UC3);
+  cv::RNG rng(7);
+  rng.fill(view.image, cv::RNG::UNIFORM, 0, 255);
+  DepthMap depth;
+  depth.id = view.id;
+  depth.depth_m.create(kCamera.height, kCamera.width, CV_32F);
+  for (int v = 0; v < kCamera.height; ++v) {
+    const double below = v - kCamera.cy;  // rays below the horizon meet the floor
+    const float z = below > 0 ? static_cast<float>(std::min(5.0, 0.1 * kCamera.fy / below)) : 5.0f;
+    depth.depth_m.row(v).setTo(z);
+  }
+  depth.confidence = cv::Mat(kCamera.height, kCamera.width, CV_32F, cv::Scalar(1));
+  const std::vector<View> views = {view};
+  LayeredFromDepthOptions planes;
+  planes.jump_ratio = 1;  // one plane per block: the floor has no depth jump to split at
+  const std::vector<LayeredDepthView> layers = {LayeredDepthFromDepthMap(view, depth, planes).value()};
+  auto renderer = CpuSceneRenderer::Create(views, layers, RenderOptions());
+  EXPECT_TRUE(renderer.ok()) << renderer.status().ToString();
+  const FrameRender frame =
+      (*renderer)
+          ->Render(At(kCamera, Rigid3(Eigen::Quaterniond::Identity(), Eigen::Vector3d(0, -height_m, 0))))
+          .value();
+  const cv::Mat floor = (frame.depth_m < 2.0f) & frame.coverage;
+  return static_cast<double>(cv::countNonZero(floor)) / std::max(1, cv::countNonZero(frame.coverage));
+}
+
+// A surface is drawn only from the side its source saw it from: a camera that has gone under the
+// floor does not see the floor's underside painted with its top (a ceiling of table top).
+TEST(CpuSceneRendererBackFaceTest, ACameraBelowTheFloorDoesNotSeeItsTop) {
+  const double above = FloorShare(-0.05), below = FloorShare(0.2);
+  std::printf(
+      "floor's share of the covered pixels: 5 cm above the view %.3f, 10 cm under the floor %.4f\n", above, below);
+  EXPECT_GT(above, 0.2);
+  EXPECT_LT(below, 0.01);
 }
 
 TEST_F(CpuSceneRendererTest, ACameraLookingAwayGivesAnEmptyFrameNotAnError) {

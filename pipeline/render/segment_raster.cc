@@ -70,8 +70,11 @@ bool SetUpSegment(const SceneSegment& segment,
   out->y_max = std::min(region.y + region.height - 1, static_cast<int>(std::floor(std::clamp(y_hi, -big, big))));
   if (out->x_min > out->x_max || out->y_min > out->y_max) return false;
   const Eigen::Vector3d abc(segment.plane[0], segment.plane[1], segment.plane[2]);
+  // 1 - n_s . C with C the novel centre in the source camera: positive on the source's side of the
+  // plane. On the plane (edge-on) or beyond it the novel camera would see the surface's back, which
+  // the source never saw (a table's top seen from under the table): culled.
   const double denominator = 1.0 - abc.dot(transfer.ks_t);
-  if (std::abs(denominator) < 1e-12) return false;  // the plane passes through the novel centre: edge-on
+  if (!(denominator > 1e-12)) return false;
   const Eigen::Vector3d novel_plane = transfer.plane_map * abc / denominator;
   const Eigen::Matrix3d h = transfer.rotation_map + transfer.ks_t * novel_plane.transpose();
   for (int i = 0; i < 9; ++i) out->homography[i] = static_cast<float>(h(i / 3, i % 3));
