@@ -460,9 +460,9 @@ StatusOr<GlSceneRenderer::RawFrame> GlSceneRenderer::RenderRaw(const CameraModel
       const DepthSegment& seg = view.segments[s];
       const Eigen::Vector3d plane_source =
           k_source.transpose() * Eigen::Vector3d(seg.inv_depth_a, seg.inv_depth_b, seg.inv_depth_c);
+      // The output camera on the plane or beyond it would see the surface's back (segment_raster.cc).
       const double denominator = 1.0 - plane_source.dot(t_rel);
-      if (!(denominator > 1e-12))
-        continue;  // the output camera on the plane or behind it: its back (segment_raster.cc)
+      if (!(denominator > 1e-12)) continue;
       const Eigen::Vector3d plane_novel = r_rel.transpose() * plane_source / denominator;
       const Eigen::Vector3d inv_depth_novel = k_novel.inverse().transpose() * plane_novel;
       const Eigen::Matrix3d h = k_source * (r_rel + t_rel * plane_novel.transpose()) * k_novel.inverse();
