@@ -29,6 +29,8 @@ constexpr double kMinFocalShare = 0.5;
 constexpr double kFirstPullBack = 0.05;
 constexpr double kMaxPullBack = 0.4;
 constexpr int kPullBackRounds = 5;
+// Batches of `num_longest` candidate paths verified before the move is given up (PlanMove, 4).
+constexpr int kPathBatches = 3;
 
 FramingRule Aim(const SceneGeometry& scene, const Eigen::Vector3d& target, double focal_px) {
   return [&scene, target, focal_px](const Eigen::Vector3d& centre) {
@@ -319,7 +321,9 @@ struct MovePlan {
   std::vector<Candidate> starts, ends;
   bool shared = false;         // the ends share the start's region (the establishing dolly)
   std::vector<Pair> pairs;     // every candidate pair, longest first
-  std::vector<Pair> measured;  // the longest that keep their subjects in frame, most parallax first
+  size_t next_pair = 0;        // the first of `pairs` no batch has taken yet
+  std::vector<Pair> measured;  // the batch: the longest that keep their subjects in frame, most parallax first
+  std::vector<char> excluded_starts, excluded_ends;  // candidates a failed batch's paths all went through
   std::string last_failure = "no candidate";
 };
 
@@ -605,8 +609,10 @@ Status FramePath(const MovePlan& plan, Pair* pair) {
 // probe, so it is checked before the parallax is measured.
 void KeepFramedPairs(MovePlan* plan) {
   const size_t keep = static_cast<size_t>(plan->options.search.num_longest);
-  for (Pair& pair : plan->pairs) {
-    if (plan->measured.size() >= keep) break;
+  plan->measured.clear();
+  for (; plan->next_pair < plan->pairs.size() && plan->measured.size() < keep; ++plan->next_pair) {
+    Pair& pair = plan->pairs[plan->next_pair];
+    if (plan->excluded_starts[pair.a] || plan->excluded_ends[pair.b]) continue;
     Status framed_ok = FramePath(*plan, &pair);
     if (!framed_ok.ok()) {
       plan->last_failure = framed_ok.message();
@@ -614,7 +620,28 @@ void KeepFramedPairs(MovePlan* plan) {
     }
     plan->measured.push_back(std::move(pair));
   }
-  plan->report->paths_measured = static_cast<int>(plan->measured.size());
+  plan->report->paths_measured += static_cast<int>(plan->measured.size());
+}
+
+// After a batch in which no path held: the start and end candidates that most of its paths went
+// through are left out of the next. The longest paths share their farthest ends, and a cell's
+// farthest valid position can lie on an island that the way there leaves (a position far
+// forwards is valid where the ones between it and the capture plane are not), so one such end
+// can take a whole batch with it.
+void ExcludeEndsOfFailedBatch(MovePlan* plan) {
+  std::vector<int> start_uses(plan->starts.size(), 0), end_uses(plan->ends.size(), 0);
+  for (const Pair& pair : plan->measured) {
+    ++start_uses[pair.a];
+    ++end_uses[pair.b];
+  }
+  const int most = static_cast<int>(plan->measured.size()) / 2;
+  for (size_t a = 0; a < start_uses.size(); ++a) plan->excluded_starts[a] |= start_uses[a] > most;
+  for (size_t b = 0; b < end_uses.size(); ++b) plan->excluded_ends[b] |= end_uses[b] > most;
+  if (plan->shared) {  // one list of candidates serves both ends
+    for (size_t i = 0; i < plan->starts.size(); ++i) {
+      plan->excluded_starts[i] = plan->excluded_ends[i] = plan->excluded_starts[i] | plan->excluded_ends[i];
+    }
+  }
 }
 
 // The kept pairs' parallax, from each end's view of the scene (made once per end: the pairs share
@@ -879,21 +906,28 @@ StatusOr<CameraPath> PlanMove(const MoveChoice& choice, const PlanContext& conte
   //    wholly in frame) costs no coverage probe, so it is checked first: the `num_longest` longest
   //    pairs that keep their subjects in frame have their parallax measured.
   PX_RETURN_IF_ERROR(ListCandidatePairs(&plan));
-  KeepFramedPairs(&plan);
-  MeasureParallax(&plan);
+  plan.excluded_starts.assign(plan.starts.size(), 0);
+  plan.excluded_ends.assign(plan.ends.size(), 0);
 
-  // 4. The first (most parallax) path whose frames are all valid.
+  // 4. The first (most parallax) path of the batch whose frames are all valid; where none is,
+  //    the next batch, without the ends the failed one's paths mostly shared.
   // 5. The image effect. An aperture the path's ends cannot hold (an end on the valid region's
   //    frontier) sends the search on to the next path; the first path that held is kept, without
   //    the effect, in case none can.
   Pair* without_effect = nullptr;
-  for (Pair& pair : plan.measured) {
-    PX_ASSIGN_OR_RETURN(bool holds, VerifyPath(&plan, &pair));
-    if (!holds) continue;
-    double aperture = 0;
-    PX_ASSIGN_OR_RETURN(bool effect_holds, FindEffectAperture(&plan, pair, &aperture));
-    if (effect_holds) return CompletePath(&plan, &pair, choice.effect, aperture);
-    if (without_effect == nullptr) without_effect = &pair;
+  for (int batch = 0; batch < kPathBatches && without_effect == nullptr; ++batch) {
+    if (batch > 0) ExcludeEndsOfFailedBatch(&plan);
+    KeepFramedPairs(&plan);
+    if (plan.measured.empty()) break;
+    MeasureParallax(&plan);
+    for (Pair& pair : plan.measured) {
+      PX_ASSIGN_OR_RETURN(bool holds, VerifyPath(&plan, &pair));
+      if (!holds) continue;
+      double aperture = 0;
+      PX_ASSIGN_OR_RETURN(bool effect_holds, FindEffectAperture(&plan, pair, &aperture));
+      if (effect_holds) return CompletePath(&plan, &pair, choice.effect, aperture);
+      if (without_effect == nullptr) without_effect = &pair;
+    }
   }
   if (without_effect != nullptr) {
     without_effect->path.notes.push_back(
@@ -902,8 +936,8 @@ StatusOr<CameraPath> PlanMove(const MoveChoice& choice, const PlanContext& conte
     return CompletePath(&plan, without_effect, Effect::kNone, 0.0);
   }
   return FailedPreconditionError(plan.name + ": none of the " + std::to_string(plan.pairs.size()) +
-                                 " candidate paths holds (" + std::to_string(plan.measured.size()) +
-                                 " kept their subjects in frame; last: " + plan.last_failure + ")");
+                                 " candidate paths holds (" + std::to_string(plan.report->paths_measured) +
+                                 " kept their subjects in frame and were tried; last: " + plan.last_failure + ")");
 }
 
 }  // namespace px::direct

@@ -7,7 +7,8 @@
 //   3. the `num_longest` longest candidate paths, the one with the most parallax first
 //      (parallax_measure.h), each checked frame by frame at the verify size until one holds (an
 //      end that fails there is first pulled back along the path, re-framed by its rule; the
-//      frames the search probe ranks worst are checked first);
+//      frames the search probe ranks worst are checked first); where none holds, the next
+//      `num_longest`, without the endpoints most of the failed ones shared (three batches);
 //   4. framing: subjects kept wholly inside every frame by narrowing the zoom where needed;
 //   5. the image effect: the largest aperture valid at both ends (aperture_search.h) for a focus
 //      pull, at the subject's end for a depth-of-field change (it opens from a pinhole; a path

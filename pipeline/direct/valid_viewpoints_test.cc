@@ -8,22 +8,12 @@
 #include <set>
 #include <thread>
 
+#include "pipeline/direct/test_scene.h"
+
 namespace px::direct {
 namespace {
 
-// A capture frame equal to the world: 3x3 lenses over 10 cm, 640x480 at f 560, the scene 1-1.5 m
-// ahead. Search limits: 0.6 m forwards, 1.5 m back, first step 75 mm, precision 15 mm.
-SceneGeometry Scene() {
-  SceneGeometry scene;
-  scene.output = CameraModel::Pinhole(640, 480, 560);
-  scene.focal_px = 560;
-  scene.box_min = Eigen::Vector2d(-0.05, -0.05);
-  scene.box_max = Eigen::Vector2d(0.05, 0.05);
-  scene.centroid_in_world = Eigen::Vector3d(0, 0, 1.5);
-  scene.median_depth_m = 1.5;
-  scene.near_depth_m = 1.0;
-  return scene;
-}
+SceneGeometry Scene() { return TestCaptureScene(); }
 
 // The valid region's surfaces over the grid (x, y in [-0.1, 0.1] m): tilted planes, the front
 // one with a 12 cm step across x = 0.03 m (a neighbour's answer far off) and past the 0.6 m
