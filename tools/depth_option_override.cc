@@ -16,6 +16,7 @@ Status ApplyDepthOptionOverride(const std::string& text, DepthOptions* options) 
   MatchingOptions& m = options->matching;
   const std::pair<const char*, double*> doubles[] = {
       {"working_scale", &options->working_scale},
+      {"free_space_max_confidence", &options->free_space_max_confidence},
       {"light_field_max_disparity_px", &options->light_field_max_disparity_px},
       {"matching.plane_step_px", &m.plane_step_px},
       {"matching.cost_filter_eps", &m.cost_filter_eps},
@@ -53,6 +54,7 @@ Status ApplyDepthOptionOverride(const std::string& text, DepthOptions* options) 
       {"light_field_min_views", &options->light_field_min_views}};
   const std::pair<const char*, bool*> bools[] = {
       {"fill_unconfirmed", &options->fill_unconfirmed},
+      {"free_space_replane", &options->free_space_replane},
       {"segments.edge_label_visibility", &options->segments.edge_label_visibility}};
   for (const auto& [field, target] : bools) {
     if (name != field) continue;

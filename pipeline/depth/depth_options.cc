@@ -136,6 +136,9 @@ Status DepthOptions::Validate() const {
   if (!(consistency_tolerance_px > 0 && consistency_tolerance_px <= 16)) {
     return OptionOutOfRange("depth options", "consistency_tolerance_px", consistency_tolerance_px, "(0, 16]");
   }
+  if (!(free_space_max_confidence >= 0 && free_space_max_confidence <= 1)) {
+    return OptionOutOfRange("depth options", "free_space_max_confidence", free_space_max_confidence, "[0, 1]");
+  }
   if (!(max_view_match_cost > 0 && max_view_match_cost <= 2)) {
     return OptionOutOfRange("depth options", "max_view_match_cost", max_view_match_cost, "(0, 2]");
   }

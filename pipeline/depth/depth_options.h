@@ -181,6 +181,11 @@ struct DepthOptions {
   // side in depth_m (fill_unconfirmed.h: occlusions filled from the background side; the segments
   // the renderer draws are unchanged). Needs at least two computed views.
   bool fill_unconfirmed = true;
+  // Free space (free_space.h): a segment whose confidence is below free_space_max_confidence
+  // ([0, 1]) and which most of the other views see through (they see a surface farther along
+  // the same line of sight) takes an adjacent segment's plane that they confirm. false: off.
+  bool free_space_replane = true;
+  double free_space_max_confidence = 0.25;
   // A view whose median best matching cost over its textured pixels exceeds this ((0, 2]; 1 =
   // uncorrelated) matches none of its neighbours (another scene, a black or saturated frame): it
   // is reported and left out as a neighbour of the others. The cost is read before aggregation

@@ -16,6 +16,7 @@
 #include "pipeline/depth/depth_mode.h"
 #include "pipeline/depth/edge_labels.h"
 #include "pipeline/depth/fill_unconfirmed.h"
+#include "pipeline/depth/free_space.h"
 #include "pipeline/depth/group_depth.h"
 #include "pipeline/depth/neighbour_views.h"
 #include "pipeline/depth/pixel_depth_near_planes.h"
@@ -70,6 +71,12 @@ struct ReferenceDepth {
   LayeredDepthView layered;
   ViewDepthReport report;
   std::vector<int> neighbours;
+  // What the layered view is built from (BuildLayers), kept so that it can be rebuilt once the
+  // other views' depth is known (the free-space check).
+  depth::SegmentImage segment_image;
+  cv::Mat pixel_confidence;     // CV_32F at view resolution
+  cv::Mat pixel_inverse_depth;  // CV_32F, 0 where the plane is kept; empty: planes everywhere
+  double nearest_m = 0;         // the nearest neighbour's baseline
 };
 
 struct StageTimes {
@@ -173,6 +180,26 @@ void RefineSegmentPlanes(const WorkingView& ref,
                                         kRingTolerancePx * inverse_per_px,
                                         options.matching.min_texture_stddev);
   depth::RefineSegmentPlanes(segments, std::cref(slanted), refine, planes);
+}
+
+// The layered view of `reference`'s segment image (BuildTwoLayerView), with the matcher's
+// per-pixel depth kept near the planes and depth clamped to the swept range.
+LayeredDepthView BuildLayers(const View& view, const ReferenceDepth& reference, const DepthOptions& options) {
+  const SegmentOptions& so = options.segments;
+  depth::TwoLayerOptions layer_options;
+  layer_options.edge_inverse_depth_m = so.edge_disparity_px / (view.camera.fx * reference.nearest_m);
+  layer_options.band_radius_px = so.band_radius_px;
+  layer_options.min_inverse_depth_m = 0.5 / options.max_depth_m;
+  LayeredDepthView layered = depth::BuildTwoLayerView(
+      view.id, view.camera, view.image, reference.segment_image, reference.pixel_confidence, layer_options);
+  if (!reference.pixel_inverse_depth.empty()) {
+    depth::KeepPixelDepthNearPlanes(
+        reference.pixel_inverse_depth, so.pixel_depth_tolerance_px / (view.camera.fx * reference.nearest_m), &layered);
+  }
+  // Depth within the swept range (planes may extrapolate past it at a segment's far corner).
+  cv::max(layered.depth_m, options.min_depth_m, layered.depth_m);
+  cv::min(layered.depth_m, options.max_depth_m, layered.depth_m);
+  return layered;
 }
 
 ReferenceDepth MatchReference(const std::vector<View>& views,
@@ -365,29 +392,73 @@ ReferenceDepth MatchReference(const std::vector<View>& views,
                            stats.reconsidered,
                            stats.dropped_segments);
   }
-  depth::TwoLayerOptions layer_options;
-  layer_options.edge_inverse_depth_m = so.edge_disparity_px / (view.camera.fx * nearest_m);
-  layer_options.band_radius_px = so.band_radius_px;
-  layer_options.min_inverse_depth_m = 0.5 / options.max_depth_m;
-  result.layered = depth::BuildTwoLayerView(view.id, view.camera, view.image, image, confidence, layer_options);
+  result.segment_image = std::move(image);
+  result.pixel_confidence = confidence;
+  result.nearest_m = nearest_m;
   // Matched below view resolution, the per-pixel depth is no finer than the plane and blurs
   // across depth edges when upsampled (measured worse near edges on the simulated Pop9).
   if (so.pixel_depth_tolerance_px > 0 && !scaled) {
     // Unconfident pixels (weak texture) are left out: inverse depth 0 keeps the plane.
     pixel_inverse_depth.setTo(0, selection.confidence < so.pixel_depth_min_confidence);
-    depth::KeepPixelDepthNearPlanes(
-        pixel_inverse_depth, so.pixel_depth_tolerance_px / (view.camera.fx * nearest_m), &result.layered);
+    result.pixel_inverse_depth = pixel_inverse_depth;
   }
-  // Depth within the swept range (planes may extrapolate past it at a segment's far corner).
-  cv::max(result.layered.depth_m, options.min_depth_m, result.layered.depth_m);
-  cv::min(result.layered.depth_m, options.max_depth_m, result.layered.depth_m);
+  result.layered = BuildLayers(view, result, options);
   result.report.id = view.id;
   result.report.computed = true;
-  result.report.num_segments = static_cast<int>(image.planes.size());
+  result.report.num_segments = static_cast<int>(result.segment_image.planes.size());
   result.report.num_boundary_pixels = depth::CountBoundaryPixels(result.layered);
   ExposureFractions(view.image, &result.report.saturated_fraction, &result.report.dark_fraction);
   times->layers_ms += MsSince(start);
   return result;
+}
+
+// The other computed views of `i` that its depth is checked against: up to four of its
+// neighbours, those whose depth is in `depth_m`.
+std::vector<int> CheckingViews(const ReferenceDepth& reference, const std::vector<cv::Mat>& depth_m) {
+  constexpr int kCheckedNeighbours = 4;
+  std::vector<int> others;
+  for (int k : reference.neighbours) {
+    if (!depth_m[k].empty() && static_cast<int>(others.size()) < kCheckedNeighbours) others.push_back(k);
+  }
+  return others;
+}
+
+// Depth maps of the views whose depth can be trusted to check the others by (not disagreeing).
+std::vector<cv::Mat> CheckingDepthMaps(const std::vector<View>& views,
+                                       const std::vector<int>& reference_indices,
+                                       const std::vector<ReferenceDepth>& references) {
+  std::vector<cv::Mat> depth_m(views.size());
+  for (size_t i = 0; i < reference_indices.size(); ++i) {
+    // A copy: changing one view's depth must not change what the views after it are checked against.
+    if (!references[i].report.disagrees) depth_m[reference_indices[i]] = references[i].layered.depth_m.clone();
+  }
+  return depth_m;
+}
+
+// Weak segments that the other views see through take an adjacent segment's plane
+// (free_space.h), and their views' layers are rebuilt.
+void ApplyFreeSpace(const std::vector<View>& views,
+                    const std::vector<int>& reference_indices,
+                    const DepthOptions& options,
+                    std::vector<ReferenceDepth>* references) {
+  const std::vector<cv::Mat> depth_m = CheckingDepthMaps(views, reference_indices, *references);
+  depth::FreeSpaceOptions free_space;
+  free_space.confirm_px = options.consistency_tolerance_px;
+  free_space.max_confidence = options.free_space_max_confidence;
+  for (size_t i = 0; i < reference_indices.size(); ++i) {
+    ReferenceDepth& reference = (*references)[i];
+    if (reference.report.disagrees) continue;
+    const std::vector<int> others = CheckingViews(reference, depth_m);
+    if (others.empty()) continue;
+    const int index = reference_indices[i];
+    const depth::FreeSpaceStats stats =
+        depth::ReplaneSeenThroughSegments(views, depth_m, index, others, free_space, &reference.segment_image);
+    Logger("depth")->debug("view {}: {} weak segments seen through by the other views, {} re-planed",
+                           views[index].id.value,
+                           stats.contradicted,
+                           stats.replaned);
+    if (stats.replaned > 0) reference.layered = BuildLayers(views[index], reference, options);
+  }
 }
 
 // Lowers the confidence of pixels (and segments) that no other computed view confirms.
@@ -395,18 +466,10 @@ void ApplyConsistency(const std::vector<View>& views,
                       const std::vector<int>& reference_indices,
                       const DepthOptions& options,
                       std::vector<ReferenceDepth>* references) {
-  std::vector<cv::Mat> depth_m(views.size());
-  for (size_t i = 0; i < reference_indices.size(); ++i) {
-    // A copy: filling one view's depth must not change what the views after it are checked against.
-    if (!(*references)[i].report.disagrees) depth_m[reference_indices[i]] = (*references)[i].layered.depth_m.clone();
-  }
-  constexpr int kCheckedNeighbours = 4;
+  const std::vector<cv::Mat> depth_m = CheckingDepthMaps(views, reference_indices, *references);
   for (size_t i = 0; i < reference_indices.size(); ++i) {
     ReferenceDepth& reference = (*references)[i];
-    std::vector<int> others;
-    for (int k : reference.neighbours) {
-      if (!depth_m[k].empty() && static_cast<int>(others.size()) < kCheckedNeighbours) others.push_back(k);
-    }
+    const std::vector<int> others = CheckingViews(reference, depth_m);
     if (others.empty() || reference.report.disagrees) continue;
     const cv::Mat consistent =
         depth::ConsistentPixels(views, depth_m, reference_indices[i], others, options.consistency_tolerance_px);
@@ -567,6 +630,12 @@ StatusOr<DepthStageResult> ComputeWithModeOptions(const std::vector<View>& views
     }
   }
   StageClock::time_point consistency_start = StageClock::now();
+  if (options.free_space_replane) ApplyFreeSpace(views, reference_indices, options, &references);
+  for (ReferenceDepth& reference : references) {  // what the layers were built from is no longer needed
+    reference.segment_image = depth::SegmentImage();
+    reference.pixel_confidence.release();
+    reference.pixel_inverse_depth.release();
+  }
   ApplyConsistency(views, reference_indices, options, &references);
   result.report.consistency_ms = MsSince(consistency_start);
 
