@@ -166,19 +166,30 @@ struct Planner {
     for (const direct::MoveChoice& fallback : direct::FallbackMoves(choice, static_cast<int>(move_subjects.size()))) {
       tries.push_back(fallback);
     }
+    // Every move with the longest paths first; then, before giving up on 3D, every move again
+    // with two more batches of candidate paths (plan_move.h, step 3).
+    constexpr int kLastResortBatches = 3;
     std::string failures;
-    for (size_t i = 0; i < tries.size(); ++i) {
-      StatusOr<CameraPath> path = direct::PlanMove(tries[i], plan, &report.plan);
-      if (path.ok()) {
-        if (i > 0) {
-          report.fell_back = true;
-          report.notes.push_back(std::string(direct::MoveName(choice.move)) + " could not be planned (" + failures +
-                                 "); " + tries[i].reason);
-        }
-        path->reason = (i == 0 ? choice.reason : tries[i].reason) + "; " + path->reason;
-        return path;
+    for (const int batches : {1, kLastResortBatches}) {
+      plan.path_batches = batches;
+      if (batches > 1) {
+        report.notes.push_back("no move held with its " + std::to_string(options.search.num_longest) +
+                               " longest candidate paths (" + failures + "): shorter ones tried");
+        failures.clear();
       }
-      failures += (failures.empty() ? "" : "; ") + path.status().message();
+      for (size_t i = 0; i < tries.size(); ++i) {
+        StatusOr<CameraPath> path = direct::PlanMove(tries[i], plan, &report.plan);
+        if (path.ok()) {
+          if (i > 0) {
+            report.fell_back = true;
+            report.notes.push_back(std::string(direct::MoveName(choice.move)) + " could not be planned (" + failures +
+                                   "); " + tries[i].reason);
+          }
+          path->reason = (i == 0 ? choice.reason : tries[i].reason) + "; " + path->reason;
+          return path;
+        }
+        failures += (failures.empty() ? "" : "; ") + path.status().message();
+      }
     }
     *failure = failures;
     return FailedPreconditionError(failures);

@@ -29,8 +29,6 @@ constexpr double kMinFocalShare = 0.5;
 constexpr double kFirstPullBack = 0.05;
 constexpr double kMaxPullBack = 0.4;
 constexpr int kPullBackRounds = 5;
-// Batches of `num_longest` candidate paths verified before the move is given up (PlanMove, 4).
-constexpr int kPathBatches = 3;
 
 FramingRule Aim(const SceneGeometry& scene, const Eigen::Vector3d& target, double focal_px) {
   return [&scene, target, focal_px](const Eigen::Vector3d& centre) {
@@ -915,7 +913,7 @@ StatusOr<CameraPath> PlanMove(const MoveChoice& choice, const PlanContext& conte
   //    frontier) sends the search on to the next path; the first path that held is kept, without
   //    the effect, in case none can.
   Pair* without_effect = nullptr;
-  for (int batch = 0; batch < kPathBatches && without_effect == nullptr; ++batch) {
+  for (int batch = 0; batch < context.path_batches && without_effect == nullptr; ++batch) {
     if (batch > 0) ExcludeEndsOfFailedBatch(&plan);
     KeepFramedPairs(&plan);
     if (plan.measured.empty()) break;

@@ -7,8 +7,9 @@
 //   3. the `num_longest` longest candidate paths, the one with the most parallax first
 //      (parallax_measure.h), each checked frame by frame at the verify size until one holds (an
 //      end that fails there is first pulled back along the path, re-framed by its rule; the
-//      frames the search probe ranks worst are checked first); where none holds, the next
-//      `num_longest`, without the endpoints most of the failed ones shared (three batches);
+//      frames the search probe ranks worst are checked first); where none holds and the context
+//      allows more batches, the next `num_longest`, without the endpoints most of the failed
+//      ones shared;
 //   4. framing: subjects kept wholly inside every frame by narrowing the zoom where needed;
 //   5. the image effect: the largest aperture valid at both ends (aperture_search.h) for a focus
 //      pull, at the subject's end for a depth-of-field change (it opens from a pinhole; a path
@@ -37,6 +38,11 @@ struct PlanContext {
   std::vector<Subject> subjects;    // largest first; moves use the first one or two
   CoverageProbe* search = nullptr;  // reduced size, for the region search
   CoverageProbe* verify = nullptr;  // larger, for the chosen path's frames and apertures
+  // Batches of `num_longest` candidate paths tried before the move is given up (step 3). The
+  // caller tries the taxonomy's fallbacks with one batch first: a later batch's paths are
+  // shorter or start elsewhere, and a fallback move's longest paths usually show the scene
+  // better; more batches are the last resort before a morph or a 2D pan. >= 1.
+  int path_batches = 1;
   const DirectOptions* options = nullptr;
   // Valid regions already searched for these subjects, by what their rule frames and how they
   // were searched: the taxonomy's fallbacks share ends (a dolly-in's ends are a dolly-out's), so

@@ -59,6 +59,9 @@ TEST(PlanMoveTest, PathsThroughAnIslandOfValidViewpointsGiveWayToOnesThatHold) {
   MoveChoice choice;
   choice.move = Move::kEstablishingDolly;
   MovePlanReport report;
+  // With one batch every path tried leads to the island, and the move cannot be planned.
+  EXPECT_FALSE(PlanMove(choice, context, &report).ok());
+  context.path_batches = 3;
   StatusOr<CameraPath> path = PlanMove(choice, context, &report);
   ASSERT_TRUE(path.ok()) << path.status().ToString();
   // The longest paths all lead to the island; they fail, and a path within the slab is taken.
