@@ -403,6 +403,11 @@ ReferenceDepth MatchReference(const std::vector<View>& views,
     result.pixel_inverse_depth = pixel_inverse_depth;
   }
   result.layered = BuildLayers(view, result, options);
+  if (!options.free_space_replane) {  // only the free-space check rebuilds the layers
+    result.segment_image = depth::SegmentImage();
+    result.pixel_confidence.release();
+    result.pixel_inverse_depth.release();
+  }
   result.report.id = view.id;
   result.report.computed = true;
   result.report.num_segments = static_cast<int>(result.segment_image.planes.size());
@@ -457,7 +462,9 @@ void ApplyFreeSpace(const std::vector<View>& views,
                            views[index].id.value,
                            stats.contradicted,
                            stats.replaned);
-    if (stats.replaned > 0) reference.layered = BuildLayers(views[index], reference, options);
+    if (stats.replaned == 0) continue;
+    reference.layered = BuildLayers(views[index], reference, options);
+    reference.report.num_boundary_pixels = depth::CountBoundaryPixels(reference.layered);
   }
 }
 

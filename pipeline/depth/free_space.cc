@@ -136,7 +136,12 @@ FreeSpaceStats ReplaneSeenThroughSegments(const std::vector<View>& views,
                                           const FreeSpaceOptions& options,
                                           SegmentImage* segments) {
   PX_CHECK(segments != nullptr && segments->labels.type() == CV_32S);
+  PX_CHECK(reference >= 0 && reference < static_cast<int>(views.size()) && depth_m.size() == views.size());
+  PX_CHECK(segments->labels.cols == views[reference].camera.width &&
+           segments->labels.rows == views[reference].camera.height);
+  PX_CHECK(segments->confidence.size() == segments->planes.size());
   PX_CHECK(options.see_through_px > 0 && options.confirm_px > 0);
+  PX_CHECK(options.min_seen_through_fraction > 0 && options.min_seen_through_fraction <= 1);
   FreeSpaceStats stats;
   const View& ref = views[reference];
   const Rigid3 world_from_ref = ref.cam_from_world.Inverse();
@@ -162,7 +167,10 @@ FreeSpaceStats ReplaneSeenThroughSegments(const std::vector<View>& views,
   std::vector<std::vector<cv::Point>> pixels(count);
   for (int y = 0; y < segments->labels.rows; ++y) {
     const int* row = segments->labels.ptr<int>(y);
-    for (int x = 0; x < segments->labels.cols; ++x) pixels[row[x]].emplace_back(x, y);
+    for (int x = 0; x < segments->labels.cols; ++x) {
+      PX_CHECK(row[x] >= 0 && row[x] < count);
+      pixels[row[x]].emplace_back(x, y);
+    }
   }
   const auto verdicts_of = [&](int s, const InversePlane& plane) {
     std::vector<Verdict> verdicts;

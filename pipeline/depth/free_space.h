@@ -40,8 +40,8 @@ struct FreeSpaceStats {
 // in its pixels) against the depth maps of `others` (indices into views; depth_m[k] CV_32F at
 // views[k]'s size, empty to skip) and gives each contradicted segment the plane of an adjacent,
 // uncontradicted segment that the others confirm best (adjacent ones re-planed first in turn):
-// same depth and same colour (views[k].image) on clearly more of its pixels than they see
-// through. A contradicted segment no candidate is confirmed for keeps its plane: a subject that
+// same depth and same colour (views[k].image) on more of its pixels than another colour or
+// seen through. A contradicted segment no candidate is confirmed for keeps its plane: a subject that
 // moved between the shots is seen through by the others too, but matches nothing in colour.
 FreeSpaceStats ReplaneSeenThroughSegments(const std::vector<View>& views,
                                           const std::vector<cv::Mat>& depth_m,

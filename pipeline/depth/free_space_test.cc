@@ -18,15 +18,15 @@ struct Scene {
   std::vector<int> others;
 };
 
-Scene WallScene(int others) {
+Scene WallScene(int others, double spacing_m = 0.1) {
   Scene scene;
   for (int i = 0; i <= others; ++i) {
     View view;
     view.id = ViewId{i};
     view.camera = CameraModel::Pinhole(kWidth, kHeight, kFocal);
     view.image = cv::Mat(kHeight, kWidth, CV_8UC3, cv::Scalar(128, 128, 128));
-    // Camera centre at x = 0.1 i m: cam_from_world translates by -centre.
-    view.cam_from_world = Rigid3(Eigen::Quaterniond::Identity(), Eigen::Vector3d(-0.1 * i, 0, 0));
+    // Camera centre at x = spacing_m i: cam_from_world translates by -centre.
+    view.cam_from_world = Rigid3(Eigen::Quaterniond::Identity(), Eigen::Vector3d(-spacing_m * i, 0, 0));
     scene.views.push_back(view);
     scene.depth_m.push_back(i == 0 ? cv::Mat() : cv::Mat(kHeight, kWidth, CV_32F, cv::Scalar(kWallM)));
     if (i > 0) scene.others.push_back(i);
@@ -99,7 +99,7 @@ TEST(FreeSpaceTest, ASegmentThatMatchesNothingInColourKeepsItsPlane) {
 }
 
 TEST(FreeSpaceTest, OneViewOfThreeSeeingThroughIsNotAMajority) {
-  Scene scene = WallScene(3);
+  Scene scene = WallScene(3, 0.05);  // close enough that the segment lands inside all three
   // Two of the three other views see something at 0.5 m where the floating segment lands in
   // them: they confirm it rather than see through it.
   SegmentImage image = BlockSegments();

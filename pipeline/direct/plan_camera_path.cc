@@ -173,8 +173,9 @@ struct Planner {
     for (const int batches : {1, kLastResortBatches}) {
       plan.path_batches = batches;
       if (batches > 1) {
-        report.notes.push_back("no move held with its " + std::to_string(options.search.num_longest) +
-                               " longest candidate paths (" + failures + "): shorter ones tried");
+        plan.first_batch = 1;  // the first batch of every move has just failed
+        report.notes.push_back("no move could be planned with its " + std::to_string(options.search.num_longest) +
+                               " longest candidate paths (" + failures + "): two more batches tried");
         failures.clear();
       }
       for (size_t i = 0; i < tries.size(); ++i) {

@@ -618,7 +618,6 @@ void KeepFramedPairs(MovePlan* plan) {
     }
     plan->measured.push_back(std::move(pair));
   }
-  plan->report->paths_measured += static_cast<int>(plan->measured.size());
 }
 
 // After a batch in which no path held: the start and end candidates that most of its paths went
@@ -917,7 +916,9 @@ StatusOr<CameraPath> PlanMove(const MoveChoice& choice, const PlanContext& conte
     if (batch > 0) ExcludeEndsOfFailedBatch(&plan);
     KeepFramedPairs(&plan);
     if (plan.measured.empty()) break;
+    if (batch < context.first_batch) continue;  // tried by an earlier call: its exclusions only
     MeasureParallax(&plan);
+    plan.report->paths_measured += static_cast<int>(plan.measured.size());
     for (Pair& pair : plan.measured) {
       PX_ASSIGN_OR_RETURN(bool holds, VerifyPath(&plan, &pair));
       if (!holds) continue;

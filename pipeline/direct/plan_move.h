@@ -43,6 +43,9 @@ struct PlanContext {
   // shorter or start elsewhere, and a fallback move's longest paths usually show the scene
   // better; more batches are the last resort before a morph or a 2D pan. >= 1.
   int path_batches = 1;
+  // The first batch whose paths are tried: the earlier ones, already tried by a call with fewer
+  // batches, only decide which endpoints the later ones leave out. [0, path_batches).
+  int first_batch = 0;
   const DirectOptions* options = nullptr;
   // Valid regions already searched for these subjects, by what their rule frames and how they
   // were searched: the taxonomy's fallbacks share ends (a dolly-in's ends are a dolly-out's), so
