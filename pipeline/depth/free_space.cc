@@ -5,15 +5,15 @@
 #include <cmath>
 
 #include "pipeline/core/check.h"
+#include "pipeline/depth/superpixels.h"
+#include "pipeline/depth/view_to_view.h"
 
 namespace px::depth {
 namespace {
 
 // Another view as the reference's points land in it.
 struct OtherView {
-  Eigen::Matrix3d rotation;  // other camera from reference camera
-  Eigen::Vector3d translation;
-  const CameraModel* camera = nullptr;
+  ViewToView projection;
   const cv::Mat* depth_m = nullptr;
   const cv::Mat* image = nullptr;  // CV_8UC3
   double see_through_inverse = 0;  // 1/m
@@ -44,27 +44,20 @@ Verdict Judge(const View& ref,
               const OtherView& other,
               const std::vector<cv::Point>& pixels,
               const InversePlane& plane) {
-  const CameraModel& a = ref.camera;
   Verdict verdict;
-  const CameraModel& b = *other.camera;
   const cv::Mat& seen_depth = *other.depth_m;
   for (const cv::Point& p : pixels) {
     const double inverse = plane.At(p.x, p.y);
     if (!(inverse > 0)) continue;
-    const double z = 1.0 / inverse;
-    const Eigen::Vector3d in_ref((p.x - a.cx) / a.fx * z, (p.y - a.cy) / a.fy * z, z);
-    const Eigen::Vector3d q = other.rotation * in_ref + other.translation;
-    if (q.z() <= 0) continue;
-    const long u = std::lround(b.fx * q.x() / q.z() + b.cx);
-    const long v = std::lround(b.fy * q.y() / q.z() + b.cy);
-    if (u < 0 || v < 0 || u >= seen_depth.cols || v >= seen_depth.rows) continue;
-    const float seen = seen_depth.at<float>(static_cast<int>(v), static_cast<int>(u));
+    int u = 0, v = 0;
+    double z_other = 0;
+    if (!other.projection.Project(p.x, p.y, 1.0 / inverse, &u, &v, &z_other)) continue;
+    const float seen = seen_depth.at<float>(v, u);
     if (!(seen > 0)) continue;
     ++verdict.projected;
-    const double nearer_by = 1.0 / q.z() - 1.0 / seen;  // > 0: our point is in front of what it sees
+    const double nearer_by = 1.0 / z_other - 1.0 / seen;  // > 0: our point is in front of what it sees
     if (std::abs(nearer_by) <= other.confirm_inverse) {
-      const bool same =
-          SameColour(ref.image.at<cv::Vec3b>(p), other.image->at<cv::Vec3b>(static_cast<int>(v), static_cast<int>(u)));
+      const bool same = SameColour(ref.image.at<cv::Vec3b>(p), other.image->at<cv::Vec3b>(v, u));
       ++(same ? verdict.confirmed : verdict.mismatched);
     } else if (nearer_by > other.see_through_inverse) {
       ++verdict.seen_through;
@@ -105,28 +98,6 @@ double Agreement(const std::vector<Verdict>& verdicts, size_t num_pixels) {
   return judged > 0 ? sum / judged : 0.0;
 }
 
-std::vector<std::vector<int>> AdjacentLabels(const cv::Mat& labels, int count) {
-  std::vector<std::vector<int>> adjacent(count);
-  for (int y = 0; y < labels.rows; ++y) {
-    const int* row = labels.ptr<int>(y);
-    const int* below = y + 1 < labels.rows ? labels.ptr<int>(y + 1) : nullptr;
-    for (int x = 0; x < labels.cols; ++x) {
-      const int right = x + 1 < labels.cols ? row[x + 1] : row[x];
-      const int down = below ? below[x] : row[x];
-      for (int other : {right, down}) {
-        if (other == row[x]) continue;
-        adjacent[row[x]].push_back(other);
-        adjacent[other].push_back(row[x]);
-      }
-    }
-  }
-  for (std::vector<int>& list : adjacent) {
-    std::sort(list.begin(), list.end());
-    list.erase(std::unique(list.begin(), list.end()), list.end());
-  }
-  return adjacent;
-}
-
 }  // namespace
 
 FreeSpaceStats ReplaneSeenThroughSegments(const std::vector<View>& views,
@@ -144,22 +115,16 @@ FreeSpaceStats ReplaneSeenThroughSegments(const std::vector<View>& views,
   PX_CHECK(options.min_seen_through_fraction > 0 && options.min_seen_through_fraction <= 1);
   FreeSpaceStats stats;
   const View& ref = views[reference];
-  const Rigid3 world_from_ref = ref.cam_from_world.Inverse();
   std::vector<OtherView> judges;
   for (int k : others) {
     if (k == reference || depth_m[k].empty()) continue;
-    const Rigid3 other_from_ref = views[k].cam_from_world * world_from_ref;
-    const double focal_baseline = views[k].camera.fx * other_from_ref.translation.norm();
-    if (!(focal_baseline > 0)) continue;
-    OtherView judge;
-    judge.rotation = other_from_ref.RotationMatrix();
-    judge.translation = other_from_ref.translation;
-    judge.camera = &views[k].camera;
-    judge.depth_m = &depth_m[k];
-    judge.image = &views[k].image;
-    judge.see_through_inverse = options.see_through_px / focal_baseline;
-    judge.confirm_inverse = options.confirm_px / focal_baseline;
-    judges.push_back(judge);
+    const ViewToView projection(ref, views[k]);
+    if (!(projection.focal_baseline() > 0)) continue;
+    judges.push_back({projection,
+                      &depth_m[k],
+                      &views[k].image,
+                      options.see_through_px / projection.focal_baseline(),
+                      options.confirm_px / projection.focal_baseline()});
   }
   if (judges.empty()) return stats;
 

@@ -36,10 +36,8 @@ void ComputeSuperpixelStats(const cv::Mat& lab, Superpixels* sp) {
   sp->mean_lab.assign(n, cv::Vec3f(0, 0, 0));
   sp->centroids.assign(n, cv::Point2f(0, 0));
   std::vector<cv::Vec4i> extent(n, cv::Vec4i(lab.cols, lab.rows, -1, -1));  // x0, y0, x1, y1
-  std::vector<std::vector<int>> adjacent(n);
   for (int y = 0; y < lab.rows; ++y) {
     const int* l = sp->labels.ptr<int>(y);
-    const int* below = y + 1 < lab.rows ? sp->labels.ptr<int>(y + 1) : nullptr;
     const cv::Vec3b* c = lab.ptr<cv::Vec3b>(y);
     for (int x = 0; x < lab.cols; ++x) {
       const int s = l[x];
@@ -51,14 +49,6 @@ void ComputeSuperpixelStats(const cv::Mat& lab, Superpixels* sp) {
       e[1] = std::min(e[1], y);
       e[2] = std::max(e[2], x);
       e[3] = std::max(e[3], y);
-      const int right = x + 1 < lab.cols ? l[x + 1] : s;
-      const int down = below != nullptr ? below[x] : s;
-      for (int other : {right, down}) {
-        if (other == s) continue;
-        // Most pixels repeat the last pair: check it before searching.
-        if (adjacent[s].empty() || adjacent[s].back() != other) adjacent[s].push_back(other);
-        if (adjacent[other].empty() || adjacent[other].back() != s) adjacent[other].push_back(s);
-      }
     }
   }
   for (int s = 0; s < n; ++s) {
@@ -68,10 +58,32 @@ void ComputeSuperpixelStats(const cv::Mat& lab, Superpixels* sp) {
     }
     const cv::Vec4i& e = extent[s];
     sp->bboxes[s] = sp->sizes[s] > 0 ? cv::Rect(e[0], e[1], e[2] - e[0] + 1, e[3] - e[1] + 1) : cv::Rect();
-    std::sort(adjacent[s].begin(), adjacent[s].end());
-    adjacent[s].erase(std::unique(adjacent[s].begin(), adjacent[s].end()), adjacent[s].end());
   }
-  sp->adjacent = std::move(adjacent);
+  sp->adjacent = AdjacentLabels(sp->labels, n);
+}
+
+std::vector<std::vector<int>> AdjacentLabels(const cv::Mat& labels, int count) {
+  std::vector<std::vector<int>> adjacent(count);
+  for (int y = 0; y < labels.rows; ++y) {
+    const int* l = labels.ptr<int>(y);
+    const int* below = y + 1 < labels.rows ? labels.ptr<int>(y + 1) : nullptr;
+    for (int x = 0; x < labels.cols; ++x) {
+      const int s = l[x];
+      const int right = x + 1 < labels.cols ? l[x + 1] : s;
+      const int down = below != nullptr ? below[x] : s;
+      for (int other : {right, down}) {
+        if (other == s) continue;
+        // Most pixels repeat the last pair: check it before searching.
+        if (adjacent[s].empty() || adjacent[s].back() != other) adjacent[s].push_back(other);
+        if (adjacent[other].empty() || adjacent[other].back() != s) adjacent[other].push_back(s);
+      }
+    }
+  }
+  for (std::vector<int>& list : adjacent) {
+    std::sort(list.begin(), list.end());
+    list.erase(std::unique(list.begin(), list.end()), list.end());
+  }
+  return adjacent;
 }
 
 std::vector<std::vector<int>> SegmentPixels(const Superpixels& sp) {

@@ -31,6 +31,9 @@ std::vector<std::vector<int>> SegmentPixels(const Superpixels& superpixels);
 // the Lab image they label.
 void ComputeSuperpixelStats(const cv::Mat& lab, Superpixels* superpixels);
 
+// The 4-connected neighbours of each label of `labels` (CV_32S, 0 .. count - 1), ascending.
+std::vector<std::vector<int>> AdjacentLabels(const cv::Mat& labels, int count);
+
 // Labels at the resolution of `bgr` (CV_8UC3, the view) from superpixels made at `factor`
 // (0, 1] of it: each pixel takes, of the labels of the up to four working pixels around it, the
 // one whose mean colour is closest to its own, so that segment borders follow the full-resolution
