@@ -63,7 +63,9 @@ struct SegmentRow {
 
 // The source pixel (u, v) of setup `s`'s fragment at column fx of row `r`: false when the
 // homography puts it behind the source camera or outside the segment's rectangle (rounding at the
-// rectangle's edges; the sampler needs it within one pixel of the image).
+// rectangle's edges). The far edges are excluded: the sampler reads the texels right of and below
+// (u, v), which must lie within the one-texel border around the image, and a sample exactly on the
+// far edge has all its weight on texels outside the segment anyway.
 inline bool FragmentSource(
     const SegmentSetup& s, const SceneSegment& segment, const SegmentRow& r, float fx, float* u, float* v) {
   const float* h = s.homography.data();
@@ -72,7 +74,7 @@ inline bool FragmentSource(
   const float inv_w = 1.0f / hw;
   *u = (h[0] * fx + r.hx0) * inv_w;
   *v = (h[3] * fx + r.hy0) * inv_w;
-  return *u >= segment.rect[0] && *u <= segment.rect[2] && *v >= segment.rect[1] && *v <= segment.rect[3];
+  return *u >= segment.rect[0] && *u < segment.rect[2] && *v >= segment.rect[1] && *v < segment.rect[3];
 }
 
 // Calls row(SegmentRow) for each row of setup `s` within [row_begin, row_end) that has pixels.
