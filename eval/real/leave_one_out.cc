@@ -183,6 +183,7 @@ StatusOr<LeaveOneOutResult> EvaluateLeaveOneOut(const RealSet& set, const LeaveO
   const std::optional<WorkingImageSet> working =
       ImageSetAtWorkingSize(options.max_side_px, set.capture, RigCalibration{});
   const FrameSet& capture = working ? working->capture : set.capture;
+  if (working) result.notes.push_back(working->note);
   Progress(options, set.name + ": structure from motion on " + std::to_string(result.num_views) + " views");
   std::vector<std::string> warnings;
   std::vector<StageTiming> timings;

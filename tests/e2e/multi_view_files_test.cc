@@ -12,6 +12,7 @@
 #include "capture/mpo.h"
 #include "capture/recording_test_util.h"
 #include "pipeline/clip/clip_writer.h"
+#include "pipeline/run/image_set_scale.h"
 #include "sim/synthetic/data_paths.h"
 
 namespace px {
@@ -196,13 +197,14 @@ TEST(MultiViewFilesTest, RealStereoCamerasAndWigglegrams) {
     size_t views;
     int width;
     bool focal;
+    bool dithered;  // palette frames whose dither the working image set removes
   };
   const Case cases[] = {
-      {"mpo/nintendo3ds_mpo/sugarshack.mpo", 2, 640, false},
-      {"mpo/nintendo3ds_mpo/3DS-big-endian.mpo", 2, 640, false},
-      {"mpo/panasonic_gx8_3dlens_mpo/Panasonic-DMC-GX8.mpo", 2, 1824, true},
-      {"multicam/actionsampler_onomichi_4frames/onomichi.gif", 4, 711, false},
-      {"multicam/photobooth_pi_4cam_person/wigglegram-example-charuco-calibrated.webp", 4, 1200, false}};
+      {"mpo/nintendo3ds_mpo/sugarshack.mpo", 2, 640, false, false},
+      {"mpo/nintendo3ds_mpo/3DS-big-endian.mpo", 2, 640, false, false},
+      {"mpo/panasonic_gx8_3dlens_mpo/Panasonic-DMC-GX8.mpo", 2, 1824, true, false},
+      {"multicam/actionsampler_onomichi_4frames/onomichi.gif", 4, 711, false, true},
+      {"multicam/photobooth_pi_4cam_person/wigglegram-example-charuco-calibrated.webp", 4, 1200, false, false}};
   for (const Case& c : cases) {
     std::vector<std::string> warnings;
     StatusOr<Recording> recording = RecordingFromImages({data / c.file}, &warnings);
@@ -212,6 +214,14 @@ TEST(MultiViewFilesTest, RealStereoCamerasAndWigglegrams) {
     // The 3D lens's EXIF: 65 mm equivalent (each image is half the sensor), about 3500 px.
     if (c.focal) {
       EXPECT_NEAR(recording->frames.frames[1].focal_length_px, 3500, 150) << c.file;
+    }
+    // The recording keeps the frames as decoded; the stages see them without a GIF's dither.
+    const std::optional<WorkingImageSet> working = ImageSetAtWorkingSize(0, recording->frames, RigCalibration{});
+    EXPECT_EQ(working.has_value(), c.dithered) << c.file << ": " << (working ? working->note : "");
+    if (working) {
+      EXPECT_NE(working->note.find(std::to_string(c.views) + " of " + std::to_string(c.views) + " frames are palette"),
+                std::string::npos)
+          << working->note;
     }
   }
 }
