@@ -55,9 +55,11 @@ struct SubjectSearch {
 // User boxes (options.subject_boxes_px, in options.subject_view or the centre view) when given;
 // else faces on views[centre_index] from `detector` (null: none, said in `detector`). A face
 // whose physical width at its depth is outside options.faces' range is dropped, so that a
-// face-like texture on a far wall or a tiny pattern up close does not become a subject; without
-// depth, or without `metric_scale` (structure from motion's scale is a guess, and a real face
-// would be dropped as 6 cm wide), every face is kept, with a note. `detected`, when it is for the centre view, replaces
+// face-like texture on a far wall or a tiny pattern up close does not become a subject. Without
+// `metric_scale` (structure from motion's scale is a guess, and a real face would be dropped as
+// 6 cm wide) a face found by a single cascade is instead looked for again in the other views
+// (face_confirmation.h; with `detector` only) and dropped when none finds it; without depth, every
+// face is kept, with a note. `detected`, when it is for the centre view, replaces
 // the detection (its time is then not in SubjectSearch::ms).
 StatusOr<SubjectSearch> FindSubjects(const std::vector<View>& views,
                                      const std::vector<DepthMap>& depths,
