@@ -9,10 +9,18 @@ namespace px::direct {
 
 namespace {
 
+// The frame-filling search (FaceDetector::Detect): the padding on every side as a fraction of
+// the frame's shorter side, the padded frame's longer side searched, and the share of a find's
+// box that must lie inside the frame.
+constexpr double kFrameFillingPad = 0.5;
+constexpr int kFrameFillingSearchPx = 400;
+constexpr double kFrameFillingInside = 0.7;
+
 struct Raw {
   cv::Rect2d box;
   double score = 0;
   int cascades = 1;
+  int cascade = 0;  // index of the cascade that found it
 };
 
 // Two detections are one face when they overlap well, or one's centre lies in the other and
@@ -81,42 +89,75 @@ std::vector<FaceBox> FaceDetector::Detect(const cv::Mat& image, const FaceDetect
     grey = image.clone();
   }
   if (grey.depth() != CV_8U) grey.convertTo(grey, CV_8U);
-  const int longer = std::max(grey.cols, grey.rows);
+  const cv::Size image_size = grey.size();
+  const int longer = std::max(grey.cols, grey.rows), shorter = std::min(grey.cols, grey.rows);
   const double scale = options.upscale_below_px > 0 && longer < options.upscale_below_px
                            ? std::min(3.0, static_cast<double>(options.upscale_below_px) / longer)
                            : 1.0;
+  // A face too large for the frame: the cascades' window must lie inside the searched image, so
+  // a close-up whose face touches the frame's edges (a film camera's lens tile, a selfie) is
+  // found only with the frame padded out. The padded frame, at a reduced size, is searched for
+  // faces of at least half the frame's shorter side; a find must keep most of its box inside.
+  const int pad = static_cast<int>(std::lround(kFrameFillingPad * shorter));
+  cv::Mat padded;
+  cv::copyMakeBorder(grey, padded, pad, pad, pad, pad, cv::BORDER_REPLICATE);
+  const double padded_scale =
+      std::min(1.0, static_cast<double>(kFrameFillingSearchPx) / std::max(padded.cols, padded.rows));
+  cv::resize(padded, padded, cv::Size(), padded_scale, padded_scale, cv::INTER_AREA);
+  cv::equalizeHist(padded, padded);
   if (scale != 1.0) cv::resize(grey, grey, cv::Size(), scale, scale, cv::INTER_LINEAR);
   cv::equalizeHist(grey, grey);
-  cv::Mat mirrored;
   const int min_side = std::max(8, static_cast<int>(std::lround(options.min_face_px * scale)));
 
   std::vector<Raw> raw;
-  {
-    std::lock_guard<std::mutex> lock(mutex_);
-    for (const Loaded& cascade : cascades_) {
+  // The cascades over `searched` into `out`, each box mapped to the image as box / factor - offset.
+  const auto search = [&](const cv::Mat& searched, double factor, double offset, int min_face, std::vector<Raw>* out) {
+    cv::Mat mirrored;
+    for (size_t c = 0; c < cascades_.size(); ++c) {
+      const Loaded& cascade = cascades_[c];
       if (cascade.profile && !options.profiles) continue;
       for (int side = 0; side < (cascade.profile ? 2 : 1); ++side) {
-        const cv::Mat* input = &grey;
+        const cv::Mat* input = &searched;
         if (side == 1) {
-          if (mirrored.empty()) cv::flip(grey, mirrored, 1);
+          if (mirrored.empty()) cv::flip(searched, mirrored, 1);
           input = &mirrored;
         }
         std::vector<cv::Rect> found;
         std::vector<int> neighbours;
         cascade.classifier->detectMultiScale(
-            *input, found, neighbours, options.scale_factor, options.min_neighbors, 0, cv::Size(min_side, min_side));
+            *input, found, neighbours, options.scale_factor, options.min_neighbors, 0, cv::Size(min_face, min_face));
         for (size_t i = 0; i < found.size(); ++i) {
           cv::Rect2d box(found[i]);
           if (side == 1) box.x = input->cols - box.x - box.width;
-          box.x /= scale;
-          box.y /= scale;
-          box.width /= scale;
-          box.height /= scale;
+          box = cv::Rect2d(box.x / factor - offset, box.y / factor - offset, box.width / factor, box.height / factor);
+          const cv::Rect2d inside = box & cv::Rect2d(0, 0, image_size.width, image_size.height);
+          if (inside.area() < kFrameFillingInside * box.area()) continue;
           Raw detection;
-          detection.box = box;
+          detection.box = inside;
           detection.score = i < neighbours.size() ? neighbours[i] : options.min_neighbors;
-          raw.push_back(detection);
+          detection.cascade = static_cast<int>(c);
+          out->push_back(detection);
         }
+      }
+    }
+  };
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    search(grey, scale, 0.0, min_side, &raw);
+    if (pad > 0) {
+      std::vector<Raw> filling;
+      search(padded,
+             padded_scale,
+             pad,
+             std::max(8, static_cast<int>(std::lround(0.5 * shorter * padded_scale))),
+             &filling);
+      // The padded borders are streaks a cascade can misread: a frame-filling face needs two
+      // cascades that agree on it.
+      for (const Raw& find : filling) {
+        const bool agreed = std::any_of(filling.begin(), filling.end(), [&](const Raw& other) {
+          return other.cascade != find.cascade && SameFace(other.box, find.box);
+        });
+        if (agreed) raw.push_back(find);
       }
     }
   }

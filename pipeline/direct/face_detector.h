@@ -4,8 +4,12 @@
 //
 // Detect() runs every frontal cascade on the equalised grey image (upscaled when small, since
 // the cascades' 20-24 px windows miss smaller faces) and, optionally, the profile cascade on the
-// image and its mirror (the profile cascade knows one side only). Overlapping boxes from any
-// cascade merge into one face; a face found by more cascades or more neighbours scores higher.
+// image and its mirror (the profile cascade knows one side only). A face too large for the
+// frame (a close-up touching its edges) does not fit the cascades' window, so the frame padded
+// by half its shorter side on every side (edges replicated) is searched too, for faces of at
+// least half the frame's shorter side that two cascades agree on; such a box is cut to the frame.
+// Overlapping boxes from any cascade merge into one face; a face found by more cascades or more
+// neighbours scores higher.
 #pragma once
 
 #include <memory>
