@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include <initializer_list>
 #include <vector>
 
 namespace px::depth {
@@ -49,13 +50,23 @@ SegmentImage BlockSegments() {
 
 constexpr int kMiddle = 1 * (kWidth / kBlock) + 2;  // a segment away from the image border
 
+// Segments `floating` of BlockSegments() put at `depth_m` with `confidence`.
+void Float(std::initializer_list<int> floating, double depth_m, float confidence, SegmentImage* image) {
+  for (int s : floating) {
+    image->planes[s] = InversePlane{0, 0, 1.0 / depth_m};
+    image->confidence[s] = confidence;
+  }
+}
+
+FreeSpaceStats Replane(const Scene& scene, SegmentImage* image) {
+  return ReplaneSeenThroughSegments(scene.views, scene.depth_m, 0, scene.others, FreeSpaceOptions(), image);
+}
+
 TEST(FreeSpaceTest, AWeakSegmentFloatingInFrontOfWhatTheOthersSeeTakesItsNeighboursPlane) {
   const Scene scene = WallScene(2);
   SegmentImage image = BlockSegments();
-  image.planes[kMiddle] = InversePlane{0, 0, 1.0 / 0.5};  // 0.5 m: both other views see the wall through it
-  image.confidence[kMiddle] = 0.03f;
-  const FreeSpaceStats stats =
-      ReplaneSeenThroughSegments(scene.views, scene.depth_m, 0, scene.others, FreeSpaceOptions(), &image);
+  Float({kMiddle}, 0.5, 0.03f, &image);  // 0.5 m: both other views see the wall through it
+  const FreeSpaceStats stats = Replane(scene, &image);
   EXPECT_EQ(stats.contradicted, 1);
   EXPECT_EQ(stats.replaned, 1);
   EXPECT_NEAR(image.planes[kMiddle].At(40, 24), 1.0 / kWallM, 1e-9);
@@ -64,10 +75,8 @@ TEST(FreeSpaceTest, AWeakSegmentFloatingInFrontOfWhatTheOthersSeeTakesItsNeighbo
 TEST(FreeSpaceTest, AWellSupportedSegmentKeepsItsPlane) {
   const Scene scene = WallScene(2);
   SegmentImage image = BlockSegments();
-  image.planes[kMiddle] = InversePlane{0, 0, 1.0 / 0.5};
-  image.confidence[kMiddle] = 0.6f;  // the matcher was sure: the other views' depth may be the wrong one
-  const FreeSpaceStats stats =
-      ReplaneSeenThroughSegments(scene.views, scene.depth_m, 0, scene.others, FreeSpaceOptions(), &image);
+  Float({kMiddle}, 0.5, 0.6f, &image);  // the matcher was sure: the other views' depth may be the wrong one
+  const FreeSpaceStats stats = Replane(scene, &image);
   EXPECT_EQ(stats.contradicted, 0);
   EXPECT_NEAR(image.planes[kMiddle].c, 1.0 / 0.5, 1e-9);
 }
@@ -75,10 +84,8 @@ TEST(FreeSpaceTest, AWellSupportedSegmentKeepsItsPlane) {
 TEST(FreeSpaceTest, ASegmentBehindWhatTheOthersSeeIsNotContradicted) {
   const Scene scene = WallScene(2);
   SegmentImage image = BlockSegments();
-  image.planes[kMiddle] = InversePlane{0, 0, 1.0 / 6.0};  // behind the wall: hidden from the others, not seen through
-  image.confidence[kMiddle] = 0.03f;
-  const FreeSpaceStats stats =
-      ReplaneSeenThroughSegments(scene.views, scene.depth_m, 0, scene.others, FreeSpaceOptions(), &image);
+  Float({kMiddle}, 6.0, 0.03f, &image);  // behind the wall: hidden from the others, not seen through
+  const FreeSpaceStats stats = Replane(scene, &image);
   EXPECT_EQ(stats.contradicted, 0);
   EXPECT_NEAR(image.planes[kMiddle].c, 1.0 / 6.0, 1e-9);
 }
@@ -89,10 +96,8 @@ TEST(FreeSpaceTest, ASegmentThatMatchesNothingInColourKeepsItsPlane) {
   // others see the wall there, and no plane carries its colour into them.
   scene.views[0].image(cv::Rect(32, 16, kBlock, kBlock)).setTo(cv::Scalar(40, 40, 220));
   SegmentImage image = BlockSegments();
-  image.planes[kMiddle] = InversePlane{0, 0, 1.0 / 0.5};
-  image.confidence[kMiddle] = 0.03f;
-  const FreeSpaceStats stats =
-      ReplaneSeenThroughSegments(scene.views, scene.depth_m, 0, scene.others, FreeSpaceOptions(), &image);
+  Float({kMiddle}, 0.5, 0.03f, &image);
+  const FreeSpaceStats stats = Replane(scene, &image);
   EXPECT_EQ(stats.contradicted, 1);
   EXPECT_EQ(stats.replaned, 0);
   EXPECT_NEAR(image.planes[kMiddle].c, 1.0 / 0.5, 1e-9);
@@ -103,11 +108,9 @@ TEST(FreeSpaceTest, OneViewOfThreeSeeingThroughIsNotAMajority) {
   // Two of the three other views see something at 0.5 m where the floating segment lands in
   // them: they confirm it rather than see through it.
   SegmentImage image = BlockSegments();
-  image.planes[kMiddle] = InversePlane{0, 0, 1.0 / 0.5};
-  image.confidence[kMiddle] = 0.03f;
+  Float({kMiddle}, 0.5, 0.03f, &image);
   for (int k : {2, 3}) scene.depth_m[k].setTo(0.5);
-  const FreeSpaceStats stats =
-      ReplaneSeenThroughSegments(scene.views, scene.depth_m, 0, scene.others, FreeSpaceOptions(), &image);
+  const FreeSpaceStats stats = Replane(scene, &image);
   EXPECT_EQ(stats.contradicted, 0);
   EXPECT_NEAR(image.planes[kMiddle].c, 1.0 / 0.5, 1e-9);
 }
@@ -116,17 +119,10 @@ TEST(FreeSpaceTest, AFloatingClusterIsReplanedFromItsEdgeInwards) {
   const Scene scene = WallScene(2);
   SegmentImage image = BlockSegments();
   // Three weak segments in a row float together; only the outer two touch the wall's segments.
-  for (int s : {kMiddle - 1, kMiddle, kMiddle + 1}) {
-    image.planes[s] = InversePlane{0, 0, 1.0 / 0.5};
-    image.confidence[s] = 0.03f;
-  }
+  Float({kMiddle - 1, kMiddle, kMiddle + 1}, 0.5, 0.03f, &image);
   // The row above and below as well, so the middle one's only settled neighbours are re-planed ones.
-  for (int s : {kMiddle - 6, kMiddle + 6}) {
-    image.planes[s] = InversePlane{0, 0, 1.0 / 0.5};
-    image.confidence[s] = 0.03f;
-  }
-  const FreeSpaceStats stats =
-      ReplaneSeenThroughSegments(scene.views, scene.depth_m, 0, scene.others, FreeSpaceOptions(), &image);
+  Float({kMiddle - 6, kMiddle + 6}, 0.5, 0.03f, &image);
+  const FreeSpaceStats stats = Replane(scene, &image);
   EXPECT_EQ(stats.contradicted, 5);
   EXPECT_EQ(stats.replaned, 5);
   for (int s : {kMiddle - 6, kMiddle - 1, kMiddle, kMiddle + 1, kMiddle + 6})

@@ -26,6 +26,9 @@ struct FaceDetectionOptions {
   // more true ones; 320x240 views still are upscaled.
   int upscale_below_px = 400;
   bool profiles = true;  // also run the profile cascade, on the image and its mirror
+  // Also search the frame padded out, for faces larger than it (FaceDetector::Detect); off where
+  // the image searched is a window around a face of known size (face_confirmation.h).
+  bool frame_filling = true;
   // When depth is known, a detection whose physical width at its median depth is outside this
   // range is not a face (textures that look like faces), metres, 0 < min < max.
   // Haar boxes of adult faces measure 0.14-0.22 m; 0.10 keeps children and rejects the

@@ -12,15 +12,13 @@ FaceConfirmation ConfirmFace(const Subject& face,
                              const FaceDetectionOptions& options) {
   FaceConfirmation result;
   const View& centre = views[centre_index];
-  const Eigen::Vector3d centre_camera = centre.cam_from_world.Inverse().translation;
+  const Eigen::Vector3d centre_camera = CameraCentre(centre.cam_from_world);
   std::vector<int> others;
   for (int i = 0; i < static_cast<int>(views.size()); ++i) {
     if (i != centre_index && !views[i].image.empty()) others.push_back(i);
   }
-  std::stable_sort(others.begin(), others.end(), [&](int a, int b) {
-    return (views[a].cam_from_world.Inverse().translation - centre_camera).norm() <
-           (views[b].cam_from_world.Inverse().translation - centre_camera).norm();
-  });
+  const auto distance = [&](int i) { return (CameraCentre(views[i].cam_from_world) - centre_camera).norm(); };
+  std::stable_sort(others.begin(), others.end(), [&](int a, int b) { return distance(a) < distance(b); });
   const Eigen::Vector3d point = face.CentreInWorld();
   const int centre_side = std::max(centre.image.cols, centre.image.rows);
   for (const int index : others) {
@@ -28,15 +26,15 @@ FaceConfirmation ConfirmFace(const Subject& face,
     const View& other = views[index];
     const Eigen::Vector3d in_other = other.cam_from_world * point;
     Eigen::Vector2d pixel;
-    if (!(in_other.z() > 0) || !other.camera.Project(in_other, &pixel)) continue;
+    if (!other.camera.Project(in_other, &pixel)) continue;  // behind it
     // The face's width there: its width in the centre view scaled by depth and focal length.
     const double expected = face.box_px.width * (face.depth_m / in_other.z()) * (other.camera.fx / centre.camera.fx);
-    const cv::Rect2d window_d(pixel.x() - 2 * expected, pixel.y() - 2 * expected, 4 * expected, 4 * expected);
-    const cv::Rect window =
-        cv::Rect(
-            cv::Point(static_cast<int>(std::floor(window_d.x)), static_cast<int>(std::floor(window_d.y))),
-            cv::Point(static_cast<int>(std::ceil(window_d.br().x)), static_cast<int>(std::ceil(window_d.br().y)))) &
-        cv::Rect(0, 0, other.image.cols, other.image.rows);
+    const int half = static_cast<int>(std::ceil(2 * expected));
+    const cv::Rect window = cv::Rect(static_cast<int>(std::lround(pixel.x())) - half,
+                                     static_cast<int>(std::lround(pixel.y())) - half,
+                                     2 * half,
+                                     2 * half) &
+                            cv::Rect(0, 0, other.image.cols, other.image.rows);
     // The face must lie in the image there to be judged.
     if (pixel.x() < 0 || pixel.y() < 0 || pixel.x() >= other.image.cols || pixel.y() >= other.image.rows ||
         window.width < expected || window.height < expected) {
@@ -44,6 +42,7 @@ FaceConfirmation ConfirmFace(const Subject& face,
     }
     ++result.views_checked;
     FaceDetectionOptions crop_options = options;
+    crop_options.frame_filling = false;  // the face is a quarter of the window, not larger than it
     crop_options.min_face_px = std::clamp(static_cast<int>(0.5 * expected), 8, options.min_face_px);
     // The centre view's search scale: upscaled as it was, or not at all.
     crop_options.upscale_below_px =

@@ -98,13 +98,15 @@ std::vector<FaceBox> FaceDetector::Detect(const cv::Mat& image, const FaceDetect
   // a close-up whose face touches the frame's edges (a film camera's lens tile, a selfie) is
   // found only with the frame padded out. The padded frame, at a reduced size, is searched for
   // faces of at least half the frame's shorter side; a find must keep most of its box inside.
-  const int pad = static_cast<int>(std::lround(kFrameFillingPad * shorter));
+  const int pad = options.frame_filling ? static_cast<int>(std::lround(kFrameFillingPad * shorter)) : 0;
   cv::Mat padded;
-  cv::copyMakeBorder(grey, padded, pad, pad, pad, pad, cv::BORDER_REPLICATE);
-  const double padded_scale =
-      std::min(1.0, static_cast<double>(kFrameFillingSearchPx) / std::max(padded.cols, padded.rows));
-  cv::resize(padded, padded, cv::Size(), padded_scale, padded_scale, cv::INTER_AREA);
-  cv::equalizeHist(padded, padded);
+  double padded_scale = 1.0;
+  if (pad > 0) {
+    cv::copyMakeBorder(grey, padded, pad, pad, pad, pad, cv::BORDER_REPLICATE);
+    padded_scale = std::min(1.0, static_cast<double>(kFrameFillingSearchPx) / std::max(padded.cols, padded.rows));
+    cv::resize(padded, padded, cv::Size(), padded_scale, padded_scale, cv::INTER_AREA);
+    cv::equalizeHist(padded, padded);
+  }
   if (scale != 1.0) cv::resize(grey, grey, cv::Size(), scale, scale, cv::INTER_LINEAR);
   cv::equalizeHist(grey, grey);
   const int min_side = std::max(8, static_cast<int>(std::lround(options.min_face_px * scale)));

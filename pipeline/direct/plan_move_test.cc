@@ -35,12 +35,7 @@ StatusOr<CoverageReport> SlabWithIsland(const CameraModel& camera, const Rigid3&
   const bool island_column = c.x() > kIslandX && c.y() > kIslandY;
   const bool valid =
       island_column ? (c.z() >= kIslandNearZ && c.z() <= kIslandFarZ) : (c.z() <= kFrontZ && c.z() >= -0.5);
-  CoverageReport report;
-  report.width = camera.width;
-  report.height = camera.height;
-  report.hole_ratio = valid ? 0.0 : 0.5;
-  report.hole_score = valid ? 0.0 : 10.0;
-  return report;
+  return ValidityCoverage(camera, valid);
 }
 
 TEST(PlanMoveTest, PathsThroughAnIslandOfValidViewpointsGiveWayToOnesThatHold) {

@@ -146,22 +146,23 @@ StatusOr<SubjectSearch> FindSubjects(const std::vector<View>& views,
       if (subject->depth_known && !metric_scale) {
         // No size in metres to judge it by. A face that several cascades agree on stands; one
         // cascade's find must be found again by the other views.
-        const bool look_again = detector != nullptr && face.cascades < kCascadesForAFace;
-        const FaceConfirmation confirmation =
-            look_again ? ConfirmFace(*subject, views, centre_index, *detector, options.faces) : FaceConfirmation{};
-        if (confirmation.Refuted()) {
-          search.notes.push_back("face " + BoxText(face.box) +
-                                 " dropped: not found again where its depth puts it in the other views (" +
-                                 confirmation.detail + "; a face-like texture)");
-          continue;
+        std::string why = detector == nullptr ? "no detector to look for it again"
+                                              : "found by " + std::to_string(face.cascades) + " cascades";
+        if (detector != nullptr && face.cascades < kCascadesForAFace) {
+          const FaceConfirmation confirmation = ConfirmFace(*subject, views, centre_index, *detector, options.faces);
+          if (confirmation.Refuted()) {
+            search.notes.push_back("face " + BoxText(face.box) +
+                                   " dropped: not found again where its depth puts it in the other views (" +
+                                   confirmation.detail + "; a face-like texture)");
+            continue;
+          }
+          why = confirmation.confirming_view >= 0
+                    ? "found again in view " + std::to_string(confirmation.confirming_view)
+                    : confirmation.detail;
         }
-        search.notes.push_back("face " + BoxText(face.box) +
-                               " kept without a size check (the views' scale is not metric, structure from motion): " +
-                               (confirmation.confirming_view >= 0
-                                    ? "found again in view " + std::to_string(confirmation.confirming_view)
-                                : look_again          ? confirmation.detail
-                                : detector != nullptr ? "found by " + std::to_string(face.cascades) + " cascades"
-                                                      : "no detector to look for it again"));
+        search.notes.push_back(
+            "face " + BoxText(face.box) +
+            " kept without a size check (the views' scale is not metric, structure from motion): " + why);
       } else if (subject->depth_known) {
         const double width_m = face.box.width * subject->depth_m / view.camera.fx;
         if (width_m < options.faces.min_face_width_m || width_m > options.faces.max_face_width_m) {

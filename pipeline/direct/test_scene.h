@@ -3,6 +3,7 @@
 // forwards, 1.5 m back, first step 75 mm, precision 15 mm.
 #pragma once
 
+#include "pipeline/core/coverage_report.h"
 #include "pipeline/direct/scene_geometry.h"
 
 namespace px::direct {
@@ -17,6 +18,17 @@ inline SceneGeometry TestCaptureScene() {
   scene.median_depth_m = 1.5;
   scene.near_depth_m = 1.0;
   return scene;
+}
+
+// The coverage a test's valid-viewpoint region reports for one camera: none missing inside it,
+// half the frame a hole outside.
+inline CoverageReport ValidityCoverage(const CameraModel& camera, bool valid) {
+  CoverageReport report;
+  report.width = camera.width;
+  report.height = camera.height;
+  report.hole_ratio = valid ? 0.0 : 0.5;
+  report.hole_score = valid ? 0.0 : 10.0;
+  return report;
 }
 
 }  // namespace px::direct

@@ -30,12 +30,7 @@ CoverageFunction SlabCoverage(std::set<std::thread::id>* threads, std::mutex* mu
     }
     const Eigen::Vector3d c = CameraCentre(cam_from_world);
     const bool inside = c.z() <= FrontZ(c.x(), c.y()) && c.z() >= BackZ(c.x(), c.y());
-    CoverageReport report;
-    report.width = camera.width;
-    report.height = camera.height;
-    report.hole_ratio = inside ? 0.0 : 0.5;
-    report.hole_score = inside ? 0.0 : 10.0;
-    return report;
+    return ValidityCoverage(camera, inside);
   };
 }
 
