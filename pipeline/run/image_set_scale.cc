@@ -52,9 +52,10 @@ std::optional<WorkingImageSet> ImageSetAtWorkingSize(int max_side_px, const Fram
     cv::Mat working_bgr = *bgr;
     bool changed = false;
     if (palette[i]) {
-      const double residual = PixelScaleResidual(working_bgr);
+      cv::Mat without_dither;
+      const double residual = PixelScaleResidual(working_bgr, &without_dither);
       if (residual > kDitherResidualLevels) {
-        working_bgr = RemoveDither(working_bgr);
+        working_bgr = without_dither;
         residual_before = std::max(residual_before, residual);
         ++dedithered;
         changed = true;

@@ -31,10 +31,12 @@ cv::Mat RemoveDither(const cv::Mat& bgr) {
   return smooth;
 }
 
-double PixelScaleResidual(const cv::Mat& bgr) {
+double PixelScaleResidual(const cv::Mat& bgr, cv::Mat* without_dither) {
   if (bgr.empty() || bgr.type() != CV_8UC3) return 0.0;
+  const cv::Mat smooth = RemoveDither(bgr);
+  if (without_dither != nullptr) *without_dither = smooth;
   cv::Mat difference;
-  cv::absdiff(bgr, RemoveDither(bgr), difference);
+  cv::absdiff(bgr, smooth, difference);
   // Per pixel the channels' sum, 0..765; its median by histogram.
   std::array<int64_t, 766> histogram{};
   for (int y = 0; y < difference.rows; ++y) {

@@ -21,8 +21,9 @@ int CountColoursUpTo(const RawImage& image, int limit);
 // How strongly an image alternates at the pixel scale: the median over pixels of the mean
 // absolute difference, over the three channels, between the image and its 5x5 binomial blur, in
 // levels. A dithered palette photo measures well above 5 (a wigglegram GIF of a city: up to 19);
-// a photo, or a palette image quantised without dither, under 3.
-double PixelScaleResidual(const cv::Mat& bgr);
+// a photo, or a palette image quantised without dither, under 3. `without_dither` (may be null)
+// receives the blur it was measured against, RemoveDither(bgr).
+double PixelScaleResidual(const cv::Mat& bgr, cv::Mat* without_dither = nullptr);
 
 // The residual above which a palette image counts as dithered.
 inline constexpr double kDitherResidualLevels = 5.0;
