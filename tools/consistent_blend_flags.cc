@@ -35,6 +35,12 @@ void AddConsistentBlendFlags(CLI::App& command, ConsistentBlendOptions* options)
                   options->colour_apart_levels,
                   "... in full from this many levels ([0, 255]; not above --agree-levels: off)")
       ->capture_default_str();
+  command
+      .add_option("--one-view-regions",
+                  options->one_view_regions,
+                  "Where the colour consensus outvotes several views in one region, draw it from its most heavily "
+                  "weighted view alone (true, false)")
+      ->capture_default_str();
 }
 
 }  // namespace px::cli

@@ -22,6 +22,10 @@ struct FrameComposite {
   // The colour consensus's results where it changes a pixel, kept aside until the frame's regions
   // of such pixels are known (preview_compositor.cc); buffers reused from frame to frame.
   cv::Mat consensus_colour, consensus_alpha, consensus_depth, consensus_mark;
+  // With BlendRules::one_view_regions, where the consensus changes a pixel: the pixel drawn from
+  // its most heavily weighted view alone, and (CV_8UC2) the view the consensus outvoted there
+  // (ViewSlots::kNone: none) and that view (else empty).
+  cv::Mat solo_colour, solo_alpha, solo_depth, consensus_views;
 };
 
 // How the preview resolves a pixel whose views contradict each other (contradictions.h).
@@ -30,6 +34,7 @@ struct BlendRules {
   float dominance_exponent = 8;    // ConsistentBlendOptions::dominance_exponent
   float colour_agree_levels = 16;  // ConsistentBlendOptions::colour_agree_levels
   float colour_apart_levels = 32;  // ConsistentBlendOptions::colour_apart_levels
+  bool one_view_regions = false;   // ConsistentBlendOptions::one_view_regions
   bool measure_double_images = false;
   int double_image_levels = 30;  // colours further apart than this (largest channel) are two images
 };

@@ -25,6 +25,12 @@ struct ConsistentBlendOptions {
   // [0, 255] each.
   int colour_agree_levels = 16;
   int colour_apart_levels = 32;
+  // Where the consensus outvotes several views in one region (each at its own copy of a thin
+  // structure the views place a few pixels apart), draw that region from its most heavily
+  // weighted view alone: the structure shows once and whole, where the vote cuts it into dashes,
+  // but at that view's place, which costs leave-one-out fidelity and flickers as the heaviest view
+  // changes (pipeline/render/README.md, known limitations). Off by default.
+  bool one_view_regions = false;
   // Views checked against each view: of those that can share a pixel with it, the nearest by
   // camera centre. [1, 16].
   int max_neighbours = 8;

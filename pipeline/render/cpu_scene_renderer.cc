@@ -262,6 +262,7 @@ CpuSceneRenderer::Core CpuSceneRenderer::RenderCore(const CameraModel& camera,
     rules.dominance_exponent = static_cast<float>(blend.dominance_exponent);
     rules.colour_agree_levels = static_cast<float>(blend.colour_agree_levels);
     rules.colour_apart_levels = static_cast<float>(blend.colour_apart_levels);
+    rules.one_view_regions = blend.one_view_regions;
     rules.measure_double_images = options_.measure_double_images;
     const bool contested = rules.consistent || rules.measure_double_images;
     render::CompositePreview(

@@ -7,12 +7,14 @@
 // resolve clears the cells it has read, so the next band (or frame) starts from zeros without a
 // separate pass and nothing is allocated per frame.
 #include <algorithm>
+#include <array>
 #include <atomic>
 #include <cmath>
 #include <cstddef>
 #include <limits>
 #include <opencv2/core/hal/intrin.hpp>
 #include <opencv2/imgproc.hpp>
+#include <vector>
 
 #include "pipeline/render/compositor.h"
 
@@ -425,6 +427,11 @@ struct ConsensusOut {
   // 0: the same as the blend; kConsensusDiffers, plus kConsensusDouble when the consensus shows a
   // double image and kBlendDouble when the blend does.
   uint8_t* mark;
+  // The pixel from its most heavily weighted slot alone, and {outvoted view, that slot's view}.
+  float* solo_alpha;
+  float* solo_depth;
+  float* solo_bgr;
+  uint8_t* views;
 };
 constexpr uint8_t kConsensusDiffers = 1;
 constexpr uint8_t kConsensusDouble = 2;
@@ -503,6 +510,23 @@ void ResolveContestedPixel(const float* const cells[3],
   if (!TrustedBlend(cells, p, trust, soft_z, consensus->alpha, consensus->depth, consensus->bgr, share)) return;
   *consensus->mark = kConsensusDiffers | (blend_double ? kBlendDouble : 0) |
                      (ShowsDoubleImage(p, share, rules) ? kConsensusDouble : 0);
+  if (consensus->views == nullptr) return;
+  // Which view the vote turned down (the least trusted, when below half) and which would draw the
+  // pixel alone (the most heavily weighted): TakeRegionalConsensus weighs them region by region.
+  int outvoted_slot = -1, heaviest = -1;
+  for (int k = 0; k < 3; ++k) {
+    if (!p.TakesPart(k)) continue;
+    if (trust[k] < 0.5f && (outvoted_slot < 0 || trust[k] < trust[outvoted_slot])) outvoted_slot = k;
+    if (heaviest < 0 || p.view_weight[k] > p.view_weight[heaviest]) heaviest = k;
+  }
+  consensus->views[0] = outvoted_slot < 0 ? ViewSlots::kNone : slots.view[outvoted_slot];
+  consensus->views[1] = slots.view[heaviest];
+  float alone[3] = {0, 0, 0};
+  alone[heaviest] = 1;
+  float alone_share[3];
+  if (!TrustedBlend(
+          cells, p, alone, soft_z, consensus->solo_alpha, consensus->solo_depth, consensus->solo_bgr, alone_share))
+    consensus->views[1] = ViewSlots::kNone;
 }
 
 // ResolvePixel for four pixels at once (x .. x + 3 of a row) when each has a tier-1 slot (a
@@ -633,12 +657,17 @@ void ResolveBand(const std::vector<ViewSlots>& slots,
     const size_t row_offset = static_cast<size_t>(y - row_begin) * width;
     // Where the colour consensus changes a pixel, its result waits aside (CompositePreview).
     const bool with_consensus = consistent && with_colour && !out->consensus_mark.empty();
+    const bool one_view = with_consensus && !out->consensus_views.empty();
     const auto consensus_at = [&](int x) {
-      if (!with_consensus) return ConsensusOut{nullptr, nullptr, nullptr, nullptr};
+      if (!with_consensus) return ConsensusOut{};
       return ConsensusOut{out->consensus_alpha.ptr<float>(y) + x,
                           out->consensus_depth.ptr<float>(y) + x,
                           out->consensus_colour.ptr<float>(y) + 3 * x,
-                          out->consensus_mark.ptr<uint8_t>(y) + x};
+                          out->consensus_mark.ptr<uint8_t>(y) + x,
+                          one_view ? out->solo_alpha.ptr<float>(y) + x : nullptr,
+                          one_view ? out->solo_depth.ptr<float>(y) + x : nullptr,
+                          one_view ? out->solo_colour.ptr<float>(y) + 3 * x : nullptr,
+                          one_view ? out->consensus_views.ptr<uint8_t>(y) + 2 * x : nullptr};
     };
     uint8_t* mark_row = with_consensus ? out->consensus_mark.ptr<uint8_t>(y) : nullptr;
     // Four pixels at a time; a group with an unusual pixel (or the row's last few) one by one.
@@ -727,6 +756,57 @@ void ResolveBand(const std::vector<ViewSlots>& slots,
   }
 }
 
+// The pixels of `regions` to draw from one view alone: the regions where the views the vote turns
+// down are several (a thin structure or a moved subject the views place a few pixels apart, each
+// copy outvoted at its own place by the two views that show what is behind it: a vote keeps none
+// of the copies whole), not one view far more often than the others (a glint or a subject that
+// moved in one view, which the vote rightly removes). Changed pixels up to kCopiesApartPx apart
+// count as one region. Such a region takes its most often heaviest view's pixels, so the
+// structure is drawn once, whole, with that view's depth (BlendRules::one_view_regions).
+cv::Mat SoloRegions(const cv::Mat& regions, const cv::Mat& views) {
+  constexpr double kOneViewShare = 0.75;  // of a region's outvoted pixels: the vote's outlier view
+  constexpr int kMinOutvotedPixels = 8;
+  constexpr int kCopiesApartPx = 8;  // copies of one structure this far apart are one region
+  cv::Mat grouped, labels;
+  cv::dilate(
+      regions, grouped, cv::getStructuringElement(cv::MORPH_RECT, cv::Size(kCopiesApartPx + 1, kCopiesApartPx + 1)));
+  const int count = cv::connectedComponents(grouped, labels, 8, CV_32S);
+  labels.setTo(0, regions == 0);
+  cv::Mat solo = cv::Mat::zeros(regions.size(), CV_8U);
+  if (count <= 1) return solo;
+  // Per region, how often each view is outvoted and how often it is the heaviest.
+  std::vector<std::array<int, 256>> outvoted(count), heaviest(count);
+  for (auto& h : outvoted) h.fill(0);
+  for (auto& h : heaviest) h.fill(0);
+  for (int y = 0; y < regions.rows; ++y) {
+    const int* label = labels.ptr<int>(y);
+    const uint8_t* v = views.ptr<uint8_t>(y);
+    for (int x = 0; x < regions.cols; ++x) {
+      if (label[x] == 0) continue;
+      ++outvoted[label[x]][v[2 * x]];
+      ++heaviest[label[x]][v[2 * x + 1]];
+    }
+  }
+  std::vector<int> drawn_from(count, -1);
+  for (int r = 1; r < count; ++r) {
+    int total = 0, top = 0;
+    for (int view = 0; view < ViewSlots::kNone; ++view) {
+      total += outvoted[r][view];
+      top = std::max(top, outvoted[r][view]);
+    }
+    if (total < kMinOutvotedPixels || top >= kOneViewShare * total) continue;
+    drawn_from[r] = static_cast<int>(std::max_element(heaviest[r].begin(), heaviest[r].begin() + ViewSlots::kNone) -
+                                     heaviest[r].begin());
+  }
+  for (int y = 0; y < regions.rows; ++y) {
+    const int* label = labels.ptr<int>(y);
+    const uint8_t* v = views.ptr<uint8_t>(y);
+    uint8_t* row = solo.ptr<uint8_t>(y);
+    for (int x = 0; x < regions.cols; ++x) row[x] = label[x] != 0 && v[2 * x + 1] == drawn_from[label[x]] ? 255 : 0;
+  }
+  return solo;
+}
+
 // The colour consensus where it changes a region of pixels, not a lone pixel or a line one or
 // two pixels wide (which is what views a fraction of a pixel out of register leave along the
 // edges of fine texture, where their blend is the better estimate): what a 5x5 opening of the
@@ -762,6 +842,13 @@ void TakeRegionalConsensus(FrameComposite* out) {
     const cv::Mat consensus_double = (out->consensus_mark & kConsensusDouble) != 0;
     consensus_double.copyTo(out->double_image, regions);
   }
+  if (out->consensus_views.empty()) return;
+  // One-view regions: where the vote turned down several views, one view's pixels instead.
+  const cv::Mat solo = SoloRegions(regions, out->consensus_views);
+  out->solo_colour.copyTo(out->colour, solo);
+  out->solo_alpha.copyTo(out->alpha, solo);
+  out->solo_depth.copyTo(out->depth, solo);
+  if (!out->double_image.empty()) out->double_image.setTo(0, solo);
 }
 
 }  // namespace
@@ -793,6 +880,14 @@ void CompositePreview(const LayeredScene& scene,
     out->consensus_mark.create(height, width, CV_8U);
   } else {
     out->consensus_mark.release();
+  }
+  if (!out->consensus_mark.empty() && rules->one_view_regions) {
+    out->solo_colour.create(height, width, CV_32FC3);
+    out->solo_alpha.create(height, width, CV_32F);
+    out->solo_depth.create(height, width, CV_32F);
+    out->consensus_views.create(height, width, CV_8UC2);
+  } else {
+    out->consensus_views.release();
   }
   const std::vector<std::vector<BandEntry>> bands = BinSegmentsIntoBands(frame_views, height);
   const SoftZ& soft_z = scene.soft_z();
