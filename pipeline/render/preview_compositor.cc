@@ -774,10 +774,8 @@ cv::Mat SoloRegions(const cv::Mat& regions, const cv::Mat& views) {
   labels.setTo(0, regions == 0);
   cv::Mat solo = cv::Mat::zeros(regions.size(), CV_8U);
   if (count <= 1) return solo;
-  // Per region, how often each view is outvoted and how often it is the heaviest.
+  // Per region, how often each view is outvoted and how often it is the heaviest (value-initialised: zeros).
   std::vector<std::array<int, 256>> outvoted(count), heaviest(count);
-  for (auto& h : outvoted) h.fill(0);
-  for (auto& h : heaviest) h.fill(0);
   for (int y = 0; y < regions.rows; ++y) {
     const int* label = labels.ptr<int>(y);
     const uint8_t* v = views.ptr<uint8_t>(y);
