@@ -137,6 +137,21 @@ cv::Mat GainField(const cv::Vec<double, kTerms>& shape,
   return gain;
 }
 
+// `field` (CV_32FC3 gains) held within the range it takes over the `valid` pixels: the fit knows
+// the light only there, and its quadratic and quartic terms run away beyond (a view's corners,
+// where the flow found no match, would otherwise be darkened or brightened by half or more).
+void ClampToSupport(const cv::Mat& valid, cv::Mat* field) {
+  if (cv::countNonZero(valid) == 0) return;
+  std::vector<cv::Mat> channels;
+  cv::split(*field, channels);
+  for (cv::Mat& channel : channels) {
+    double low, high;
+    cv::minMaxLoc(channel, &low, &high, nullptr, nullptr, valid);
+    channel = cv::max(cv::min(channel, high), low);
+  }
+  cv::merge(channels, *field);
+}
+
 // Mean over the channels (a colour cast counts, which grey would hide).
 double MeanAbsDifference(const cv::Mat& a, const cv::Mat& b, const cv::Mat& valid) {
   cv::Mat difference;
@@ -305,7 +320,8 @@ StatusOr<PhotometricReport> EqualisePhotometry(std::vector<View>* views,
     const cv::Mat shaped_gain = GainField(shape, reference_channels, view_channels, valid, max_log_gain);
     const double shaped_after = MeanAbsDifference(aligned, view_small.mul(shaped_gain), valid);
     const bool shaped = shaped_after < (1 - options.min_improvement) * flat_after;
-    const cv::Mat gain_small = shaped ? shaped_gain : flat_gain;
+    cv::Mat gain_small = shaped ? shaped_gain : flat_gain;
+    ClampToSupport(valid, &gain_small);
     std::vector<cv::Mat> fields;
     cv::Mat log_gain;
     cv::log(gain_small, log_gain);

@@ -92,6 +92,45 @@ TEST(PhotometricTest, ExposureCastAndVignettingOfAShiftedViewAreUndone) {
   EXPECT_LT(fitted.difference_after, 0.3 * fitted.difference_before);
 }
 
+// A red subject bright enough to clip the reference's red channel (a petal in the sun) fills a
+// third of the view: its pixels say nothing of the exposure and must not bend the field (tilt it
+// towards the subject, or draw a vignette) that equalises the rest of the view.
+TEST(PhotometricTest, ClippedHighlightsDoNotBendTheField) {
+  cv::Mat scene = Scene(cv::Size(560, 400));
+  const cv::Rect subject(40, 0, 200, 400);
+  std::vector<cv::Mat> channels;
+  cv::split(scene(subject), channels);
+  channels[0] *= 0.5;
+  channels[1] *= 0.5;
+  channels[2] = 200 + channels[2] * 0.2;  // 208 to 243: clipped from a gain of 1.05 on
+  cv::merge(channels, scene(subject));
+  constexpr double kGain = 1.3;
+  std::vector<View> views = {ViewOf(scene, 40, 0), ViewOf(scene, 52, 1)};
+  Expose(&views[0], cv::Vec3d::all(kGain), 1.0);
+  cv::Mat truth;
+  views[1].image.convertTo(truth, CV_8UC3, kGain);  // what the reference's exposure made of it
+
+  StatusOr<PhotometricReport> report = EqualisePhotometry(&views, 0, PhotometricOptions{});
+  ASSERT_TRUE(report.ok()) << report.status().ToString();
+  std::printf("[figures] %s\n", report->Summary().c_str());
+  const ViewPhotometry& fitted = report->views[1];
+  ASSERT_TRUE(fitted.applied) << fitted.note;
+  EXPECT_NEAR(fitted.centre_gain[0], kGain, 0.06);
+  EXPECT_NEAR(fitted.centre_gain[1], kGain, 0.06);
+  EXPECT_NEAR(fitted.centre_gain[2], kGain, 0.06);
+  EXPECT_NEAR(fitted.corner_falloff, 1.0, 0.08);
+  // Right of the subject, where nothing clips, the view is as the reference's exposure saw it.
+  const cv::Rect clear(220, 0, 260, 360);
+  const double after = MeanAbsDifference(views[1].image(clear), truth(clear));
+  std::printf("[figures] clipped subject: gain %.2f/%.2f/%.2f, corner %.2f, %.1f levels from the truth beside it\n",
+              fitted.centre_gain[2],
+              fitted.centre_gain[1],
+              fitted.centre_gain[0],
+              fitted.corner_falloff,
+              after);
+  EXPECT_LT(after, 3.0);
+}
+
 TEST(PhotometricTest, ViewsOfOneExposureAreLeftAsTheyAre) {
   const cv::Mat scene = Scene(cv::Size(560, 400));
   std::vector<View> views = {ViewOf(scene, 40, 0), ViewOf(scene, 60, 1), ViewOf(scene, 70, 2)};
