@@ -100,8 +100,24 @@ bool FitLogGain(const cv::Mat& reference, const cv::Mat& view, const cv::Mat& va
   return true;
 }
 
+// `field` (CV_32FC3 gains) held within the range it takes over the `valid` pixels: the fit knows
+// the light only there, and its quadratic and quartic terms run away beyond (a view's corners,
+// where the flow found no match, would otherwise be darkened or brightened by half or more).
+void ClampToSupport(const cv::Mat& valid, cv::Mat* field) {
+  if (cv::countNonZero(valid) == 0) return;
+  std::vector<cv::Mat> channels;
+  cv::split(*field, channels);
+  for (cv::Mat& channel : channels) {
+    double low, high;
+    cv::minMaxLoc(channel, &low, &high, nullptr, nullptr, valid);
+    channel = cv::max(cv::min(channel, high), low);
+  }
+  cv::merge(channels, *field);
+}
+
 // The gain field (CV_32FC3) of the log-gain `shape` shared by the channels plus each channel's
-// own constant: the median of what the shape leaves of its log ratio.
+// own constant: the median of what the shape leaves of its log ratio, held to its support
+// (ClampToSupport).
 cv::Mat GainField(const cv::Vec<double, kTerms>& shape,
                   const std::vector<cv::Mat>& reference_channels,
                   const std::vector<cv::Mat>& view_channels,
@@ -134,22 +150,8 @@ cv::Mat GainField(const cv::Vec<double, kTerms>& shape,
   cv::Mat log_field, gain;
   cv::merge(fields, log_field);
   cv::exp(log_field, gain);
+  ClampToSupport(valid, &gain);
   return gain;
-}
-
-// `field` (CV_32FC3 gains) held within the range it takes over the `valid` pixels: the fit knows
-// the light only there, and its quadratic and quartic terms run away beyond (a view's corners,
-// where the flow found no match, would otherwise be darkened or brightened by half or more).
-void ClampToSupport(const cv::Mat& valid, cv::Mat* field) {
-  if (cv::countNonZero(valid) == 0) return;
-  std::vector<cv::Mat> channels;
-  cv::split(*field, channels);
-  for (cv::Mat& channel : channels) {
-    double low, high;
-    cv::minMaxLoc(channel, &low, &high, nullptr, nullptr, valid);
-    channel = cv::max(cv::min(channel, high), low);
-  }
-  cv::merge(channels, *field);
 }
 
 // Mean over the channels (a colour cast counts, which grey would hide).
@@ -320,8 +322,7 @@ StatusOr<PhotometricReport> EqualisePhotometry(std::vector<View>* views,
     const cv::Mat shaped_gain = GainField(shape, reference_channels, view_channels, valid, max_log_gain);
     const double shaped_after = MeanAbsDifference(aligned, view_small.mul(shaped_gain), valid);
     const bool shaped = shaped_after < (1 - options.min_improvement) * flat_after;
-    cv::Mat gain_small = shaped ? shaped_gain : flat_gain;
-    ClampToSupport(valid, &gain_small);
+    const cv::Mat gain_small = shaped ? shaped_gain : flat_gain;
     std::vector<cv::Mat> fields;
     cv::Mat log_gain;
     cv::log(gain_small, log_gain);
