@@ -21,24 +21,52 @@ namespace px {
 
 namespace {
 
-// A morph needs most of the frame matched both ways to look like one scene moving.
+// A morph looks like one scene moving where its correspondences agree forwards and backwards:
+// over most of the frame, or, where most of the frame is flat (the dark, grainy surround of a
+// film scan's lens circle, whose interpolated flow agrees with nothing and shows no second image
+// whatever it is), over a clearer majority of the textured pixels, where the flow is measured.
 constexpr double kMinMorphConsistency = 0.5;
+constexpr double kMinTexturedMorphConsistency = 0.65;
+constexpr double kMinTexturedShare = 0.02;  // of the frame: under it, texture is too scarce to judge by
 
-// The pair to morph between: the centre view and its nearest neighbour (the smallest baseline
-// gives the most reliable flow); with two views, those two.
-std::pair<int, int> MorphPair(const std::vector<View>& views, int centre) {
-  int best = centre == 0 ? 1 : 0;
-  double best_distance = std::numeric_limits<double>::infinity();
+// How far the morph's consistency clears its bar (>= 1: the morph holds).
+double MorphMargin(const direct::MorphReport& m) {
+  const double whole = m.consistent_fraction / kMinMorphConsistency;
+  if (m.textured_fraction < kMinTexturedShare) return whole;
+  return std::max(whole, m.textured_consistent / kMinTexturedMorphConsistency);
+}
+
+std::string DescribeMorphConsistency(const direct::MorphReport& m) {
+  char text[160];
+  std::snprintf(text,
+                sizeof(text),
+                "%.0f%% of the frame's correspondences agree both ways, %.0f%% where it is textured (want %.0f%% "
+                "or %.0f%%)",
+                100 * m.consistent_fraction,
+                100 * m.textured_consistent,
+                100 * kMinMorphConsistency,
+                100 * kMinTexturedMorphConsistency);
+  return text;
+}
+
+// The pairs to morph between, in order of preference: the centre view with each of its nearest
+// neighbours (the smallest baselines give the most reliable flow), up to kMorphCandidates; with
+// two views, those two.
+std::vector<std::pair<int, int>> MorphPairs(const std::vector<View>& views, int centre) {
+  constexpr size_t kMorphCandidates = 3;
+  std::vector<std::pair<double, int>> by_distance;
   const Eigen::Vector3d c = CameraCentre(views[centre].cam_from_world);
   for (size_t i = 0; i < views.size(); ++i) {
     if (static_cast<int>(i) == centre) continue;
-    const double d = (CameraCentre(views[i].cam_from_world) - c).norm();
-    if (d < best_distance) {
-      best_distance = d;
-      best = static_cast<int>(i);
-    }
+    by_distance.emplace_back((CameraCentre(views[i].cam_from_world) - c).norm(), static_cast<int>(i));
   }
-  return {std::min(centre, best), std::max(centre, best)};
+  std::sort(by_distance.begin(), by_distance.end());
+  std::vector<std::pair<int, int>> pairs;
+  for (size_t k = 0; k < std::min(kMorphCandidates, by_distance.size()); ++k) {
+    const int other = by_distance[k].second;
+    pairs.emplace_back(std::min(centre, other), std::max(centre, other));
+  }
+  return pairs;
 }
 
 CameraPath MorphPath(const View& a, const View& b, const std::vector<Subject>& subjects, const DirectOptions& options) {
@@ -101,42 +129,55 @@ struct Planner {
     report.fell_back = true;
     if (!why.empty()) report.notes.push_back(why);
     if (views.size() >= 2 && options.move != "pan_zoom_2d") {
-      auto [ia, ib] = MorphPair(views, centre);
-      // The subjects' boxes are in the view they were found in: morph from it, so that the
-      // frame can follow them along the flow (morph_framing.h).
-      if (!subjects.empty() && subjects[0].view == views[ib].id.value) std::swap(ia, ib);
-      direct::MorphOptions morph_options;
-      const cv::Mat& image_a = views[ia].image;
-      if (views[ib].image.size() != image_a.size()) {
-        report.notes.push_back("morph: view " + std::to_string(views[ib].id.value) + " (" +
-                               std::to_string(views[ib].image.cols) + "x" + std::to_string(views[ib].image.rows) +
-                               ") cut or padded about its centre to view " + std::to_string(views[ia].id.value) +
-                               "'s " + std::to_string(image_a.cols) + "x" + std::to_string(image_a.rows));
+      // Of the candidate pairs, the one whose correspondences hold best (a lens that fired while
+      // the subject moved, or a neighbour posed badly, loses to the others).
+      std::unique_ptr<direct::ViewMorph> best;
+      int best_a = -1, best_b = -1;
+      for (auto [ia, ib] : MorphPairs(views, centre)) {
+        // The subjects' boxes are in the view they were found in: morph from it, so that the
+        // frame can follow them along the flow (morph_framing.h).
+        if (!subjects.empty() && subjects[0].view == views[ib].id.value) std::swap(ia, ib);
+        const cv::Mat& image_a = views[ia].image;
+        if (views[ib].image.size() != image_a.size()) {
+          report.notes.push_back("morph: view " + std::to_string(views[ib].id.value) + " (" +
+                                 std::to_string(views[ib].image.cols) + "x" + std::to_string(views[ib].image.rows) +
+                                 ") cut or padded about its centre to view " + std::to_string(views[ia].id.value) +
+                                 "'s " + std::to_string(image_a.cols) + "x" + std::to_string(image_a.rows));
+        }
+        StatusOr<std::unique_ptr<direct::ViewMorph>> morph =
+            direct::ViewMorph::Create(image_a, CentredOnSize(views[ib].image, image_a.size()), direct::MorphOptions{});
+        const std::string pair =
+            "views " + std::to_string(views[ia].id.value) + " and " + std::to_string(views[ib].id.value);
+        if (!morph.ok()) {
+          report.notes.push_back("morph of " + pair + " not used: " + morph.status().message());
+          continue;
+        }
+        const double margin = MorphMargin((*morph)->report());
+        if (margin < 1)
+          report.notes.push_back("morph of " + pair + " not used: " + DescribeMorphConsistency((*morph)->report()));
+        if (margin >= 1 && (best == nullptr || margin > MorphMargin(best->report()))) {
+          best = std::move(morph).value();
+          best_a = ia;
+          best_b = ib;
+        }
       }
-      StatusOr<std::unique_ptr<direct::ViewMorph>> morph =
-          direct::ViewMorph::Create(image_a, CentredOnSize(views[ib].image, image_a.size()), morph_options);
-      if (morph.ok() && (*morph)->report().consistent_fraction >= kMinMorphConsistency) {
-        const direct::MorphReport& m = (*morph)->report();
-        CameraPath path = MorphPath(views[ia], views[ib], subjects, options);
-        char reason[300];
+      if (best != nullptr) {
+        const direct::MorphReport& m = best->report();
+        CameraPath path = MorphPath(views[best_a], views[best_b], subjects, options);
+        char reason[400];
         std::snprintf(reason,
                       sizeof(reason),
-                      "morph from view %d to view %d along dense correspondences (%.0f%% consistent both ways, "
-                      "%s, %.0f%% of matches moving off their epipolar lines)",
-                      views[ia].id.value,
-                      views[ib].id.value,
-                      100 * m.consistent_fraction,
+                      "morph from view %d to view %d along dense correspondences (%s, %s, %.0f%% of matches moving "
+                      "off their epipolar lines)",
+                      views[best_a].id.value,
+                      views[best_b].id.value,
+                      DescribeMorphConsistency(m).c_str(),
                       m.epipolar ? "soft epipolar constraint" : "no epipolar geometry found",
                       100 * m.moving_fraction);
         path.reason = reason;
-        report.morph = std::move(morph).value();
+        report.morph = std::move(best);
         return path;
       }
-      report.notes.push_back(morph.ok()
-                                 ? "morph not used: only " +
-                                       std::to_string(static_cast<int>(100 * (*morph)->report().consistent_fraction)) +
-                                       "% of the views' correspondences agree both ways"
-                                 : "morph not used: " + morph.status().message());
     }
     return direct::PlanPanZoom2d(views[centre], subjects, options);
   }

@@ -197,6 +197,11 @@ StatusOr<std::unique_ptr<ViewMorph>> ViewMorph::Create(const cv::Mat& a,
     }
   }
   report.fundamental_samples = static_cast<int>(from.size());
+  const cv::Mat textured = gradient >= kTexturedGradient;
+  const int textured_pixels = cv::countNonZero(textured);
+  report.textured_fraction = static_cast<double>(textured_pixels) / static_cast<double>(textured.total());
+  report.textured_consistent =
+      textured_pixels == 0 ? 0 : cv::countNonZero(textured & seen_ab) / static_cast<double>(textured_pixels);
   const double sigma = options.epipolar_sigma_px * scale;
   if (from.size() >= 30) {
     std::vector<uint8_t> inliers;

@@ -30,6 +30,8 @@ struct MorphOptions {
 
 struct MorphReport {
   double consistent_fraction = 0;     // pixels whose flow agrees forwards and backwards
+  double textured_fraction = 0;       // pixels with texture enough to measure flow on (the rest is interpolated)
+  double textured_consistent = 0;     // of those, the share whose flow agrees forwards and backwards
   bool epipolar = false;              // a fundamental matrix was found (else flow is used as is)
   int fundamental_samples = 0;        // flow samples offered to RANSAC
   double fundamental_inliers = 0;     // their fraction within 1.5 px of the epipolar lines

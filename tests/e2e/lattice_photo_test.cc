@@ -2,7 +2,8 @@
 // take it: a synthetic strip of four views (a Nishika scan: dark gaps, each frame exposed a little
 // differently) and a 2x2 of abutting, vignetted views (a multi-lens frame whose tiles touch),
 // written as JPEG, imported without a rig calibration, split blind (or evenly at the size given)
-// and posed by structure from motion into a 3D move; a photo of no lattice still gives a clip.
+// and posed by structure from motion into a 3D move; a photo of no lattice still gives a clip; a
+// real ActionSampler scan gives a morph.
 #include <gtest/gtest.h>
 
 #include <filesystem>
@@ -73,6 +74,10 @@ class LatticePhotoTest : public testing::TempDirTest {
   StatusOr<device::ClipJobReport> Clip(const cv::Mat& photo, const std::string& size) {
     const fs::path file = dir() / "frame.jpg";
     EXPECT_TRUE(cv::imwrite(file.string(), photo, {cv::IMWRITE_JPEG_QUALITY, 95}));
+    return ClipFile(file, size);
+  }
+
+  StatusOr<device::ClipJobReport> ClipFile(const fs::path& file, const std::string& size) {
     std::vector<std::string> warnings;
     PX_ASSIGN_OR_RETURN(LatticeHint hint, ParseLatticeSize(size));
     PX_ASSIGN_OR_RETURN(Recording recording, RecordingFromLatticePhoto(file, hint, &warnings));
@@ -113,6 +118,19 @@ TEST_F(LatticePhotoTest, APhotoOfNoLatticeStillGivesAClipAndSaysWhy) {
     return w.find("lattice frame without calibration") != std::string::npos &&
            w.find("cannot be found blind") != std::string::npos;
   })) << ::testing::PrintToString(report->pipeline.warnings);
+}
+
+// A real film scan (../shared/data): four lenses fired in sequence, exposed and vignetted each
+// its own way, a close-up face over a dark, grainy surround. Its depth is not trusted for a 3D
+// move; the clip morphs between two of its lenses, not a flat pan.
+TEST_F(LatticePhotoTest, TheRealActionSamplerScanMorphsBetweenTwoLenses) {
+  const fs::path file = sim::SharedDataDir() / "lattice_frames" / "actionsampler_2x2_face" / "imm000_0.jpg";
+  if (!fs::exists(file)) GTEST_SKIP() << "real data absent: " << file.string();
+  StatusOr<device::ClipJobReport> report = ClipFile(file, "auto");
+  ASSERT_TRUE(report.ok()) << report.status().ToString();
+  EXPECT_EQ(report->pipeline.num_views, 4);
+  EXPECT_EQ(report->pipeline.path.kind, PathKind::kMorph) << report->pipeline.path.reason << "\n"
+                                                          << ::testing::PrintToString(report->pipeline.warnings);
 }
 
 TEST(LatticeSizeTest, AutoOrRowsByColumns) {
