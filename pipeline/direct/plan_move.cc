@@ -603,10 +603,40 @@ Status FramePath(const MovePlan& plan, Pair* pair) {
   return OkStatus();
 }
 
+// Whether the search-size probe finds a frame between the pair's ends far outside the valid
+// viewpoints (H(V) at least kScreenedOutFactor times the valid score). The ends lie in valid
+// cells, but the straight way between two of them can cross a region no view covers (between a
+// stereo pair's two narrow valid regions); the verify size would turn such a path down at many
+// times the cost, and a batch of them can crowd out every path that holds. The margin keeps
+// the search size's reading, which can differ from the output size's, from deciding close calls.
+bool LeavesValidRegionOnTheWay(MovePlan* plan, const Pair& pair) {
+  constexpr double kScreenedOutFactor = 4;
+  CoverageProbe* search = plan->context.search;
+  if (search == nullptr) return false;
+  const int frames = plan->options.search.verify_frames;
+  for (int i = 1; i < frames - 1; ++i) {
+    const double t = static_cast<double>(i) / (frames - 1);
+    StatusOr<double> score = search->HoleScore(pair.path.CameraAt(t), pair.path.PoseAt(t));
+    if (score.ok() && *score >= kScreenedOutFactor * search->valid_hole_score()) {
+      char text[160];
+      std::snprintf(text, sizeof(text), "a frame between its ends has H(V) %.2f at the search size", *score);
+      plan->last_failure = text;
+      return true;
+    }
+  }
+  return false;
+}
+
 // The `num_longest` longest pairs that keep their subjects in frame: framing costs no coverage
-// probe, so it is checked before the parallax is measured.
-void KeepFramedPairs(MovePlan* plan) {
+// probe, so it is checked first. With `screen` (the last-resort batches, once every move's
+// longest paths have failed), also those that stay near the valid viewpoints on their way,
+// screened at the search size for at most 8 * num_longest pairs a batch (then as they come):
+// then a shorter path that holds is better than none, but a fallback move's longest paths come
+// before it (they usually show the scene better).
+void KeepFramedPairs(MovePlan* plan, bool screen) {
   const size_t keep = static_cast<size_t>(plan->options.search.num_longest);
+  const int max_screened_out = 8 * static_cast<int>(keep);
+  int screened_out = 0;
   plan->measured.clear();
   for (; plan->next_pair < plan->pairs.size() && plan->measured.size() < keep; ++plan->next_pair) {
     Pair& pair = plan->pairs[plan->next_pair];
@@ -614,6 +644,11 @@ void KeepFramedPairs(MovePlan* plan) {
     Status framed_ok = FramePath(*plan, &pair);
     if (!framed_ok.ok()) {
       plan->last_failure = framed_ok.message();
+      continue;
+    }
+    if (screen && screened_out < max_screened_out && LeavesValidRegionOnTheWay(plan, pair)) {
+      ++screened_out;
+      ++plan->report->paths_screened_out;
       continue;
     }
     plan->measured.push_back(std::move(pair));
@@ -914,7 +949,7 @@ StatusOr<CameraPath> PlanMove(const MoveChoice& choice, const PlanContext& conte
   Pair* without_effect = nullptr;
   for (int batch = 0; batch < context.path_batches && without_effect == nullptr; ++batch) {
     if (batch > 0) ExcludeEndsOfFailedBatch(&plan);
-    KeepFramedPairs(&plan);
+    KeepFramedPairs(&plan, /*screen=*/batch > 0);
     if (plan.measured.empty()) break;
     if (batch < context.first_batch) continue;  // tried by an earlier call: its exclusions only
     MeasureParallax(&plan);

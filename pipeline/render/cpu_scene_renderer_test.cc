@@ -180,6 +180,23 @@ TEST_F(CpuSceneRendererTest, CoverageAgreesWithRenderAndIsCheapAtReducedSize) {
               coarse_segments);
 }
 
+// The coarse scene is made from the planes the renderer draws, not from depth_m: the depth stage
+// holds depth_m to its swept range, while a plane tilted past the range's end is drawn where it
+// lies. With depth_m at half the planes' depth, the 1/8-size coverage still reads what the
+// full-size frame leaves open.
+TEST_F(CpuSceneRendererTest, ReducedSizeCoverageFollowsTheDrawnPlanes) {
+  for (LayeredDepthView& layered : layers_) layered.depth_m *= 0.5;
+  auto renderer = Make();
+  ASSERT_NE(renderer, nullptr);
+  const Rigid3 pose(Eigen::Quaterniond::Identity(), -Eigen::Vector3d(0.01, 0.0, -0.3));
+  StatusOr<CoverageReport> full = renderer->Coverage(kCamera, pose);
+  StatusOr<CoverageReport> small = renderer->Coverage(kCamera.Scaled(0.125), pose);
+  ASSERT_TRUE(full.ok() && small.ok());
+  std::printf("coverage with depth_m halved: full %.4f, 1/8 %.4f\n", full->hole_ratio, small->hole_ratio);
+  EXPECT_GT(full->hole_ratio, 0.01);
+  EXPECT_NEAR(small->hole_ratio, full->hole_ratio, 0.02);
+}
+
 // Coverage() keeps no state between calls: the direction stage's search calls it from two
 // threads at once (and a Render may run beside it; Render itself is not re-entrant). Viewpoints spread behind and
 // across the lattice, at full and 1/8 size, give the same reports concurrently as one after another.
