@@ -37,6 +37,16 @@ double LayeredDepthView::LayerDepthAt(int layer, int x, int y) const {
   return segments[index].DepthAt(x, y);
 }
 
+cv::Mat LayeredDepthView::DominantPlaneDepth() const {
+  cv::Mat depth(camera.height, camera.width, CV_32F, cv::Scalar(0.0f));
+  for (int y = 0; y < depth.rows; ++y) {
+    const float* front_weight = layers[0].weight.ptr<float>(y);
+    float* z = depth.ptr<float>(y);
+    for (int x = 0; x < depth.cols; ++x) z[x] = static_cast<float>(LayerDepthAt(front_weight[x] >= 0.5f ? 0 : 1, x, y));
+  }
+  return depth;
+}
+
 DepthMap LayeredDepthView::ToDepthMap() const { return DepthMap{id, depth_m, confidence}; }
 
 Status ValidateLayeredDepthView(const LayeredDepthView& view) {

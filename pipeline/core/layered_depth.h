@@ -63,13 +63,17 @@ struct LayeredDepthView {
   std::array<SegmentLayer, 2> layers;  // [0] front, [1] behind it at boundaries (see above)
   // Per-pixel summaries for a plain depth map: z in metres of the dominant layer's plane (layers[0]
   // where its weight is >= 0.5, else layers[1]; 0 where no segment covers the pixel; or the depth
-  // stage's own depth near that plane: pixel_depth_tolerance_px), and the stereo confidence in [0, 1].
+  // stage's own depth near that plane: pixel_depth_tolerance_px; held to the depth stage's swept
+  // range, which a tilted plane can leave), and the stereo confidence in [0, 1].
   cv::Mat depth_m;     // CV_32F
   cv::Mat confidence;  // CV_32F
 
   int NumSegments() const { return static_cast<int>(segments.size()); }
   // Depth of layer `layer` at pixel (x, y): its segment's plane, 0 where the layer is empty.
   double LayerDepthAt(int layer, int x, int y) const;
+  // CV_32F: at every pixel, the plane of its dominant layer (as depth_m, but exactly where the
+  // renderer draws it: not held to any range); 0 where no segment covers the pixel.
+  cv::Mat DominantPlaneDepth() const;
   // The plain DepthMap view of this (depth_m and confidence shared, not copied).
   DepthMap ToDepthMap() const;
 };

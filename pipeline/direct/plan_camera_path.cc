@@ -27,12 +27,12 @@ namespace {
 // whatever it is), over a clearer majority of the textured pixels, where the flow is measured.
 constexpr double kMinMorphConsistency = 0.5;
 constexpr double kMinTexturedMorphConsistency = 0.65;
-constexpr double kMinTexturedShare = 0.02;
+constexpr double kMinTexturedShare = 0.02;  // of the frame: under it, texture is too scarce to judge by
 
 // An automatic 3D move must show some parallax (parallax_measure.h: the share of the frame
 // occluded at one end and seen at the other, both ways): the sets that make 3D moves show 0.13 %
 // (a Nintendo 3DS pair) to 19 % (LLFF fern).
-constexpr double kMinAutoMoveParallax = 0.0005;  // of the frame: under it, texture is too scarce to judge by
+constexpr double kMinAutoMoveParallax = 0.0005;
 
 // Flow that agrees both ways can still pair unrelated pixels (zero flow between two pictures that
 // share nothing agrees with itself): the flow must also explain the pair, the views differing
@@ -153,12 +153,6 @@ struct Planner {
         // frame can follow them along the flow (morph_framing.h).
         if (!subjects.empty() && subjects[0].view == views[ib].id.value) std::swap(ia, ib);
         const cv::Mat& image_a = views[ia].image;
-        if (views[ib].image.size() != image_a.size()) {
-          report.notes.push_back("morph: view " + std::to_string(views[ib].id.value) + " (" +
-                                 std::to_string(views[ib].image.cols) + "x" + std::to_string(views[ib].image.rows) +
-                                 ") cut or padded about its centre to view " + std::to_string(views[ia].id.value) +
-                                 "'s " + std::to_string(image_a.cols) + "x" + std::to_string(image_a.rows));
-        }
         StatusOr<std::unique_ptr<direct::ViewMorph>> morph =
             direct::ViewMorph::Create(image_a, CentredOnSize(views[ib].image, image_a.size()), direct::MorphOptions{});
         const std::string pair =
@@ -189,6 +183,14 @@ struct Planner {
         }
       }
       if (best != nullptr) {
+        const View& a = views[best_a];
+        const View& b = views[best_b];
+        if (b.image.size() != a.image.size()) {
+          report.notes.push_back("morph: view " + std::to_string(b.id.value) + " (" + std::to_string(b.image.cols) +
+                                 "x" + std::to_string(b.image.rows) + ") cut or padded about its centre to view " +
+                                 std::to_string(a.id.value) + "'s " + std::to_string(a.image.cols) + "x" +
+                                 std::to_string(a.image.rows));
+        }
         const direct::MorphReport& m = best->report();
         CameraPath path = MorphPath(views[best_a], views[best_b], subjects, options);
         char reason[400];

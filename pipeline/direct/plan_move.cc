@@ -648,7 +648,6 @@ void KeepFramedPairs(MovePlan* plan, bool screen) {
     }
     if (screen && screened_out < max_screened_out && LeavesValidRegionOnTheWay(plan, pair)) {
       ++screened_out;
-      ++plan->report->paths_screened_out;
       continue;
     }
     plan->measured.push_back(std::move(pair));

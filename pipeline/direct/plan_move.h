@@ -56,15 +56,14 @@ struct PlanContext {
 struct MovePlanReport {
   int valid_cells_start = 0;  // grid cells with a valid viewpoint, for each endpoint's rule
   int valid_cells_end = 0;
-  int candidate_paths = 0;     // start x end candidate pairs
-  int paths_measured = 0;      // pairs whose parallax was measured
-  int paths_screened_out = 0;  // pairs left out before that: a frame on the way far from valid
-  int paths_verified = 0;      // pairs checked frame by frame before one held
-  double parallax = 0;         // of the chosen path (ParallaxScore)
-  double length_m = 0;         // distance between its endpoints
-  double max_hole_score = 0;   // the largest H(V) over its checked frames (verify size)
-  double focal_scale = 1;      // framing's narrowing of the zoom (1 = none)
-  double aperture_m = 0;       // for depth-of-field effects
+  int candidate_paths = 0;    // start x end candidate pairs
+  int paths_measured = 0;     // pairs whose parallax was measured
+  int paths_verified = 0;     // pairs checked frame by frame before one held
+  double parallax = 0;        // of the chosen path (ParallaxScore)
+  double length_m = 0;        // distance between its endpoints
+  double max_hole_score = 0;  // the largest H(V) over its checked frames (verify size)
+  double focal_scale = 1;     // framing's narrowing of the zoom (1 = none)
+  double aperture_m = 0;      // for depth-of-field effects
 };
 
 // The path for `choice` (move, effect, subject order). FAILED_PRECONDITION naming the reason

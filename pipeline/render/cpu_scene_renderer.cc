@@ -137,26 +137,11 @@ constexpr double kCoarseScale = 0.25;
 constexpr double kCoarseViewScale = 0.25;
 constexpr int kCoarseBlockPx = 16;
 
-// The depth the renderer draws each pixel of `layered` at: its dominant layer's plane (layers[0]
-// where its weight is at least half, else layers[1]). Not depth_m, which the depth stage holds to
-// its swept range: a plane tilted past the range's far end at an unmatched image border is drawn
-// there, beyond depth_m, and a coarse scene made from depth_m covers what the frame leaves open.
-cv::Mat DrawnDepth(const LayeredDepthView& layered) {
-  cv::Mat depth(layered.camera.height, layered.camera.width, CV_32F, cv::Scalar(0.0f));
-  for (int y = 0; y < depth.rows; ++y) {
-    const float* front_weight = layered.layers[0].weight.ptr<float>(y);
-    float* z = depth.ptr<float>(y);
-    for (int x = 0; x < depth.cols; ++x) {
-      const int layer = front_weight[x] >= 0.5f ? 0 : 1;
-      z[x] = static_cast<float>(layered.LayerDepthAt(layer, x, y));
-    }
-  }
-  return depth;
-}
-
-// The scene again with each view's drawn depth (DrawnDepth), sampled at kCoarseViewScale,
-// re-segmented into kCoarseBlockPx blocks (colours are not needed for coverage). Null, with the
-// reason logged, when it cannot be made.
+// The scene again with each view's depth as drawn (its dominant layer's planes; not depth_m,
+// which the depth stage holds to its swept range while a plane tilted past the range's end at an
+// unmatched image border is drawn beyond it: a coarse scene made from depth_m would cover what the
+// frame leaves open), sampled at kCoarseViewScale, re-segmented into kCoarseBlockPx blocks
+// (colours are not needed for coverage). Null, with the reason logged, when it cannot be made.
 std::unique_ptr<render::LayeredScene> MakeCoarseScene(const std::vector<View>& views,
                                                       const std::vector<LayeredDepthView>& layers,
                                                       const RenderOptions& options) {
@@ -179,7 +164,7 @@ std::unique_ptr<render::LayeredScene> MakeCoarseScene(const std::vector<View>& v
     view.image = cv::Mat::zeros(view.camera.height, view.camera.width, CV_8UC3);
     DepthMap depth;
     depth.id = layered.id;
-    cv::resize(DrawnDepth(layered), depth.depth_m, view.image.size(), 0, 0, cv::INTER_NEAREST);
+    cv::resize(layered.DominantPlaneDepth(), depth.depth_m, view.image.size(), 0, 0, cv::INTER_NEAREST);
     StatusOr<LayeredDepthView> made = LayeredDepthFromDepthMap(view, depth, coarse);
     if (!made.ok()) {
       Logger("render")->debug("no coarse scene for Coverage(): {}", made.status().ToString());
