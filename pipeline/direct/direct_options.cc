@@ -74,6 +74,9 @@ Status ViewpointSearchOptions::Validate() const {
   }
   if (!(max_forward > 0 && max_forward < 1)) return RangeError("direct.search.max_forward", max_forward, "(0, 1)");
   if (!(max_back > 0 && max_back <= 10)) return RangeError("direct.search.max_back", max_back, "(0, 10]");
+  if (!(max_enlargement >= 1 && max_enlargement <= 16)) {
+    return RangeError("direct.search.max_enlargement", max_enlargement, "[1, 16]");
+  }
   return OkStatus();
 }
 

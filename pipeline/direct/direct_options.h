@@ -66,6 +66,11 @@ struct ViewpointSearchOptions {
   // (5th percentile), nor farther back than max_back times the median depth. (0, 1), (0, 10].
   double max_forward = 0.6;
   double max_back = 1.0;
+  // Nor so near what it aims at that it enlarges the capture's detail there more than this (the
+  // move's zoom included; a clip smaller than the capture may enlarge as much more as it has
+  // detail to spare): past twice, a real photo's frame shows its blur and every mismatch between
+  // the views it blends at twice their size. [1, 16].
+  double max_enlargement = 2.0;
 
   Status Validate() const;
 };

@@ -498,6 +498,7 @@ StatusOr<CameraPath> PlanCameraPath(const std::vector<View>& views,
       // Everything below plans in the frame the viewer will see.
       scene->output = FrameOutputCamera(scene->output, output_size, &framed_scale);
       scene->focal_px *= framed_scale;
+      scene->output_scale = framed_scale;
       samples = direct::SceneSamples::FromDepths(views, depths);
       if (options.search.splat_stride > 0) {
         splat =

@@ -30,14 +30,23 @@ constexpr double kFirstPullBack = 0.05;
 constexpr double kMaxPullBack = 0.4;
 constexpr int kPullBackRounds = 5;
 
-FramingRule Aim(const SceneGeometry& scene, const Eigen::Vector3d& target, double focal_px) {
-  return [&scene, target, focal_px](const Eigen::Vector3d& centre) {
+// Aims at `target` with `focal_px`; the frame's middle shows `shown` (target itself, or the
+// surface in front of it).
+FramingRule Aim(const SceneGeometry& scene,
+                const Eigen::Vector3d& target,
+                double focal_px,
+                std::optional<Eigen::Vector3d> shown = std::nullopt) {
+  return [&scene, target, focal_px, shown](const Eigen::Vector3d& centre) {
     Framing framing;
     framing.centre_in_world = centre;
     framing.cam_from_world = Rigid3::LookAt(centre, target, scene.up_in_world);
     framing.focal_px = focal_px;
+    framing.aim_in_world = shown.value_or(target);
     return framing;
   };
+}
+FramingRule AimAtCentroid(const SceneGeometry& scene, double focal_px) {
+  return Aim(scene, scene.centroid_in_world, focal_px, scene.centroid_surface_in_world);
 }
 
 // Looks straight along the capture axis (the capture frame's orientation) from any centre: a
@@ -361,14 +370,14 @@ void ChooseEndRules(MovePlan* plan) {
   const Eigen::Vector3d& centroid = scene.centroid_in_world;
   switch (plan->choice.move) {
     case Move::kEstablishingDolly:
-      plan->start_rule = plan->end_rule = Aim(scene, centroid, f);
+      plan->start_rule = plan->end_rule = AimAtCentroid(scene, f);
       plan->start_key = plan->end_key = AimKey(centroid, f);
       plan->start_what = plan->end_what = "the scene centroid at f";
       break;
     case Move::kEstablishingDollyOut:
       plan->sweep = Sweep::kAxis;
-      plan->start_rule = Aim(scene, centroid, zoomed);
-      plan->end_rule = Aim(scene, centroid, f);
+      plan->start_rule = AimAtCentroid(scene, zoomed);
+      plan->end_rule = AimAtCentroid(scene, f);
       plan->start_key = AimKey(centroid, zoomed);
       plan->end_key = AimKey(centroid, f);
       plan->end_front = false;
@@ -377,7 +386,7 @@ void ChooseEndRules(MovePlan* plan) {
       break;
     case Move::kDollyOut:
       plan->start_rule = Aim(scene, first->LowerHalfCentreInWorld(), zoomed);
-      plan->end_rule = Aim(scene, centroid, f);
+      plan->end_rule = AimAtCentroid(scene, f);
       plan->start_key = AimKey(first->LowerHalfCentreInWorld(), zoomed);
       plan->end_key = AimKey(centroid, f);
       plan->end_front = false;
@@ -385,7 +394,7 @@ void ChooseEndRules(MovePlan* plan) {
       plan->end_what = "the scene centroid at f";
       break;
     case Move::kDollyIn:
-      plan->start_rule = Aim(scene, centroid, f);
+      plan->start_rule = AimAtCentroid(scene, f);
       plan->end_rule = Aim(scene, first->LowerHalfCentreInWorld(), zoomed);
       plan->start_key = AimKey(centroid, f);
       plan->end_key = AimKey(first->LowerHalfCentreInWorld(), zoomed);
@@ -863,11 +872,16 @@ std::string DescribePath(const MovePlan& plan, const Pair& pair) {
   const CameraPath& path = pair.path;
   const MovePlanReport& report = *plan.report;
   const char* look = plan.along_axis ? "looking along the axis at" : "aimed at";
-  char text[512];
+  // How much the ends enlarge the capture's detail where they are composed (at most
+  // search.max_enlargement by the region search).
+  const double enlargement =
+      std::max(AimEnlargement(plan.scene, pair.start_pulled.value_or(plan.starts[pair.a].framing)),
+               AimEnlargement(plan.scene, pair.end_pulled.value_or(plan.ends[pair.b].framing)));
+  char text[576];
   std::snprintf(text,
                 sizeof(text),
                 "%s from %s %s %s to %s %s %s (%.0f mm); %d/%d valid cells; parallax %.2f%% "
-                "(best of %d longest of %d paths); H(V) <= %.2f over %d frames",
+                "(best of %d longest of %d paths); H(V) <= %.2f over %d frames; detail enlarged up to %.2fx",
                 plan.name.c_str(),
                 Mm(plan.scene.RigFromWorld(path.keyframes.front().centre_in_world)).c_str(),
                 look,
@@ -882,7 +896,8 @@ std::string DescribePath(const MovePlan& plan, const Pair& pair) {
                 report.paths_measured,
                 report.candidate_paths,
                 pair.max_hole_score,
-                plan.options.search.verify_frames);
+                plan.options.search.verify_frames,
+                enlargement);
   return text;
 }
 

@@ -9,7 +9,28 @@
 
 namespace px::direct {
 
-namespace {}  // namespace
+namespace {
+
+// The surface `view` sees around where `point` projects: the median depth over a window an
+// eighth of its width wide, along the point's ray. `point` itself where the window has no depth.
+Eigen::Vector3d SurfaceAround(const View& view, const cv::Mat& depth_m, const Eigen::Vector3d& point) {
+  const CameraModel pinhole = view.camera.WithoutDistortion();
+  Eigen::Vector2d pixel;
+  if (!pinhole.Project(view.cam_from_world * point, &pixel)) return point;
+  const int radius = std::max(1, depth_m.cols / 16);
+  const int u0 = static_cast<int>(std::lround(pixel.x())), v0 = static_cast<int>(std::lround(pixel.y()));
+  std::vector<double> depths;
+  for (int v = std::max(0, v0 - radius); v <= std::min(depth_m.rows - 1, v0 + radius); v += 2) {
+    const float* row = depth_m.ptr<float>(v);
+    for (int u = std::max(0, u0 - radius); u <= std::min(depth_m.cols - 1, u0 + radius); u += 2) {
+      if (row[u] > 0 && std::isfinite(row[u])) depths.push_back(row[u]);
+    }
+  }
+  if (depths.empty()) return point;
+  return view.cam_from_world.Inverse() * (pinhole.Unproject(pixel) * Percentile(depths, 0.5));
+}
+
+}  // namespace
 
 CameraModel SceneGeometry::OutputWithFocal(double focal) const {
   CameraModel camera = output;
@@ -116,6 +137,7 @@ StatusOr<SceneGeometry> DescribeScene(const std::vector<View>& views, const std:
   scene.centroid_in_world = Eigen::Vector3d(Percentile(xs, 0.5), Percentile(ys, 0.5), Percentile(zs, 0.5));
   scene.median_depth_m = Percentile(axial, 0.5);
   scene.near_depth_m = Percentile(axial, 0.05);
+  scene.centroid_surface_in_world = SurfaceAround(centre, depth->depth_m, scene.centroid_in_world);
   return scene;
 }
 

@@ -15,9 +15,10 @@
 namespace px::direct {
 
 struct SceneGeometry {
-  int centre_index = 0;  // index into the views of the one nearest the centres' centroid
-  CameraModel output;    // the clip's camera: the centre view's size and principal point, focal f
-  double focal_px = 0;   // f: the views' mean horizontal focal, in output pixels
+  int centre_index = 0;     // index into the views of the one nearest the centres' centroid
+  CameraModel output;       // the clip's camera: the centre view's size and principal point, focal f
+  double focal_px = 0;      // f: the views' mean horizontal focal, in output pixels
+  double output_scale = 1;  // output pixels per centre-view pixel at f (the clip's size against the capture's)
   // The capture frame: origin at the centres' centroid, z the mean optical axis, x the mean image
   // right (made orthogonal), y = z x x (image down). For a lattice rig this is the rig frame.
   Rigid3 rig_from_world;
@@ -25,8 +26,11 @@ struct SceneGeometry {
   Eigen::Vector2d box_max = Eigen::Vector2d::Zero();
   Eigen::Vector3d up_in_world = Eigen::Vector3d(0, -1, 0);      // image up of the capture
   Eigen::Vector3d centroid_in_world = Eigen::Vector3d::Zero();  // per-axis median of the centre view's points
-  double median_depth_m = 0;                                    // along the centre view's axis, known pixels only
-  double near_depth_m = 0;                                      // 5th percentile of the same
+  // The surface the centre view sees where the centroid projects (what a frame aimed at the
+  // centroid shows at its middle: the flowers in front of a bush, not the bush's median depth).
+  Eigen::Vector3d centroid_surface_in_world = Eigen::Vector3d::Zero();
+  double median_depth_m = 0;  // along the centre view's axis, known pixels only
+  double near_depth_m = 0;    // 5th percentile of the same
 
   Eigen::Vector3d WorldFromRig(const Eigen::Vector3d& p_in_rig) const { return rig_from_world.Inverse() * p_in_rig; }
   Eigen::Vector3d RigFromWorld(const Eigen::Vector3d& p_in_world) const { return rig_from_world * p_in_world; }

@@ -15,6 +15,7 @@ inline SceneGeometry TestCaptureScene() {
   scene.box_min = Eigen::Vector2d(-0.05, -0.05);
   scene.box_max = Eigen::Vector2d(0.05, 0.05);
   scene.centroid_in_world = Eigen::Vector3d(0, 0, 1.5);
+  scene.centroid_surface_in_world = scene.centroid_in_world;
   scene.median_depth_m = 1.5;
   scene.near_depth_m = 1.0;
   return scene;

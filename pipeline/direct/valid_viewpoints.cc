@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <limits>
 #include <map>
 #include <opencv2/core/utility.hpp>
 #include <optional>
@@ -23,8 +24,12 @@ struct Probed {
 // step) costs one coverage measurement.
 class ColumnSearch {
  public:
-  ColumnSearch(const SceneGeometry& scene, const FramingRule& rule, CoverageProbe* probe, Eigen::Vector2d xy)
-      : scene_(scene), rule_(rule), probe_(probe), xy_(std::move(xy)) {}
+  ColumnSearch(const SceneGeometry& scene,
+               const FramingRule& rule,
+               CoverageProbe* probe,
+               double max_enlargement,
+               Eigen::Vector2d xy)
+      : scene_(scene), rule_(rule), probe_(probe), max_enlargement_(max_enlargement), xy_(std::move(xy)) {}
 
   StatusOr<Probed> At(double z) {
     for (const auto& [probed_z, probed] : probed_) {
@@ -32,7 +37,13 @@ class ColumnSearch {
     }
     Probed result;
     result.framing = rule_(scene_.WorldFromRig(Eigen::Vector3d(xy_.x(), xy_.y(), z)));
-    if (result.framing.focal_px > 0) {  // else the rule cannot frame from here
+    // The approach is limited, not the move's zoom: a zoom past the limit still holds at the
+    // capture's distance and behind it.
+    const double zoom = result.framing.focal_px / scene_.focal_px;
+    if (AimEnlargement(scene_, result.framing) > std::max(max_enlargement_, zoom)) {
+      // Nearer than the capture's detail allows: invalid without a probe (H(V) says nothing).
+      result.hole_score = std::numeric_limits<double>::infinity();
+    } else if (result.framing.focal_px > 0) {  // else the rule cannot frame from here
       PX_ASSIGN_OR_RETURN(
           result.hole_score,
           probe_->HoleScore(scene_.OutputWithFocal(result.framing.focal_px), result.framing.cam_from_world));
@@ -116,6 +127,7 @@ class ColumnSearch {
   const SceneGeometry& scene_;
   const FramingRule& rule_;
   CoverageProbe* probe_;
+  double max_enlargement_;
   Eigen::Vector2d xy_;
   std::vector<std::pair<double, Probed>> probed_;
   int probes_ = 0;
@@ -124,8 +136,18 @@ class ColumnSearch {
 
 }  // namespace
 
+double AimEnlargement(const SceneGeometry& scene, const Framing& framing) {
+  if (!framing.aim_in_world || !(scene.focal_px > 0)) return 1.0;
+  const double from_capture = (*framing.aim_in_world - scene.WorldFromRig(Eigen::Vector3d::Zero())).norm();
+  const double from_framing = (*framing.aim_in_world - framing.centre_in_world).norm();
+  if (!(from_framing > 0)) return std::numeric_limits<double>::infinity();
+  return framing.focal_px / scene.focal_px * from_capture / from_framing;
+}
+
 ZLimits SearchLimits(const SceneGeometry& scene, const ViewpointSearchOptions& options) {
   ZLimits z;
+  // A clip smaller than the capture has detail to spare: its frames may enlarge that much more.
+  z.max_enlargement = options.max_enlargement / std::min(1.0, scene.output_scale);
   z.forward_m = options.max_forward * scene.near_depth_m;
   z.back_m = options.max_back * scene.median_depth_m;
   z.first_step_m = options.z_first_step * scene.median_depth_m;
@@ -197,7 +219,7 @@ StatusOr<ValidRegion> SearchChain(const SceneGeometry& scene,
     const std::optional<double> front_hint = ExpectedAnswer(front_answers, last_front, cell, previous_cell, n);
     const std::optional<double> back_hint = ExpectedAnswer(back_answers, last_back, cell, previous_cell, n);
     previous_cell = cell;
-    ColumnSearch column(scene, rule, probe, positions[cell]);
+    ColumnSearch column(scene, rule, probe, z.max_enlargement, positions[cell]);
     // A valid position to search from. The neighbour's answers first: next to a valid cell they
     // usually hold, and then the searches start there (no probe at z = 0 is needed).
     std::optional<Probed> anchor;

@@ -16,6 +16,8 @@
 
 #include <Eigen/Core>
 #include <functional>
+#include <limits>
+#include <optional>
 #include <vector>
 
 #include "pipeline/core/rigid3.h"
@@ -31,6 +33,8 @@ struct Framing {
   Eigen::Vector3d centre_in_world = Eigen::Vector3d::Zero();
   Rigid3 cam_from_world;
   double focal_px = 0;
+  // The point the frame is composed on (a subject, the scene centroid), when it aims at one.
+  std::optional<Eigen::Vector3d> aim_in_world;
 };
 // How a move frames an endpoint at a given camera centre (where it looks, its focal length).
 using FramingRule = std::function<Framing(const Eigen::Vector3d& centre_in_world)>;
@@ -54,12 +58,19 @@ struct ValidRegion {
   int probes = 0;                // coverage measurements made
 };
 
+// How much `framing` enlarges the capture's detail where it aims: its focal against f, times how
+// much nearer its aim point it stands than the capture's centre does. 1 where it does not aim.
+double AimEnlargement(const SceneGeometry& scene, const Framing& framing);
+
 // The z range searched, in metres of the capture frame, and the search steps.
 struct ZLimits {
   double forward_m = 0;     // farthest forward position tried
   double back_m = 0;        // farthest backward position tried (positive number)
   double first_step_m = 0;  // first step without a neighbour's answer
   double precision_m = 0;   // stop halving below this
+  // Largest AimEnlargement of a valid position: options.max_enlargement, more for a clip smaller
+  // than the capture.
+  double max_enlargement = std::numeric_limits<double>::infinity();
 };
 ZLimits SearchLimits(const SceneGeometry& scene, const ViewpointSearchOptions& options);
 

@@ -34,12 +34,15 @@ CoverageFunction SlabCoverage(std::set<std::thread::id>* threads, std::mutex* mu
   };
 }
 
-FramingRule AimAtCentroid(const SceneGeometry& scene) {
-  return [&scene](const Eigen::Vector3d& centre) {
+// Aims at the centroid at `zoom` times f; with `watched`, the frame is composed on it (the
+// search limits how much a valid frame enlarges it).
+FramingRule AimAtCentroid(const SceneGeometry& scene, double zoom = 1.0, bool watched = false) {
+  return [&scene, zoom, watched](const Eigen::Vector3d& centre) {
     Framing framing;
     framing.centre_in_world = centre;
     framing.cam_from_world = Rigid3::LookAt(centre, scene.centroid_in_world, scene.up_in_world);
-    framing.focal_px = scene.focal_px;
+    framing.focal_px = zoom * scene.focal_px;
+    if (watched) framing.aim_in_world = scene.centroid_surface_in_world;
     return framing;
   };
 }
@@ -101,6 +104,40 @@ TEST(ValidViewpointsTest, AnAxisSweepSearchesTheCentreCellOnly) {
   ASSERT_EQ(region->back.size(), 1u);
   EXPECT_NEAR(region->front[0].framing.centre_in_world.z(), FrontZ(0, 0), 0.015);
   EXPECT_NEAR(region->back[0].framing.centre_in_world.z(), BackZ(0, 0), 0.015);
+}
+
+// A frame composed on the centroid 1.5 m ahead at 1.5f enlarges the capture's detail there 1.5
+// times at z = 0; valid everywhere up to the 0.6 m limit, the search stops where that reaches
+// twice (1.125 m from it, z 0.375 m). A clip half the capture's size has twice the detail to
+// spare, and the 0.6 m limit holds; a zoom past the limit still holds at the capture's distance.
+TEST(ValidViewpointsTest, TheFrontStopsWhereTheFrameEnlargesTheCaptureTwice) {
+  SceneGeometry scene = Scene();
+  const CoverageFunction everywhere = [](const CameraModel& camera, const Rigid3&) -> StatusOr<CoverageReport> {
+    return ValidityCoverage(camera, true);
+  };
+  const ViewpointSearchOptions options;
+  const auto front_z = [&](double zoom) -> double {
+    CoverageProbe probe(&everywhere, 1.0, 2.0);
+    StatusOr<ValidRegion> region =
+        FindValidViewpoints(scene, AimAtCentroid(scene, zoom, true), &probe, options, Sweep::kAxis, true, false);
+    EXPECT_TRUE(region.ok()) << region.status().ToString();
+    if (!region.ok() || region->front.empty()) return -1;
+    EXPECT_LE(AimEnlargement(scene, region->front[0].framing), std::max(2.0, zoom) / std::min(1.0, scene.output_scale));
+    return region->front[0].framing.centre_in_world.z();
+  };
+  const double precision = SearchLimits(scene, options).precision_m;
+  EXPECT_NEAR(front_z(1.5), 0.375, precision);
+  EXPECT_LE(front_z(1.5), 0.375 + 1e-9);
+  EXPECT_NEAR(front_z(3.0), 0.0, 1e-9);
+  scene.output_scale = 0.5;
+  EXPECT_NEAR(front_z(1.5), SearchLimits(scene, options).forward_m, precision);
+  // Without a point it is composed on, a frame is not limited.
+  scene.output_scale = 1.0;
+  CoverageProbe probe(&everywhere, 1.0, 2.0);
+  StatusOr<ValidRegion> unwatched =
+      FindValidViewpoints(scene, AimAtCentroid(scene, 1.5), &probe, options, Sweep::kAxis, true, false);
+  ASSERT_TRUE(unwatched.ok());
+  EXPECT_NEAR(unwatched->front[0].framing.centre_in_world.z(), SearchLimits(scene, options).forward_m, precision);
 }
 
 }  // namespace
