@@ -35,11 +35,15 @@ CostVolume BuildCostVolume(const WorkingView& ref,
   volume.sampled = cv::Mat::zeros(size, CV_8U);
   volume.best_unfiltered_cost = cv::Mat(size, CV_32F, cv::Scalar(kNoDataCost));
   cv::Mat typical_sum = cv::Mat::zeros(size, CV_32F), typical_count = cv::Mat::zeros(size, CV_32F);
+  // Per pixel, how many of the farthest quarter of the planes (index 0 is the farthest) the
+  // neighbours sampled.
+  const int far_planes = std::max(1, planes.count / 4);
+  cv::Mat planes_sampled = cv::Mat::zeros(size, CV_32F);
   constexpr int kTypicalPlaneStep = 4;
   std::mutex merge_mutex;
   // Planes are independent: each worker takes a range of them with its own buffers.
   cv::parallel_for_(cv::Range(0, planes.count), [&](const cv::Range& range) {
-    cv::Mat sampled_here = cv::Mat::zeros(size, CV_8U);
+    cv::Mat sampled_here = cv::Mat::zeros(size, CV_32F);  // of the far planes
     cv::Mat best_here(size, CV_32F, cv::Scalar(kNoDataCost));
     cv::Mat sum_here = cv::Mat::zeros(size, CV_32F), count_here = cv::Mat::zeros(size, CV_32F), sampled_slice;
     cv::Mat warped, valid;
@@ -59,7 +63,7 @@ CostVolume BuildCostVolume(const WorkingView& ref,
       }
       cv::Mat& slice = volume.slices[p];
       AggregateBestHalf(costs, &aggregation, &slice);
-      cv::bitwise_or(sampled_here, slice < kNoDataCost, sampled_here);
+      if (p < far_planes) cv::add(sampled_here, cv::Scalar(1), sampled_here, slice < kNoDataCost);
       cv::min(best_here, slice, best_here);
       if (p % kTypicalPlaneStep == 0) {
         sampled_slice = slice < kNoDataCost;
@@ -69,11 +73,12 @@ CostVolume BuildCostVolume(const WorkingView& ref,
       if (filter_costs) FilterCostSlice(guide, &filter, &slice);
     }
     const std::lock_guard<std::mutex> lock(merge_mutex);
-    cv::bitwise_or(volume.sampled, sampled_here, volume.sampled);
+    planes_sampled += sampled_here;
     cv::min(volume.best_unfiltered_cost, best_here, volume.best_unfiltered_cost);
     typical_sum += sum_here;
     typical_count += count_here;
   });
+  volume.sampled = planes_sampled >= 0.5 * far_planes;
   volume.typical_unfiltered_cost = cv::Mat(size, CV_32F, cv::Scalar(kNoDataCost));
   cv::divide(typical_sum, typical_count, volume.typical_unfiltered_cost);
   volume.typical_unfiltered_cost.setTo(kNoDataCost, typical_count == 0);

@@ -33,7 +33,13 @@ struct CostVolumeOptions {
 
 struct CostVolume {
   std::vector<cv::Mat> slices;  // one CV_32F cost per plane, in [0, kNoDataCost]
-  cv::Mat sampled;              // CV_8U, 255 where some plane had a valid neighbour sample
+  // CV_8U, 255 where the neighbours sampled at least half of the farthest quarter of the planes.
+  // A pixel they reach only at near depths (the border strip a turned hand-held view sees past
+  // the others, which its parallax brings into them only at near planes) has its best match
+  // among the wrong depths: a repeating texture such as blinds finds one there. Near planes left
+  // unsampled (parallax carrying a border pixel out of the neighbour) leave the far ones, where
+  // what a border shows usually lies.
+  cv::Mat sampled;
   // CV_32F, per pixel the lowest best-half cost over the planes before the guided filter: how
   // well the pixel's own window matches the neighbours at its best depth, whatever the
   // aggregation (the depth stage's check for views of another scene reads it).

@@ -282,16 +282,22 @@ TEST(PlaneSweepTest, TwoPlaneSceneAwayFromEdgesAndConfidenceOnTexture) {
   EXPECT_LT(MedianRelativeError(centre.depth_m(flat), flat_truth, cv::Mat(flat.size(), CV_8U, cv::Scalar(255))), 0.1);
 }
 
-TEST(PlaneSweepTest, PixelsNoNeighbourSeesGetZeroConfidenceButADepth) {
-  // Two views 10 cm apart; the neighbour sits to the right, so scene points move left in it and
-  // the reference's leftmost columns are outside the neighbour at every depth in the range.
-  const CameraModel camera = CameraModel::Pinhole(96, 64, 100.0);
-  std::vector<View> views = RenderGridRig(1, 2, 0.1, camera, {Wall(2.0, 31)});
+// A 96x64 pair matched at full resolution, its confidence left as the cost curve gives it.
+PlaneSweepOptions SmallPairOptions() {
   PlaneSweepOptions options;
   options.min_depth_m = 0.5;
   options.max_depth_m = 8.0;
   options.working_scale = 1.0;
   options.fill_confidence = 0;
+  return options;
+}
+
+TEST(PlaneSweepTest, PixelsNoNeighbourSeesGetZeroConfidenceButADepth) {
+  // Two views 10 cm apart; the neighbour sits to the right, so scene points move left in it and
+  // the reference's leftmost columns are outside the neighbour at every depth in the range.
+  const CameraModel camera = CameraModel::Pinhole(96, 64, 100.0);
+  std::vector<View> views = RenderGridRig(1, 2, 0.1, camera, {Wall(2.0, 31)});
+  const PlaneSweepOptions options = SmallPairOptions();
   StatusOr<DepthMap> map = ComputePlaneSweepDepthForView(views, 0, options);
   ASSERT_TRUE(map.ok()) << map.status().ToString();
   ExpectWellFormed(*map, views[0], options);
@@ -301,6 +307,49 @@ TEST(PlaneSweepTest, PixelsNoNeighbourSeesGetZeroConfidenceButADepth) {
     for (int x = 0; x < 4; ++x) EXPECT_EQ(map->confidence.at<float>(y, x), 0.0f) << x << "," << y;
   }
   EXPECT_GT(cv::mean(map->confidence(cv::Rect(30, 10, 40, 40)))[0], 0.5);
+}
+
+// Vertical stripes 8 px apart at 2 m (one texel a pixel), with a little noise: a repeating
+// texture, like blinds, that matches itself at every whole period of disparity.
+TexturedPlane StripedWall() {
+  TexturedPlane wall;
+  wall.depth_m = 2.0;
+  wall.metres_per_texel = 2.0 / 100.0;
+  wall.texture = cv::Mat(64, 240, CV_8UC3);
+  cv::RNG rng(5);
+  for (int y = 0; y < wall.texture.rows; ++y) {
+    for (int x = 0; x < wall.texture.cols; ++x) {
+      const int v = cv::saturate_cast<uchar>(128 + 90 * std::sin(2 * CV_PI * x / 8.0) + rng.uniform(-6, 6));
+      wall.texture.at<cv::Vec3b>(y, x) = cv::Vec3b(v, v, v);
+    }
+  }
+  return wall;
+}
+
+TEST(PlaneSweepTest, PixelsTheNeighbourSeesOnlyAtNearDepthsGetZeroConfidence) {
+  // A hand-held pair: the neighbour stands 10 cm to the left and is turned right by 10 px, so at
+  // the wall's depth (disparity 5 px) the reference's left columns fall outside it, while at near
+  // depths (disparity up to 20 px) the parallax brings them back in, onto other stripes that
+  // match as well as the true ones.
+  const CameraModel camera = CameraModel::Pinhole(96, 64, 100.0);
+  const double turn = std::atan(10.0 / camera.fx);
+  const Eigen::Quaterniond to_the_right(Eigen::AngleAxisd(-turn, Eigen::Vector3d::UnitY()));
+  const std::vector<Rigid3> poses = {Rigid3(), Rigid3(to_the_right, -(to_the_right * Eigen::Vector3d(-0.1, 0, 0)))};
+  std::vector<cv::Mat> truth;
+  const std::vector<View> views = depth::testing::RenderViews(poses, camera, {StripedWall()}, &truth);
+  const PlaneSweepOptions options = SmallPairOptions();
+  StatusOr<DepthMap> map = ComputePlaneSweepDepthForView(views, 0, options);
+  ASSERT_TRUE(map.ok()) << map.status().ToString();
+  ExpectWellFormed(*map, views[0], options);
+  // With a window of radius 3, columns 0-7 need a disparity above 5 + their distance from x = 8
+  // to be sampled at all: never at the far planes (disparity 1.25 to 5.9 px).
+  const cv::Rect strip(0, 4, 7, camera.height - 8);
+  double strip_max = 0;
+  cv::minMaxLoc(map->confidence(strip), nullptr, &strip_max);
+  const double inside = cv::mean(map->confidence(cv::Rect(40, 10, 40, 40)))[0];
+  std::printf("stripes seen only at near depths: confidence at most %.3f there, %.3f inside\n", strip_max, inside);
+  EXPECT_EQ(strip_max, 0.0);
+  EXPECT_GT(inside, 0.3);
 }
 
 TEST(PlaneSweepTest, ProgressReportsAndCancels) {
