@@ -32,7 +32,6 @@ CostVolume BuildCostVolume(const WorkingView& ref,
       filter_costs ? PrepareCostFilterGuide(ref.gray, options.filter_radius_px, options.filter_eps) : CostFilterGuide();
   CostVolume volume;
   volume.slices.resize(planes.count);
-  volume.sampled = cv::Mat::zeros(size, CV_8U);
   volume.best_unfiltered_cost = cv::Mat(size, CV_32F, cv::Scalar(kNoDataCost));
   cv::Mat typical_sum = cv::Mat::zeros(size, CV_32F), typical_count = cv::Mat::zeros(size, CV_32F);
   // Per pixel, how many of the farthest quarter of the planes (index 0 is the farthest) the

@@ -129,8 +129,8 @@ depth::InversePlane ToViewPixels(const depth::InversePlane& plane, double factor
   return full;
 }
 
-// Per segment, the fraction of its pixels that no neighbour view sampled at any plane
-// (`sampled`: CV_8U, 0 there).
+// Per segment, the fraction of its pixels the neighbour views did not sample over the far planes
+// (`sampled`: CV_8U, 0 there; CostVolume::sampled).
 std::vector<float> UnseenFractions(const std::vector<std::vector<int>>& segment_pixels, const cv::Mat& sampled) {
   std::vector<float> unseen(segment_pixels.size(), 0.0f);
   for (size_t s = 0; s < segment_pixels.size(); ++s) {

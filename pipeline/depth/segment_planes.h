@@ -75,8 +75,9 @@ using PlaneCost = std::function<double(int segment, const InversePlane& plane)>;
 // towards the farther plane (the background continues behind an occluder; the foreground rarely
 // hides in flat regions). Segments whose pixels are mostly
 // occluded (`occluded_fraction` > 0.5) take the farthest neighbour plane outright. Segments mostly
-// outside every other view (`unseen_fraction` > 0.5: the strip along a border that no neighbour
-// sees, where all costs are kNoDataCost) have no occluder to go behind: they continue the
+// outside every other view (`unseen_fraction` > 0.5: the strip along a border that the
+// neighbours do not see at the far planes, CostVolume::sampled; what costs it has there, if any,
+// are not trusted) have no occluder to go behind: they continue the
 // adjacent surface closest to them in colour. Either vector may be empty (none).
 void AssignUnfittedSegments(const Superpixels& segments,
                             const PlaneCost& cost,

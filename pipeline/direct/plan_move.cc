@@ -872,32 +872,35 @@ std::string DescribePath(const MovePlan& plan, const Pair& pair) {
   const CameraPath& path = pair.path;
   const MovePlanReport& report = *plan.report;
   const char* look = plan.along_axis ? "looking along the axis at" : "aimed at";
-  // How much the ends enlarge the capture's detail where they are composed (at most
-  // search.max_enlargement by the region search).
+  // How much the ends enlarge the capture's detail where they are composed, as the region search
+  // found them (which holds them to search.max_enlargement); the path's framing may narrow an
+  // end's focal to keep the subjects in frame, or set the two-subject dolly's end to the size
+  // the first subject started at.
   const double enlargement =
       std::max(AimEnlargement(plan.scene, pair.start_pulled.value_or(plan.starts[pair.a].framing)),
                AimEnlargement(plan.scene, pair.end_pulled.value_or(plan.ends[pair.b].framing)));
   char text[576];
-  std::snprintf(text,
-                sizeof(text),
-                "%s from %s %s %s to %s %s %s (%.0f mm); %d/%d valid cells; parallax %.2f%% "
-                "(best of %d longest of %d paths); H(V) <= %.2f over %d frames; detail enlarged up to %.2fx",
-                plan.name.c_str(),
-                Mm(plan.scene.RigFromWorld(path.keyframes.front().centre_in_world)).c_str(),
-                look,
-                (plan.reverse ? plan.end_what : plan.start_what).c_str(),
-                Mm(plan.scene.RigFromWorld(path.keyframes.back().centre_in_world)).c_str(),
-                look,
-                (plan.reverse ? plan.start_what : plan.end_what).c_str(),
-                1000 * pair.length,
-                report.valid_cells_start,
-                plan.start_region.cells,
-                100 * pair.parallax,
-                report.paths_measured,
-                report.candidate_paths,
-                pair.max_hole_score,
-                plan.options.search.verify_frames,
-                enlargement);
+  std::snprintf(
+      text,
+      sizeof(text),
+      "%s from %s %s %s to %s %s %s (%.0f mm); %d/%d valid cells; parallax %.2f%% "
+      "(best of %d longest of %d paths); H(V) <= %.2f over %d frames; detail enlarged up to %.2fx at the searched ends",
+      plan.name.c_str(),
+      Mm(plan.scene.RigFromWorld(path.keyframes.front().centre_in_world)).c_str(),
+      look,
+      (plan.reverse ? plan.end_what : plan.start_what).c_str(),
+      Mm(plan.scene.RigFromWorld(path.keyframes.back().centre_in_world)).c_str(),
+      look,
+      (plan.reverse ? plan.start_what : plan.end_what).c_str(),
+      1000 * pair.length,
+      report.valid_cells_start,
+      plan.start_region.cells,
+      100 * pair.parallax,
+      report.paths_measured,
+      report.candidate_paths,
+      pair.max_hole_score,
+      plan.options.search.verify_frames,
+      enlargement);
   return text;
 }
 

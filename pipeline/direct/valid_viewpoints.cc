@@ -29,7 +29,13 @@ class ColumnSearch {
                CoverageProbe* probe,
                double max_enlargement,
                Eigen::Vector2d xy)
-      : scene_(scene), rule_(rule), probe_(probe), max_enlargement_(max_enlargement), xy_(std::move(xy)) {}
+      : scene_(scene), rule_(rule), probe_(probe), xy_(std::move(xy)) {
+    // The approach is limited, not the move's framing: what the cell's own position at z = 0
+    // enlarges (a zoom past the limit, a cell a little nearer an off-axis subject) still holds
+    // there and behind it.
+    const Framing at_capture = rule_(scene_.WorldFromRig(Eigen::Vector3d(xy_.x(), xy_.y(), 0.0)));
+    max_enlargement_ = std::max(max_enlargement, AimEnlargement(scene_, at_capture));
+  }
 
   StatusOr<Probed> At(double z) {
     for (const auto& [probed_z, probed] : probed_) {
@@ -37,10 +43,7 @@ class ColumnSearch {
     }
     Probed result;
     result.framing = rule_(scene_.WorldFromRig(Eigen::Vector3d(xy_.x(), xy_.y(), z)));
-    // The approach is limited, not the move's zoom: a zoom past the limit still holds at the
-    // capture's distance and behind it.
-    const double zoom = result.framing.focal_px / scene_.focal_px;
-    if (AimEnlargement(scene_, result.framing) > std::max(max_enlargement_, zoom)) {
+    if (AimEnlargement(scene_, result.framing) > max_enlargement_) {
       // Nearer than the capture's detail allows: invalid without a probe (H(V) says nothing).
       result.hole_score = std::numeric_limits<double>::infinity();
     } else if (result.framing.focal_px > 0) {  // else the rule cannot frame from here
@@ -127,8 +130,8 @@ class ColumnSearch {
   const SceneGeometry& scene_;
   const FramingRule& rule_;
   CoverageProbe* probe_;
-  double max_enlargement_;
   Eigen::Vector2d xy_;
+  double max_enlargement_ = 0;
   std::vector<std::pair<double, Probed>> probed_;
   int probes_ = 0;
   double last_z_ = 0;

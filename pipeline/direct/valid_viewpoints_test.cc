@@ -131,8 +131,17 @@ TEST(ValidViewpointsTest, TheFrontStopsWhereTheFrameEnlargesTheCaptureTwice) {
   EXPECT_NEAR(front_z(3.0), 0.0, 1e-9);
   scene.output_scale = 0.5;
   EXPECT_NEAR(front_z(1.5), SearchLimits(scene, options).forward_m, precision);
-  // Without a point it is composed on, a frame is not limited.
+  // A cell a little nearer an off-axis point than the capture's centre holds at z = 0 and
+  // behind it, however much the zoom enlarges there.
   scene.output_scale = 1.0;
+  scene.centroid_surface_in_world = Eigen::Vector3d(-0.1, -0.1, 0.5);  // over the first cell searched
+  CoverageProbe grid_probe(&everywhere, 1.0, 2.0);
+  StatusOr<ValidRegion> grid =
+      FindValidViewpoints(scene, AimAtCentroid(scene, 3.0, true), &grid_probe, options, Sweep::kGrid, true, true);
+  ASSERT_TRUE(grid.ok()) << grid.status().ToString();
+  EXPECT_EQ(grid->valid_cells, 144);
+  scene.centroid_surface_in_world = scene.centroid_in_world;
+  // Without a point it is composed on, a frame is not limited.
   CoverageProbe probe(&everywhere, 1.0, 2.0);
   StatusOr<ValidRegion> unwatched =
       FindValidViewpoints(scene, AimAtCentroid(scene, 1.5), &probe, options, Sweep::kAxis, true, false);
