@@ -576,12 +576,20 @@ Status ListCandidatePairs(MovePlan* plan) {
   return OkStatus();
 }
 
+// The pair's ends as the region search found them, or pulled back to hold at the verify size.
+Framing StartFraming(const MovePlan& plan, const Pair& pair) {
+  return pair.start_pulled.value_or(plan.starts[pair.a].framing);
+}
+Framing EndFraming(const MovePlan& plan, const Pair& pair) {
+  return pair.end_pulled.value_or(plan.ends[pair.b].framing);
+}
+
 // The path for a pair, its subjects kept in frame (or why they cannot be).
 Status FramePath(const MovePlan& plan, Pair* pair) {
   const SceneGeometry& scene = plan.scene;
   const DirectOptions& options = plan.options;
-  Framing start = pair->start_pulled.value_or(plan.starts[pair->a].framing);
-  Framing end = pair->end_pulled.value_or(plan.ends[pair->b].framing);
+  Framing start = StartFraming(plan, *pair);
+  Framing end = EndFraming(plan, *pair);
   CameraPath path = BlankPath(PathKind::kNovelView, plan.name, scene.output, options.fps, options.duration_s);
   if (plan.choice.move == Move::kDolly) {
     // The second subject ends at the size the first started at.
@@ -876,9 +884,8 @@ std::string DescribePath(const MovePlan& plan, const Pair& pair) {
   // found them (which holds them to search.max_enlargement); the path's framing may narrow an
   // end's focal to keep the subjects in frame, or set the two-subject dolly's end to the size
   // the first subject started at.
-  const double enlargement =
-      std::max(AimEnlargement(plan.scene, pair.start_pulled.value_or(plan.starts[pair.a].framing)),
-               AimEnlargement(plan.scene, pair.end_pulled.value_or(plan.ends[pair.b].framing)));
+  const double enlargement = std::max(AimEnlargement(plan.scene, StartFraming(plan, pair)),
+                                      AimEnlargement(plan.scene, EndFraming(plan, pair)));
   char text[576];
   std::snprintf(
       text,
