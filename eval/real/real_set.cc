@@ -126,10 +126,13 @@ std::vector<fs::path> StandardRealSets(const fs::path& data_dir, std::vector<std
       "lattice_frames/nishika_n8000_scan_1x4/img_small.jpg",
       "lattice_frames/wigglelens_3view_plants/plants.jpg",
       "lattice_frames/actionsampler_2x2_face/imm000_0.jpg",
+      "lattice_frames/raytrix_r42_lenslet_crop/sc2_klein.png",
       "multicam/actionsampler_onomichi_4frames/onomichi.gif",
       "multicam/photobooth_pi_4cam_person/wigglegram-example-charuco-calibrated.webp",
+      "multicam/photobooth_pi_4cam_person/wigglegram-example-charuco-not-calibrated.webp",
       "mpo/nintendo3ds_mpo/sugarshack.mpo",
       "mpo/nintendo3ds_mpo/frozenpond.mpo",
+      "mpo/nintendo3ds_mpo/3DS-big-endian.mpo",
       "mpo/panasonic_gx8_3dlens_mpo/Panasonic-DMC-GX8.mpo",
   };
   std::vector<fs::path> sets;
