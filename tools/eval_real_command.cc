@@ -27,7 +27,7 @@ namespace fs = std::filesystem;
 struct EvalRealArgs {
   std::vector<std::string> data;  // sets; empty = the standard real sets under ../shared/data
   std::vector<std::string> parts = {"loo", "path"};
-  std::string lattice;  // a lattice photo's size given with --data; "" = known or auto
+  std::string lattice;  // a lattice photo's size given with --data; "" = auto
   std::string dump_dir;
   int max_photo_side_px = PipelineOptions{}.image_set_max_side_px;
   double duration_s = 5.0;
@@ -321,8 +321,8 @@ Status RunEvalReal(const EvalRealArgs& args) {
   for (const fs::path& set_path : paths) {
     SetOutcome outcome;
     outcome.name = SetName(set_path);
-    StatusOr<eval::RealSet> set = eval::LoadRealSet(
-        set_path, outcome.name, args.lattice.empty() ? eval::KnownLatticeSize(set_path) : args.lattice);
+    StatusOr<eval::RealSet> set =
+        eval::LoadRealSet(set_path, outcome.name, args.lattice.empty() ? "auto" : args.lattice);
     if (!set.ok()) {
       outcome.loo_skipped = outcome.path_skipped = set.status().message();
       outcomes.push_back(outcome);
@@ -391,7 +391,7 @@ void AddEvalRealCommand(CLI::App& eval) {
   real->add_option("--lattice",
                    args->lattice,
                    "The size of the lattice in the photos given with --data (auto: found blind; RxC, e.g. 1x3); by "
-                   "default auto, or what the standard set is known to hold");
+                   "default auto");
   real->add_option("--part", args->parts, "What to run (repeatable): loo (leave-one-out), path (the automatic clip)")
       ->capture_default_str();
   real->add_option("--dump",

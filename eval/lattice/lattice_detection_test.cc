@@ -1,17 +1,23 @@
 // Lattice detection on simulated frames with known layouts (regular, unequal, offset, turned
-// tiles; distortion, vignetting, noise), near a prior, on the real ActionSampler scan, and its
-// refusals.
+// tiles; distortion, vignetting, noise), near a prior, on the real lattice frames (an ActionSampler
+// and a Nishika scan, a wiggle lens's abutting views), and its refusals (real single photos among
+// them).
 #include <gtest/gtest.h>
 
+#include <filesystem>
+#include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
 #include "eval/lattice/lattice_eval.h"
 #include "pipeline/lattice/split_lattice.h"
+#include "pipeline/lattice/tile_agreement.h"
 #include "sim/synthetic/data_paths.h"
 #include "sim/synthetic/scene_json.h"
 
 namespace px::eval {
 namespace {
+
+namespace fs = std::filesystem;
 
 sim::Scene StillLife() {
   StatusOr<sim::Scene> scene = sim::LoadScene(sim::ScenesDir() / "still_life.json");
@@ -149,6 +155,80 @@ TEST(LatticeDetectionTest, RealActionSamplerScanIsA2x2WithUprightSplit) {
                 t.rect.y,
                 t.rotation_deg);
   }
+}
+
+// A real frame of ../shared/data/lattice_frames, its pixels as stored (EXIF orientation ignored).
+cv::Mat RealFrame(const std::string& relative) {
+  return cv::imread((sim::SharedDataDir() / "lattice_frames" / relative).string(),
+                    cv::IMREAD_COLOR | cv::IMREAD_IGNORE_ORIENTATION);
+}
+
+// A Sony a6000 behind a three-lens wiggle lens: three heavily vignetted sub-images that touch, no
+// gap between them, and a dark lawn and path across every one of them that pass for row gaps.
+TEST(LatticeDetectionTest, RealWiggleLensFrameIsThreeAbuttingViews) {
+  const cv::Mat frame = RealFrame("wigglelens_3view_plants/plants.jpg");
+  if (frame.empty()) GTEST_SKIP() << "needs ../shared/data/lattice_frames/wigglelens_3view_plants";
+  StatusOr<LatticeDetection> detection = DetectLattice(frame, LatticeOptions());
+  ASSERT_TRUE(detection.ok()) << detection.status().message();
+  std::printf("wiggle lens: %s\n", detection->report.Summary().c_str());
+  EXPECT_EQ(detection->report.rows, 1);
+  EXPECT_EQ(detection->report.cols, 3);
+  EXPECT_GE(detection->report.tile_agreement, lattice::kSameSceneAgreement);
+}
+
+// A Nishika N8000 scan: four frames on dark film, each exposed its own way.
+TEST(LatticeDetectionTest, RealNishikaScanIsAStripOfFour) {
+  const cv::Mat frame = RealFrame("nishika_n8000_scan_1x4/img_small.jpg");
+  if (frame.empty()) GTEST_SKIP() << "needs ../shared/data/lattice_frames/nishika_n8000_scan_1x4";
+  StatusOr<LatticeDetection> detection = DetectLattice(frame, LatticeOptions());
+  ASSERT_TRUE(detection.ok()) << detection.status().message();
+  std::printf("Nishika: %s\n", detection->report.Summary().c_str());
+  EXPECT_EQ(detection->report.rows, 1);
+  EXPECT_EQ(detection->report.cols, 4);
+  EXPECT_GE(detection->report.tile_agreement, lattice::kSameSceneAgreement);
+}
+
+// Real single photos (../shared/data: the hand-held sets, the stereo face pair, LLFF, the labelled
+// face photos, Middlebury, a Lytro view): no cut of one into equal tiles shows one scene, and none
+// is taken for a lattice. Prints the best agreement of any cut, the figure the threshold is set by.
+TEST(LatticeDetectionTest, RealSinglePhotosAreNotCutIntoViews) {
+  const fs::path data = sim::SharedDataDir();
+  std::vector<fs::path> photos;
+  for (const char* folder : {"handheld/kpankov_office_4views",
+                             "handheld/kpankov_frenchpress_4views",
+                             "handheld/ddd_lego_excavator_3views",
+                             "handheld/ddd_seattle_portrait_2views",
+                             "stereo_face/ddd_frame31_stereo",
+                             "faces_dlib_pascalvoc"}) {
+    std::error_code error;
+    for (const auto& entry : fs::directory_iterator(data / folder, error)) photos.push_back(entry.path());
+  }
+  for (const char* file : {"llff_fern/images_8/image000.png",
+                           "llff_flower/images_8/image000.png",
+                           "middlebury_2006_thirdsize/Aloe/view1.png",
+                           "middlebury_2006_thirdsize/Baby1/view1.png",
+                           "middlebury_2006_thirdsize/Bowling1/view1.png",
+                           "lytro_illum_2067_center5x5/2067_03_03.png"}) {
+    photos.push_back(data / file);
+  }
+  double best = -1;
+  int read = 0;
+  for (const fs::path& file : photos) {
+    const cv::Mat photo = cv::imread(file.string(), cv::IMREAD_COLOR);
+    if (photo.empty()) continue;
+    ++read;
+    cv::Mat grey;
+    cv::cvtColor(photo, grey, cv::COLOR_BGR2GRAY);
+    const LatticeOptions options;
+    const lattice::EqualCut cut = lattice::FindEqualCut(
+        lattice::CoarseWorkingFrame(grey, options.working_size_px), cv::Size(1, 1), 5, 0, 0, true);
+    EXPECT_EQ(cut.rows, 0) << file << ": " << cut.cols << "x" << cut.rows << " agrees " << cut.agreement;
+    best = std::max(best, cut.agreement);
+    StatusOr<LatticeDetection> detection = DetectLattice(photo, options);
+    EXPECT_FALSE(detection.ok()) << file << ": " << detection->report.Summary();
+  }
+  if (read == 0) GTEST_SKIP() << "needs the real photos under " << data.string();
+  std::printf("%d real single photos: best agreement of any cut into 2 to 25 equal tiles %.2f\n", read, best);
 }
 
 TEST(LatticeDetectionTest, RaytrixMicroLensImageIsRefusedWithAReason) {

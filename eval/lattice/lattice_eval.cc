@@ -132,6 +132,7 @@ StatusOr<LatticeEvalRow> EvaluateSimLatticeCase(const sim::Scene& scene, const S
   row.rows = detection->report.rows;
   row.cols = detection->report.cols;
   row.confidence = detection->report.confidence;
+  row.tile_agreement = detection->report.tile_agreement;
   row.max_prior_shift_px = detection->report.max_prior_shift_px;
   row.ms = detection->report.ms;
   row.summary = detection->report.Summary();
@@ -165,6 +166,8 @@ std::vector<LatticeEvalRow> EvaluateRealLatticeFrames(const std::filesystem::pat
       row.rows = detection->report.rows;
       row.cols = detection->report.cols;
       row.confidence = detection->report.confidence;
+      row.tile_agreement = detection->report.tile_agreement;
+      row.tile_agreement = detection->report.tile_agreement;
       row.ms = detection->report.ms;
       row.summary = detection->report.Summary();
     } else {
@@ -195,7 +198,9 @@ std::string FormatLatticeRows(const std::vector<LatticeEvalRow>& rows) {
           << Fixed(row.layout_error.max_rotation_deg, 2) << " deg";
     }
     if (row.max_prior_shift_px > 0) out << ", prior shift up to " << Fixed(row.max_prior_shift_px, 1) << " px";
-    out << ", confidence " << Fixed(row.confidence, 2) << ", " << Fixed(row.ms, 0) << " ms";
+    out << ", confidence " << Fixed(row.confidence, 2);
+    if (row.tile_agreement >= 0) out << ", tiles agree " << Fixed(row.tile_agreement, 2);
+    out << ", " << Fixed(row.ms, 0) << " ms";
     if (!row.has_truth) out << " (" << row.summary << ")";
     out << "\n";
   }

@@ -51,6 +51,7 @@ struct LatticeEvalRow {
   bool has_truth = false;  // simulated cases: layout_error is set
   LayoutError layout_error;
   double confidence = 0;
+  double tile_agreement = -1;  // LatticeReport::tile_agreement (blind search only)
   double max_prior_shift_px = 0;
   double ms = 0;        // detection time (the render is not counted)
   std::string summary;  // LatticeReport::Summary()

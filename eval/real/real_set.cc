@@ -148,10 +148,6 @@ std::vector<fs::path> StandardRealSets(const fs::path& data_dir, std::vector<std
   return sets;
 }
 
-std::string KnownLatticeSize(const fs::path& path) {
-  return path.filename() == "plants.jpg" && path.parent_path().filename() == "wigglelens_3view_plants" ? "1x3" : "auto";
-}
-
 StatusOr<RealSet> LoadRealSet(const fs::path& path, const std::string& name, const std::string& lattice) {
   std::error_code error;
   if (!fs::exists(path, error)) return NotFoundError(path.string() + ": no such file or folder");

@@ -47,10 +47,6 @@ StatusOr<RealSet> LoadRealSet(const std::filesystem::path& path,
                               const std::string& name,
                               const std::string& lattice = "auto");
 
-// The lattice size a standard set's photo is known to hold ("auto" for the rest): the wiggle
-// lens's three abutting tiles, which no gap tells apart.
-std::string KnownLatticeSize(const std::filesystem::path& path);
-
 // Which frames a set of `num_views` holds out (see RealSet::held_out).
 std::vector<int> HeldOutViews(int num_views);
 

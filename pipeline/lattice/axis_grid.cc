@@ -113,9 +113,24 @@ int FinePeriod(const BoundaryProfile& profile, int max_lag) {
   return 0;
 }
 
+// The grid of `comb`'s count - 1 gaps.
+AxisGrid GridOfComb(const BoundaryProfile& profile, const Comb& comb) {
+  AxisGrid grid;
+  grid.count = static_cast<int>(comb.gaps.size()) + 1;
+  grid.gaps = comb.gaps;
+  grid.gap_z = comb.z;
+  grid.weakest_z = comb.gaps.empty() ? 0 : comb.weakest;
+  for (double gap : comb.gaps) {
+    const int x = static_cast<int>(gap);
+    grid.gap_polarity.push_back(profile.polarity[x]);
+    grid.gap_half_width.push_back(profile.half_width[x]);
+  }
+  return grid;
+}
+
 }  // namespace
 
-StatusOr<AxisGrid> FindAxisGrid(const BoundaryProfile& profile, const AxisSearch& search) {
+StatusOr<AxisGrids> FindAxisGrid(const BoundaryProfile& profile, const AxisSearch& search) {
   const int size = profile.size();
   std::vector<Comb> combs(search.max_count + 1);
   std::vector<int> passing;
@@ -128,8 +143,8 @@ StatusOr<AxisGrid> FindAxisGrid(const BoundaryProfile& profile, const AxisSearch
     combs[count] = FitComb(profile, count);
     if (combs[count].weakest >= needed) passing.push_back(count);
   }
-  AxisGrid grid;
-  if (search.expected_count == 1) return grid;
+  AxisGrids grids;
+  if (search.expected_count == 1) return AxisGrids{{AxisGrid{}}, ""};
   if (search.expected_count > 1 && passing.empty()) {
     return NotFoundError("no lattice with " + std::to_string(search.expected_count) + " " + search.axis_name +
                          ": the gaps at " + Positions(combs[search.expected_count], search) +
@@ -145,14 +160,15 @@ StatusOr<AxisGrid> FindAxisGrid(const BoundaryProfile& profile, const AxisSearch
     std::snprintf(text,
                   sizeof(text),
                   "no lattice: the frame repeats every %.0f px along %c (%d cells), finer than a lattice of at "
-                  "most %d tiles per axis: a micro-lens (plenoptic) image?",
+                  "most %d tiles per axis: %s",
                   fine * search.to_sensor,
                   search.coordinate,
                   size / fine,
-                  search.max_count);
+                  search.max_count,
+                  kMicroLensImage);
     return NotFoundError(text);
   }
-  if (passing.empty()) return grid;
+  if (passing.empty()) return AxisGrids{{AxisGrid{}}, ""};
   const int count = passing.back();
   // A smaller comb whose gaps are all gaps of the larger one is explained by it (a 2-comb catching
   // one gap of a 5x4 lattice); one with a gap the larger comb lacks makes the period ambiguous.
@@ -167,22 +183,17 @@ StatusOr<AxisGrid> FindAxisGrid(const BoundaryProfile& profile, const AxisSearch
   };
   for (int other : passing) {
     if (count % other != 0 && !explained(combs[other])) {
-      return NotFoundError("no lattice: ambiguous period: the " + search.axis_name + " fit both " +
-                           std::to_string(other) + " tiles (gaps at " + Positions(combs[other], search) + ") and " +
-                           std::to_string(count) + " (" + Positions(combs[count], search) + ")");
+      grids.ambiguity = "ambiguous period: the " + search.axis_name + " fit both " + std::to_string(other) +
+                        " tiles (gaps at " + Positions(combs[other], search) + ") and " + std::to_string(count) + " (" +
+                        Positions(combs[count], search) + ")";
+      break;
     }
   }
-  const Comb& comb = combs[count];
-  grid.count = count;
-  grid.gaps = comb.gaps;
-  grid.gap_z = comb.z;
-  grid.weakest_z = comb.weakest;
-  for (double gap : comb.gaps) {
-    const int x = static_cast<int>(gap);
-    grid.gap_polarity.push_back(profile.polarity[x]);
-    grid.gap_half_width.push_back(profile.half_width[x]);
-  }
-  return grid;
+  if (grids.ambiguity.empty()) return AxisGrids{{GridOfComb(profile, combs[count])}, ""};
+  for (auto it = passing.rbegin(); it != passing.rend(); ++it)
+    grids.candidates.push_back(GridOfComb(profile, combs[*it]));
+  grids.candidates.push_back(AxisGrid{});
+  return grids;
 }
 
 }  // namespace px::lattice

@@ -29,10 +29,23 @@ struct AxisSearch {
   double to_sensor = 1.0;  // working pixels -> sensor pixels, for messages
 };
 
-// The largest count whose every gap passes min_z and 0.3 x the strongest line's z. NOT_FOUND when the evidence fits
-// counts that do not divide each other and whose gaps the larger count does not explain ("ambiguous period"), when
-// expected_count's gaps are weak, or when the profile repeats with a period finer than max_count allows (a micro-lens
-// image). A count of 1 (no internal gap) is not an error here.
-StatusOr<AxisGrid> FindAxisGrid(const BoundaryProfile& profile, const AxisSearch& search);
+// Ends the refusal of a frame that repeats finer than a lattice (FindAxisGrid): such a frame is
+// not cut into tiles by any other means either.
+inline constexpr char kMicroLensImage[] = "a micro-lens (plenoptic) image?";
+
+// What the gaps along one axis fit: one grid when the period is clear, or, when it is ambiguous,
+// every count whose gaps pass plus a count of 1 (none of them a lattice), largest first, for the
+// tiles' own pictures to decide (tile_agreement.h).
+struct AxisGrids {
+  std::vector<AxisGrid> candidates;  // never empty
+  std::string ambiguity;             // empty when the period is clear, else why it is not
+};
+
+// The largest count whose every gap passes min_z and 0.3 x the strongest line's z. The counts
+// that fit are ambiguous when they do not divide each other and the larger count does not explain
+// the smaller's gaps. NOT_FOUND when expected_count's gaps are weak, or when the profile repeats
+// with a period finer than max_count allows (a micro-lens image). A count of 1 (no internal gap)
+// is not an error here.
+StatusOr<AxisGrids> FindAxisGrid(const BoundaryProfile& profile, const AxisSearch& search);
 
 }  // namespace px::lattice

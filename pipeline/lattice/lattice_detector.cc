@@ -12,6 +12,7 @@
 #include "pipeline/core/stage_clock.h"
 #include "pipeline/lattice/axis_grid.h"
 #include "pipeline/lattice/boundary_profile.h"
+#include "pipeline/lattice/tile_agreement.h"
 #include "pipeline/lattice/tile_edge_fit.h"
 #include "pipeline/lattice/tile_geometry.h"
 
@@ -35,6 +36,8 @@ constexpr double kCornerMargin = 0.12;
 constexpr double kRotationToleranceDeg = 1.0;
 // Near a prior, at least this fraction of the tile edges inside the frame must be found.
 constexpr double kMinPriorEdgesFound = 0.8;
+// A lens's view is at most this many times longer than wide; a tile found longer holds several.
+constexpr double kMaxViewAspect = 2.0;
 // A margin at the frame's border is at most this fraction of a tile long.
 constexpr double kMaxMarginOfPeriod = 0.2;
 
@@ -417,17 +420,65 @@ LatticeLayout LayoutFromTiles(const std::vector<DetectedTile>& tiles,
 }
 
 // Blind search: counts and coarse gaps from the profiles, then every tile's edges.
+struct GridPair {
+  AxisGrid x, y;
+  double agreement = -1;  // TileAgreement, -1 when not measured
+};
+
+// The columns and rows of the lattice. Where the gaps along an axis fit several counts (content
+// lines taken for gaps: a dark lawn across every view), the tiles' pictures decide: the most tiles
+// whose neighbours show one scene (tile_agreement.h). `evidence` says how, when it came to that.
+StatusOr<GridPair> ResolvePeriods(const cv::Mat& work,
+                                  const lattice::AxisGrids& grids_x,
+                                  const lattice::AxisGrids& grids_y,
+                                  std::string* evidence) {
+  if (grids_x.ambiguity.empty() && grids_y.ambiguity.empty()) {
+    return GridPair{grids_x.candidates.front(), grids_y.candidates.front()};
+  }
+  struct Tried {
+    const AxisGrid* x;
+    const AxisGrid* y;
+    double agreement;
+  };
+  std::vector<Tried> tried;
+  for (const AxisGrid& x : grids_x.candidates) {
+    for (const AxisGrid& y : grids_y.candidates) {
+      if (x.count * y.count < 2) continue;
+      tried.push_back({&x, &y, lattice::TileAgreement(work, x.gaps, y.gaps, lattice::kSameSceneAgreement)});
+    }
+  }
+  // Most tiles first; among as many, the better agreement.
+  std::stable_sort(tried.begin(), tried.end(), [](const Tried& a, const Tried& b) {
+    const int ta = a.x->count * a.y->count, tb = b.x->count * b.y->count;
+    return ta != tb ? ta > tb : a.agreement > b.agreement;
+  });
+  std::string figures;
+  for (const Tried& t : tried) {
+    figures += (figures.empty() ? "" : ", ") + Format("%.0fx%.0f %.2f", t.x->count, t.y->count, t.agreement);
+  }
+  const std::string ambiguity =
+      grids_x.ambiguity + (grids_x.ambiguity.empty() || grids_y.ambiguity.empty() ? "" : "; ") + grids_y.ambiguity;
+  for (const Tried& t : tried) {
+    if (t.agreement < lattice::kSameSceneAgreement) continue;
+    *evidence =
+        ambiguity +
+        Format("; the tiles decide: %.0f columns x %.0f rows show one scene (agreement ", t.x->count, t.y->count) +
+        figures + ")";
+    return GridPair{*t.x, *t.y, t.agreement};
+  }
+  return NotFoundError("no lattice: " + ambiguity +
+                       Format(", and no such grid's tiles show one scene (agreement of neighbouring tiles, want %.2f: ",
+                              lattice::kSameSceneAgreement) +
+                       figures + ")");
+}
+
+cv::Mat WorkingFrame(const GreyFrame& frame, const LatticeOptions& options) {
+  return lattice::CoarseWorkingFrame(frame.grey, options.working_size_px);
+}
+
 StatusOr<LatticeDetection> DetectBlind(const GreyFrame& frame, const LatticeOptions& options) {
   const int width = frame.grey.cols, height = frame.grey.rows;
-  const double scale = std::min(1.0, static_cast<double>(options.working_size_px) / std::max(width, height));
-  cv::Mat small, work;
-  if (scale < 1.0) {
-    cv::resize(frame.grey, small, cv::Size(), scale, scale, cv::INTER_AREA);
-  } else {
-    small = frame.grey;
-  }
-  small.convertTo(work, CV_32F);
-  cv::GaussianBlur(work, work, cv::Size(0, 0), 1.0);
+  const cv::Mat work = WorkingFrame(frame, options);
   const double s_x = static_cast<double>(width) / work.cols, s_y = static_cast<double>(height) / work.rows;
   cv::Mat work_t;
   cv::transpose(work, work_t);
@@ -443,8 +494,29 @@ StatusOr<LatticeDetection> DetectBlind(const GreyFrame& frame, const LatticeOpti
 
   lattice::AxisSearch search_x{options.cols, options.max_tiles_per_axis, options.min_gap_z, "columns", 'x', s_x};
   lattice::AxisSearch search_y{options.rows, options.max_tiles_per_axis, options.min_gap_z, "rows", 'y', s_y};
-  PX_ASSIGN_OR_RETURN(AxisGrid gx, lattice::FindAxisGrid(px, search_x));
-  PX_ASSIGN_OR_RETURN(AxisGrid gy, lattice::FindAxisGrid(py, search_y));
+  PX_ASSIGN_OR_RETURN(const lattice::AxisGrids grids_x, lattice::FindAxisGrid(px, search_x));
+  PX_ASSIGN_OR_RETURN(const lattice::AxisGrids grids_y, lattice::FindAxisGrid(py, search_y));
+  std::string period_evidence;
+  PX_ASSIGN_OR_RETURN(const GridPair grids, ResolvePeriods(work, grids_x, grids_y, &period_evidence));
+  const AxisGrid& gx = grids.x;
+  const AxisGrid& gy = grids.y;
+  // A size not given is only believed where the tiles show one scene: a photo's content lines
+  // (a horizon, a lawn's edge) can pass for gaps.
+  const bool size_given = options.rows > 0 && options.cols > 0;
+  double agreement = grids.agreement;
+  if (!size_given && gx.count * gy.count > 1 && agreement < 0) {
+    agreement = lattice::TileAgreement(work, gx.gaps, gy.gaps);
+    if (agreement < lattice::kSameSceneAgreement) {
+      return NotFoundError(
+          Format("no lattice: the gaps fit %.0f columns x %.0f rows, but those tiles do not show "
+                 "one scene (agreement of neighbouring tiles %.2f < %.2f): content lines taken for "
+                 "gaps?",
+                 gx.count,
+                 gy.count,
+                 agreement,
+                 lattice::kSameSceneAgreement));
+    }
+  }
   if (gx.count == 1 && gy.count == 1) {
     const int bx = px.ArgMaxZ(0, px.size()), by = py.ArgMaxZ(0, py.size());
     return NotFoundError(Format("no lattice: no gap or tile edge crosses the frame (strongest line evidence: z %.1f "
@@ -493,6 +565,7 @@ StatusOr<LatticeDetection> DetectBlind(const GreyFrame& frame, const LatticeOpti
   std::vector<double> z;
   for (const AxisGrid* g : {&gx, &gy}) z.insert(z.end(), g->gap_z.begin(), g->gap_z.end());
   report.weakest_gap_z = *std::min_element(z.begin(), z.end());
+  report.tile_agreement = agreement;
   report.confidence = (inliers / (rows * cols)) * std::min(1.0, report.weakest_gap_z / (2 * options.min_gap_z));
   if (report.confidence < options.min_confidence) {
     return NotFoundError("no lattice: the " + std::to_string(cols) + "x" + std::to_string(rows) +
@@ -506,6 +579,11 @@ StatusOr<LatticeDetection> DetectBlind(const GreyFrame& frame, const LatticeOpti
   report.evidence = Evidence(frame, detection.layout, &plan_x, &plan_y, report.tiles);
   report.evidence.insert(report.evidence.begin(),
                          Format("%.0f columns x %.0f rows, weakest gap z %.1f", cols, rows, report.weakest_gap_z));
+  if (!period_evidence.empty()) {
+    report.evidence.insert(report.evidence.begin() + 1, period_evidence);
+  } else if (agreement >= 0) {
+    report.evidence.insert(report.evidence.begin() + 1, Format("neighbouring tiles agree %.2f", agreement));
+  }
   return detection;
 }
 
@@ -701,28 +779,57 @@ std::string LatticeReport::Summary() const {
 
 // The frame cut into rows x cols equal tiles: a lattice of the size the user gave whose tiles abut
 // (a wiggle lens's sub-images, vignetted towards each other), so that no gap stands out to find.
-LatticeDetection EvenSplit(const cv::Size& size, const LatticeOptions& options, const std::string& why) {
+LatticeDetection EvenSplit(
+    const cv::Size& size, int rows, int cols, TileOrientation orientation, const std::string& evidence) {
   LatticeDetection detection;
   LatticeReport& report = detection.report;
-  report.rows = options.rows;
-  report.cols = options.cols;
-  for (int r = 0; r < options.rows; ++r) {
-    for (int c = 0; c < options.cols; ++c) {
+  report.rows = rows;
+  report.cols = cols;
+  for (int r = 0; r < rows; ++r) {
+    for (int c = 0; c < cols; ++c) {
       DetectedTile tile;
       tile.row = r;
       tile.col = c;
-      const int x0 = c * size.width / options.cols, x1 = (c + 1) * size.width / options.cols;
-      const int y0 = r * size.height / options.rows, y1 = (r + 1) * size.height / options.rows;
+      const int x0 = c * size.width / cols, x1 = (c + 1) * size.width / cols;
+      const int y0 = r * size.height / rows, y1 = (r + 1) * size.height / rows;
       tile.rect = cv::Rect(x0, y0, x1 - x0, y1 - y0);
       report.tiles.push_back(tile);
     }
   }
-  detection.layout = LayoutFromTiles(report.tiles,
-                                     options.rows,
-                                     options.cols,
-                                     size,
-                                     std::vector<TileOrientation>(options.rows * options.cols, options.orientation));
-  report.evidence = {Format("%.0f columns x %.0f rows as given, cut evenly: ", options.cols, options.rows) + why};
+  detection.layout =
+      LayoutFromTiles(report.tiles, rows, cols, size, std::vector<TileOrientation>(rows * cols, orientation));
+  report.evidence = {evidence};
+  return detection;
+}
+
+// The frame, its size not given, cut into the most equal tiles whose pictures show one scene
+// (lattice::FindEqualCut), refining `found` (1x1 for none): a wiggle lens's sub-images, which
+// abut with no gap to find, or vignette into each other only along one axis. NOT_FOUND, with
+// `why` and the best agreement, when no such cut's tiles show one scene.
+StatusOr<LatticeDetection> DetectAbutting(const GreyFrame& frame,
+                                          const LatticeOptions& options,
+                                          cv::Size found,
+                                          const std::string& why) {
+  const lattice::EqualCut cut = lattice::FindEqualCut(
+      WorkingFrame(frame, options), found, options.max_tiles_per_axis, options.rows, options.cols);
+  if (cut.rows == 0) {
+    return NotFoundError(why + Format("; nor do equal tiles of it show one scene (for every cut, some neighbouring "
+                                      "tiles agree less than %.2f)",
+                                      lattice::kSameSceneAgreement));
+  }
+  LatticeDetection detection = EvenSplit(
+      frame.grey.size(),
+      cut.rows,
+      cut.cols,
+      options.orientation,
+      Format("%.0f columns x %.0f rows cut evenly: the most equal tiles whose pictures show one scene "
+             "(agreement of neighbouring tiles %.2f)",
+             cut.cols,
+             cut.rows,
+             cut.agreement) +
+          (found.area() > 1 ? Format(", where the gaps that stand out give %.0f x %.0f", found.width, found.height)
+                            : ": no lattice of gaps was found"));
+  detection.report.tile_agreement = cut.agreement;
   return detection;
 }
 
@@ -750,7 +857,32 @@ StatusOr<LatticeDetection> DetectLattice(const cv::Mat& sensor_bgr,
     const auto contradicts = [](int found, int given) { return found > 1 && found != given; };
     if (!other.ok() ||
         (!contradicts(other->report.rows, options.rows) && !contradicts(other->report.cols, options.cols))) {
-      detection = EvenSplit(frame.grey.size(), options, "no gap stands out (" + detection.status().message() + ")");
+      detection = EvenSplit(frame.grey.size(),
+                            options.rows,
+                            options.cols,
+                            options.orientation,
+                            Format("%.0f columns x %.0f rows as given, cut evenly: ", options.cols, options.rows) +
+                                "no gap stands out (" + detection.status().message() + ")");
+    }
+  } else if (prior == nullptr && (options.rows == 0 || options.cols == 0)) {
+    // The size is not known: tiles that abut along an axis leave no gap to find there. Tiles more
+    // than twice as long as wide may hold several such views side by side: they are cut along
+    // their length where equal parts show one scene; an axis with gaps keeps its count.
+    const auto blocks_of_views = [&](const LatticeReport& found) {
+      const double aspect =
+          (static_cast<double>(frame.grey.cols) / found.cols) / (static_cast<double>(frame.grey.rows) / found.rows);
+      return aspect > kMaxViewAspect || aspect < 1.0 / kMaxViewAspect;
+    };
+    if (detection.ok() && blocks_of_views(detection->report)) {
+      LatticeOptions along_length = options;
+      if (detection->report.rows > 1) along_length.rows = detection->report.rows;
+      if (detection->report.cols > 1) along_length.cols = detection->report.cols;
+      StatusOr<LatticeDetection> finer =
+          DetectAbutting(frame, along_length, cv::Size(detection->report.cols, detection->report.rows), "");
+      if (finer.ok()) detection = std::move(finer);
+    } else if (!detection.ok() && detection.status().code() == StatusCode::kNotFound &&
+               detection.status().message().find(lattice::kMicroLensImage) == std::string::npos) {
+      detection = DetectAbutting(frame, options, cv::Size(1, 1), detection.status().message());
     }
   }
   if (detection.ok()) {

@@ -36,6 +36,9 @@ struct LatticeReport {
   double confidence = 0;              // [0, 1]: edges found and gap evidence, 1 = all clear
   std::vector<std::string> evidence;  // what told the tiles apart, with figures
   double weakest_gap_z = 0;           // coarse evidence of the weakest gap (blind search only)
+  // How alike neighbouring tiles' pictures are (tile_agreement.h), measured where the lattice's
+  // size was not given (blind search only); -1 when not measured.
+  double tile_agreement = -1;
   bool used_prior = false;
   double max_prior_shift_px = 0;  // largest |shift_px| over the tiles
   double ms = 0;                  // time taken
@@ -54,10 +57,13 @@ struct LatticeDetection {
 // bad options, an empty or wrongly typed frame, a prior of another aspect ratio; NOT_FOUND, with
 // the reason, when no lattice can be found (a blank frame, no gaps, an ambiguous period, a
 // micro-lens image, tiles of wildly different sizes, edges that fit no tile, a frame that does
-// not show the prior's lattice, a confidence below options.min_confidence). Blind, with both
-// options.rows and options.cols given, a frame whose gaps cannot be found, and that shows no
-// lattice of another size either, is cut into equal tiles (abutting tiles, as a wiggle lens's),
-// confidence 0, the evidence saying so.
+// not show the prior's lattice, a confidence below options.min_confidence, tiles whose pictures do
+// not show one scene when the size was not given). Blind, with both options.rows and options.cols
+// given, a frame whose gaps cannot be found, and that shows no lattice of another size either, is
+// cut into equal tiles (abutting tiles, as a wiggle lens's), confidence 0, the evidence saying so.
+// Without the size, such a frame is cut into the most equal tiles whose pictures show one scene,
+// and so are tiles found more than twice as long as wide (several abutting views), along their
+// length.
 StatusOr<LatticeDetection> DetectLattice(const cv::Mat& sensor_bgr,
                                          const LatticeOptions& options,
                                          const LatticeLayout* prior = nullptr);

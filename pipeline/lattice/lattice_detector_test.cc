@@ -9,7 +9,8 @@
 namespace px {
 namespace {
 
-// A 3x3 lattice of 200x150 tiles (random texture, blurred) on a dark sensor with 12 px gaps.
+// A lattice of 200x150 tiles (one random texture, blurred, seen shifted by each column) on a dark
+// sensor with 12 px gaps.
 struct DrawnFrame {
   cv::Mat bgr;
   LatticeLayout truth;
@@ -19,12 +20,13 @@ DrawnFrame DrawLattice(int rows, int cols) {
   DrawnFrame f;
   f.truth = LatticeLayout::Regular(rows, cols, 200, 150, 12, TileOrientation::kRotated180);
   f.bgr = cv::Mat(f.truth.sensor_height, f.truth.sensor_width, CV_8UC3, cv::Scalar::all(10));
+  // One textured scene, each tile seeing it a few pixels further along (the lenses' parallax).
   cv::RNG rng(7);
+  cv::Mat scene(f.truth.tiles[0].rect.height, f.truth.tiles[0].rect.width + 4 * cols, CV_8UC3);
+  rng.fill(scene, cv::RNG::UNIFORM, cv::Scalar::all(60), cv::Scalar::all(220));
+  cv::GaussianBlur(scene, scene, cv::Size(0, 0), 3.0);
   for (const Tile& t : f.truth.tiles) {
-    cv::Mat texture(t.rect.size(), CV_8UC3);
-    rng.fill(texture, cv::RNG::UNIFORM, cv::Scalar::all(60), cv::Scalar::all(220));
-    cv::GaussianBlur(texture, texture, cv::Size(0, 0), 3.0);
-    texture.copyTo(f.bgr(t.rect));
+    scene(cv::Rect(4 * t.col, 0, t.rect.width, t.rect.height)).copyTo(f.bgr(t.rect));
   }
   return f;
 }

@@ -1,9 +1,9 @@
 // One photo holding a lattice of views, as `parallax import --lattice` and `parallax clip FRAME.jpg`
 // take it: a synthetic strip of four views (a Nishika scan: dark gaps, each frame exposed a little
 // differently) and a 2x2 of abutting, vignetted views (a multi-lens frame whose tiles touch),
-// written as JPEG, imported without a rig calibration, split blind (or evenly at the size given)
-// and posed by structure from motion into a 3D move; a photo of no lattice still gives a clip; a
-// real ActionSampler scan gives a morph.
+// written as JPEG, imported without a rig calibration, split blind (or evenly: at the size given,
+// or where equal tiles show one scene) and posed by structure from motion into a 3D move; a photo
+// of no lattice still gives a clip; a real ActionSampler scan gives a morph.
 #include <gtest/gtest.h>
 
 #include <filesystem>
@@ -107,6 +107,16 @@ TEST_F(LatticePhotoTest, AbuttingTilesOfAGivenSizeAreCutEvenly) {
   EXPECT_EQ(report->pipeline.num_views, 4);
   EXPECT_TRUE(std::any_of(report->pipeline.warnings.begin(), report->pipeline.warnings.end(), [](const std::string& w) {
     return w.find("cut evenly") != std::string::npos;
+  })) << ::testing::PrintToString(report->pipeline.warnings);
+}
+
+TEST_F(LatticePhotoTest, AbuttingTilesAreFoundByTheirPicturesWithoutTheirSize) {
+  StatusOr<device::ClipJobReport> report = Clip(AbuttingSquare(RowOfViews(4)), "auto");
+  ASSERT_TRUE(report.ok()) << report.status().ToString();
+  EXPECT_EQ(report->pipeline.num_views, 4);
+  EXPECT_TRUE(std::any_of(report->pipeline.warnings.begin(), report->pipeline.warnings.end(), [](const std::string& w) {
+    return w.find("2 columns x 2 rows cut evenly") != std::string::npos &&
+           w.find("show one scene") != std::string::npos;
   })) << ::testing::PrintToString(report->pipeline.warnings);
 }
 
