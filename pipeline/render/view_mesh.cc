@@ -1,6 +1,7 @@
 #include "pipeline/render/view_mesh.h"
 
 #include <Eigen/Eigenvalues>
+#include <Eigen/Geometry>
 #include <Eigen/LU>
 #include <algorithm>
 #include <array>
@@ -404,10 +405,12 @@ ViewSlots ViewMesh::LineWeights(const Eigen::Vector2d& q) const {
   return Merge({last, -1, -1}, {1, 0, 0});
 }
 
-std::pair<int, double> ViewMesh::NearestOuterEdge(const Eigen::Vector2d& q) const {
+std::pair<int, double> ViewMesh::NearestOuterEdge(const Eigen::Vector2d& q, const std::vector<int>* among) const {
   double best = std::numeric_limits<double>::infinity();
   std::pair<int, double> nearest{-1, 0.0};
-  for (size_t e = 0; e < outer_edges_.size(); ++e) {
+  const int count = among != nullptr ? static_cast<int>(among->size()) : static_cast<int>(outer_edges_.size());
+  for (int i = 0; i < count; ++i) {
+    const int e = among != nullptr ? (*among)[i] : i;
     const Eigen::Vector2d& a = vertices_[outer_edges_[e][0]].position;
     const Eigen::Vector2d ab = vertices_[outer_edges_[e][1]].position - a;
     const double length2 = ab.squaredNorm();
@@ -415,14 +418,14 @@ std::pair<int, double> ViewMesh::NearestOuterEdge(const Eigen::Vector2d& q) cons
     const double d2 = (a + t * ab - q).squaredNorm();
     if (d2 < best) {
       best = d2;
-      nearest = {static_cast<int>(e), t};
+      nearest = {e, t};
     }
   }
   return nearest;
 }
 
-ViewSlots ViewMesh::OutsideWeights(const Eigen::Vector2d& q) const {
-  const auto [e, t] = NearestOuterEdge(q);
+ViewSlots ViewMesh::OutsideWeights(const Eigen::Vector2d& q, const std::vector<int>* among) const {
+  const auto [e, t] = NearestOuterEdge(q, among);
   if (e < 0) return ViewSlots{};
   return WithWitness(Merge({vertices_[outer_edges_[e][0]].view, vertices_[outer_edges_[e][1]].view, -1}, {1 - t, t, 0}),
                      outer_edge_witness_[e]);
@@ -432,6 +435,155 @@ int ViewMesh::OutsideRegion(const Eigen::Vector2d& q) const {
   const auto [e, t] = NearestOuterEdge(q);
   if (e < 0) return -1;
   return t <= 0 ? -2 - outer_edges_[e][0] : t >= 1 ? -2 - outer_edges_[e][1] : e;
+}
+
+namespace {
+
+// Distance from p to the segment [a, b].
+double PointSegmentDistance(const Eigen::Vector2d& p, const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
+  const Eigen::Vector2d ab = b - a;
+  const double length2 = ab.squaredNorm();
+  const double t = length2 > 0 ? std::clamp((p - a).dot(ab) / length2, 0.0, 1.0) : 0.0;
+  return (a + t * ab - p).norm();
+}
+
+// Whether the segments [a, b] and [c, d] touch.
+bool SegmentsTouch(const Eigen::Vector2d& a,
+                   const Eigen::Vector2d& b,
+                   const Eigen::Vector2d& c,
+                   const Eigen::Vector2d& d) {
+  const double d1 = Cross2(b - a, c - a), d2 = Cross2(b - a, d - a);
+  const double d3 = Cross2(d - c, a - c), d4 = Cross2(d - c, b - c);
+  return d1 * d2 <= 0 && d3 * d4 <= 0;
+}
+
+// Least distance from the segment [a, b] to the convex quadrilateral `quad` (0 when they touch or
+// the segment lies inside).
+double SegmentQuadDistance(const Eigen::Vector2d& a,
+                           const Eigen::Vector2d& b,
+                           const std::array<Eigen::Vector2d, 4>& quad) {
+  bool a_inside = true;
+  double sign = 0;
+  for (int k = 0; k < 4; ++k) {
+    const Eigen::Vector2d& p = quad[k];
+    const Eigen::Vector2d& q = quad[(k + 1) % 4];
+    if (SegmentsTouch(a, b, p, q)) return 0;
+    const double side = Cross2(q - p, a - p);
+    if (side * sign < 0) a_inside = false;
+    if (side != 0) sign = side;
+  }
+  if (a_inside) return 0;
+  double least = std::numeric_limits<double>::infinity();
+  for (int k = 0; k < 4; ++k) {
+    least = std::min({least,
+                      PointSegmentDistance(quad[k], a, b),
+                      PointSegmentDistance(a, quad[k], quad[(k + 1) % 4]),
+                      PointSegmentDistance(b, quad[k], quad[(k + 1) % 4])});
+  }
+  return least;
+}
+
+// Whether the triangle and the convex quadrilateral lie apart by more than `margin` along some
+// edge's normal (separating axes: two convex polygons are disjoint exactly when one separates).
+// The gap between two axis-aligned boxes (0 when they overlap), a lower bound on the distance
+// between anything inside them.
+double BoxGap(const Eigen::AlignedBox2d& a, const Eigen::AlignedBox2d& b) {
+  const Eigen::Vector2d gap = (a.min() - b.max()).cwiseMax(b.min() - a.max()).cwiseMax(0.0);
+  return gap.norm();
+}
+
+template <size_t N>
+Eigen::AlignedBox2d BoxOf(const std::array<Eigen::Vector2d, N>& points) {
+  Eigen::AlignedBox2d box;
+  for (const Eigen::Vector2d& p : points) box.extend(p);
+  return box;
+}
+
+bool Separated(const std::array<Eigen::Vector2d, 3>& triangle,
+               const std::array<Eigen::Vector2d, 4>& quad,
+               double margin) {
+  const auto apart_along = [&](const Eigen::Vector2d& edge) {
+    const Eigen::Vector2d axis(-edge.y(), edge.x());
+    const double norm = axis.norm();
+    if (!(norm > 0)) return false;
+    double t_low = INFINITY, t_high = -INFINITY, q_low = INFINITY, q_high = -INFINITY;
+    for (const Eigen::Vector2d& p : triangle) {
+      t_low = std::min(t_low, axis.dot(p) / norm);
+      t_high = std::max(t_high, axis.dot(p) / norm);
+    }
+    for (const Eigen::Vector2d& p : quad) {
+      q_low = std::min(q_low, axis.dot(p) / norm);
+      q_high = std::max(q_high, axis.dot(p) / norm);
+    }
+    return t_high + margin < q_low || q_high + margin < t_low;
+  };
+  for (int k = 0; k < 3; ++k) {
+    if (apart_along(triangle[(k + 1) % 3] - triangle[k])) return true;
+  }
+  for (int k = 0; k < 4; ++k) {
+    if (apart_along(quad[(k + 1) % 4] - quad[k])) return true;
+  }
+  return false;
+}
+
+}  // namespace
+
+bool ViewMesh::OutsideRegionHolds(int region,
+                                  const std::array<Eigen::Vector2d, 4>& quad,
+                                  std::vector<int>* vertex_edges) const {
+  if (outline_convex_) return true;
+  // The region's own distance is convex over the quadrilateral, so largest at a corner; along an
+  // edge's inside (0 < t < 1 at every corner, t being affine) it is the distance to its line.
+  double own = 0;
+  const auto parameter = [&](const std::array<int, 2>& edge, const Eigen::Vector2d& q) {
+    const Eigen::Vector2d& a = vertices_[edge[0]].position;
+    const Eigen::Vector2d ab = vertices_[edge[1]].position - a;
+    return (q - a).dot(ab) / ab.squaredNorm();
+  };
+  const int vertex = region <= -2 ? -2 - region : -1;
+  for (const Eigen::Vector2d& q : quad) {
+    if (vertex >= 0) {
+      own = std::max(own, (q - vertices_[vertex].position).norm());
+    } else {
+      const double t = parameter(outer_edges_[region], q);
+      if (!(t > 0 && t < 1)) return false;
+      own = std::max(own,
+                     PointSegmentDistance(
+                         q, vertices_[outer_edges_[region][0]].position, vertices_[outer_edges_[region][1]].position));
+    }
+  }
+  const Eigen::AlignedBox2d quad_box = BoxOf<4>(quad);
+  // Every other edge lies farther, by more than rounding.
+  const double farther = own * (1 + 1e-9) + 1e-300;
+  vertex_edges->clear();
+  for (size_t e = 0; e < outer_edges_.size(); ++e) {
+    const std::array<int, 2>& edge = outer_edges_[e];
+    if (static_cast<int>(e) == region) continue;
+    if (edge[0] == vertex || edge[1] == vertex) {
+      // An edge from the vertex: its nearest point must stay the vertex, beyond its end.
+      for (const Eigen::Vector2d& q : quad) {
+        const double t = parameter(edge, q);
+        if (edge[0] == vertex ? !(t < 0) : !(t > 1)) return false;
+      }
+      vertex_edges->push_back(static_cast<int>(e));
+      continue;
+    }
+    const Eigen::Vector2d& a = vertices_[edge[0]].position;
+    const Eigen::Vector2d& b = vertices_[edge[1]].position;
+    if (BoxGap(quad_box, BoxOf<2>({a, b})) > farther) continue;
+    if (!(SegmentQuadDistance(a, b, quad) > farther)) return false;
+  }
+  // Outside every triangle, by more than the tolerance that counts a point on an edge as inside
+  // (ring triangles along a thin mesh may overlap, so the outer edges alone do not bound it).
+  for (size_t t = 0; t < triangles_.size(); ++t) {
+    const std::array<Eigen::Vector2d, 3> corners = {vertices_[triangles_[t][0]].position,
+                                                    vertices_[triangles_[t][1]].position,
+                                                    vertices_[triangles_[t][2]].position};
+    const double margin = 1e-6 * std::max((corners[1] - corners[0]).norm(), (corners[2] - corners[0]).norm());
+    if (BoxGap(quad_box, BoxOf<3>(corners)) > margin) continue;
+    if (!Separated(corners, quad, margin)) return false;
+  }
+  return true;
 }
 
 std::array<double, 3> ViewMesh::Coordinates(int triangle, const Eigen::Vector2d& q) const {
@@ -584,6 +736,7 @@ void ViewMesh::ComputeWeights(const CameraModel& camera,
       int outside = 0;    // their OutsideRegion when outside
       bool regular = kind_ == Kind::kTriangles;
       double s_sign = 0;
+      std::array<Eigen::Vector2d, 4> quad;  // the corners on the plane, in order around the tile
       for (int corner = 0; corner < 4 && regular; ++corner) {
         const double x = (corner & 1) ? x1 : x0, y = (corner & 2) ? y1 : y0;
         const Eigen::Vector3d pixel(x, y, 1.0);
@@ -594,16 +747,21 @@ void ViewMesh::ComputeWeights(const CameraModel& camera,
         }
         s_sign = s;
         const Eigen::Vector2d q = map.At(x, y);
+        quad[corner == 2 ? 3 : corner == 3 ? 2 : corner] = q;
         const int t = Locate(q, hint);
         hint = t >= 0 ? t : hint;
         if (triangle != -2 && t != triangle) regular = false;
         triangle = t;
         if (regular && t < 0) {
-          const int region = outline_convex_ ? OutsideRegion(q) : -1;
+          const int region = OutsideRegion(q);
           if (region == -1 || (corner > 0 && region != outside)) regular = false;
           outside = region;
         }
       }
+      // On an outline that is not convex (a hand-held sweep's thin mesh) the corners' region
+      // need not hold the whole tile: checked.
+      std::vector<int> vertex_edges;
+      if (regular && triangle < 0 && !OutsideRegionHolds(outside, quad, &vertex_edges)) regular = false;
       if (!regular && kind_ == Kind::kTriangles && std::min(x1 - x0, y1 - y0) + 1 > kMinTile) {
         // A triangle edge crosses it: the quarters that lie in one triangle take the fast path.
         const int xm = (x0 + x1) / 2, ym = (y0 + y1) / 2;
@@ -617,6 +775,15 @@ void ViewMesh::ComputeWeights(const CameraModel& camera,
         for (int y = y0; y <= y1; ++y) {
           ViewSlots* row = slots->data() + static_cast<size_t>(y) * width;
           for (int x = x0; x <= x1; ++x) row[x] = WeightsAt(map.At(x, y), &hint);
+        }
+        return;
+      }
+      if (triangle < 0 && !vertex_edges.empty()) {
+        // A vertex's region off a convex outline: its two edges tie, and pixel by pixel the
+        // nearer by rounding adds its far end at weight 0 and its witness; only they are asked.
+        for (int y = y0; y <= y1; ++y) {
+          ViewSlots* row = slots->data() + static_cast<size_t>(y) * width;
+          for (int x = x0; x <= x1; ++x) row[x] = OutsideWeights(map.At(x, y), &vertex_edges);
         }
         return;
       }

@@ -96,13 +96,20 @@ class ViewMesh {
   int Locate(const Eigen::Vector2d& q, int hint) const;
   std::array<double, 3> Coordinates(int triangle, const Eigen::Vector2d& q) const;
   ViewSlots TriangleWeights(int triangle, const Eigen::Vector2d& q) const;
-  // The outer edge nearest q (-1 without any) and the parameter in [0, 1] of its point nearest q.
-  std::pair<int, double> NearestOuterEdge(const Eigen::Vector2d& q) const;
-  ViewSlots OutsideWeights(const Eigen::Vector2d& q) const;
+  // The outer edge nearest q (-1 without any) and the parameter in [0, 1] of its point nearest q;
+  // only the edges `among` (ascending) where given.
+  std::pair<int, double> NearestOuterEdge(const Eigen::Vector2d& q, const std::vector<int>* among = nullptr) const;
+  ViewSlots OutsideWeights(const Eigen::Vector2d& q, const std::vector<int>* among = nullptr) const;
   // Where q (outside the mesh) finds its nearest point: the outer edge's index when inside that
   // edge, else -2 - v for the outer vertex v. On a convex outline each such region is convex
   // (an intersection of half-planes), so ComputeWeights may fill a tile whose corners share one.
   int OutsideRegion(const Eigen::Vector2d& q) const;
+  // Whether every point of the convex quadrilateral `quad` (corners in order around it), whose
+  // corners lie outside the mesh in `region`, does too. Always on a convex outline; on another,
+  // when the quadrilateral misses every triangle and the region's distance, largest at a corner,
+  // stays below every other outer edge's least distance to it. For a vertex's region there,
+  // `vertex_edges` receives the outer edges from the vertex (ascending), else it is left empty.
+  bool OutsideRegionHolds(int region, const std::array<Eigen::Vector2d, 4>& quad, std::vector<int>* vertex_edges) const;
   ViewSlots LineWeights(const Eigen::Vector2d& q) const;
   // The view, other than `views` (-1: none), whose vertex lies nearest `at`; -1 when there is none.
   int NearestOtherView(const Eigen::Vector2d& at, const std::array<int, 3>& views) const;
