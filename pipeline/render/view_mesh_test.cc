@@ -144,16 +144,26 @@ TEST(ViewMeshTest, ComputeWeightsMatchesThePixelByPixelWeights) {
 
 // A hand-held sweep's four centres (a real set's): nearly on a line, so Delaunay leaves a sliver
 // out and the extended mesh's outline is not convex. Cameras whose whole frame meets the plane
-// outside the mesh fill tiles from the outer regions only where each holds the whole tile: the
-// same weights and the same views as pixel by pixel.
+// outside the mesh (beside it, close to its plane, far above it) fill tiles from the outer regions
+// only where each holds the whole tile: the same weights and the same views as pixel by pixel.
 TEST(ViewMeshTest, ComputeWeightsMatchesThePixelByPixelWeightsOutsideANonConvexOutline) {
   const std::vector<Eigen::Vector3d> centres = {
       {-0.054, 0.010, 0}, {-0.015, -0.001, 0}, {0.018, -0.006, 0}, {0.051, -0.003, 0}};
   const ViewMesh mesh = ViewMesh::Build(centres, std::vector<Eigen::Matrix3d>(4, Eigen::Matrix3d::Identity())).value();
-  EXPECT_EQ(
-      CompareTilesWithPixels(
-          mesh, {{0.04, 0.09, -0.004}, {-0.04, 0.12, -0.012}, {0.0, -0.08, 0.3}, {0.2, 0.05, -0.02}}, {0, 3, 10}, true),
-      12 * 96 * 64);
+  EXPECT_EQ(CompareTilesWithPixels(mesh,
+                                   {{0.04, 0.09, -0.004},
+                                    {-0.04, 0.12, -0.012},
+                                    {0.0, -0.08, 0.3},
+                                    {0.2, 0.05, -0.02},
+                                    {0.0, 0.03, -0.002},
+                                    {0.1, -0.03, -0.001},
+                                    {-0.08, 0.0, -0.003},
+                                    {0.03, 0.01, 0.05},
+                                    {0.01, 0.005, 1.0},
+                                    {0.3, 0.2, 2.0}},
+                                   {0, 3, 10, 40},
+                                   true),
+            40 * 96 * 64);
 }
 
 TEST(ViewMeshTest, CameraInFrontOfTheMeshAndOnItUsesTheNearestPointOfTheMesh) {
