@@ -167,7 +167,6 @@ std::vector<LatticeEvalRow> EvaluateRealLatticeFrames(const std::filesystem::pat
       row.cols = detection->report.cols;
       row.confidence = detection->report.confidence;
       row.tile_agreement = detection->report.tile_agreement;
-      row.tile_agreement = detection->report.tile_agreement;
       row.ms = detection->report.ms;
       row.summary = detection->report.Summary();
     } else {

@@ -160,12 +160,11 @@ StatusOr<AxisGrids> FindAxisGrid(const BoundaryProfile& profile, const AxisSearc
     std::snprintf(text,
                   sizeof(text),
                   "no lattice: the frame repeats every %.0f px along %c (%d cells), finer than a lattice of at "
-                  "most %d tiles per axis: %s",
+                  "most %d tiles per axis: a micro-lens (plenoptic) image?",
                   fine * search.to_sensor,
                   search.coordinate,
                   size / fine,
-                  search.max_count,
-                  kMicroLensImage);
+                  search.max_count);
     return NotFoundError(text);
   }
   if (passing.empty()) return AxisGrids{{AxisGrid{}}, ""};

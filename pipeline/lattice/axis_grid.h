@@ -29,10 +29,6 @@ struct AxisSearch {
   double to_sensor = 1.0;  // working pixels -> sensor pixels, for messages
 };
 
-// Ends the refusal of a frame that repeats finer than a lattice (FindAxisGrid): such a frame is
-// not cut into tiles by any other means either.
-inline constexpr char kMicroLensImage[] = "a micro-lens (plenoptic) image?";
-
 // What the gaps along one axis fit: one grid when the period is clear, or, when it is ambiguous,
 // every count whose gaps pass plus a count of 1 (none of them a lattice), largest first, for the
 // tiles' own pictures to decide (tile_agreement.h).

@@ -419,7 +419,6 @@ LatticeLayout LayoutFromTiles(const std::vector<DetectedTile>& tiles,
   return layout;
 }
 
-// Blind search: counts and coarse gaps from the profiles, then every tile's edges.
 struct GridPair {
   AxisGrid x, y;
   double agreement = -1;  // TileAgreement, -1 when not measured
@@ -444,7 +443,7 @@ StatusOr<GridPair> ResolvePeriods(const cv::Mat& work,
   for (const AxisGrid& x : grids_x.candidates) {
     for (const AxisGrid& y : grids_y.candidates) {
       if (x.count * y.count < 2) continue;
-      tried.push_back({&x, &y, lattice::TileAgreement(work, x.gaps, y.gaps, lattice::kSameSceneAgreement)});
+      tried.push_back({&x, &y, lattice::TileAgreement(work, x.gaps, y.gaps)});
     }
   }
   // Most tiles first; among as many, the better agreement.
@@ -454,7 +453,8 @@ StatusOr<GridPair> ResolvePeriods(const cv::Mat& work,
   });
   std::string figures;
   for (const Tried& t : tried) {
-    figures += (figures.empty() ? "" : ", ") + Format("%.0fx%.0f %.2f", t.x->count, t.y->count, t.agreement);
+    figures += (figures.empty() ? "" : ", ") + Format("%.0fx%.0f ", t.x->count, t.y->count) +
+               (t.agreement == lattice::kTilesTooThin ? std::string("too thin") : Format("%.2f", t.agreement));
   }
   const std::string ambiguity =
       grids_x.ambiguity + (grids_x.ambiguity.empty() || grids_y.ambiguity.empty() ? "" : "; ") + grids_y.ambiguity;
@@ -476,7 +476,13 @@ cv::Mat WorkingFrame(const GreyFrame& frame, const LatticeOptions& options) {
   return lattice::CoarseWorkingFrame(frame.grey, options.working_size_px);
 }
 
-StatusOr<LatticeDetection> DetectBlind(const GreyFrame& frame, const LatticeOptions& options) {
+// Blind search: counts and coarse gaps from the profiles, then every tile's edges. Where the
+// gaps cannot give a lattice but the tiles may still abut (no gap crosses the frame, a period no
+// count's tiles resolve, tiles that do not agree), `tiles_may_abut` is set: the equal cuts
+// (DetectAbutting) may follow. Other refusals (a micro-lens image, tilted or unequal tiles, a low
+// confidence) stand.
+StatusOr<LatticeDetection> DetectBlind(const GreyFrame& frame, const LatticeOptions& options, bool* tiles_may_abut) {
+  *tiles_may_abut = false;
   const int width = frame.grey.cols, height = frame.grey.rows;
   const cv::Mat work = WorkingFrame(frame, options);
   const double s_x = static_cast<double>(width) / work.cols, s_y = static_cast<double>(height) / work.rows;
@@ -497,7 +503,12 @@ StatusOr<LatticeDetection> DetectBlind(const GreyFrame& frame, const LatticeOpti
   PX_ASSIGN_OR_RETURN(const lattice::AxisGrids grids_x, lattice::FindAxisGrid(px, search_x));
   PX_ASSIGN_OR_RETURN(const lattice::AxisGrids grids_y, lattice::FindAxisGrid(py, search_y));
   std::string period_evidence;
-  PX_ASSIGN_OR_RETURN(const GridPair grids, ResolvePeriods(work, grids_x, grids_y, &period_evidence));
+  StatusOr<GridPair> resolved = ResolvePeriods(work, grids_x, grids_y, &period_evidence);
+  if (!resolved.ok()) {
+    *tiles_may_abut = true;
+    return resolved.status();
+  }
+  const GridPair& grids = *resolved;
   const AxisGrid& gx = grids.x;
   const AxisGrid& gy = grids.y;
   // A size not given is only believed where the tiles show one scene: a photo's content lines
@@ -507,17 +518,18 @@ StatusOr<LatticeDetection> DetectBlind(const GreyFrame& frame, const LatticeOpti
   if (!size_given && gx.count * gy.count > 1 && agreement < 0) {
     agreement = lattice::TileAgreement(work, gx.gaps, gy.gaps);
     if (agreement < lattice::kSameSceneAgreement) {
-      return NotFoundError(
-          Format("no lattice: the gaps fit %.0f columns x %.0f rows, but those tiles do not show "
-                 "one scene (agreement of neighbouring tiles %.2f < %.2f): content lines taken for "
-                 "gaps?",
-                 gx.count,
-                 gy.count,
-                 agreement,
-                 lattice::kSameSceneAgreement));
+      *tiles_may_abut = true;
+      return NotFoundError(Format("no lattice: the gaps fit %.0f columns x %.0f rows, but ", gx.count, gy.count) +
+                           (agreement == lattice::kTilesTooThin
+                                ? std::string("those tiles are too thin to be views")
+                                : Format("those tiles do not show one scene (agreement of neighbouring tiles %.2f < "
+                                         "%.2f): content lines taken for gaps?",
+                                         agreement,
+                                         lattice::kSameSceneAgreement)));
     }
   }
   if (gx.count == 1 && gy.count == 1) {
+    *tiles_may_abut = true;
     const int bx = px.ArgMaxZ(0, px.size()), by = py.ArgMaxZ(0, py.size());
     return NotFoundError(Format("no lattice: no gap or tile edge crosses the frame (strongest line evidence: z %.1f "
                                 "at x=%.0f, ",
@@ -804,8 +816,10 @@ LatticeDetection EvenSplit(
 
 // The frame, its size not given, cut into the most equal tiles whose pictures show one scene
 // (lattice::FindEqualCut), refining `found` (1x1 for none): a wiggle lens's sub-images, which
-// abut with no gap to find, or vignette into each other only along one axis. NOT_FOUND, with
-// `why` and the best agreement, when no such cut's tiles show one scene.
+// abut with no gap to find, or vignette into each other only along one axis. `why` says why the
+// gaps gave no lattice (empty when they gave `found`). NOT_FOUND, with `why`, when no such cut's
+// tiles show one scene. The cut is even over the whole frame: where `found` had gaps along one
+// axis, their bands fall at the tiles' borders.
 StatusOr<LatticeDetection> DetectAbutting(const GreyFrame& frame,
                                           const LatticeOptions& options,
                                           cv::Size found,
@@ -813,9 +827,10 @@ StatusOr<LatticeDetection> DetectAbutting(const GreyFrame& frame,
   const lattice::EqualCut cut = lattice::FindEqualCut(
       WorkingFrame(frame, options), found, options.max_tiles_per_axis, options.rows, options.cols);
   if (cut.rows == 0) {
-    return NotFoundError(why + Format("; nor do equal tiles of it show one scene (for every cut, some neighbouring "
-                                      "tiles agree less than %.2f)",
-                                      lattice::kSameSceneAgreement));
+    return NotFoundError(why + (cut.tried == 0 ? std::string("; nor can it be cut into equal tiles shaped like views")
+                                               : Format("; nor do equal tiles of it show one scene (in every cut "
+                                                        "some neighbouring tiles agree less than %.2f)",
+                                                        lattice::kSameSceneAgreement)));
   }
   LatticeDetection detection = EvenSplit(
       frame.grey.size(),
@@ -827,8 +842,11 @@ StatusOr<LatticeDetection> DetectAbutting(const GreyFrame& frame,
              cut.cols,
              cut.rows,
              cut.agreement) +
-          (found.area() > 1 ? Format(", where the gaps that stand out give %.0f x %.0f", found.width, found.height)
-                            : ": no lattice of gaps was found"));
+          (found.area() > 1 ? Format(", refining the %.0f x %.0f whose tiles, more than twice as long as wide, the "
+                                     "gaps gave",
+                                     found.width,
+                                     found.height)
+                            : ", where the gaps gave no lattice (" + why + ")"));
   detection.report.tile_agreement = cut.agreement;
   return detection;
 }
@@ -844,15 +862,17 @@ StatusOr<LatticeDetection> DetectLattice(const cv::Mat& sensor_bgr,
     return NotFoundError(
         Format("no lattice: the frame is blank (grey mean %.1f, stddev %.2f)", frame.mean, frame.stddev));
   }
+  bool tiles_may_abut = false;
   StatusOr<LatticeDetection> detection =
-      prior != nullptr ? DetectNearPrior(frame, options, *prior) : DetectBlind(frame, options);
+      prior != nullptr ? DetectNearPrior(frame, options, *prior) : DetectBlind(frame, options, &tiles_may_abut);
   if (!detection.ok() && prior == nullptr && options.rows > 0 && options.cols > 0 &&
       detection.status().code() == StatusCode::kNotFound) {
     // The size is known and no gap stands out. When nothing in the frame shows another lattice
     // either (the tiles abut), cut it evenly; a frame that shows another lattice is refused.
     LatticeOptions any_size = options;
     any_size.rows = any_size.cols = 0;
-    const StatusOr<LatticeDetection> other = DetectBlind(frame, any_size);
+    bool unused = false;
+    const StatusOr<LatticeDetection> other = DetectBlind(frame, any_size, &unused);
     // An axis along which no gap stands out (a count of 1) says nothing against the size given.
     const auto contradicts = [](int found, int given) { return found > 1 && found != given; };
     if (!other.ok() ||
@@ -880,8 +900,7 @@ StatusOr<LatticeDetection> DetectLattice(const cv::Mat& sensor_bgr,
       StatusOr<LatticeDetection> finer =
           DetectAbutting(frame, along_length, cv::Size(detection->report.cols, detection->report.rows), "");
       if (finer.ok()) detection = std::move(finer);
-    } else if (!detection.ok() && detection.status().code() == StatusCode::kNotFound &&
-               detection.status().message().find(lattice::kMicroLensImage) == std::string::npos) {
+    } else if (!detection.ok() && tiles_may_abut) {
       detection = DetectAbutting(frame, options, cv::Size(1, 1), detection.status().message());
     }
   }

@@ -85,7 +85,7 @@ double TileAgreement(const cv::Mat& grey,
       const int x1 = static_cast<int>(std::floor(xs[c + 1] - kTrimOfTile * tw));
       const int y1 = static_cast<int>(std::floor(ys[r + 1] - kTrimOfTile * th));
       const cv::Rect rect = cv::Rect(x0, y0, x1 - x0, y1 - y0) & cv::Rect(0, 0, grey.cols, grey.rows);
-      if (rect.width < 8 || rect.height < 8) return 0;  // tiles too thin to be views
+      if (rect.width < 8 || rect.height < 8) return kTilesTooThin;
       rects.push_back(rect);
       crop.width = std::min(crop.width, rect.width);
       crop.height = std::min(crop.height, rect.height);
@@ -132,6 +132,7 @@ cv::Mat CoarseWorkingFrame(const cv::Mat& grey, int working_size_px) {
 }
 
 EqualCut FindEqualCut(const cv::Mat& grey, cv::Size found, int max_per_axis, int rows, int cols, bool measure_fully) {
+  found = cv::Size(std::max(1, found.width), std::max(1, found.height));
   std::vector<EqualCut> cuts;
   for (int r = found.height; r <= max_per_axis; r += found.height) {
     for (int c = found.width; c <= max_per_axis; c += found.width) {
@@ -145,7 +146,9 @@ EqualCut FindEqualCut(const cv::Mat& grey, cv::Size found, int max_per_axis, int
   std::stable_sort(
       cuts.begin(), cuts.end(), [](const EqualCut& a, const EqualCut& b) { return a.rows * a.cols > b.rows * b.cols; });
   EqualCut none;
+  none.tried = static_cast<int>(cuts.size());
   for (EqualCut& cut : cuts) {
+    cut.tried = none.tried;
     std::vector<double> x_gaps, y_gaps;
     for (int c = 1; c < cut.cols; ++c) x_gaps.push_back(static_cast<double>(grey.cols) * c / cut.cols);
     for (int r = 1; r < cut.rows; ++r) y_gaps.push_back(static_cast<double>(grey.rows) * r / cut.rows);

@@ -483,8 +483,6 @@ double SegmentQuadDistance(const Eigen::Vector2d& a,
   return least;
 }
 
-// Whether the triangle and the convex quadrilateral lie apart by more than `margin` along some
-// edge's normal (separating axes: two convex polygons are disjoint exactly when one separates).
 // The gap between two axis-aligned boxes (0 when they overlap), a lower bound on the distance
 // between anything inside them.
 double BoxGap(const Eigen::AlignedBox2d& a, const Eigen::AlignedBox2d& b) {
@@ -499,6 +497,8 @@ Eigen::AlignedBox2d BoxOf(const std::array<Eigen::Vector2d, N>& points) {
   return box;
 }
 
+// Whether the triangle and the convex quadrilateral lie apart by more than `margin` along some
+// edge's normal (separating axes: two convex polygons are disjoint exactly when one separates).
 bool Separated(const std::array<Eigen::Vector2d, 3>& triangle,
                const std::array<Eigen::Vector2d, 4>& quad,
                double margin) {
@@ -531,6 +531,7 @@ bool Separated(const std::array<Eigen::Vector2d, 3>& triangle,
 bool ViewMesh::OutsideRegionHolds(int region,
                                   const std::array<Eigen::Vector2d, 4>& quad,
                                   std::vector<int>* vertex_edges) const {
+  vertex_edges->clear();
   if (outline_convex_) return true;
   // The region's own distance is convex over the quadrilateral, so largest at a corner; along an
   // edge's inside (0 < t < 1 at every corner, t being affine) it is the distance to its line.
@@ -555,7 +556,6 @@ bool ViewMesh::OutsideRegionHolds(int region,
   const Eigen::AlignedBox2d quad_box = BoxOf<4>(quad);
   // Every other edge lies farther, by more than rounding.
   const double farther = own * (1 + 1e-9) + 1e-300;
-  vertex_edges->clear();
   for (size_t e = 0; e < outer_edges_.size(); ++e) {
     const std::array<int, 2>& edge = outer_edges_[e];
     if (static_cast<int>(e) == region) continue;
@@ -729,9 +729,10 @@ void ViewMesh::ComputeWeights(const CameraModel& camera,
     // Pixels [x0, x1] x [y0, y1].
     const std::function<void(int, int, int, int)> fill = [&](int x0, int y0, int x1, int y1) {
       // Fast paths: the tile's four corners lie in one triangle, or outside the mesh in one
-      // region of its nearest outer edge or vertex (a convex outline), and no pixel's line is
-      // near parallel to the plane, so (the map being projective and the regions convex) every
-      // pixel does, and its weights are ratios of linear functions of (x, y).
+      // region of its nearest outer edge or vertex (on a convex outline; on another where
+      // OutsideRegionHolds), and no pixel's line is near parallel to the plane, so (the map being
+      // projective and the regions convex) every pixel does, and its weights are ratios of linear
+      // functions of (x, y).
       int triangle = -2;  // the corners' triangle, -1 outside the mesh
       int outside = 0;    // their OutsideRegion when outside
       bool regular = kind_ == Kind::kTriangles;
@@ -779,8 +780,9 @@ void ViewMesh::ComputeWeights(const CameraModel& camera,
         return;
       }
       if (triangle < 0 && !vertex_edges.empty()) {
-        // A vertex's region off a convex outline: its two edges tie, and pixel by pixel the
-        // nearer by rounding adds its far end at weight 0 and its witness; only they are asked.
+        // A vertex's region on an outline that is not convex: the edges from the vertex tie, and
+        // pixel by pixel the nearer by rounding adds its far end at weight 0 and its witness; only
+        // they are asked.
         for (int y = y0; y <= y1; ++y) {
           ViewSlots* row = slots->data() + static_cast<size_t>(y) * width;
           for (int x = x0; x <= x1; ++x) row[x] = OutsideWeights(map.At(x, y), &vertex_edges);
