@@ -11,6 +11,8 @@
 #include <map>
 #include <memory>
 
+#include "pipeline/calib/reprojection_cost.h"
+#include "pipeline/core/log.h"
 #include "pipeline/core/stage_clock.h"
 
 namespace px::calib {
@@ -28,39 +30,6 @@ void QuietCeresLogging() {
   }();
   (void)quiet;
 }
-
-// Intrinsics block layout: focal (fx; fy = aspect * fx), cx, cy, k1, k2.
-constexpr int kIntrinsicsSize = 5;
-constexpr int kFocal = 0, kCx = 1, kCy = 2, kK1 = 3, kK2 = 4;
-
-// Projects a world point through (rotation, centre, intrinsics) with OpenCV's Brown-Conrady
-// model; p1, p2, k3 and the aspect ratio are held constant.
-struct ReprojectionCost {
-  ReprojectionCost(const Eigen::Vector2d& observed, const CameraModel& camera)
-      : u(observed.x()),
-        v(observed.y()),
-        aspect(camera.fy / camera.fx),
-        p1(camera.distortion[2]),
-        p2(camera.distortion[3]),
-        k3(camera.distortion[4]) {}
-
-  template <typename T>
-  bool operator()(const T* rotation, const T* centre, const T* intrinsics, const T* point, T* residual) const {
-    const T offset[3] = {point[0] - centre[0], point[1] - centre[1], point[2] - centre[2]};
-    T p[3];
-    ceres::UnitQuaternionRotatePoint(rotation, offset, p);
-    const T x = p[0] / p[2], y = p[1] / p[2];
-    const T r2 = x * x + y * y;
-    const T radial = T(1) + intrinsics[kK1] * r2 + intrinsics[kK2] * r2 * r2 + T(k3) * r2 * r2 * r2;
-    const T xd = x * radial + T(2 * p1) * x * y + T(p2) * (r2 + T(2) * x * x);
-    const T yd = y * radial + T(p1) * (r2 + T(2) * y * y) + T(2 * p2) * x * y;
-    residual[0] = intrinsics[kFocal] * xd + intrinsics[kCx] - T(u);
-    residual[1] = intrinsics[kFocal] * T(aspect) * yd + intrinsics[kCy] - T(v);
-    return true;
-  }
-
-  double u, v, aspect, p1, p2, k3;
-};
 
 struct PosePriorCost {
   PosePriorCost(const Rigid3& prior, double rotation_sigma_rad, double centre_sigma_m)
@@ -247,8 +216,8 @@ StatusOr<BundleAdjustmentReport> BundleAdjust(BaProblem* problem,
   ceres::CauchyLoss loss(options.loss_scale_px);
   ceres::QuaternionManifold quaternion_manifold;
   for (const BaObservation& o : problem->observations) {
-    auto* cost = new ceres::AutoDiffCostFunction<ReprojectionCost, 2, 4, 3, kIntrinsicsSize, 3>(
-        new ReprojectionCost(o.pixel, problem->cameras[block_owner[block_of_camera[o.camera]]].camera));
+    auto* cost = new AnalyticReprojectionCost(
+        ReprojectionTerms(o.pixel, problem->cameras[block_owner[block_of_camera[o.camera]]].camera));
     ceres_problem.AddResidualBlock(cost,
                                    &loss,
                                    blocks[o.camera].rotation,
@@ -359,6 +328,17 @@ StatusOr<BundleAdjustmentReport> BundleAdjust(BaProblem* problem,
   report.message = ceres_problem.NumResidualBlocks() == 0 ? "nothing to adjust" : summary.message;
   report.final_rms_px = ReprojectionRms(*problem);
   report.ms = MsSince(start);
+  Logger("calib")->debug(
+      "bundle adjustment: {} cameras, {} points, {} observations, {} iterations, RMS {:.3f} -> {:.3f} px, {:.1f} ms "
+      "({})",
+      num_cameras,
+      num_points,
+      report.num_observations,
+      report.iterations,
+      report.initial_rms_px,
+      report.final_rms_px,
+      report.ms,
+      summary.message);
   return report;
 }
 
