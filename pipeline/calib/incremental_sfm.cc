@@ -34,6 +34,9 @@ constexpr int kMinFeatures = 30;
 constexpr double kMinTriangulationAngleDeg = 0.05;
 // Views already within this of parallel (degrees) gain nothing from a parallel restart.
 constexpr double kMinRotationForParallelRestartDeg = 0.25;
+// The restart's reconstruction is built beside the main one when the initial pair turns by less
+// than this many times the restart's rotation limit (the finished views rarely turn much more).
+constexpr double kSpeculativeRestartFactor = 2.0;
 // A homography that explains a pair's matches to within this many times their epipolar noise
 // means a plane or a scene at infinity (pure noise gives ~1.3).
 constexpr double kPlanarHomographyRatio = 3.0;
@@ -562,27 +565,37 @@ std::vector<std::pair<double, double>> SweepFocalLength(const std::vector<PairMa
   for (const PairMatches& pair : usable_pairs) {
     if (pair.matches.size() > sweep_pair->matches.size()) sweep_pair = &pair;
   }
+  const auto ratio_of_step = [&](int k) {
+    return options.focal_sweep_min * std::pow(options.focal_sweep_max / options.focal_sweep_min,
+                                              static_cast<double>(k) / (options.focal_sweep_steps - 1));
+  };
+  // The steps are independent (each single-threaded, seeded alike), so they run side by side on
+  // every core and give the same figures as one after another.
+  std::vector<double> step_rms(options.focal_sweep_steps, std::numeric_limits<double>::infinity());
+  cv::parallel_for_(cv::Range(0, options.focal_sweep_steps), [&](const cv::Range& range) {
+    for (int k = range.start; k < range.end; ++k) {
+      const double ratio = ratio_of_step(k);
+      std::vector<ImageState> trial = images;
+      for (int i = 0; i < n; ++i) {
+        if (trial[i].known_intrinsics) continue;
+        trial[i].camera.fx = trial[i].camera.fy = ratio * std::max(trial[i].camera.width, trial[i].camera.height);
+      }
+      const PairGeometry geometry = PairPose(trial, *sweep_pair, 0, options);
+      if (!geometry.pose.success) continue;
+      Reconstruction two_view(trial, tracks, options);
+      StatusOr<BundleAdjustmentReport> adjusted = InitialisePair(&two_view, *sweep_pair, geometry.pose);
+      if (adjusted.ok()) step_rms[k] = adjusted->final_rms_px;
+    }
+  });
   double best_rms = std::numeric_limits<double>::infinity();
   double best_ratio = 1.2;
   for (int k = 0; k < options.focal_sweep_steps; ++k) {
-    const double ratio = options.focal_sweep_min * std::pow(options.focal_sweep_max / options.focal_sweep_min,
-                                                            static_cast<double>(k) / (options.focal_sweep_steps - 1));
-    std::vector<ImageState> trial = images;
-    for (int i = 0; i < n; ++i) {
-      if (trial[i].known_intrinsics) continue;
-      trial[i].camera.fx = trial[i].camera.fy = ratio * std::max(trial[i].camera.width, trial[i].camera.height);
-    }
-    const PairGeometry geometry = PairPose(trial, *sweep_pair, 0, options);
-    double rms = std::numeric_limits<double>::infinity();
-    if (geometry.pose.success) {
-      Reconstruction two_view(trial, tracks, options);
-      StatusOr<BundleAdjustmentReport> adjusted = InitialisePair(&two_view, *sweep_pair, geometry.pose);
-      if (adjusted.ok()) rms = adjusted->final_rms_px;
-    }
+    const double ratio = ratio_of_step(k);
     sweep.emplace_back(
-        ratio * std::max(images[sweep_pair->view_a].camera.width, images[sweep_pair->view_a].camera.height), rms);
-    if (rms < best_rms) {
-      best_rms = rms;
+        ratio * std::max(images[sweep_pair->view_a].camera.width, images[sweep_pair->view_a].camera.height),
+        step_rms[k]);
+    if (step_rms[k] < best_rms) {
+      best_rms = step_rms[k];
       best_ratio = ratio;
     }
   }
@@ -767,21 +780,38 @@ struct ParallelRestartReport {
 // the wrong basin of the rotation / inverse-depth ambiguity (on the HCI grid 1.3 degrees off,
 // at a worse RMS), so the set is rebuilt from the pair's translation-only pose and the better
 // fit (an RMS at least 3 % lower) is kept.
+// The restart's reconstruction: the rest registered and adjusted on the translation-only start,
+// or nothing if that start fails.
+using ParallelCandidate = StatusOr<std::optional<Reconstruction>>;
+ParallelCandidate BuildParallelCandidate(const std::vector<ImageState>& images,
+                                         const std::vector<Track>& tracks,
+                                         const PairMatches& pair,
+                                         const RelativePoseResult& pose,
+                                         const SfmOptions& options) {
+  std::optional<Reconstruction> parallel = ParallelStart(images, tracks, pair, pose, options);
+  if (parallel) PX_RETURN_IF_ERROR(RegisterAndAdjust(&*parallel, pair.view_a, pair.view_b, options));
+  return parallel;
+}
+
+// `built`: the candidate if it was built already (beside the main reconstruction), else null.
 StatusOr<ParallelRestartReport> RestartIfParallel(Reconstruction* reconstruction,
                                                   const std::vector<ImageState>& images,
                                                   const std::vector<Track>& tracks,
                                                   const PairMatches& pair,
                                                   const RelativePoseResult& pose,
-                                                  const SfmOptions& options) {
+                                                  const SfmOptions& options,
+                                                  std::optional<ParallelCandidate>* built) {
   ParallelRestartReport restart;
   const double max_rotation_deg = reconstruction->MaxRotationDeg();
   if (!(max_rotation_deg >= kMinRotationForParallelRestartDeg &&
         max_rotation_deg < options.parallel_restart_max_rotation_deg)) {
     return restart;
   }
-  std::optional<Reconstruction> parallel = ParallelStart(images, tracks, pair, pose, options);
+  ParallelCandidate candidate =
+      built->has_value() ? std::move(**built) : BuildParallelCandidate(images, tracks, pair, pose, options);
+  PX_RETURN_IF_ERROR(candidate.status());
+  std::optional<Reconstruction>& parallel = *candidate;
   if (!parallel) return restart;
-  PX_RETURN_IF_ERROR(RegisterAndAdjust(&*parallel, pair.view_a, pair.view_b, options));
   int count = 0, parallel_count = 0;
   restart.rms_px = reconstruction->Rms(&count);
   restart.parallel_rms_px = parallel->Rms(&parallel_count);
@@ -1011,10 +1041,28 @@ StatusOr<SfmResult> RunIncrementalSfm(const std::vector<SfmImage>& input, const 
   StatusOr<BundleAdjustmentReport> two_view = InitialisePair(&reconstruction, initial_pair, initial.pose);
   if (!two_view.ok()) return fail_with_notes(two_view.status().message());
 
-  // 5-6. The other images, the final adjustment, and a restart for parallel cameras.
-  PX_RETURN_IF_ERROR(RegisterAndAdjust(&reconstruction, initial_pair.view_a, initial_pair.view_b, options));
-  PX_ASSIGN_OR_RETURN(const ParallelRestartReport restart,
-                      RestartIfParallel(&reconstruction, images, tracks, initial_pair, initial.pose, options));
+  // 5-6. The other images, the final adjustment, and a restart for parallel cameras. When the
+  // initial pair is nearly parallel, the restart's reconstruction is built beside the main one on
+  // another core; the finished main one still decides whether it is used, so the result is the
+  // one building it afterwards gives.
+  const bool build_beside =
+      cv::getNumThreads() > 1 && RotationErrorDeg(initial.pose.b_from_a, Rigid3()) <
+                                     kSpeculativeRestartFactor * options.parallel_restart_max_rotation_deg;
+  Status registered = OkStatus();
+  std::optional<ParallelCandidate> candidate;
+  cv::parallel_for_(cv::Range(0, build_beside ? 2 : 1), [&](const cv::Range& range) {
+    for (int task = range.start; task < range.end; ++task) {
+      if (task == 0) {
+        registered = RegisterAndAdjust(&reconstruction, initial_pair.view_a, initial_pair.view_b, options);
+      } else {
+        candidate = BuildParallelCandidate(images, tracks, initial_pair, initial.pose, options);
+      }
+    }
+  });
+  PX_RETURN_IF_ERROR(registered);
+  PX_ASSIGN_OR_RETURN(
+      const ParallelRestartReport restart,
+      RestartIfParallel(&reconstruction, images, tracks, initial_pair, initial.pose, options, &candidate));
   if (restart.rebuilt) report.warnings.push_back(ParallelRestartWarning(restart));
   const bool refine_focal = reconstruction.FocalRefinable(options.min_rotation_for_focal_deg);
   report.reconstruction_ms = MsSince(step);
