@@ -125,6 +125,26 @@ StatusOr<std::vector<std::filesystem::path>> ListImages(const std::vector<std::f
   return files;
 }
 
+std::vector<std::filesystem::path> OneCaptureOfFolder(const std::filesystem::path& folder,
+                                                      std::vector<std::filesystem::path> files,
+                                                      std::vector<std::string>* warnings) {
+  std::vector<std::filesystem::path> holding_views;
+  for (const std::filesystem::path& file : files) {
+    if (IsMpo(file) || IsAnimation(file)) holding_views.push_back(file);
+  }
+  if (holding_views.size() < 2) return files;
+  std::string left_out;
+  for (const std::filesystem::path& file : files) {
+    if (file == holding_views.front()) continue;
+    left_out += (left_out.empty() ? "" : ", ") + file.filename().string();
+  }
+  warnings->push_back(folder.string() + ": " + std::to_string(holding_views.size()) +
+                      " files each hold a capture's views (MPO files, animations); the first, " +
+                      holding_views.front().filename().string() + ", is the capture, the rest left out: " + left_out +
+                      " (a clip of each: parallax batch with the files)");
+  return {holding_views.front()};
+}
+
 StatusOr<Recording> RecordingFromImages(const std::vector<std::filesystem::path>& files,
                                         std::vector<std::string>* warnings) {
   const bool holds_views = files.size() == 1 && (IsMpo(files[0]) || IsAnimation(files[0]));
