@@ -19,19 +19,20 @@ namespace px {
 // name, a folder with no images.
 StatusOr<std::vector<std::filesystem::path>> ListImages(const std::vector<std::filesystem::path>& inputs);
 
-// A folder's images (ListImages) as one capture. When two or more of them hold views by themselves
-// (MPO files, animations), each is a capture of its own: their views are not views of one scene
-// from one set of places (a wigglegram maker's calibrated and raw versions of one shot, two stereo
-// pairs), so the first of them is kept alone and `warnings` names what is left out.
-std::vector<std::filesystem::path> OneCaptureOfFolder(const std::filesystem::path& folder,
-                                                      std::vector<std::filesystem::path> files,
-                                                      std::vector<std::string>* warnings);
-
 // The frames of every file, in order (sequence = index). Errors name the file: one that cannot be
 // decoded (an MPO with a broken index, a damaged animation); fewer than 2 views in all (an image
 // set needs two viewpoints). A JPEG whose EXIF cannot be read is imported with its focal length
 // unknown (self-calibrated later), and `warnings` says so, as it does of repeated frames left out.
 StatusOr<Recording> RecordingFromImages(const std::vector<std::filesystem::path>& files,
+                                        std::vector<std::string>* warnings);
+
+// A folder's images (ListImages) as one capture: RecordingFromImages, except that when two or
+// more of its files hold several views each (MPO files, animations; a still GIF or WebP is a
+// photo), each is a capture of its own, not views of one scene from one set of places (a
+// wigglegram maker's rectified and raw versions of one shot, two stereo pairs): the first of them
+// by name is taken alone and `warnings` names what is left out.
+StatusOr<Recording> RecordingFromFolder(const std::filesystem::path& folder,
+                                        const std::vector<std::filesystem::path>& files,
                                         std::vector<std::string>* warnings);
 
 // One photo holding a lattice of views (a film scan of a Nishika, Nimslo, ActionSampler or Pop9

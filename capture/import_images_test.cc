@@ -108,39 +108,26 @@ TEST(ImportImagesTest, AJpegsExifFocalLengthComesThrough) {
   EXPECT_EQ(recording->frames.frames[1].focal_length_px, 0);  // a PNG has none
 }
 
-// A folder is one capture: photos and at most one file of views stay together; two files that
-// each hold a capture's views are not mixed, the first is kept and the rest named.
-TEST(ImportImagesTest, AFolderOfSeveralFilesOfViewsIsTakenAsItsFirst) {
-  const std::filesystem::path folder = "/captures/shot";
-  const std::vector<std::filesystem::path> photos = {folder / "a.jpg", folder / "b.jpg", folder / "c.webp"};
-  std::vector<std::string> warnings;
-  EXPECT_EQ(OneCaptureOfFolder(folder, photos, &warnings), photos);
-  EXPECT_TRUE(warnings.empty());
-  const std::vector<std::filesystem::path> two = {folder / "a.jpg", folder / "left.mpo", folder / "right.gif"};
-  EXPECT_EQ(OneCaptureOfFolder(folder, two, &warnings), std::vector<std::filesystem::path>{folder / "left.mpo"});
-  ASSERT_EQ(warnings.size(), 1u);
-  EXPECT_NE(warnings[0].find("the first, left.mpo, is the capture, the rest left out: a.jpg, right.gif"),
-            std::string::npos)
-      << warnings[0];
-}
-
 // The real photobooth's folder holds its wigglegram twice (rectified with a ChArUco calibration,
-// and not): the capture is the first, four views, not eight from two geometries.
+// and not): the capture is the first by name, four views, not eight from two geometries.
 TEST(ImportImagesTest, TheRealPhotoboothFolderIsItsCalibratedWigglegram) {
   const std::filesystem::path set = sim::SharedDataDir() / "multicam" / "photobooth_pi_4cam_person";
   if (!std::filesystem::exists(set)) GTEST_SKIP() << "photobooth wigglegrams absent: " << set.string();
   StatusOr<std::vector<std::filesystem::path>> files = ListImages({set});
   ASSERT_TRUE(files.ok()) << files.status().ToString();
   std::vector<std::string> warnings;
-  const std::vector<std::filesystem::path> capture = OneCaptureOfFolder(set, *files, &warnings);
-  ASSERT_EQ(capture.size(), 1u);
-  EXPECT_EQ(capture[0].filename(), "wigglegram-example-charuco-calibrated.webp");
-  StatusOr<Recording> recording = RecordingFromImages(capture, &warnings);
+  StatusOr<Recording> recording = RecordingFromFolder(set, *files, &warnings);
   ASSERT_TRUE(recording.ok()) << recording.status().ToString();
   EXPECT_EQ(recording->frames.frames.size(), 4u);
-  ASSERT_FALSE(warnings.empty());
-  EXPECT_NE(warnings[0].find("left out: wigglegram-example-charuco-not-calibrated.webp"), std::string::npos)
-      << warnings[0];
+  const std::string all = [&] {
+    std::string text;
+    for (const std::string& warning : warnings) text += warning + "\n";
+    return text;
+  }();
+  EXPECT_NE(all.find("wigglegram-example-charuco-calibrated.webp, is taken, and "
+                     "wigglegram-example-charuco-not-calibrated.webp (4 views) left out"),
+            std::string::npos)
+      << all;
 }
 
 // Real phone photos: the focal length in pixels from the EXIF 35 mm equivalent.

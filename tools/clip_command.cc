@@ -60,8 +60,9 @@ StatusOr<Recording> PhotoFolderAsRecording(const std::filesystem::path& folder) 
                          photos.status().message() + ")");
   }
   std::vector<std::string> warnings;
-  if (std::filesystem::is_directory(folder)) *photos = OneCaptureOfFolder(folder, std::move(*photos), &warnings);
-  PX_ASSIGN_OR_RETURN(Recording recording, RecordingFromImages(*photos, &warnings));
+  PX_ASSIGN_OR_RETURN(Recording recording,
+                      std::filesystem::is_directory(folder) ? RecordingFromFolder(folder, *photos, &warnings)
+                                                            : RecordingFromImages(*photos, &warnings));
   const auto log = Logger("clip");
   for (const std::string& warning : warnings) log->warn("{}", warning);
   log->info(

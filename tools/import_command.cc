@@ -48,11 +48,11 @@ Status RunImport(const ImportArgs& args) {
   std::vector<std::filesystem::path> inputs(args.inputs.begin(), args.inputs.end());
   PX_ASSIGN_OR_RETURN(std::vector<std::filesystem::path> files, ListImages(inputs));
   std::vector<std::string> warnings;
-  // Files named one by one are the user's choice of views; a folder is taken as one capture.
-  if (inputs.size() == 1 && std::filesystem::is_directory(inputs[0])) {
-    files = OneCaptureOfFolder(inputs[0], std::move(files), &warnings);
-  }
-  PX_ASSIGN_OR_RETURN(Recording recording, RecordingFromImages(files, &warnings));
+  // Files named one by one are the user's choice of views; one folder is taken as one capture.
+  const bool one_folder = inputs.size() == 1 && std::filesystem::is_directory(inputs[0]);
+  PX_ASSIGN_OR_RETURN(
+      Recording recording,
+      one_folder ? RecordingFromFolder(inputs[0], files, &warnings) : RecordingFromImages(files, &warnings));
   for (const std::string& warning : warnings) log->warn("{}", warning);
   for (size_t i = 0; i < recording.frames.frames.size(); ++i) {
     const Frame& frame = recording.frames.frames[i];

@@ -569,8 +569,8 @@ std::vector<std::pair<double, double>> SweepFocalLength(const std::vector<PairMa
     return options.focal_sweep_min * std::pow(options.focal_sweep_max / options.focal_sweep_min,
                                               static_cast<double>(k) / (options.focal_sweep_steps - 1));
   };
-  // The steps are independent (each single-threaded, seeded alike), so they run side by side on
-  // every core and give the same figures as one after another.
+  // The steps are independent (each seeded alike, its adjustment on SfmOptions::num_threads, 1 by
+  // default), so they run side by side on every core and give the same figures as one after another.
   std::vector<double> step_rms(options.focal_sweep_steps, std::numeric_limits<double>::infinity());
   cv::parallel_for_(cv::Range(0, options.focal_sweep_steps), [&](const cv::Range& range) {
     for (int k = range.start; k < range.end; ++k) {
@@ -776,10 +776,6 @@ struct ParallelRestartReport {
   double parallel_rms_px = 0;  // the translation-only start's
 };
 
-// Parallel cameras (a lattice, a slider) with little parallax: the five-point pose can land in
-// the wrong basin of the rotation / inverse-depth ambiguity (on the HCI grid 1.3 degrees off,
-// at a worse RMS), so the set is rebuilt from the pair's translation-only pose and the better
-// fit (an RMS at least 3 % lower) is kept.
 // The restart's reconstruction: the rest registered and adjusted on the translation-only start,
 // or nothing if that start fails.
 using ParallelCandidate = StatusOr<std::optional<Reconstruction>>;
@@ -793,7 +789,11 @@ ParallelCandidate BuildParallelCandidate(const std::vector<ImageState>& images,
   return parallel;
 }
 
-// `built`: the candidate if it was built already (beside the main reconstruction), else null.
+// Parallel cameras (a lattice, a slider) with little parallax: the five-point pose can land in
+// the wrong basin of the rotation / inverse-depth ambiguity (on the HCI grid 1.3 degrees off,
+// at a worse RMS), so the set is rebuilt from the pair's translation-only pose and the better
+// fit (an RMS at least 3 % lower) is kept. `built`: the candidate if it was built already
+// (beside the main reconstruction), else empty.
 StatusOr<ParallelRestartReport> RestartIfParallel(Reconstruction* reconstruction,
                                                   const std::vector<ImageState>& images,
                                                   const std::vector<Track>& tracks,

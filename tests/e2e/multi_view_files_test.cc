@@ -189,6 +189,40 @@ TEST(AnimationFramesTest, OneFrameDamagedChunksAndOtherFilesAreNamed) {
   EXPECT_NE(ReadAnimationFrames(text).status().message().find("neither a GIF nor a WebP"), std::string::npos);
 }
 
+// A folder is one capture. Two files that each hold several views are captures of their own: the
+// first by name is taken alone and the rest named. Still GIFs and WebPs are photos, as JPEGs are.
+TEST(AnimationFramesTest, AFolderOfSeveralFilesOfViewsIsTakenAsItsFirst) {
+  ScratchDir dir;
+  const fs::path folder = dir.path() / "shots";
+  fs::create_directories(folder);
+  const std::vector<cv::Mat> three = {
+      GradientNoiseBgr(64, 48, 1), GradientNoiseBgr(64, 48, 2), GradientNoiseBgr(64, 48, 3)};
+  const std::vector<fs::path> files = {WriteAnimation(folder / "a.gif", clip::ClipFormat::kGif, three),
+                                       WriteAnimation(folder / "b.webp", clip::ClipFormat::kWebp, three),
+                                       WriteAnimation(folder / "c.gif", clip::ClipFormat::kGif, {three[0]})};
+  std::vector<std::string> warnings;
+  StatusOr<Recording> recording = RecordingFromFolder(folder, files, &warnings);
+  ASSERT_TRUE(recording.ok()) << recording.status().ToString();
+  ASSERT_EQ(recording->frames.frames.size(), 3u);
+  for (size_t i = 0; i < 3; ++i) EXPECT_EQ(recording->frames.frames[i].sequence, i);
+  ASSERT_EQ(warnings.size(), 1u);
+  EXPECT_NE(warnings[0].find("the first by name, a.gif, is taken, and b.webp (3 views), c.gif (a photo) left out"),
+            std::string::npos)
+      << warnings[0];
+
+  // Still GIFs and WebPs: one photo each, an image set of them.
+  const fs::path stills = dir.path() / "stills";
+  fs::create_directories(stills);
+  const std::vector<fs::path> photos = {WriteAnimation(stills / "a.webp", clip::ClipFormat::kWebp, {three[0]}),
+                                        WriteAnimation(stills / "b.webp", clip::ClipFormat::kWebp, {three[1]}),
+                                        WriteAnimation(stills / "c.gif", clip::ClipFormat::kGif, {three[2]})};
+  warnings.clear();
+  recording = RecordingFromFolder(stills, photos, &warnings);
+  ASSERT_TRUE(recording.ok()) << recording.status().ToString();
+  EXPECT_EQ(recording->frames.frames.size(), 3u);
+  EXPECT_TRUE(warnings.empty());
+}
+
 TEST(MultiViewFilesTest, RealStereoCamerasAndWigglegrams) {
   const fs::path data = sim::SharedDataDir();
   if (!fs::exists(data / "mpo")) GTEST_SKIP() << (data / "mpo").string() << " is absent (the shared real data)";
