@@ -65,7 +65,7 @@ Status RunImport(const ImportArgs& args) {
                                         : std::string("unknown (self-calibrated)"));
   }
   PX_RETURN_IF_ERROR(WriteRecording(args.output, recording));
-  log->info("wrote recording {}: an image set of {} views from {} file(s)",
+  log->info("wrote recording {}: an image set of {} views ({} file(s) read)",
             args.output,
             recording.frames.frames.size(),
             files.size());
