@@ -127,95 +127,78 @@ StatusOr<std::vector<std::filesystem::path>> ListImages(const std::vector<std::f
 
 namespace {
 
-// Every file's frames into `recording`, in order (sequence = index); `frames_per_file` how many
-// each gave.
-Status ReadFrames(const std::vector<std::filesystem::path>& files,
-                  std::vector<std::string>* warnings,
-                  Recording* recording,
-                  std::vector<size_t>* frames_per_file) {
-  recording->source.model = "import";
-  recording->source.kind = FrameSetKind::kImageSet;
-  recording->frames.kind = FrameSetKind::kImageSet;
-  recording->created_by = "parallax import";
-  for (const std::filesystem::path& file : files) {
-    const size_t before = recording->frames.frames.size();
-    if (IsMpo(file)) {
-      PX_RETURN_IF_ERROR(AddMpoFrames(file, warnings, recording));
-    } else if (IsAnimation(file)) {
-      PX_RETURN_IF_ERROR(AddAnimationFrames(file, warnings, recording));
-    } else {
-      PX_ASSIGN_OR_RETURN(Frame frame, PhotoFrame(file, warnings));
-      frame.sequence = recording->frames.frames.size();
-      recording->frames.frames.push_back(std::move(frame));
-    }
-    frames_per_file->push_back(recording->frames.frames.size() - before);
-  }
-  return OkStatus();
-}
-
-Status CheckFileCount(const std::vector<std::filesystem::path>& files) {
+// RecordingFromImages, with how many frames each file gave in `frames_per_file`.
+StatusOr<Recording> ReadImageSet(const std::vector<std::filesystem::path>& files,
+                                 std::vector<std::string>* warnings,
+                                 std::vector<size_t>* frames_per_file) {
   const bool holds_views = files.size() == 1 && (IsMpo(files[0]) || IsAnimation(files[0]));
   if (files.size() < 2 && !holds_views) {
     return FailedPreconditionError("an image set needs at least 2 photos from different places, got " +
                                    std::to_string(files.size()));
   }
-  return OkStatus();
-}
-
-Status CheckViewCount(const std::vector<std::filesystem::path>& files, const Recording& recording) {
+  Recording recording;
+  recording.source.model = "import";
+  recording.source.kind = FrameSetKind::kImageSet;
+  recording.frames.kind = FrameSetKind::kImageSet;
+  recording.created_by = "parallax import";
+  for (const std::filesystem::path& file : files) {
+    const size_t before = recording.frames.frames.size();
+    if (IsMpo(file)) {
+      PX_RETURN_IF_ERROR(AddMpoFrames(file, warnings, &recording));
+    } else if (IsAnimation(file)) {
+      PX_RETURN_IF_ERROR(AddAnimationFrames(file, warnings, &recording));
+    } else {
+      PX_ASSIGN_OR_RETURN(Frame frame, PhotoFrame(file, warnings));
+      frame.sequence = recording.frames.frames.size();
+      recording.frames.frames.push_back(std::move(frame));
+    }
+    frames_per_file->push_back(recording.frames.frames.size() - before);
+  }
   if (recording.frames.frames.size() < 2) {
     return FailedPreconditionError(files.front().string() + ": holds " +
                                    std::to_string(recording.frames.frames.size()) +
                                    " view; an image set needs at least 2 from different places");
   }
-  return OkStatus();
+  return recording;
 }
 
 }  // namespace
 
 StatusOr<Recording> RecordingFromImages(const std::vector<std::filesystem::path>& files,
                                         std::vector<std::string>* warnings) {
-  PX_RETURN_IF_ERROR(CheckFileCount(files));
-  Recording recording;
   std::vector<size_t> frames_per_file;
-  PX_RETURN_IF_ERROR(ReadFrames(files, warnings, &recording, &frames_per_file));
-  PX_RETURN_IF_ERROR(CheckViewCount(files, recording));
-  return recording;
+  return ReadImageSet(files, warnings, &frames_per_file);
 }
 
 StatusOr<Recording> RecordingFromFolder(const std::filesystem::path& folder,
                                         const std::vector<std::filesystem::path>& files,
                                         std::vector<std::string>* warnings) {
-  PX_RETURN_IF_ERROR(CheckFileCount(files));
-  Recording recording;
   std::vector<size_t> frames_per_file;
-  PX_RETURN_IF_ERROR(ReadFrames(files, warnings, &recording, &frames_per_file));
+  PX_ASSIGN_OR_RETURN(Recording recording, ReadImageSet(files, warnings, &frames_per_file));
   std::vector<size_t> holding_views;  // the files with several views, by index
   for (size_t i = 0; i < files.size(); ++i) {
     if (frames_per_file[i] >= 2) holding_views.push_back(i);
   }
-  if (holding_views.size() >= 2) {
-    const size_t kept = holding_views.front();
-    size_t first_frame = 0;
-    for (size_t i = 0; i < kept; ++i) first_frame += frames_per_file[i];
-    std::vector<Frame> frames(
-        std::make_move_iterator(recording.frames.frames.begin() + first_frame),
-        std::make_move_iterator(recording.frames.frames.begin() + first_frame + frames_per_file[kept]));
-    for (size_t i = 0; i < frames.size(); ++i) frames[i].sequence = i;
-    recording.frames.frames = std::move(frames);
-    std::string left_out;
-    for (size_t i = 0; i < files.size(); ++i) {
-      if (i == kept) continue;
-      left_out += (left_out.empty() ? "" : ", ") + files[i].filename().string() +
-                  (frames_per_file[i] >= 2 ? " (" + std::to_string(frames_per_file[i]) + " views)" : " (a photo)");
-    }
-    warnings->push_back(folder.string() + ": " + std::to_string(holding_views.size()) +
-                        " of its files hold several views each (MPO files, animations), each a capture of its own; "
-                        "the first by name, " +
-                        files[kept].filename().string() + ", is taken, and " + left_out +
-                        " left out (a clip of each: parallax batch with the files named)");
+  if (holding_views.size() < 2) return recording;
+  // The first such file's frames alone (it has two or more: still an image set).
+  const size_t kept = holding_views.front();
+  size_t first_frame = 0;
+  for (size_t i = 0; i < kept; ++i) first_frame += frames_per_file[i];
+  std::vector<Frame>& frames = recording.frames.frames;
+  frames.erase(frames.begin() + first_frame + frames_per_file[kept], frames.end());
+  frames.erase(frames.begin(), frames.begin() + first_frame);
+  for (size_t i = 0; i < frames.size(); ++i) frames[i].sequence = i;
+  std::string left_out;
+  for (size_t i = 0; i < files.size(); ++i) {
+    if (i == kept) continue;
+    left_out += (left_out.empty() ? "" : ", ") + files[i].filename().string() +
+                (frames_per_file[i] >= 2 ? " (" + std::to_string(frames_per_file[i]) + " views)" : " (a photo)");
   }
-  PX_RETURN_IF_ERROR(CheckViewCount(files, recording));
+  warnings->push_back(folder.string() + ": " + std::to_string(holding_views.size()) +
+                      " of its files hold several views each (MPO files, animations), each a capture of its own; "
+                      "the first by name, " +
+                      files[kept].filename().string() + ", is taken, and " + left_out +
+                      " left out (a clip of each: parallax batch with the files named)");
   return recording;
 }
 
