@@ -166,13 +166,25 @@ void ServePreviewFrame(const ApiContext& api, const Request& req, Response& res)
   if (!session.ok()) return ReplyStatus(res, session.status());
   const bool coverage = viewpoint->value("coverage", false);
   const bool draft = viewpoint->value("draft", false);
+  const bool lossless = viewpoint->value("lossless", false);
   viewpoint->erase("coverage");
   viewpoint->erase("draft");
-  StatusOr<PreviewFrame> frame = (*session)->Frame(*viewpoint, coverage, draft);
+  viewpoint->erase("lossless");
+  StatusOr<PreviewFrame> frame = (*session)->Frame(*viewpoint, coverage, draft, lossless);
   if (!frame.ok()) return ReplyStatus(res, frame.status());
   res.set_header("Cache-Control", "no-store");
   res.set_header("X-Preview", frame->figures.dump());
-  res.set_content(frame->jpeg, "image/jpeg");
+  res.set_content(frame->image, frame->mime);
+}
+
+// The preview's scene for a renderer in the browser (pipeline/render/gl/web_scene.h).
+void ServePreviewScene(const ApiContext& api, const Request& req, Response& res) {
+  StatusOr<std::shared_ptr<PreviewSession>> session = PreviewFor(api, req.matches[1]);
+  if (!session.ok()) return ReplyStatus(res, session.status());
+  StatusOr<std::string> scene = (*session)->SceneExport();
+  if (!scene.ok()) return ReplyStatus(res, scene.status());
+  res.set_header("Cache-Control", "no-store");
+  res.set_content(std::move(*scene), "application/octet-stream");
 }
 
 void PreviewProbe(const ApiContext& api, const Request& req, Response& res) {
@@ -326,6 +338,8 @@ void RegisterApiRoutes(httplib::Server& server, const ApiContext& api) {
   server.Post(std::string(kJob) + "/preview", [api](const Request& req, Response& res) { OpenPreview(api, req, res); });
   server.Post(std::string(kJob) + "/preview/frame",
               [api](const Request& req, Response& res) { ServePreviewFrame(api, req, res); });
+  server.Get(std::string(kJob) + "/preview/scene",
+             [api](const Request& req, Response& res) { ServePreviewScene(api, req, res); });
   server.Post(std::string(kJob) + "/preview/probe",
               [api](const Request& req, Response& res) { PreviewProbe(api, req, res); });
   server.Post(std::string(kJob) + "/preview/region",

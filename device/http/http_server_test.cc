@@ -604,7 +604,7 @@ TEST_F(HttpApiTest, APreviewWhoseWorkerIsGoneOpensAgainOnTheNextRequest) {
   EXPECT_NE(again->get(), first->get());
   StatusOr<PreviewFrame> frame = (*again)->Frame(viewpoint, false);
   ASSERT_TRUE(frame.ok()) << frame.status().ToString();
-  EXPECT_FALSE(frame->jpeg.empty());
+  EXPECT_FALSE(frame->image.empty());
 }
 
 TEST_F(HttpApiTest, LivePreviewDrawsTheClipsFramesFromAnyViewpoint) {
@@ -621,9 +621,13 @@ TEST_F(HttpApiTest, LivePreviewDrawsTheClipsFramesFromAnyViewpoint) {
   const nlohmann::json& path = details["report"]["camera_path"];
   const nlohmann::json shot = Json(client.Get("/api/jobs/" + *job_ + "/shot"));
   nlohmann::json viewpoint = ClipViewpoint(path, shot["segments"][0]["keyframes"][0]);
-  nlohmann::json measured = viewpoint;
-  measured["coverage"] = true;
-  auto frame = client.Post("/api/jobs/" + *job_ + "/preview/frame", measured.dump(), "application/json");
+  // The viewpoint's frame with one of the request's flags set.
+  auto frame_with = [&](const char* flag) {
+    nlohmann::json flagged = viewpoint;
+    flagged[flag] = true;
+    return client.Post("/api/jobs/" + *job_ + "/preview/frame", flagged.dump(), "application/json");
+  };
+  auto frame = frame_with("coverage");
   ASSERT_TRUE(frame);
   ASSERT_EQ(frame->status, 200) << frame->body;
   EXPECT_EQ(frame->get_header_value("Content-Type"), "image/jpeg");
@@ -654,6 +658,26 @@ TEST_F(HttpApiTest, LivePreviewDrawsTheClipsFramesFromAnyViewpoint) {
   ASSERT_TRUE(shifted);
   ASSERT_EQ(shifted->status, 200);
   EXPECT_NE(shifted->body, frame->body);
+
+  // Lossless, the same picture as a PNG, with the camera it was drawn with.
+  auto png = frame_with("lossless");
+  ASSERT_TRUE(png);
+  ASSERT_EQ(png->status, 200) << png->body;
+  EXPECT_EQ(png->get_header_value("Content-Type"), "image/png");
+  const nlohmann::json drawn = nlohmann::json::parse(png->get_header_value("X-Preview"))["camera"];
+  EXPECT_EQ(drawn["width"].get<int>(), preview.cols);
+  EXPECT_EQ(drawn["rotation"].size(), 9u);
+  const cv::Mat exact = cv::imdecode(std::vector<uchar>(png->body.begin(), png->body.end()), cv::IMREAD_COLOR);
+  ASSERT_EQ(exact.size(), preview.size());
+  EXPECT_GT(cv::PSNR(exact, preview), 30) << "the PNG is not the JPEG's picture";
+
+  // The scene for a renderer in the browser (pipeline/render/gl/web_scene.h).
+  auto exported = client.Get("/api/jobs/" + *job_ + "/preview/scene");
+  ASSERT_TRUE(exported);
+  ASSERT_EQ(exported->status, 200) << exported->body;
+  EXPECT_EQ(exported->get_header_value("Content-Type"), "application/octet-stream");
+  ASSERT_GT(exported->body.size(), 9u * 160 * 120 * 16);
+  EXPECT_EQ(exported->body.substr(0, 4), "PXWS");
 
   nlohmann::json bad = viewpoint;
   bad["width"] = 100000;

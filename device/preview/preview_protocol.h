@@ -5,11 +5,16 @@
 //   -> {"capture_dir": "/store/captures/000007", "config": {...the daemon's config...}}
 //   <- {"ok": true, "scene": {"views": [...], "focal_px": 830, "depth_min_m": .., "ms": 2400}}
 //   -> {"frame": VIEWPOINT, "coverage": true, "draft": false}
-//   <- {"ok": true, "bytes": 23410, "render_ms": 31, "hole_ratio": 0.01, "h_v": 0.2}  + 23410 bytes
+//   <- {"ok": true, "bytes": 23410, "render_ms": 31, "hole_ratio": 0.01, "h_v": 0.2,
+//       "camera": {"width", "height", "fx", "fy", "cx", "cy", "rotation", "translation"}}  + 23410 bytes
 //      (h_v only when coverage was asked for: H(V) as the path planner judges a viewpoint, at the
 //      size it verifies the clip's frames; an extra coverage pass, so a page asks for it when the
 //      pointer rests, not on every frame of a drag; draft: a frame of a drag, drawn at half the
-//      preview's size at most and enlarged)
+//      preview's size at most and enlarged; "lossless": true gives a PNG, not a JPEG; camera: the
+//      one the frame was drawn with, cam_from_world's rotation row-major)
+//   -> {"scene_export": true}
+//   <- {"ok": true, "bytes": 44302336, "ms": 900}  + the scene for a browser's renderer
+//      (pipeline/render/gl/web_scene.h)
 //   -> {"probe": VIEWPOINT, "x": 320, "y": 240}
 //   <- {"ok": true, "point_m": [x, y, z], "depth_m": 1.3}
 //   -> {"region": VIEWPOINT, "rect": [x, y, w, h]}          a rectangle drawn on the preview

@@ -142,21 +142,47 @@ StatusOr<std::string> PreviewSession::ReadBytes(size_t size, std::chrono::millis
   return bytes;
 }
 
-StatusOr<PreviewFrame> PreviewSession::Frame(const nlohmann::json& viewpoint, bool coverage, bool draft) {
+StatusOr<PreviewSession::BytesReply> PreviewSession::AskBytes(const nlohmann::json& request,
+                                                              std::chrono::milliseconds timeout,
+                                                              uint64_t max_bytes,
+                                                              const std::string& what) {
   std::lock_guard<std::mutex> lock(mutex_);
   last_used_ = Clock::now();
-  PX_RETURN_IF_ERROR(Send({{"frame", viewpoint}, {"coverage", coverage}, {"draft", draft}}));
-  PX_ASSIGN_OR_RETURN(nlohmann::json reply, ReadReply(options_.frame_timeout));
+  PX_RETURN_IF_ERROR(Send(request));
+  PX_ASSIGN_OR_RETURN(nlohmann::json reply, ReadReply(timeout));
   if (!reply.value("ok", false)) return StatusFromReply(reply);
   const uint64_t size = reply.value("bytes", uint64_t{0});
-  if (size == 0 || size > (64u << 20))
-    return DataLossError("the preview worker announced a frame of " + std::to_string(size) + " bytes");
-  PreviewFrame frame;
-  PX_ASSIGN_OR_RETURN(frame.jpeg, ReadBytes(size, options_.frame_timeout));
+  if (size == 0 || size > max_bytes)
+    return DataLossError("the preview worker announced " + what + " of " + std::to_string(size) + " bytes");
+  BytesReply out;
+  PX_ASSIGN_OR_RETURN(out.bytes, ReadBytes(size, timeout));
   reply.erase("ok");
   reply.erase("bytes");
-  frame.figures = std::move(reply);
+  out.reply = std::move(reply);
+  return out;
+}
+
+StatusOr<PreviewFrame> PreviewSession::Frame(const nlohmann::json& viewpoint,
+                                             bool coverage,
+                                             bool draft,
+                                             bool lossless) {
+  PX_ASSIGN_OR_RETURN(BytesReply reply,
+                      AskBytes({{"frame", viewpoint}, {"coverage", coverage}, {"draft", draft}, {"lossless", lossless}},
+                               options_.frame_timeout,
+                               kMaxFrameBytes,
+                               "a frame"));
+  PreviewFrame frame;
+  frame.image = std::move(reply.bytes);
+  frame.mime = lossless ? "image/png" : "image/jpeg";
+  frame.figures = std::move(reply.reply);
   return frame;
+}
+
+StatusOr<std::string> PreviewSession::SceneExport() {
+  // Made from the scene in memory: a second or so, sent at pipe speed.
+  PX_ASSIGN_OR_RETURN(BytesReply reply,
+                      AskBytes({{"scene_export", true}}, options_.load_timeout, kMaxSceneBytes, "a scene"));
+  return std::move(reply.bytes);
 }
 
 StatusOr<nlohmann::json> PreviewSession::Ask(const nlohmann::json& request, std::chrono::milliseconds timeout) {

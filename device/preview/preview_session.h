@@ -34,7 +34,8 @@ struct PreviewOptions {
 };
 
 struct PreviewFrame {
-  std::string jpeg;
+  std::string image;  // JPEG, or PNG for a lossless frame
+  std::string mime;
   nlohmann::json figures;  // render_ms, hole_ratio; h_v and valid when coverage was asked for
 };
 
@@ -49,8 +50,14 @@ class PreviewSession {
 
   const nlohmann::json& scene() const { return scene_; }
   // `coverage`: also measure H(V) there (an extra pass); `draft`: a frame of a drag, drawn at half
-  // the size at most.
-  StatusOr<PreviewFrame> Frame(const nlohmann::json& viewpoint, bool coverage, bool draft = false);
+  // the size at most; `lossless`: PNG, not JPEG (for comparing the frame with another renderer's).
+  // The figures hold the camera it was drawn with.
+  StatusOr<PreviewFrame> Frame(const nlohmann::json& viewpoint,
+                               bool coverage,
+                               bool draft = false,
+                               bool lossless = false);
+  // The scene as a browser's renderer would draw it (pipeline/render/gl/web_scene.h).
+  StatusOr<std::string> SceneExport();
   // The scene point under preview pixel (x, y): {"point_m": [...], "depth_m": d}.
   StatusOr<nlohmann::json> Probe(const nlohmann::json& viewpoint, int x, int y);
   // What the rectangle [x, y, w, h] of the preview covers: region_min_m, region_max_m, view, box_px.
@@ -65,7 +72,19 @@ class PreviewSession {
   void Kill();  // ends the worker now (SIGKILL); the session is dead from then on
 
  private:
+  struct BytesReply {
+    nlohmann::json reply;  // without ok and bytes
+    std::string bytes;
+  };
+  static constexpr uint64_t kMaxFrameBytes = 64u << 20;
+  static constexpr uint64_t kMaxSceneBytes = 1024u << 20;
+
   PreviewSession() = default;
+  // A request answered by a JSON line announcing `bytes`, then those bytes (at most max_bytes).
+  StatusOr<BytesReply> AskBytes(const nlohmann::json& request,
+                                std::chrono::milliseconds timeout,
+                                uint64_t max_bytes,
+                                const std::string& what);
   Status Send(const nlohmann::json& request);
   // A request answered by one JSON line within `timeout`.
   StatusOr<nlohmann::json> Ask(const nlohmann::json& request, std::chrono::milliseconds timeout);

@@ -22,6 +22,7 @@
 #include "pipeline/direct/coverage_probe.h"
 #include "pipeline/direct/detail_size.h"
 #include "pipeline/direct/scene_geometry.h"
+#include "pipeline/render/gl/web_scene.h"
 
 namespace px::device {
 
@@ -29,6 +30,24 @@ namespace {
 
 constexpr int kPreviewJpegQuality = 80;
 constexpr double kDraftScale = 2;  // a draft frame is drawn at 1 / kDraftScale of the preview's size
+
+// A frame's camera: K, and cam_from_world as a row-major rotation and a translation.
+nlohmann::json CameraJson(const VirtualCamera& camera) {
+  const Eigen::Matrix3d r = camera.cam_from_world.RotationMatrix();
+  const Eigen::Vector3d& t = camera.cam_from_world.translation;
+  nlohmann::json rotation = nlohmann::json::array();
+  for (int i = 0; i < 3; ++i) {
+    for (int j = 0; j < 3; ++j) rotation.push_back(r(i, j));
+  }
+  return {{"width", camera.camera.width},
+          {"height", camera.camera.height},
+          {"fx", camera.camera.fx},
+          {"fy", camera.camera.fy},
+          {"cx", camera.camera.cx},
+          {"cy", camera.camera.cy},
+          {"rotation", rotation},
+          {"translation", {t.x(), t.y(), t.z()}}};
+}
 
 // False when the daemon is gone (PR_SET_PDEATHSIG then ends us).
 bool SendBytes(const char* data, size_t size) { return WriteAll(kPreviewMessageFd, std::string_view(data, size)) == 0; }
@@ -46,6 +65,7 @@ struct PreviewScene {
   double valid_hole_score = 2;  // H(V) below which the planner calls a viewpoint valid
   double search_scale = 0.125;  // the size, against the clip's, at which the planner searches H(V)
   double grid_extent = 2;       // the planner's grid side against the views' bounding box
+  RenderOptions render;         // the pipeline's, for the scene a browser's renderer is sent
 };
 
 StatusOr<PreviewScene> LoadScene(const nlohmann::json& request) {
@@ -63,6 +83,7 @@ StatusOr<PreviewScene> LoadScene(const nlohmann::json& request) {
   preview.valid_hole_score = pipeline.direct.search.valid_hole_score;
   preview.search_scale = pipeline.direct.search.search_scale;
   preview.grid_extent = pipeline.direct.search.grid_extent;
+  preview.render = pipeline.render;
   PX_ASSIGN_OR_RETURN(preview.scene, BuildPipelineScene(recording.frames, rig, pipeline));
   PX_ASSIGN_OR_RETURN(preview.renderer,
                       render::gl::BackendSceneRenderer::Create(
@@ -108,13 +129,17 @@ Status ServeFrame(PreviewScene& preview, const nlohmann::json& request) {
   const VirtualCamera drawn = direct::CameraAtDetail(view.camera, draw_scale);
   PX_ASSIGN_OR_RETURN(FrameRender frame, preview.renderer->Render(drawn));
   const cv::Mat bgr = direct::EnlargeToOutput(frame.bgr, view.camera.camera.width, view.camera.camera.height);
-  std::vector<uchar> jpeg;
-  if (!cv::imencode(".jpg", bgr, jpeg, {cv::IMWRITE_JPEG_QUALITY, kPreviewJpegQuality})) {
-    return InternalError("preview: JPEG encoding failed");
+  // Lossless: for comparing the frame with another renderer's (tests/browser/web_scene_bench.py).
+  const bool lossless = request.value("lossless", false);
+  std::vector<uchar> image;
+  if (!(lossless ? cv::imencode(".png", bgr, image)
+                 : cv::imencode(".jpg", bgr, image, {cv::IMWRITE_JPEG_QUALITY, kPreviewJpegQuality}))) {
+    return InternalError("preview: image encoding failed");
   }
   nlohmann::json reply = {{"ok", true},
-                          {"bytes", jpeg.size()},
+                          {"bytes", image.size()},
                           {"drawn", {drawn.camera.width, drawn.camera.height}},
+                          {"camera", CameraJson(drawn)},
                           {"hole_ratio", frame.holes.hole_ratio}};
   if (request.value("coverage", false)) {
     // H(V) exactly as the path planner judges a viewpoint (its verify probe).
@@ -128,7 +153,20 @@ Status ServeFrame(PreviewScene& preview, const nlohmann::json& request) {
   }
   reply["render_ms"] = MsSince(start);
   SendLine(reply);
-  SendBytes(reinterpret_cast<const char*>(jpeg.data()), jpeg.size());
+  SendBytes(reinterpret_cast<const char*>(image.data()), image.size());
+  return OkStatus();
+}
+
+// The scene as a renderer in the browser draws it: what the GL back end would upload.
+Status ServeSceneExport(PreviewScene& preview, const RenderOptions& render) {
+  const auto start = StageClock::now();
+  std::vector<render::gl::PosedLayeredView> posed;
+  for (size_t v = 0; v < preview.scene.views.size(); ++v) {
+    posed.push_back({preview.scene.layers[v], preview.scene.views[v].cam_from_world});
+  }
+  PX_ASSIGN_OR_RETURN(const std::string scene, render::gl::ExportWebScene(posed, render::gl::GlOptionsFrom(render)));
+  SendLine({{"ok", true}, {"bytes", scene.size()}, {"ms", MsSince(start)}});
+  SendBytes(scene.data(), scene.size());
   return OkStatus();
 }
 
@@ -288,7 +326,8 @@ int RunPreviewWorker(pid_t parent) {
   if (!SendLine({{"ok", true}, {"scene", SceneSummary(*preview, MsSince(start))}})) return 1;
   while (std::getline(std::cin, line)) {
     nlohmann::json request = nlohmann::json::parse(line, nullptr, /*allow_exceptions=*/false);
-    Status served = InvalidArgumentError("preview: a request is a JSON object with frame, probe, region or map");
+    Status served =
+        InvalidArgumentError("preview: a request is a JSON object with frame, probe, region, map or scene_export");
     if (request.is_object() && request.contains("frame")) {
       served = ServeFrame(*preview, request);
     } else if (request.is_object() && request.contains("probe")) {
@@ -297,6 +336,8 @@ int RunPreviewWorker(pid_t parent) {
       served = ServeRegion(*preview, request);
     } else if (request.is_object() && request.contains("map")) {
       served = ServeMap(*preview, request);
+    } else if (request.is_object() && request.contains("scene_export")) {
+      served = ServeSceneExport(*preview, preview->render);
     }
     if (!served.ok() && !SendLine(PreviewErrorReply(served))) return 1;
   }

@@ -8,12 +8,12 @@
 #include <opencv2/core.hpp>
 
 #include "pipeline/core/log.h"
-#include "pipeline/render/bilinear_prefilter.h"
 #include "pipeline/render/border_holes.h"
 #include "pipeline/render/color_effects.h"
 #include "pipeline/render/depth_of_field.h"
 #include "pipeline/render/gl/gl_program.h"
 #include "pipeline/render/gl/gl_render_shaders.h"
+#include "pipeline/render/gl/view_texels.h"
 #include "pipeline/render/hole_fill.h"
 #include "pipeline/render/hole_views.h"
 #include "pipeline/render/layered_scene.h"
@@ -27,19 +27,6 @@ constexpr double kNearDepthM = 1e-3;
 
 std::string ViewName(const LayeredDepthView& view, int index) {
   return "view " + std::to_string(index) + " (id " + std::to_string(view.id.value) + ")";
-}
-
-// A segment whose plane is finite with positive inverse depth at the four corners of its
-// rectangle (the bbox grown by one pixel).
-bool SegmentUsable(const DepthSegment& s) {
-  if (!std::isfinite(s.inv_depth_a) || !std::isfinite(s.inv_depth_b) || !std::isfinite(s.inv_depth_c)) return false;
-  const double x0 = s.bbox.x - 1, x1 = s.bbox.x + s.bbox.width, y0 = s.bbox.y - 1, y1 = s.bbox.y + s.bbox.height;
-  for (double x : {x0, x1}) {
-    for (double y : {y0, y1}) {
-      if (s.InverseDepthAt(x, y) <= 0) return false;
-    }
-  }
-  return true;
 }
 
 // The segment vertex shader's per-instance attributes in the bound buffer, from instance `first`
@@ -111,38 +98,6 @@ StatusOr<GlObject> UploadTexture(const GlFunctions& gl,
   const std::string errors = DrainGlErrors(gl);
   if (!errors.empty()) return InternalError(what + ": uploading raised " + errors);
   return texture;
-}
-
-// Scene depth range rho of eq. (1) (ALGORITHM.md 1): the 1st to 99th percentile of layer-0 depth
-// over all views, at least 1% of the median.
-void SceneDepthRange(const std::vector<PosedLayeredView>& views, double* rho, double* median) {
-  std::vector<float> depths;
-  for (const PosedLayeredView& view : views) {
-    const LayeredDepthView& d = view.depth;
-    if (d.depth_m.type() != CV_32F || d.layers[0].weight.type() != CV_32F ||
-        d.depth_m.size() != d.layers[0].weight.size()) {
-      continue;
-    }
-    for (int y = 0; y < d.depth_m.rows; ++y) {
-      const float* z = d.depth_m.ptr<float>(y);
-      const float* w = d.layers[0].weight.ptr<float>(y);
-      for (int x = 0; x < d.depth_m.cols; ++x) {
-        if (w[x] > 0 && std::isfinite(z[x]) && z[x] > 0) depths.push_back(z[x]);
-      }
-    }
-  }
-  if (depths.empty()) {
-    *rho = 1.0, *median = 1.0;
-    return;
-  }
-  auto at = [&](double q) {
-    auto it = depths.begin() + static_cast<std::ptrdiff_t>(q * (depths.size() - 1));
-    std::nth_element(depths.begin(), it, depths.end());
-    return static_cast<double>(*it);
-  };
-  const double z1 = at(0.01), z50 = at(0.5), z99 = at(0.99);
-  *median = z50;
-  *rho = std::max(z99 - z1, 0.01 * z50);
 }
 
 }  // namespace
@@ -232,7 +187,6 @@ GlSceneRenderer::~GlSceneRenderer() {
 Status GlSceneRenderer::Upload() {
   const GlFunctions& gl = context_->gl();
   const int max_size = context_->info().max_texture_size;
-  std::vector<Eigen::Vector3d> centres, axes, x_axes;
   for (int v = 0; v < static_cast<int>(views_.size()); ++v) {
     LayeredDepthView& view = views_[v].depth;
     // As the CPU reference's texels (LayeredScene::Create).
@@ -243,102 +197,27 @@ Status GlSceneRenderer::Upload() {
       return InvalidArgumentError("gl renderer: " + name + " is " + std::to_string(w) + "x" + std::to_string(h) +
                                   ", larger than the GL context's GL_MAX_TEXTURE_SIZE " + std::to_string(max_size));
     }
-    for (int l = 0; l < 2; ++l) {
-      const SegmentLayer& layer = view.layers[l];
-      if (layer.colour.type() != CV_8UC3 || layer.weight.type() != CV_32F || layer.segment.type() != CV_32S ||
-          layer.colour.size() != cv::Size(w, h) || layer.weight.size() != cv::Size(w, h) ||
-          layer.segment.size() != cv::Size(w, h)) {
-        return InvalidArgumentError("gl renderer: " + name + " layer " + std::to_string(l) +
-                                    ": colour, weight and segment must be CV_8UC3, CV_32F and CV_32S of the camera's "
-                                    "size " +
-                                    std::to_string(w) + "x" + std::to_string(h));
-      }
-    }
+    PX_RETURN_IF_ERROR(CheckLayerImages(view, name));
+    ViewTexels texels = MakeViewTexels(view);
+    for (std::string& warning : ViewTexelWarnings(texels, view.NumSegments(), name)) warnings_.push_back(warning);
     ViewTextures textures;
-    const std::array<cv::Mat, 2> colours = PrefilterForBilinear(view);  // as the CPU reference's texels
-    std::vector<bool> usable(view.segments.size());
-    int dropped_segments = 0;
-    for (size_t s = 0; s < view.segments.size(); ++s) {
-      if (view.segments[s].bbox.empty()) continue;  // covers no pixel: nothing to draw, nothing wrong
-      usable[s] = SegmentUsable(view.segments[s]);
-      if (usable[s])
-        textures.kept_segments.push_back(static_cast<int>(s));
-      else
-        ++dropped_segments;
-    }
-    int dropped_texels = 0;
-    int kept_texels = 0;
-    cv::Mat texels(h, w, CV_32SC4);
-    for (int y = 0; y < h; ++y) {
-      for (int x = 0; x < w; ++x) {
-        cv::Vec4i& texel = texels.at<cv::Vec4i>(y, x);
-        texel = cv::Vec4i(0, 0, -1, -1);
-        for (int l = 0; l < 2; ++l) {
-          const float weight = view.layers[l].weight.at<float>(y, x);
-          const int segment = view.layers[l].segment.at<int32_t>(y, x);
-          const cv::Vec3b c = colours[l].at<cv::Vec3b>(y, x);
-          const bool segment_ok = segment >= 0 && segment < view.NumSegments() && usable[segment];
-          const bool weight_ok = std::isfinite(weight) && weight >= 0 && weight <= 1;
-          float kept = 0;
-          if (segment_ok && weight_ok && weight > 0) {
-            kept = weight;
-            texel[2 + l] = segment;
-            ++kept_texels;
-          } else if (!(weight == 0)) {  // NaN, out of range, or weight on a bad segment
-            ++dropped_texels;
-          }
-          const uint32_t a = cv::saturate_cast<uint8_t>(std::lround(kept * 255.0f));
-          texel[l] = static_cast<int32_t>(c[0] | (uint32_t{c[1]} << 8) | (uint32_t{c[2]} << 16) | (a << 24));
-        }
-      }
-    }
-    if (dropped_segments > 0) {
-      warnings_.push_back(name + ": " + std::to_string(dropped_segments) + " of " +
-                          std::to_string(view.segments.size()) +
-                          " segments dropped (plane not finite or depth not positive over its rectangle)");
-    }
-    if (dropped_texels > 0) {
-      warnings_.push_back(name + ": " + std::to_string(dropped_texels) +
-                          " texels dropped (weight not finite or outside [0, 1], or its segment invalid or dropped)");
-    }
-    if (kept_texels == 0) {
-      warnings_.push_back(name + ": no texel with depth (no usable segment or weight); the view is left out");
-      textures.kept_segments.clear();
-    }
+    if (texels.kept_texels > 0) textures.kept_segments = std::move(texels.kept_segments);
     PX_ASSIGN_OR_RETURN(
         textures.texels,
-        UploadTexture(gl, GL_RGBA32UI, GL_RGBA_INTEGER, GL_UNSIGNED_INT, texels, name + " segment texels"));
+        UploadTexture(gl, GL_RGBA32UI, GL_RGBA_INTEGER, GL_UNSIGNED_INT, texels.texels, name + " segment texels"));
     textures_.push_back(std::move(textures));
   }
   // The view mesh over the views that have something to draw; vertex views index views_.
-  std::vector<int> meshed;
+  std::vector<int> drawn;
+  std::vector<Rigid3> poses;
   for (int v = 0; v < static_cast<int>(views_.size()); ++v) {
-    if (textures_[v].kept_segments.empty()) continue;
-    meshed.push_back(v);
-    const Eigen::Matrix3d world_from_cam = views_[v].cam_from_world.RotationMatrix().transpose();
-    centres.push_back(CameraCentre(views_[v].cam_from_world));
-    axes.push_back(world_from_cam.col(2));
-    x_axes.push_back(world_from_cam.col(0));
+    poses.push_back(views_[v].cam_from_world);
+    if (!textures_[v].kept_segments.empty()) drawn.push_back(v);
   }
-  if (meshed.empty()) return FailedPreconditionError("gl renderer: no view has a usable segment (no valid depth)");
-  PX_ASSIGN_OR_RETURN(mesh_, BuildGlViewMesh(centres, axes, x_axes));
-  for (int& view : mesh_.vertex_view) view = meshed[view];
+  PX_ASSIGN_OR_RETURN(mesh_, MeshOfDrawnViews(poses, drawn));
   // The mesh as a uniform array (x, y, view, 0): the triangles' corners, then the outer edges'
   // ends. A loop over uniforms costs llvmpipe far less than one over texel fetches.
-  auto corner = [&](int vertex) {
-    const Eigen::Vector2d& p = mesh_.vertices[vertex];
-    return std::array<float, 4>{
-        static_cast<float>(p.x()), static_cast<float>(p.y()), static_cast<float>(mesh_.vertex_view[vertex]), 0.0f};
-  };
-  mesh_uniforms_.clear();
-  for (const auto& triangle : mesh_.triangles) {
-    for (int vertex : triangle) mesh_uniforms_.push_back(corner(vertex));
-  }
-  for (const auto& edge : mesh_.outer_edges) {
-    for (int vertex : edge) mesh_uniforms_.push_back(corner(vertex));
-  }
-  if (mesh_uniforms_.empty()) mesh_uniforms_.push_back({0, 0, 0, 0});
-  if (mesh_.single_view) mesh_.vertex_view[0] = meshed[0];
+  mesh_uniforms_ = MeshUniforms(mesh_);
   GLint max_vectors = 0;
   gl.GetIntegerv(GL_MAX_FRAGMENT_UNIFORM_VECTORS, &max_vectors);
   constexpr int kOtherUniformVectors = 16;  // the weight shader's matrix, vectors and counts
@@ -348,7 +227,9 @@ Status GlSceneRenderer::Upload() {
                                    " uniform vectors, more than the context's GL_MAX_FRAGMENT_UNIFORM_VECTORS " +
                                    std::to_string(max_vectors) + " allows");
   }
-  SceneDepthRange(views_, &rho_m_, &median_depth_m_);
+  std::vector<LayeredDepthView> depths;
+  for (const PosedLayeredView& view : views_) depths.push_back(view.depth);
+  SceneDepthRange(depths, &rho_m_, &median_depth_m_);
 
   const std::string weights_shader =
       "#define MESH_VECTORS " + std::to_string(mesh_uniforms_.size()) + "\n" + std::string(kViewWeightsFragmentShader);

@@ -1,0 +1,125 @@
+#include "pipeline/render/gl/web_scene.h"
+
+#include <cstring>
+#include <nlohmann/json.hpp>
+
+#include "pipeline/render/gl/view_texels.h"
+#include "pipeline/render/seam_skirts.h"
+
+namespace px::render::gl {
+namespace {
+
+constexpr int kFloatsPerSegment = 8;
+
+nlohmann::json Vector3(const Eigen::Vector3d& v) { return {v.x(), v.y(), v.z()}; }
+
+void Append(std::string* out, const void* data, size_t size) { out->append(static_cast<const char*>(data), size); }
+
+}  // namespace
+
+StatusOr<std::string> ExportWebScene(std::vector<PosedLayeredView> views, const GlSceneRendererOptions& options) {
+  if (views.empty()) return InvalidArgumentError("web scene: no views");
+  std::vector<ViewTexels> texels;
+  std::vector<std::string> warnings;
+  std::vector<int> drawn;
+  std::vector<Rigid3> poses;
+  for (int v = 0; v < static_cast<int>(views.size()); ++v) {
+    LayeredDepthView& view = views[v].depth;
+    view = WithSeamSkirts(view, options.seam_skirts);  // as GlSceneRenderer::Upload
+    const std::string name = "view " + std::to_string(v) + " (id " + std::to_string(view.id.value) + ")";
+    PX_RETURN_IF_ERROR(CheckLayerImages(view, name));
+    texels.push_back(MakeViewTexels(view));
+    for (std::string& warning : ViewTexelWarnings(texels.back(), view.NumSegments(), name)) warnings.push_back(warning);
+    if (texels.back().kept_texels == 0) texels.back().kept_segments.clear();
+    poses.push_back(views[v].cam_from_world);
+    if (!texels.back().kept_segments.empty()) drawn.push_back(v);
+  }
+  PX_ASSIGN_OR_RETURN(const GlViewMesh mesh, MeshOfDrawnViews(poses, drawn));
+  std::vector<LayeredDepthView> depths;
+  for (const PosedLayeredView& view : views) depths.push_back(view.depth);
+  double rho = 1, median = 1;
+  SceneDepthRange(depths, &rho, &median);
+
+  nlohmann::json header = {{"format", "parallax web scene"}, {"version", kWebSceneVersion}};
+  nlohmann::json json_views = nlohmann::json::array();
+  size_t offset = 0;  // from the end of the header; made absolute below
+  for (size_t v = 0; v < views.size(); ++v) {
+    const LayeredDepthView& view = views[v].depth;
+    const Eigen::Matrix3d r = views[v].cam_from_world.RotationMatrix();
+    nlohmann::json rotation = nlohmann::json::array();
+    for (int i = 0; i < 3; ++i) {
+      for (int j = 0; j < 3; ++j) rotation.push_back(r(i, j));
+    }
+    const size_t texel_bytes = static_cast<size_t>(view.camera.width) * view.camera.height * 16;
+    const size_t segment_bytes = texels[v].kept_segments.size() * kFloatsPerSegment * sizeof(double);
+    json_views.push_back({{"id", view.id.value},
+                          {"width", view.camera.width},
+                          {"height", view.camera.height},
+                          {"fx", view.camera.fx},
+                          {"fy", view.camera.fy},
+                          {"cx", view.camera.cx},
+                          {"cy", view.camera.cy},
+                          {"rotation", rotation},  // cam_from_world, row-major
+                          {"translation", Vector3(views[v].cam_from_world.translation)},
+                          {"texels_offset", offset},
+                          {"segments_offset", offset + texel_bytes},
+                          {"segments", texels[v].kept_segments.size()}});
+    offset += texel_bytes + segment_bytes;
+  }
+  nlohmann::json uniforms = nlohmann::json::array();
+  for (const auto& u : MeshUniforms(mesh)) uniforms.push_back({u[0], u[1], u[2], u[3]});
+  header["views"] = std::move(json_views);
+  header["mesh"] = {{"origin", Vector3(mesh.origin)},
+                    {"normal", Vector3(mesh.normal)},
+                    {"axis1", Vector3(mesh.axis1)},
+                    {"axis2", Vector3(mesh.axis2)},
+                    {"uniforms", uniforms},
+                    {"triangles", mesh.triangles.size()},
+                    {"edges", mesh.outer_edges.size()},
+                    {"single_view", mesh.single_view ? mesh.vertex_view[0] : -1}};
+  header["rho_m"] = rho;
+  header["gamma_m"] = rho * options.soft_z_gamma_fraction;
+  header["viewing_weight_exponent"] = options.viewing_weight_exponent;
+  header["texture_stretch"] = {{"fade_from", options.texture_stretch.fade_from},
+                               {"fade_to", options.texture_stretch.fade_to}};
+  header["warnings"] = warnings;
+
+  // Offsets made absolute: the prefix, then the header padded to a multiple of 8 (float64 blocks
+  // must be aligned). The header's own length depends on the offsets it holds, so it is measured
+  // with room to spare for their growth and padded to that.
+  constexpr size_t kPrefixBytes = 16;
+  std::string text = header.dump();
+  size_t header_bytes = (text.size() + 64 + 7) / 8 * 8;
+  for (nlohmann::json& view : header["views"]) {
+    view["texels_offset"] = view["texels_offset"].get<size_t>() + kPrefixBytes + header_bytes;
+    view["segments_offset"] = view["segments_offset"].get<size_t>() + kPrefixBytes + header_bytes;
+  }
+  text = header.dump();
+  if (text.size() > header_bytes) return InternalError("web scene: the header outgrew its room");
+  text.resize(header_bytes, ' ');
+
+  std::string out;
+  out.reserve(kPrefixBytes + header_bytes + offset);
+  const uint32_t prefix[4] = {0x53575850u /* "PXWS" */, kWebSceneVersion, static_cast<uint32_t>(header_bytes), 0};
+  Append(&out, prefix, sizeof(prefix));
+  out += text;
+  for (size_t v = 0; v < views.size(); ++v) {
+    const cv::Mat& t = texels[v].texels;
+    for (int y = 0; y < t.rows; ++y) Append(&out, t.ptr(y), static_cast<size_t>(t.cols) * 16);
+    for (int s : texels[v].kept_segments) {
+      const DepthSegment& seg = views[v].depth.segments[s];
+      const double values[kFloatsPerSegment] = {static_cast<double>(seg.bbox.x),
+                                                static_cast<double>(seg.bbox.y),
+                                                static_cast<double>(seg.bbox.width),
+                                                static_cast<double>(seg.bbox.height),
+                                                seg.inv_depth_a,
+                                                seg.inv_depth_b,
+                                                seg.inv_depth_c,
+                                                static_cast<double>(s)};
+      Append(&out, values, sizeof(values));
+    }
+  }
+  return out;
+}
+
+}  // namespace px::render::gl
