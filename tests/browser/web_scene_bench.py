@@ -88,14 +88,17 @@ const median = (values) => values.slice().sort((a, b) => a - b)[Math.floor(value
   const context2d = work.getContext('2d', {willReadFrequently: true});
 
   const cases = [];
+  const jpegBytes = [];
   let firstCamera = null;
   for (let i = 0; i < steps; ++i) {
     const key = keyAt(-0.5 + i / (steps - 1));
     // The device, as the authoring page asks (a JPEG frame fetched and decoded) ...
     let t0 = performance.now();
     let reply = await post(`/api/jobs/${job}/preview/frame`, viewpoint(key, {}));
-    await createImageBitmap(await reply.blob());
+    const jpeg = await reply.blob();
+    await createImageBitmap(jpeg);
     const deviceMs = performance.now() - t0;
+    jpegBytes.push(jpeg.size);
     // ... then lossless, with the camera it drew, for the comparison.
     reply = await post(`/api/jobs/${job}/preview/frame`, viewpoint(key, {lossless: true}));
     const figures = JSON.parse(reply.headers.get('X-Preview'));
@@ -168,7 +171,7 @@ const median = (values) => values.slice().sort((a, b) => a - b)[Math.floor(value
   const deviceFps = deviceFrames / ((performance.now() - started) / 1000);
   const compared = cases.filter((c) => c.compared);
   done({
-    views: opened.scene.views.length, scene_bytes: scene.byteLength, download_ms: downloadMs, upload_ms: uploadMs,
+    views: opened.scene.views.length, jpeg_bytes: median(jpegBytes), scene_bytes: scene.byteLength, download_ms: downloadMs, upload_ms: uploadMs,
     renderer: gl.getParameter(gl.getExtension('WEBGL_debug_renderer_info').UNMASKED_RENDERER_WEBGL),
     size: [firstCamera.width, firstCamera.height], instances: renderer.stats.instances,
     first_frame_ms: cases[0].firstMs,
@@ -218,13 +221,13 @@ def main():
     print(f"the live preview of a simulated Pop9 capture ({figures['views']} views of {args.tile}), "
           f"frames of {size}, browser {figures['renderer']}")
     rows = [
-        ("what the page fetches first", "nothing", f"the scene, {figures['scene_bytes'] / 2**20:.1f} MiB "
+        ("what the page fetches", f"each frame, a JPEG of {figures['jpeg_bytes'] / 1024:.0f} KB", f"the scene once, {figures['scene_bytes'] / 2**20:.1f} MiB "
          f"({figures['download_ms']:.0f} ms on loopback), uploaded in {figures['upload_ms']:.0f} ms"),
         ("pointer move to new picture (median)", f"{figures['device_ms']:.0f} ms (drawn in {figures['device_render_ms']:.0f} ms)",
          f"{figures['browser_ms']:.0f} ms ({figures['browser_setup_ms']:.0f} ms of it setting up "
          f"{figures['instances']} segments in script)"),
         ("first frame", "-", f"{figures['first_frame_ms']:.0f} ms (shaders compiled)"),
-        ("frames a second while dragging", f"{figures['device_fps']:.1f} (drafts at half size)",
+        ("frames a second while dragging", f"{figures['device_fps']:.1f} (drafts at half size; asked at most 40 a second)",
          f"{figures['browser_fps']:.1f} (full size)"),
         ("agreement with the device's frame", "-",
          f"{statistics.mean(figures['psnr_db']):.1f} dB mean, {worst:.1f} dB worst over the pixels drawn "
