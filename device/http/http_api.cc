@@ -164,6 +164,11 @@ void ServePreviewFrame(const ApiContext& api, const Request& req, Response& res)
   if (!viewpoint) return;
   StatusOr<std::shared_ptr<PreviewSession>> session = PreviewFor(api, req.matches[1]);
   if (!session.ok()) return ReplyStatus(res, session.status());
+  for (const char* flag : {"coverage", "draft", "lossless"}) {
+    if (viewpoint->contains(flag) && !(*viewpoint)[flag].is_boolean()) {
+      return ReplyError(res, 400, std::string(flag) + ": want true or false");
+    }
+  }
   const bool coverage = viewpoint->value("coverage", false);
   const bool draft = viewpoint->value("draft", false);
   const bool lossless = viewpoint->value("lossless", false);
@@ -338,8 +343,9 @@ void RegisterApiRoutes(httplib::Server& server, const ApiContext& api) {
   server.Post(std::string(kJob) + "/preview", [api](const Request& req, Response& res) { OpenPreview(api, req, res); });
   server.Post(std::string(kJob) + "/preview/frame",
               [api](const Request& req, Response& res) { ServePreviewFrame(api, req, res); });
-  server.Get(std::string(kJob) + "/preview/scene",
-             [api](const Request& req, Response& res) { ServePreviewScene(api, req, res); });
+  // A POST, as opening a preview is: it may build a scene (seconds), so another site must not ask.
+  server.Post(std::string(kJob) + "/preview/scene",
+              [api](const Request& req, Response& res) { ServePreviewScene(api, req, res); });
   server.Post(std::string(kJob) + "/preview/probe",
               [api](const Request& req, Response& res) { PreviewProbe(api, req, res); });
   server.Post(std::string(kJob) + "/preview/region",

@@ -672,7 +672,7 @@ TEST_F(HttpApiTest, LivePreviewDrawsTheClipsFramesFromAnyViewpoint) {
   EXPECT_GT(cv::PSNR(exact, preview), 30) << "the PNG is not the JPEG's picture";
 
   // The scene for a renderer in the browser (pipeline/render/gl/web_scene.h).
-  auto exported = client.Get("/api/jobs/" + *job_ + "/preview/scene");
+  auto exported = client.Post("/api/jobs/" + *job_ + "/preview/scene");
   ASSERT_TRUE(exported);
   ASSERT_EQ(exported->status, 200) << exported->body;
   EXPECT_EQ(exported->get_header_value("Content-Type"), "application/octet-stream");

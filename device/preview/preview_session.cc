@@ -152,8 +152,12 @@ StatusOr<PreviewSession::BytesReply> PreviewSession::AskBytes(const nlohmann::js
   PX_ASSIGN_OR_RETURN(nlohmann::json reply, ReadReply(timeout));
   if (!reply.value("ok", false)) return StatusFromReply(reply);
   const uint64_t size = reply.value("bytes", uint64_t{0});
-  if (size == 0 || size > max_bytes)
-    return DataLossError("the preview worker announced " + what + " of " + std::to_string(size) + " bytes");
+  if (size == 0 || size > max_bytes) {
+    // Its bytes would be read as the next request's answer: the worker ends with this preview.
+    Kill();
+    return DataLossError("the preview worker announced " + what + " of " + std::to_string(size) + " bytes (at most " +
+                         std::to_string(max_bytes) + "); killed");
+  }
   BytesReply out;
   PX_ASSIGN_OR_RETURN(out.bytes, ReadBytes(size, timeout));
   reply.erase("ok");

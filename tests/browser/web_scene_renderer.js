@@ -1,15 +1,19 @@
 // The GL back end (pipeline/render/gl/gl_scene_renderer.cc) in a web browser, on WebGL 2: the
-// device's layered scene (GET /api/jobs/ID/preview/scene, pipeline/render/gl/web_scene.h) drawn
+// device's layered scene (POST /api/jobs/ID/preview/scene, pipeline/render/gl/web_scene.h) drawn
 // with the back end's own shaders (gl_render_shaders.h, handed in as text, so both run the same
 // code): the viewing weights, every view's segments front to back into the three rendering
-// buffers, and the soft z resolve. What differs, because WebGL 2 has no 16-bit normalised targets
-// and a float target does not saturate its blend: the rendering buffers are 8-bit, depth split
-// over two channels (16 bits); and the holes are left as they are (the back end fills them on the
-// CPU after its read-back). tests/browser/web_scene_bench.py measures it against the device.
+// buffers, and the soft z resolve. What differs, because WebGL 2 itself has no 16-bit normalised
+// targets (EXT_texture_norm16 is an extension Chromium's software WebGL lacks) and a float
+// target does not saturate its blend: the rendering buffers are 8-bit, depth split over two
+// channels (16 bits where a fragment is opaque, about 8 at a soft edge, where each blend rounds);
+// and the holes are left as they are (the back end fills them on the CPU after its read-back). tests/browser/web_scene_bench.py measures it against the device.
 (function () {
   'use strict';
 
-  const HEADER = '#version 300 es\nprecision highp float;\nprecision highp int;\nprecision highp usampler2D;\n';
+  // highp everywhere: a fragment shader's samplers default to lowp, too coarse for view indices,
+  // colours on 0..255 and split depth on a GPU that honours it.
+  const HEADER = '#version 300 es\nprecision highp float;\nprecision highp int;\nprecision highp sampler2D;\n' +
+      'precision highp usampler2D;\n';
   const FLOATS_PER_INSTANCE = 22;  // corners 8, homography 9, plane 3, segment 1, texture weight 1
   const FLOATS_PER_SEGMENT = 8;    // web_scene.h: bbox x, y, width, height, plane a, b, c, index
   const NEAR_DEPTH_M = 1e-3;
@@ -88,7 +92,7 @@ void main() {
     // texts by name (full_screen_vertex, view_weights, segment_vertex, segment_fragment, soft_z_resolve).
     constructor(gl, scene, shaders) {
       this.gl = gl;
-      if (!gl.getExtension('EXT_color_buffer_float')) throw new Error('web scene renderer: no EXT_color_buffer_float');
+      if (!gl.getExtension('EXT_color_buffer_float')) throw new Error('web scene renderer: no EXT_color_buffer_float (float targets)');
       const prefix = new Uint32Array(scene, 0, 4);
       if (prefix[0] !== 0x53575850 || prefix[1] !== 1) throw new Error('web scene renderer: not a version 1 web scene');
       this.header = JSON.parse(new TextDecoder().decode(new Uint8Array(scene, 16, prefix[2])));
@@ -161,6 +165,11 @@ void main() {
     targetsFor(width, height) {
       if (this.targets && this.targets.width === width && this.targets.height === height) return this.targets;
       const gl = this.gl;
+      if (this.targets) {  // another size: the old ones go
+        const old = this.targets;
+        [old.slotViews, old.slotWeights, ...old.colour, ...old.depth, old.resolved, old.resolvedDepth].forEach((x) => gl.deleteTexture(x));
+        [old.weightsFbo, ...old.slotFbo, old.resolveFbo].forEach((x) => gl.deleteFramebuffer(x));
+      }
       const t = {width, height};
       t.slotViews = this.texture(gl.RGBA32F, width, height);
       t.slotWeights = this.texture(gl.RGBA32F, width, height);

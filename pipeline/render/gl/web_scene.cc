@@ -1,5 +1,6 @@
 #include "pipeline/render/gl/web_scene.h"
 
+#include <bit>
 #include <cstring>
 #include <nlohmann/json.hpp>
 
@@ -8,6 +9,9 @@
 
 namespace px::render::gl {
 namespace {
+
+// The file is little-endian, written in the host's order.
+static_assert(std::endian::native == std::endian::little, "web scenes are written on little-endian hosts only");
 
 constexpr int kFloatsPerSegment = 8;
 
@@ -85,17 +89,22 @@ StatusOr<std::string> ExportWebScene(std::vector<PosedLayeredView> views, const 
   header["warnings"] = warnings;
 
   // Offsets made absolute: the prefix, then the header padded to a multiple of 8 (float64 blocks
-  // must be aligned). The header's own length depends on the offsets it holds, so it is measured
-  // with room to spare for their growth and padded to that.
+  // must be aligned). The header's length depends on the offsets it holds: grown until it holds
+  // its own.
   constexpr size_t kPrefixBytes = 16;
+  const nlohmann::json relative = header["views"];
   std::string text = header.dump();
-  size_t header_bytes = (text.size() + 64 + 7) / 8 * 8;
-  for (nlohmann::json& view : header["views"]) {
-    view["texels_offset"] = view["texels_offset"].get<size_t>() + kPrefixBytes + header_bytes;
-    view["segments_offset"] = view["segments_offset"].get<size_t>() + kPrefixBytes + header_bytes;
+  size_t header_bytes = (text.size() + 7) / 8 * 8;
+  while (true) {
+    for (size_t v = 0; v < relative.size(); ++v) {
+      for (const char* key : {"texels_offset", "segments_offset"}) {
+        header["views"][v][key] = relative[v][key].get<size_t>() + kPrefixBytes + header_bytes;
+      }
+    }
+    text = header.dump();
+    if (text.size() <= header_bytes) break;
+    header_bytes = (text.size() + 7) / 8 * 8;
   }
-  text = header.dump();
-  if (text.size() > header_bytes) return InternalError("web scene: the header outgrew its room");
   text.resize(header_bytes, ' ');
 
   std::string out;

@@ -1,7 +1,8 @@
 // The layered scene for a renderer in a web browser (WebGL 2, tests/browser/web_scene_renderer.js):
 // what GlSceneRenderer uploads to its context (view_texels.h) and what it sets each frame's draws
 // up from (cameras, segment planes, the view mesh, rho), in one binary file, so the browser draws
-// the GL back end's frames from the same data.
+// the GL back end's frames from the same data. Exported by the preview worker for
+// POST /api/jobs/ID/preview/scene.
 //
 // Layout, little-endian: "PXWS", uint32 version (1), uint32 header length H, uint32 0; H bytes of
 // JSON (spaces pad it to a multiple of 8); then per view its texels (height rows of width texels,
