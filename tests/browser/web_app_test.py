@@ -97,7 +97,10 @@ def browser(profile):
     for flag in ("--headless=new", "--no-sandbox", "--disable-gpu", "--disable-dev-shm-usage", "--disable-quic",
                  "--no-first-run", "--disable-background-networking", "--disable-component-update",
                  "--disable-sync", "--autoplay-policy=no-user-gesture-required", f"--user-data-dir={profile}",
-                 "--window-size=1200,900"):
+                 "--window-size=1200,900",
+                 # WebGL on the CPU (SwiftShader) for tests/browser/web_scene_bench.py: newer Chromium
+                 # offers it to a headless browser only when asked.
+                 "--enable-unsafe-swiftshader"):
         options.add_argument(flag)
     return webdriver.Chrome(service=Service(CHROMEDRIVER), options=options)
 
