@@ -34,6 +34,7 @@ struct EvalRealArgs {
   double fps = 30.0;
   bool no_faces = false;
   bool no_photometric = false;
+  std::string quality = "preview";  // the renderer's, as parallax clip --quality
   std::vector<std::string> depth_overrides;
   ConsistentBlendOptions consistent_blend;
   TextureStretchOptions texture_stretch;
@@ -293,10 +294,12 @@ Status RunEvalReal(const EvalRealArgs& args) {
   loo.dump_dir = args.dump_dir;
   loo.progress = progress;
   for (const std::string& text : args.depth_overrides) PX_RETURN_IF_ERROR(ApplyDepthOptionOverride(text, &loo.depth));
+  PX_ASSIGN_OR_RETURN(loo.render.quality, ParseRenderQuality(args.quality));
   loo.render.consistent_blend = args.consistent_blend;
   loo.render.texture_stretch = args.texture_stretch;
   loo.photometric.enabled = !args.no_photometric;
   eval::PathEvalOptions path;
+  path.pipeline.render.quality = loo.render.quality;
   path.pipeline.render.consistent_blend = args.consistent_blend;
   path.pipeline.render.texture_stretch = args.texture_stretch;
   path.pipeline.photometric.enabled = !args.no_photometric;
@@ -358,12 +361,14 @@ Status RunEvalReal(const EvalRealArgs& args) {
     nlohmann::json sets = nlohmann::json::array();
     for (const SetOutcome& o : outcomes) sets.push_back(OutcomeJson(o));
     const nlohmann::json result{
+        {"quality", args.quality},
         {"sets", sets},
         {"missing", missing},
         {"machine", {{"cpu", machine.cpu_model}, {"cores", machine.cores}, {"commit", machine.commit}}}};
     std::printf("%s\n", result.dump(2).c_str());
   } else {
-    std::printf("real captures: machine %s, %d cores, commit %s\n",
+    std::printf("real captures, %s quality: machine %s, %d cores, commit %s\n",
+                args.quality.c_str(),
                 machine.cpu_model.c_str(),
                 machine.cores,
                 machine.commit.c_str());
@@ -408,6 +413,11 @@ void AddEvalRealCommand(CLI::App& eval) {
   real->add_flag("--no-photometric",
                  args->no_photometric,
                  "Leave each view's exposure, colour and vignetting as shot (no equalisation to the centre view)");
+  real->add_option(
+          "--quality",
+          args->quality,
+          "Render quality, as parallax clip --quality: preview (paper 6.1, the clip's default) or offline (6.2)")
+      ->capture_default_str();
   real->add_option("--option",
                    args->depth_overrides,
                    "Override one of the depth stage's options, name=value as in pipeline/depth/depth_options.h "
