@@ -42,6 +42,14 @@ struct EvalRealArgs {
   bool markdown = false;
 };
 
+// The double-image figures (percent, mean and worst) in `format`, or `unmeasured` for offline frames.
+std::string DoubleCell(const eval::PathResult& p, const char* format, const char* unmeasured) {
+  if (!p.double_measured) return unmeasured;
+  char cell[64];
+  std::snprintf(cell, sizeof(cell), format, 100 * p.double_image, 100 * p.double_image_max);
+  return cell;
+}
+
 // A set's name: its path under the shared data folder where it lies there, else the path given.
 std::string SetName(const fs::path& path) {
   const fs::path data = fs::weakly_canonical(sim::SharedDataDir());
@@ -105,8 +113,8 @@ nlohmann::json OutcomeJson(const SetOutcome& o) {
                  {"measured", p.measured},
                  {"torn", p.torn},
                  {"torn_max", p.torn_max},
-                 {"double_image", p.double_image},
-                 {"double_image_max", p.double_image_max},
+                 {"double_image", p.double_measured ? nlohmann::json(p.double_image) : nlohmann::json()},
+                 {"double_image_max", p.double_measured ? nlohmann::json(p.double_image_max) : nlohmann::json()},
                  {"flicker", p.flicker},
                  {"flicker_max", p.flicker_max},
                  {"holes", p.holes},
@@ -181,15 +189,14 @@ void PrintOutcomes(const std::vector<SetOutcome>& outcomes) {
                   p.seconds);
       continue;
     }
-    std::printf("%-52s %-9s %-20s %-9s %6.3f (%6.3f) %6.3f (%6.3f) %6.3f (%6.3f) %5.2f (%5.2f) %6.1f\n",
+    std::printf("%-52s %-9s %-20s %-9s %6.3f (%6.3f) %s %6.3f (%6.3f) %5.2f (%5.2f) %6.1f\n",
                 o.name.c_str(),
                 p.mode.c_str(),
                 p.move.c_str(),
                 size.c_str(),
                 100 * p.torn,
                 100 * p.torn_max,
-                100 * p.double_image,
-                100 * p.double_image_max,
+                DoubleCell(p, "%6.3f (%6.3f)", "     -  (     -)").c_str(),
                 100 * p.flicker,
                 100 * p.flicker_max,
                 100 * p.holes,
@@ -249,14 +256,13 @@ void PrintMarkdown(const std::vector<SetOutcome>& outcomes, const MachineInfo& m
       std::printf("| %s | %s | %s | - | - | - | - |\n", o.name.c_str(), p.mode.c_str(), p.move.c_str());
       continue;
     }
-    std::printf("| %s | %s | %s | %.3f (%.3f) | %.3f (%.3f) | %.3f (%.3f) | %.2f (%.2f) |\n",
+    std::printf("| %s | %s | %s | %.3f (%.3f) | %s | %.3f (%.3f) | %.2f (%.2f) |\n",
                 o.name.c_str(),
                 p.mode.c_str(),
                 p.move.c_str(),
                 100 * p.torn,
                 100 * p.torn_max,
-                100 * p.double_image,
-                100 * p.double_image_max,
+                DoubleCell(p, "%.3f (%.3f)", "-").c_str(),
                 100 * p.flicker,
                 100 * p.flicker_max,
                 100 * p.holes,

@@ -43,6 +43,7 @@ class PathWatcher final : public PipelineObserver, public FrameSink {
     const bool keep_maps = !options_.dump_dir.empty();
     figures.torn = TornFraction(frame, camera, views_, depth_, {}, keep_maps ? &torn_map : nullptr);
     cv::Mat double_map;
+    figures.double_measured = !frame.double_image.empty();
     figures.double_image = std::max(0.0, DoubleImageFraction(frame.double_image, keep_maps ? &double_map : nullptr));
     if (!previous_bgr_.empty()) {
       figures.flicker =
@@ -66,6 +67,7 @@ class PathWatcher final : public PipelineObserver, public FrameSink {
 
   struct FrameFigures {
     double torn = 0, double_image = 0, flicker = 0, holes = 0;
+    bool double_measured = false;  // the compositor drew the double-image map (preview quality)
   };
   struct FrameMaps {
     cv::Mat torn, double_image, flicker;
@@ -135,12 +137,14 @@ Status DumpSheets(const PathEvalOptions& options, const std::string& set, const 
     char label[96];
     if (index < static_cast<int>(watcher.figures().size())) {
       const auto& f = watcher.figures()[index];
+      char double_image[16] = "-";  // offline frames do not measure it
+      if (f.double_measured) std::snprintf(double_image, sizeof(double_image), "%.2f%%", 100 * f.double_image);
       std::snprintf(label,
                     sizeof(label),
-                    "frame %d  torn %.2f%% double %.2f%% holes %.1f%%",
+                    "frame %d  torn %.2f%% double %s holes %.1f%%",
                     index,
                     100 * f.torn,
-                    100 * f.double_image,
+                    double_image,
                     100 * f.holes);
     } else {
       std::snprintf(label, sizeof(label), "frame %d", index);
@@ -208,6 +212,7 @@ StatusOr<PathResult> EvaluatePath(const RealSet& set, const PathEvalOptions& opt
   result.measured = !figures.empty();
   for (const auto& f : figures) {
     result.torn += f.torn;
+    result.double_measured = result.double_measured || f.double_measured;
     result.double_image += f.double_image;
     result.flicker += f.flicker;
     result.holes += f.holes;

@@ -28,6 +28,9 @@ struct PathResult {
   bool measured = false;
   // Means over the frames and the worst frame.
   double torn = 0, torn_max = 0;
+  // Measured by the preview compositor only: offline frames (RenderQuality::kOffline) leave it
+  // unmeasured, false here and both figures 0.
+  bool double_measured = false;
   double double_image = 0, double_image_max = 0;
   double flicker = 0, flicker_max = 0;
   double holes = 0, holes_max = 0;
