@@ -12,6 +12,7 @@
 #include "eval/real/path_eval.h"
 #include "eval/real/real_set.h"
 #include "pipeline/core/log.h"
+#include "pipeline/render/render_options.h"
 #include "sim/synthetic/data_paths.h"
 #include "tools/consistent_blend_flags.h"
 #include "tools/depth_option_override.h"
@@ -196,7 +197,7 @@ void PrintOutcomes(const std::vector<SetOutcome>& outcomes) {
                 size.c_str(),
                 100 * p.torn,
                 100 * p.torn_max,
-                DoubleCell(p, "%6.3f (%6.3f)", "     -  (     -)").c_str(),
+                DoubleCell(p, "%6.3f (%6.3f)", "     - (     -)").c_str(),
                 100 * p.flicker,
                 100 * p.flicker_max,
                 100 * p.holes,
@@ -210,11 +211,12 @@ void PrintOutcomes(const std::vector<SetOutcome>& outcomes) {
 }
 
 // The figures as the README's tables (Markdown), with the machine and commit that made them.
-void PrintMarkdown(const std::vector<SetOutcome>& outcomes, const MachineInfo& machine) {
+void PrintMarkdown(const std::vector<SetOutcome>& outcomes, const MachineInfo& machine, const std::string& quality) {
   std::printf(
       "Leave-one-out novel views: each held-out photo rendered from the others at the pose the product's "
       "own calibration gave it, mean PSNR in dB (SSIM) over the held-out views; edge: PSNR within 3 px of "
-      "depth edges. Made by `build/parallax eval real --markdown` on %s (%d cores), commit %s.\n\n",
+      "depth edges. Made by `build/parallax eval real --markdown%s` on %s (%d cores), commit %s.\n\n",
+      quality == "preview" ? "" : (" --quality " + quality).c_str(),
       machine.cpu_model.c_str(),
       machine.cores,
       machine.commit.c_str());
@@ -243,7 +245,7 @@ void PrintMarkdown(const std::vector<SetOutcome>& outcomes, const MachineInfo& m
   }
   std::printf(
       "\nThe automatic clip, means over its frames (worst frame); `-`: a morph or a 2D pan, not drawn by the 3D "
-      "renderer, so not measured:\n\n");
+      "renderer, so not measured (double images of a 3D move: offline frames, which do not measure them):\n\n");
   std::printf("| set | made as | move | torn %% | double images %% | flicker %% | holes %% |\n");
   std::printf("|---|---|---|---:|---:|---:|---:|\n");
   for (const SetOutcome& o : outcomes) {
@@ -362,7 +364,7 @@ Status RunEvalReal(const EvalRealArgs& args) {
 
   const MachineInfo machine = ReadMachineInfo();
   if (args.markdown) {
-    PrintMarkdown(outcomes, machine);
+    PrintMarkdown(outcomes, machine, args.quality);
   } else if (args.json) {
     nlohmann::json sets = nlohmann::json::array();
     for (const SetOutcome& o : outcomes) sets.push_back(OutcomeJson(o));
