@@ -17,17 +17,12 @@
 #include "pipeline/render/hole_fill.h"
 #include "pipeline/render/hole_views.h"
 #include "pipeline/render/layered_scene.h"
-#include "pipeline/render/seam_skirts.h"
 
 namespace px::render::gl {
 namespace {
 
 constexpr int kFloatsPerInstance = 22;  // corners 8, homography 9, plane 3, segment 1, texture weight 1
 constexpr double kNearDepthM = 1e-3;
-
-std::string ViewName(const LayeredDepthView& view, int index) {
-  return "view " + std::to_string(index) + " (id " + std::to_string(view.id.value) + ")";
-}
 
 // The segment vertex shader's per-instance attributes in the bound buffer, from instance `first`
 // on (one buffer holds every view's instances; each view's draw starts at its own).
@@ -187,34 +182,26 @@ GlSceneRenderer::~GlSceneRenderer() {
 Status GlSceneRenderer::Upload() {
   const GlFunctions& gl = context_->gl();
   const int max_size = context_->info().max_texture_size;
+  PX_ASSIGN_OR_RETURN(PreparedScene scene, PrepareScene(&views_, seam_skirts_));
+  for (std::string& warning : scene.warnings) warnings_.push_back(std::move(warning));
   for (int v = 0; v < static_cast<int>(views_.size()); ++v) {
-    LayeredDepthView& view = views_[v].depth;
-    // As the CPU reference's texels (LayeredScene::Create).
-    view = WithSeamSkirts(view, seam_skirts_);
-    const std::string name = ViewName(view, v);
-    const int w = view.camera.width, h = view.camera.height;
+    const std::string name = ViewName(views_[v].depth, v);
+    const int w = views_[v].depth.camera.width, h = views_[v].depth.camera.height;
     if (w > max_size || h > max_size) {
       return InvalidArgumentError("gl renderer: " + name + " is " + std::to_string(w) + "x" + std::to_string(h) +
                                   ", larger than the GL context's GL_MAX_TEXTURE_SIZE " + std::to_string(max_size));
     }
-    PX_RETURN_IF_ERROR(CheckLayerImages(view, name));
-    ViewTexels texels = MakeViewTexels(view);
-    for (std::string& warning : ViewTexelWarnings(texels, view.NumSegments(), name)) warnings_.push_back(warning);
     ViewTextures textures;
-    if (texels.kept_texels > 0) textures.kept_segments = std::move(texels.kept_segments);
+    textures.kept_segments = std::move(scene.texels[v].kept_segments);
     PX_ASSIGN_OR_RETURN(
         textures.texels,
-        UploadTexture(gl, GL_RGBA32UI, GL_RGBA_INTEGER, GL_UNSIGNED_INT, texels.texels, name + " segment texels"));
+        UploadTexture(
+            gl, GL_RGBA32UI, GL_RGBA_INTEGER, GL_UNSIGNED_INT, scene.texels[v].texels, name + " segment texels"));
     textures_.push_back(std::move(textures));
   }
-  // The view mesh over the views that have something to draw; vertex views index views_.
-  std::vector<int> drawn;
-  std::vector<Rigid3> poses;
-  for (int v = 0; v < static_cast<int>(views_.size()); ++v) {
-    poses.push_back(views_[v].cam_from_world);
-    if (!textures_[v].kept_segments.empty()) drawn.push_back(v);
-  }
-  PX_ASSIGN_OR_RETURN(mesh_, MeshOfDrawnViews(poses, drawn));
+  mesh_ = std::move(scene.mesh);
+  rho_m_ = scene.rho_m;
+  median_depth_m_ = scene.median_depth_m;
   // The mesh as a uniform array (x, y, view, 0): the triangles' corners, then the outer edges'
   // ends. A loop over uniforms costs llvmpipe far less than one over texel fetches.
   mesh_uniforms_ = MeshUniforms(mesh_);
@@ -227,9 +214,6 @@ Status GlSceneRenderer::Upload() {
                                    " uniform vectors, more than the context's GL_MAX_FRAGMENT_UNIFORM_VECTORS " +
                                    std::to_string(max_vectors) + " allows");
   }
-  std::vector<LayeredDepthView> depths;
-  for (const PosedLayeredView& view : views_) depths.push_back(view.depth);
-  SceneDepthRange(depths, &rho_m_, &median_depth_m_);
 
   const std::string weights_shader =
       "#define MESH_VECTORS " + std::to_string(mesh_uniforms_.size()) + "\n" + std::string(kViewWeightsFragmentShader);

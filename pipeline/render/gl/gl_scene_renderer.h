@@ -23,6 +23,7 @@
 #include "pipeline/render/gl/gl_context.h"
 #include "pipeline/render/gl/gl_objects.h"
 #include "pipeline/render/gl/gl_view_mesh.h"
+#include "pipeline/render/gl/view_texels.h"
 #include "pipeline/render/render_options.h"
 #include "pipeline/render/scene_renderer.h"
 #include "pipeline/render/view_mesh.h"
@@ -32,12 +33,6 @@ class LayeredScene;
 }  // namespace px::render
 
 namespace px::render::gl {
-
-// One input view: its layered depth and where its camera was.
-struct PosedLayeredView {
-  LayeredDepthView depth;
-  Rigid3 cam_from_world;
-};
 
 struct GlSceneRendererOptions {
   GlContextOptions context;

@@ -5,6 +5,7 @@
 #include <cmath>
 
 #include "pipeline/render/bilinear_prefilter.h"
+#include "pipeline/render/seam_skirts.h"
 
 namespace px::render::gl {
 namespace {
@@ -22,8 +23,8 @@ bool SegmentUsable(const DepthSegment& s) {
   return true;
 }
 
-}  // namespace
-
+// INVALID_ARGUMENT, naming the view, unless both layers' colour, weight and segment images are
+// CV_8UC3, CV_32F and CV_32S of the camera's size.
 Status CheckLayerImages(const LayeredDepthView& view, const std::string& view_name) {
   const int w = view.camera.width, h = view.camera.height;
   for (int l = 0; l < 2; ++l) {
@@ -40,6 +41,7 @@ Status CheckLayerImages(const LayeredDepthView& view, const std::string& view_na
   return OkStatus();
 }
 
+// The view's texels, its colours prefiltered for the bilinear sample (as the CPU reference's).
 ViewTexels MakeViewTexels(const LayeredDepthView& view) {
   ViewTexels out;
   const int w = view.camera.width, h = view.camera.height;
@@ -80,6 +82,7 @@ ViewTexels MakeViewTexels(const LayeredDepthView& view) {
   return out;
 }
 
+// The warnings MakeViewTexels' counts call for, each naming the view.
 std::vector<std::string> ViewTexelWarnings(const ViewTexels& texels, int num_segments, const std::string& view_name) {
   std::vector<std::string> warnings;
   if (texels.dropped_segments > 0) {
@@ -97,6 +100,8 @@ std::vector<std::string> ViewTexelWarnings(const ViewTexels& texels, int num_seg
   return warnings;
 }
 
+// The view mesh over the views `drawn` (indices into `cam_from_world`); its vertex views index
+// `cam_from_world`.
 StatusOr<GlViewMesh> MeshOfDrawnViews(const std::vector<Rigid3>& cam_from_world, const std::vector<int>& drawn) {
   if (drawn.empty()) return FailedPreconditionError("gl renderer: no view has a usable segment (no valid depth)");
   std::vector<Eigen::Vector3d> centres, axes, x_axes;
@@ -112,26 +117,11 @@ StatusOr<GlViewMesh> MeshOfDrawnViews(const std::vector<Rigid3>& cam_from_world,
   return mesh;
 }
 
-std::vector<std::array<float, 4>> MeshUniforms(const GlViewMesh& mesh) {
-  auto corner = [&](int vertex) {
-    const Eigen::Vector2d& p = mesh.vertices[vertex];
-    return std::array<float, 4>{
-        static_cast<float>(p.x()), static_cast<float>(p.y()), static_cast<float>(mesh.vertex_view[vertex]), 0.0f};
-  };
-  std::vector<std::array<float, 4>> uniforms;
-  for (const auto& triangle : mesh.triangles) {
-    for (int vertex : triangle) uniforms.push_back(corner(vertex));
-  }
-  for (const auto& edge : mesh.outer_edges) {
-    for (int vertex : edge) uniforms.push_back(corner(vertex));
-  }
-  if (uniforms.empty()) uniforms.push_back({0, 0, 0, 0});
-  return uniforms;
-}
-
-void SceneDepthRange(const std::vector<LayeredDepthView>& views, double* rho, double* median) {
+// PreparedScene::rho_m and median_depth_m.
+void SceneDepthRange(const std::vector<PosedLayeredView>& views, double* rho, double* median) {
   std::vector<float> depths;
-  for (const LayeredDepthView& d : views) {
+  for (const PosedLayeredView& view : views) {
+    const LayeredDepthView& d = view.depth;
     if (d.depth_m.type() != CV_32F || d.layers[0].weight.type() != CV_32F ||
         d.depth_m.size() != d.layers[0].weight.size()) {
       continue;
@@ -156,6 +146,52 @@ void SceneDepthRange(const std::vector<LayeredDepthView>& views, double* rho, do
   const double z1 = at(0.01), z50 = at(0.5), z99 = at(0.99);
   *median = z50;
   *rho = std::max(z99 - z1, 0.01 * z50);
+}
+
+}  // namespace
+
+std::string ViewName(const LayeredDepthView& view, int index) {
+  return "view " + std::to_string(index) + " (id " + std::to_string(view.id.value) + ")";
+}
+
+StatusOr<PreparedScene> PrepareScene(std::vector<PosedLayeredView>* views, const SeamSkirtOptions& skirts) {
+  PreparedScene scene;
+  std::vector<int> drawn;
+  std::vector<Rigid3> poses;
+  for (int v = 0; v < static_cast<int>(views->size()); ++v) {
+    LayeredDepthView& view = (*views)[v].depth;
+    view = WithSeamSkirts(view, skirts);
+    const std::string name = ViewName(view, v);
+    PX_RETURN_IF_ERROR(CheckLayerImages(view, name));
+    ViewTexels texels = MakeViewTexels(view);
+    for (std::string& warning : ViewTexelWarnings(texels, view.NumSegments(), name)) {
+      scene.warnings.push_back(std::move(warning));
+    }
+    if (texels.kept_texels == 0) texels.kept_segments.clear();
+    if (!texels.kept_segments.empty()) drawn.push_back(v);
+    poses.push_back((*views)[v].cam_from_world);
+    scene.texels.push_back(std::move(texels));
+  }
+  PX_ASSIGN_OR_RETURN(scene.mesh, MeshOfDrawnViews(poses, drawn));
+  SceneDepthRange(*views, &scene.rho_m, &scene.median_depth_m);
+  return scene;
+}
+
+std::vector<std::array<float, 4>> MeshUniforms(const GlViewMesh& mesh) {
+  auto corner = [&](int vertex) {
+    const Eigen::Vector2d& p = mesh.vertices[vertex];
+    return std::array<float, 4>{
+        static_cast<float>(p.x()), static_cast<float>(p.y()), static_cast<float>(mesh.vertex_view[vertex]), 0.0f};
+  };
+  std::vector<std::array<float, 4>> uniforms;
+  for (const auto& triangle : mesh.triangles) {
+    for (int vertex : triangle) uniforms.push_back(corner(vertex));
+  }
+  for (const auto& edge : mesh.outer_edges) {
+    for (int vertex : edge) uniforms.push_back(corner(vertex));
+  }
+  if (uniforms.empty()) uniforms.push_back({0, 0, 0, 0});
+  return uniforms;
 }
 
 }  // namespace px::render::gl

@@ -5,7 +5,6 @@
 #include <nlohmann/json.hpp>
 
 #include "pipeline/render/gl/view_texels.h"
-#include "pipeline/render/seam_skirts.h"
 
 namespace px::render::gl {
 namespace {
@@ -23,26 +22,9 @@ void Append(std::string* out, const void* data, size_t size) { out->append(stati
 
 StatusOr<std::string> ExportWebScene(std::vector<PosedLayeredView> views, const GlSceneRendererOptions& options) {
   if (views.empty()) return InvalidArgumentError("web scene: no views");
-  std::vector<ViewTexels> texels;
-  std::vector<std::string> warnings;
-  std::vector<int> drawn;
-  std::vector<Rigid3> poses;
-  for (int v = 0; v < static_cast<int>(views.size()); ++v) {
-    LayeredDepthView& view = views[v].depth;
-    view = WithSeamSkirts(view, options.seam_skirts);  // as GlSceneRenderer::Upload
-    const std::string name = "view " + std::to_string(v) + " (id " + std::to_string(view.id.value) + ")";
-    PX_RETURN_IF_ERROR(CheckLayerImages(view, name));
-    texels.push_back(MakeViewTexels(view));
-    for (std::string& warning : ViewTexelWarnings(texels.back(), view.NumSegments(), name)) warnings.push_back(warning);
-    if (texels.back().kept_texels == 0) texels.back().kept_segments.clear();
-    poses.push_back(views[v].cam_from_world);
-    if (!texels.back().kept_segments.empty()) drawn.push_back(v);
-  }
-  PX_ASSIGN_OR_RETURN(const GlViewMesh mesh, MeshOfDrawnViews(poses, drawn));
-  std::vector<LayeredDepthView> depths;
-  for (const PosedLayeredView& view : views) depths.push_back(view.depth);
-  double rho = 1, median = 1;
-  SceneDepthRange(depths, &rho, &median);
+  PX_ASSIGN_OR_RETURN(const PreparedScene scene, PrepareScene(&views, options.seam_skirts));
+  const std::vector<ViewTexels>& texels = scene.texels;
+  const GlViewMesh& mesh = scene.mesh;
 
   nlohmann::json header = {{"format", "parallax web scene"}, {"version", kWebSceneVersion}};
   nlohmann::json json_views = nlohmann::json::array();
@@ -81,12 +63,12 @@ StatusOr<std::string> ExportWebScene(std::vector<PosedLayeredView> views, const 
                     {"triangles", mesh.triangles.size()},
                     {"edges", mesh.outer_edges.size()},
                     {"single_view", mesh.single_view ? mesh.vertex_view[0] : -1}};
-  header["rho_m"] = rho;
-  header["gamma_m"] = rho * options.soft_z_gamma_fraction;
+  header["rho_m"] = scene.rho_m;
+  header["gamma_m"] = scene.rho_m * options.soft_z_gamma_fraction;
   header["viewing_weight_exponent"] = options.viewing_weight_exponent;
   header["texture_stretch"] = {{"fade_from", options.texture_stretch.fade_from},
                                {"fade_to", options.texture_stretch.fade_to}};
-  header["warnings"] = warnings;
+  header["warnings"] = scene.warnings;
 
   // Offsets made absolute: the prefix, then the header padded to a multiple of 8 (float64 blocks
   // must be aligned). The header's length depends on the offsets it holds: grown until it holds

@@ -7,7 +7,6 @@
 
 #include "pipeline/render/gl/layered_plane_scene_testing.h"
 #include "pipeline/render/gl/view_texels.h"
-#include "pipeline/render/seam_skirts.h"
 
 namespace px::render::gl {
 namespace {
@@ -32,27 +31,21 @@ TEST(WebSceneTest, HoldsWhatTheGlBackEndUploads) {
   EXPECT_GT(header["rho_m"].get<double>(), 0);
   EXPECT_EQ(header["mesh"]["triangles"].get<int>() * 3 + header["mesh"]["edges"].get<int>() * 2,
             static_cast<int>(header["mesh"]["uniforms"].size()));
-  std::vector<Rigid3> poses;
-  std::vector<LayeredDepthView> depths;
-  for (const PosedLayeredView& view : views) {
-    poses.push_back(view.cam_from_world);
-    depths.push_back(WithSeamSkirts(view.depth, options.seam_skirts));  // as exported
-  }
-  StatusOr<GlViewMesh> mesh = MeshOfDrawnViews(poses, {0, 1, 2, 3});
-  ASSERT_TRUE(mesh.ok());
-  const std::vector<std::array<float, 4>> uniforms = MeshUniforms(*mesh);
+  // What GlSceneRenderer::Upload uploads.
+  std::vector<PosedLayeredView> uploaded = views;
+  StatusOr<PreparedScene> prepared = PrepareScene(&uploaded, options.seam_skirts);
+  ASSERT_TRUE(prepared.ok()) << prepared.status().message();
+  const std::vector<std::array<float, 4>> uniforms = MeshUniforms(prepared->mesh);
   ASSERT_EQ(header["mesh"]["uniforms"].size(), uniforms.size());
   for (size_t u = 0; u < uniforms.size(); ++u) {
     for (int c = 0; c < 4; ++c) EXPECT_EQ(header["mesh"]["uniforms"][u][c].get<float>(), uniforms[u][c]);
   }
-  double rho = 0, median = 0;
-  SceneDepthRange(depths, &rho, &median);
-  EXPECT_DOUBLE_EQ(header["rho_m"].get<double>(), rho);
+  EXPECT_DOUBLE_EQ(header["rho_m"].get<double>(), prepared->rho_m);
 
   size_t end = 16 + prefix[2];
   for (size_t v = 0; v < views.size(); ++v) {
     const nlohmann::json& view = header["views"][v];
-    const ViewTexels expected = MakeViewTexels(WithSeamSkirts(views[v].depth, options.seam_skirts));
+    const ViewTexels& expected = prepared->texels[v];
     ASSERT_EQ(view["texels_offset"].get<size_t>(), end) << "blocks follow each other, view " << v;
     ASSERT_EQ(view["segments"].get<size_t>(), expected.kept_segments.size());
     const size_t texel_bytes = expected.texels.total() * 16;
