@@ -4,6 +4,7 @@
 
 #include <fstream>
 #include <nlohmann/json.hpp>
+#include <opencv2/imgcodecs.hpp>
 #include <sstream>
 #include <system_error>
 
@@ -139,6 +140,69 @@ void WriteText(const std::filesystem::path& path, const std::string& text) {
   std::ofstream out(path, std::ios::binary | std::ios::trunc);
   out << text;
   EXPECT_TRUE(out.good()) << "writing " << path;
+}
+
+std::vector<uint8_t> Jpeg(const cv::Mat& bgr) {
+  std::vector<uint8_t> bytes;
+  EXPECT_TRUE(cv::imencode(".jpg", bgr, bytes, {cv::IMWRITE_JPEG_QUALITY, 95}));
+  return bytes;
+}
+
+namespace {
+
+void Put32(std::vector<uint8_t>* out, uint32_t value) {  // big endian
+  for (int shift = 24; shift >= 0; shift -= 8) out->push_back(static_cast<uint8_t>(value >> shift));
+}
+void Put16(std::vector<uint8_t>* out, uint16_t value) {
+  out->push_back(static_cast<uint8_t>(value >> 8));
+  out->push_back(static_cast<uint8_t>(value));
+}
+
+}  // namespace
+
+std::vector<uint8_t> MakeMpo(const std::vector<std::vector<uint8_t>>& images) {
+  const size_t count = images.size();
+  std::vector<uint8_t> tiff = {'M', 'M', 0, 42};
+  Put32(&tiff, 8);  // the IFD
+  Put16(&tiff, 3);  // three entries
+  const uint32_t entries_offset = 8 + 2 + 3 * 12 + 4;
+  Put16(&tiff, 0xB000);
+  Put16(&tiff, 7);
+  Put32(&tiff, 4);
+  tiff.insert(tiff.end(), {'0', '1', '0', '0'});
+  Put16(&tiff, 0xB001);
+  Put16(&tiff, 4);
+  Put32(&tiff, 1);
+  Put32(&tiff, static_cast<uint32_t>(count));
+  Put16(&tiff, 0xB002);
+  Put16(&tiff, 7);
+  Put32(&tiff, static_cast<uint32_t>(16 * count));
+  Put32(&tiff, entries_offset);
+  Put32(&tiff, 0);  // no next IFD
+  const size_t segment = 2 + 4 + tiff.size() + 16 * count;
+  const size_t header_at = 2 + 4 + 4;  // SOI, APP2 marker and length, "MPF\0"
+  const size_t first_size = images[0].size() + 4 + 4 + tiff.size() + 16 * count;
+  size_t next = first_size;
+  for (size_t i = 0; i < count; ++i) {
+    Put32(&tiff, i == 0 ? 0x20030000u : 0x00020002u);  // attribute: base view, then other views
+    Put32(&tiff, static_cast<uint32_t>(i == 0 ? first_size : images[i].size()));
+    Put32(&tiff, i == 0 ? 0u : static_cast<uint32_t>(next - header_at));
+    Put32(&tiff, 0);
+    if (i > 0) next += images[i].size();
+  }
+  std::vector<uint8_t> file = {0xFF, 0xD8, 0xFF, 0xE2};
+  Put16(&file, static_cast<uint16_t>(segment));
+  file.insert(file.end(), {'M', 'P', 'F', 0});
+  file.insert(file.end(), tiff.begin(), tiff.end());
+  file.insert(file.end(), images[0].begin() + 2, images[0].end());
+  for (size_t i = 1; i < count; ++i) file.insert(file.end(), images[i].begin(), images[i].end());
+  return file;
+}
+
+std::filesystem::path WriteBytes(const std::filesystem::path& path, const std::vector<uint8_t>& bytes) {
+  std::ofstream out(path, std::ios::binary);
+  out.write(reinterpret_cast<const char*>(bytes.data()), static_cast<std::streamsize>(bytes.size()));
+  return path;
 }
 
 }  // namespace px::capture::testing

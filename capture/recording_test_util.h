@@ -6,6 +6,7 @@
 #include <filesystem>
 #include <opencv2/core.hpp>
 #include <string>
+#include <vector>
 
 #include "capture/recording.h"
 #include "tests/testing/temp_dir.h"
@@ -28,6 +29,14 @@ Recording ImageSetRecording(int num_frames, PixelFormat format, uint64_t seed = 
 
 // Fails the current test (with the frame index) where the two differ in any field or byte.
 void ExpectSameRecording(const Recording& expected, const Recording& actual);
+
+// `bgr` as a JPEG of quality 95.
+std::vector<uint8_t> Jpeg(const cv::Mat& bgr);
+// An MPO file of `images` (JPEGs) as a 3D camera writes it: the first JPEG with an APP2 MP index
+// (big-endian TIFF: version, number of images, MP entries) right after its SOI, the others after it.
+std::vector<uint8_t> MakeMpo(const std::vector<std::vector<uint8_t>>& images);
+// Writes `bytes` to `path` and returns the path.
+std::filesystem::path WriteBytes(const std::filesystem::path& path, const std::vector<uint8_t>& bytes);
 
 std::string ReadText(const std::filesystem::path& path);
 void WriteText(const std::filesystem::path& path, const std::string& text);
