@@ -162,10 +162,25 @@ StatusOr<Recording> ReadImageSet(const std::vector<std::filesystem::path>& files
   return recording;
 }
 
+// One JPEG or PNG and nothing else: one viewpoint, so views only as a lattice (a film scan, a
+// multi-lens frame, a side-by-side stereo photo).
+bool IsLonePhoto(const std::vector<std::filesystem::path>& files) {
+  return files.size() == 1 && (IsJpeg(files[0]) || LowerExtension(files[0]) == ".png");
+}
+
+StatusOr<Recording> LonePhotoAsLattice(const std::filesystem::path& file, std::vector<std::string>* warnings) {
+  PX_ASSIGN_OR_RETURN(Recording recording, RecordingFromLatticePhoto(file, LatticeHint{}, warnings));
+  warnings->push_back(file.string() +
+                      ": one photo, so its views can only be a lattice of tiles in it: found blind when processed "
+                      "(parallax import --lattice RxC gives its size)");
+  return recording;
+}
+
 }  // namespace
 
 StatusOr<Recording> RecordingFromImages(const std::vector<std::filesystem::path>& files,
                                         std::vector<std::string>* warnings) {
+  if (IsLonePhoto(files)) return LonePhotoAsLattice(files[0], warnings);
   std::vector<size_t> frames_per_file;
   return ReadImageSet(files, warnings, &frames_per_file);
 }
@@ -173,6 +188,7 @@ StatusOr<Recording> RecordingFromImages(const std::vector<std::filesystem::path>
 StatusOr<Recording> RecordingFromFolder(const std::filesystem::path& folder,
                                         const std::vector<std::filesystem::path>& files,
                                         std::vector<std::string>* warnings) {
+  if (IsLonePhoto(files)) return LonePhotoAsLattice(files[0], warnings);
   std::vector<size_t> frames_per_file;
   PX_ASSIGN_OR_RETURN(Recording recording, ReadImageSet(files, warnings, &frames_per_file));
   std::vector<size_t> holding_views;  // the files with several views, by index

@@ -21,8 +21,10 @@ StatusOr<std::vector<std::filesystem::path>> ListImages(const std::vector<std::f
 
 // The frames of every file, in order (sequence = index). Errors name the file: one that cannot be
 // decoded (an MPO with a broken index, a damaged animation); fewer than 2 views in all (an image
-// set needs two viewpoints). A JPEG whose EXIF cannot be read is imported with its focal length
-// unknown (self-calibrated later), and `warnings` says so, as it does of repeated frames left out.
+// set needs two viewpoints). One JPEG or PNG alone holds views only as a lattice: it becomes
+// RecordingFromLatticePhoto's recording, its lattice found blind, and `warnings` says so. A JPEG whose EXIF cannot be
+// read is imported with its focal length unknown (self-calibrated later), and `warnings` says so, as it does of
+// repeated frames left out.
 StatusOr<Recording> RecordingFromImages(const std::vector<std::filesystem::path>& files,
                                         std::vector<std::string>* warnings);
 
@@ -30,7 +32,8 @@ StatusOr<Recording> RecordingFromImages(const std::vector<std::filesystem::path>
 // more of its files hold several views each (MPO files, animations; a still GIF or WebP is a
 // photo), each is a capture of its own, not views of one scene from one set of places (a
 // wigglegram maker's rectified and raw versions of one shot, two stereo pairs): the first of them
-// by name is taken alone and `warnings` names what is left out.
+// by name is taken alone and `warnings` names what is left out. A folder of one JPEG or PNG is a
+// lattice photo, as in RecordingFromImages.
 StatusOr<Recording> RecordingFromFolder(const std::filesystem::path& folder,
                                         const std::vector<std::filesystem::path>& files,
                                         std::vector<std::string>* warnings);

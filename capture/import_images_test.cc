@@ -80,12 +80,30 @@ TEST(ImportImagesTest, ErrorsNameTheFile) {
   EXPECT_EQ(empty.status().code(), StatusCode::kNotFound);
 
   std::vector<std::string> warnings;
-  StatusOr<Recording> one = RecordingFromImages({good}, &warnings);
-  EXPECT_EQ(one.status().code(), StatusCode::kFailedPrecondition);
-  EXPECT_NE(one.status().message().find("at least 2"), std::string::npos);
   StatusOr<Recording> broken = RecordingFromImages({good, dir.path() / "broken.jpg"}, &warnings);
   EXPECT_EQ(broken.status().code(), StatusCode::kDataLoss);
   EXPECT_NE(broken.status().message().find("broken.jpg: cannot be decoded"), std::string::npos);
+}
+
+// One photo alone is one viewpoint: a lattice of views in it, found blind when processed, and a
+// warning says so; the same photo in a folder of its own too.
+TEST(ImportImagesTest, OnePhotoAloneIsALatticeFoundBlind) {
+  ScratchDir dir;
+  const std::filesystem::path good = WriteImage(dir.path() / "good.png", GradientNoiseBgr(32, 24, 1));
+  std::vector<std::string> warnings;
+  StatusOr<Recording> one = RecordingFromImages({good}, &warnings);
+  ASSERT_TRUE(one.ok()) << one.status().ToString();
+  EXPECT_EQ(one->frames.kind, FrameSetKind::kLatticeFrame);
+  ASSERT_TRUE(one->source.lattice.has_value());
+  EXPECT_EQ(one->source.lattice->rows, 0);  // found blind
+  ASSERT_EQ(one->frames.frames.size(), 1u);
+  ASSERT_FALSE(warnings.empty());
+  EXPECT_NE(warnings.back().find("one photo"), std::string::npos) << warnings.back();
+  std::filesystem::create_directories(dir.path() / "alone");
+  std::filesystem::copy_file(good, dir.path() / "alone" / "scan.png");
+  StatusOr<Recording> alone = RecordingFromFolder(dir.path() / "alone", {dir.path() / "alone" / "scan.png"}, &warnings);
+  ASSERT_TRUE(alone.ok()) << alone.status().ToString();
+  EXPECT_EQ(alone->frames.kind, FrameSetKind::kLatticeFrame);
 }
 
 // A camera's JPEG with EXIF: its focal length in pixels comes through.

@@ -65,8 +65,13 @@ StatusOr<Recording> PhotoFolderAsRecording(const std::filesystem::path& folder) 
                                                             : RecordingFromImages(*photos, &warnings));
   const auto log = Logger("clip");
   for (const std::string& warning : warnings) log->warn("{}", warning);
-  log->info(
-      "{}: not a recording; {} views taken as a hand-held image set", folder.string(), recording.frames.frames.size());
+  if (recording.frames.kind == FrameSetKind::kLatticeFrame) {
+    log->info("{}: not a recording; its one photo taken as a lattice of views (found blind)", folder.string());
+  } else {
+    log->info("{}: not a recording; {} views taken as a hand-held image set",
+              folder.string(),
+              recording.frames.frames.size());
+  }
   return recording;
 }
 

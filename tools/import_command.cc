@@ -54,6 +54,12 @@ Status RunImport(const ImportArgs& args) {
       Recording recording,
       one_folder ? RecordingFromFolder(inputs[0], files, &warnings) : RecordingFromImages(files, &warnings));
   for (const std::string& warning : warnings) log->warn("{}", warning);
+  if (recording.frames.kind == FrameSetKind::kLatticeFrame) {  // one photo alone: a lattice
+    PX_RETURN_IF_ERROR(WriteRecording(args.output, recording));
+    log->info("wrote recording {}: a lattice frame, no rig calibration: split blind when processed", args.output);
+    std::printf("%s\n", args.output.c_str());
+    return OkStatus();
+  }
   for (size_t i = 0; i < recording.frames.frames.size(); ++i) {
     const Frame& frame = recording.frames.frames[i];
     log->info("view {}: {}x{}, focal {}",
@@ -83,9 +89,11 @@ void AddImportCommand(CLI::App& app) {
       "a 3D camera's MPO file (each image a view) or a wigglegram's animated GIF or WebP (each frame a "
       "view, repeated frames left out), for `parallax clip`");
   command
-      ->add_option("photos",
-                   args->inputs,
-                   "Photos, MPO files, animations, or folders of them (sorted by name); at least 2 views in all")
+      ->add_option(
+          "photos",
+          args->inputs,
+          "Photos, MPO files, animations, or folders of them (sorted by name); at least 2 views in all, or one "
+          "photo alone, taken as a lattice of views found blind (as --lattice auto)")
       ->required();
   command->add_option("-o,--output", args->output, "Recording folder to create (must not exist or be empty)")
       ->required();

@@ -90,6 +90,16 @@ bool IsSinglePhoto(const fs::path& path) {
   return fs::is_regular_file(path, error) && (extension == ".jpg" || extension == ".jpeg" || extension == ".png");
 }
 
+// `path` when it is one JPEG or PNG, or a folder's only image when that is one: a lattice photo
+// (as parallax clip takes it); empty otherwise.
+fs::path LonePhoto(const fs::path& path) {
+  if (IsSinglePhoto(path)) return path;
+  std::error_code error;
+  if (!fs::is_directory(path, error)) return {};
+  StatusOr<std::vector<fs::path>> files = ListImages({path});
+  return files.ok() && files->size() == 1 && IsSinglePhoto(files->front()) ? files->front() : fs::path();
+}
+
 Status LoadLatticePhoto(const fs::path& path, const std::string& size, RealSet* set) {
   set->layout = "lattice photo";
   PX_ASSIGN_OR_RETURN(LatticeHint hint, ParseLatticeSize(size));
@@ -159,8 +169,8 @@ StatusOr<RealSet> LoadRealSet(const fs::path& path, const std::string& name, con
     PX_RETURN_IF_ERROR(LoadLlffPhotos(path, &set));
   } else if (fs::exists(path / "parameters.cfg", error)) {
     PX_RETURN_IF_ERROR(LoadHciPhotos(path, &set));
-  } else if (IsSinglePhoto(path)) {
-    PX_RETURN_IF_ERROR(LoadLatticePhoto(path, lattice, &set));
+  } else if (const fs::path photo = LonePhoto(path); !photo.empty()) {
+    PX_RETURN_IF_ERROR(LoadLatticePhoto(photo, lattice, &set));
     return set;
   } else {
     PX_RETURN_IF_ERROR(LoadPhotoFolder(path, &set));
