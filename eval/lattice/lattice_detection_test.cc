@@ -174,6 +174,33 @@ TEST(LatticeDetectionTest, RealWiggleLensFrameIsThreeAbuttingViews) {
   EXPECT_EQ(detection->report.rows, 1);
   EXPECT_EQ(detection->report.cols, 3);
   EXPECT_GE(detection->report.tile_agreement, lattice::kSameSceneAgreement);
+  // Each sub-image's dark falloff is trimmed: the outer twentieth of the tiles on either side,
+  // about a fifth as bright as their whole in the even cut, is over half as bright after the trim.
+  cv::Mat grey;
+  cv::cvtColor(frame, grey, cv::COLOR_BGR2GRAY);
+  const auto rim_share = [&grey](const cv::Rect& tile) {
+    const int rim = tile.width / 20;
+    const double rims = (cv::mean(grey(cv::Rect(tile.x, tile.y, rim, tile.height)))[0] +
+                         cv::mean(grey(cv::Rect(tile.br().x - rim, tile.y, rim, tile.height)))[0]) /
+                        2;
+    return rims / cv::mean(grey(tile))[0];
+  };
+  for (int c = 0; c < 3; ++c) {
+    const cv::Rect tile = detection->report.tiles[c].rect;
+    const cv::Rect even(c * frame.cols / 3, 0, frame.cols / 3, frame.rows);
+    std::printf("tile %d: %dx%d at x %d; its rims at %.2f of its mean, the even cut's at %.2f\n",
+                c,
+                tile.width,
+                tile.height,
+                tile.x,
+                rim_share(tile),
+                rim_share(even));
+    EXPECT_EQ(tile.size(), detection->report.tiles[0].rect.size());
+    EXPECT_LT(tile.width, even.width * 0.9);
+    EXPECT_GE(tile.width, even.width * 0.6);
+    EXPECT_GT(rim_share(tile), 0.5);
+    EXPECT_LT(rim_share(even), 0.3);
+  }
 }
 
 // A Nishika N8000 scan: four frames on dark film, each exposed its own way.

@@ -15,6 +15,7 @@
 #include "pipeline/lattice/tile_agreement.h"
 #include "pipeline/lattice/tile_edge_fit.h"
 #include "pipeline/lattice/tile_geometry.h"
+#include "pipeline/lattice/vignette_trim.h"
 
 namespace px {
 namespace {
@@ -789,28 +790,41 @@ std::string LatticeReport::Summary() const {
   return out.str();
 }
 
-// The frame cut into rows x cols equal tiles: a lattice of the size the user gave whose tiles abut
-// (a wiggle lens's sub-images, vignetted towards each other), so that no gap stands out to find.
+// The frame (`grey`) cut into rows x cols equal tiles: a lattice of the size the user gave whose
+// tiles abut (a wiggle lens's sub-images, vignetted towards each other), so that no gap stands out
+// to find. Each tile is then cut down to the part its lens lit (vignette_trim.h).
 LatticeDetection EvenSplit(
-    const cv::Size& size, int rows, int cols, TileOrientation orientation, const std::string& evidence) {
+    const cv::Mat& grey, int rows, int cols, TileOrientation orientation, const std::string& evidence) {
   LatticeDetection detection;
   LatticeReport& report = detection.report;
   report.rows = rows;
   report.cols = cols;
+  std::vector<cv::Rect> cut;
   for (int r = 0; r < rows; ++r) {
     for (int c = 0; c < cols; ++c) {
-      DetectedTile tile;
-      tile.row = r;
-      tile.col = c;
-      const int x0 = c * size.width / cols, x1 = (c + 1) * size.width / cols;
-      const int y0 = r * size.height / rows, y1 = (r + 1) * size.height / rows;
-      tile.rect = cv::Rect(x0, y0, x1 - x0, y1 - y0);
-      report.tiles.push_back(tile);
+      const int x0 = c * grey.cols / cols, x1 = (c + 1) * grey.cols / cols;
+      const int y0 = r * grey.rows / rows, y1 = (r + 1) * grey.rows / rows;
+      cut.emplace_back(x0, y0, x1 - x0, y1 - y0);
     }
   }
+  const std::vector<cv::Rect> lit = lattice::LitTiles(grey, cut);
+  for (int i = 0; i < rows * cols; ++i) {
+    DetectedTile tile;
+    tile.row = i / cols;
+    tile.col = i % cols;
+    tile.rect = lit[i];
+    report.tiles.push_back(tile);
+  }
   detection.layout =
-      LayoutFromTiles(report.tiles, rows, cols, size, std::vector<TileOrientation>(rows * cols, orientation));
+      LayoutFromTiles(report.tiles, rows, cols, grey.size(), std::vector<TileOrientation>(rows * cols, orientation));
   report.evidence = {evidence};
+  if (lit.front().size() != cut.front().size()) {
+    report.evidence.push_back(Format("vignetted borders trimmed: tiles of %.0fx%.0f where the cut gave %.0fx%.0f",
+                                     lit.front().width,
+                                     lit.front().height,
+                                     cut.front().width,
+                                     cut.front().height));
+  }
   return detection;
 }
 
@@ -833,7 +847,7 @@ StatusOr<LatticeDetection> DetectAbutting(const GreyFrame& frame,
                                                         lattice::kSameSceneAgreement)));
   }
   LatticeDetection detection = EvenSplit(
-      frame.grey.size(),
+      frame.grey,
       cut.rows,
       cut.cols,
       options.orientation,
@@ -877,7 +891,7 @@ StatusOr<LatticeDetection> DetectLattice(const cv::Mat& sensor_bgr,
     const auto contradicts = [](int found, int given) { return found > 1 && found != given; };
     if (!other.ok() ||
         (!contradicts(other->report.rows, options.rows) && !contradicts(other->report.cols, options.cols))) {
-      detection = EvenSplit(frame.grey.size(),
+      detection = EvenSplit(frame.grey,
                             options.rows,
                             options.cols,
                             options.orientation,
