@@ -77,8 +77,19 @@ void BM_Import(benchmark::State& state) {
   const auto file = static_cast<File>(state.range(0));
   const bool write = state.range(1) != 0;
   std::string pattern = (fs::temp_directory_path() / "px_import_bench_XXXXXX").string();
-  const fs::path root = ::mkdtemp(pattern.data());
+  if (::mkdtemp(pattern.data()) == nullptr) {
+    state.SkipWithError("cannot make a scratch folder");
+    return;
+  }
+  const fs::path root = pattern;
   const fs::path path = MakeFile(file, root);
+  std::error_code error;
+  const uintmax_t file_bytes = fs::file_size(path, error);
+  if (error) {
+    state.SkipWithError(("cannot write " + path.string()).c_str());
+    fs::remove_all(root, error);
+    return;
+  }
   int i = 0;
   for (auto _ : state) {
     std::vector<std::string> warnings;
@@ -92,9 +103,9 @@ void BM_Import(benchmark::State& state) {
     if (write && !WriteRecording(root / std::to_string(i++), *recording).ok()) state.SkipWithError("write failed");
     benchmark::DoNotOptimize(recording);
   }
-  state.counters["file_mb"] = static_cast<double>(fs::file_size(path)) / (1 << 20);
+  state.counters["file_mb"] = static_cast<double>(file_bytes) / (1 << 20);  // MiB
   state.SetLabel(std::string(FileLabel(file)) + (write ? ", read+write" : ", read"));
-  fs::remove_all(root);
+  fs::remove_all(root, error);
 }
 
 void Files(benchmark::internal::Benchmark* b) {

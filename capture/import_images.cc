@@ -172,7 +172,7 @@ StatusOr<Recording> LonePhotoAsLattice(const std::filesystem::path& file, std::v
   PX_ASSIGN_OR_RETURN(Recording recording, RecordingFromLatticePhoto(file, LatticeHint{}, warnings));
   warnings->push_back(file.string() +
                       ": one photo, so its views can only be a lattice of tiles in it: found blind when processed "
-                      "(parallax import --lattice RxC gives its size)");
+                      "(parallax import --lattice RxC with the photo named gives its size)");
   return recording;
 }
 

@@ -22,7 +22,8 @@ StatusOr<std::vector<std::filesystem::path>> ListImages(const std::vector<std::f
 // The frames of every file, in order (sequence = index). Errors name the file: one that cannot be
 // decoded (an MPO with a broken index, a damaged animation); fewer than 2 views in all (an image
 // set needs two viewpoints). One JPEG or PNG alone holds views only as a lattice: it becomes
-// RecordingFromLatticePhoto's recording, its lattice found blind, and `warnings` says so. A JPEG whose EXIF cannot be
+// RecordingFromLatticePhoto's recording, its lattice found blind, and `warnings` says so (a lone
+// GIF or WebP is an animation: refused when it holds one frame). A JPEG whose EXIF cannot be
 // read is imported with its focal length unknown (self-calibrated later), and `warnings` says so, as it does of
 // repeated frames left out.
 StatusOr<Recording> RecordingFromImages(const std::vector<std::filesystem::path>& files,

@@ -833,7 +833,7 @@ LatticeDetection EvenSplit(
 // abut with no gap to find, or vignette into each other only along one axis. `why` says why the
 // gaps gave no lattice (empty when they gave `found`). NOT_FOUND, with `why`, when no such cut's
 // tiles show one scene. The cut is even over the whole frame: where `found` had gaps along one
-// axis, their bands fall at the tiles' borders.
+// axis, their bands fall at the tiles' borders (EvenSplit's trim takes off those that are dark).
 StatusOr<LatticeDetection> DetectAbutting(const GreyFrame& frame,
                                           const LatticeOptions& options,
                                           cv::Size found,

@@ -63,7 +63,8 @@ struct LatticeDetection {
 // cut into equal tiles (abutting tiles, as a wiggle lens's), confidence 0, the evidence saying so.
 // Without the size, such a frame is cut into the most equal tiles whose pictures show one scene,
 // and so are tiles found more than twice as long as wide (several abutting views), along their
-// length.
+// length. The tiles of such an even cut are then cut down to what their lenses lit
+// (vignette_trim.h), so they no longer cover the frame.
 StatusOr<LatticeDetection> DetectLattice(const cv::Mat& sensor_bgr,
                                          const LatticeOptions& options,
                                          const LatticeLayout* prior = nullptr);

@@ -10,6 +10,8 @@ namespace {
 // Profiles are read off the tile reduced to at most this many pixels a side.
 constexpr int kProfileSidePx = 256;
 constexpr double kBrightPercentile = 0.9;
+// A side is trimmed at most this many times as far as the side opposite it.
+constexpr int kMaxSideRatio = 2;
 
 // Per column of `image` (CV_8UC1), the kBrightPercentile of its values.
 std::vector<double> BrightColumns(const cv::Mat& image) {
@@ -45,14 +47,21 @@ std::pair<int, int> DarkEnds(const std::vector<double>& profile) {
 std::array<int, 4> VignettedBorder(const cv::Mat& grey, const cv::Rect& tile) {
   const cv::Rect inside = tile & cv::Rect(0, 0, grey.cols, grey.rows);
   if (inside.width < 8 || inside.height < 8) return {0, 0, 0, 0};
-  const double scale = std::min(1.0, static_cast<double>(kProfileSidePx) / std::max(inside.width, inside.height));
+  // Each axis reduced to at most kProfileSidePx (and at least 1) pixels.
+  const cv::Size reduced(std::clamp(inside.width, 1, kProfileSidePx), std::clamp(inside.height, 1, kProfileSidePx));
   cv::Mat small;
-  cv::resize(grey(inside), small, cv::Size(), scale, scale, cv::INTER_AREA);
+  cv::resize(grey(inside), small, reduced, 0, 0, cv::INTER_AREA);
   const auto [left, right] = DarkEnds(BrightColumns(small));
   const auto [top, bottom] = DarkEnds(BrightColumns(small.t()));
-  // Back to the frame's pixels, rounded inward.
-  const auto full = [scale](int n) { return static_cast<int>(std::ceil(n / scale)); };
-  return {full(left), full(right), full(top), full(bottom)};
+  // Back to the frame's pixels, rounded inward, within kMaxTrimPerSide of the tile.
+  const auto full = [](int n, int reduced_px, int tile_px) {
+    const int most = static_cast<int>(kMaxTrimPerSide * tile_px);
+    return std::min(most, static_cast<int>(std::ceil(static_cast<double>(n) * tile_px / reduced_px)));
+  };
+  return {full(left, small.cols, inside.width),
+          full(right, small.cols, inside.width),
+          full(top, small.rows, inside.height),
+          full(bottom, small.rows, inside.height)};
 }
 
 std::vector<cv::Rect> LitTiles(const cv::Mat& grey, const std::vector<cv::Rect>& tiles) {
@@ -65,13 +74,17 @@ std::vector<cv::Rect> LitTiles(const cv::Mat& grey, const std::vector<cv::Rect>&
     width = std::min(width, tile.width);
     height = std::min(height, tile.height);
   }
-  std::array<int, 4> trim;
+  std::array<int, 4> median;
   for (int side = 0; side < 4; ++side) {
     std::vector<int>& values = per_side[side];
     const size_t lower_median = (values.size() - 1) / 2;
     std::nth_element(values.begin(), values.begin() + lower_median, values.end());
-    trim[side] = values[lower_median];
+    median[side] = values[lower_median];
   }
+  // A lens's vignette darkens opposite sides alike (within kMaxSideRatio); a dark part of the
+  // scene along one side (the ground, a shadow), which every tile of one scene shows, does not.
+  std::array<int, 4> trim;
+  for (int side = 0; side < 4; ++side) trim[side] = std::min(median[side], kMaxSideRatio * median[side ^ 1]);
   width = std::max(1, width - trim[0] - trim[1]);
   height = std::max(1, height - trim[2] - trim[3]);
   std::vector<cv::Rect> lit;

@@ -23,7 +23,9 @@ std::array<int, 4> VignettedBorder(const cv::Mat& grey, const cv::Rect& tile);
 
 // The tiles without their lenses' vignetted borders, all of one size: each side trimmed by the
 // lower median over the tiles of VignettedBorder there (the vignette is the lenses' own and alike
-// in every tile; a dark part of the scene at one tile's side is not).
+// in every tile; a dark part of the scene at one tile's side is not), and at most twice as far as
+// the side opposite it (a vignette darkens both; the dark ground along the bottom of every tile
+// of one scene darkens one).
 std::vector<cv::Rect> LitTiles(const cv::Mat& grey, const std::vector<cv::Rect>& tiles);
 
 }  // namespace px::lattice
