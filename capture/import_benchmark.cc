@@ -4,7 +4,6 @@
 // (decoding, EXIF, the frames of a recording in memory); "read+write" adds storing the recording
 // as `parallax import` does. Figures only; nothing is asserted.
 #include <benchmark/benchmark.h>
-#include <stdlib.h>
 
 #include <filesystem>
 #include <opencv2/imgproc.hpp>
@@ -22,6 +21,7 @@ namespace fs = std::filesystem;
 using capture::testing::GradientNoiseBgr;
 using capture::testing::Jpeg;
 using capture::testing::MakeMpo;
+using capture::testing::ScratchDir;
 using capture::testing::WriteBytes;
 
 // Smooth detail with mild noise, so the JPEG is about the size a camera's would be (noise alone
@@ -76,18 +76,13 @@ const char* FileLabel(File file) {
 void BM_Import(benchmark::State& state) {
   const auto file = static_cast<File>(state.range(0));
   const bool write = state.range(1) != 0;
-  std::string pattern = (fs::temp_directory_path() / "px_import_bench_XXXXXX").string();
-  if (::mkdtemp(pattern.data()) == nullptr) {
-    state.SkipWithError("cannot make a scratch folder");
-    return;
-  }
-  const fs::path root = pattern;
+  const ScratchDir scratch;  // removed with everything in it when the benchmark ends
+  const fs::path& root = scratch.path();
   const fs::path path = MakeFile(file, root);
   std::error_code error;
   const uintmax_t file_bytes = fs::file_size(path, error);
   if (error) {
     state.SkipWithError(("cannot write " + path.string()).c_str());
-    fs::remove_all(root, error);
     return;
   }
   int i = 0;
@@ -105,7 +100,6 @@ void BM_Import(benchmark::State& state) {
   }
   state.counters["file_mb"] = static_cast<double>(file_bytes) / (1 << 20);  // MiB
   state.SetLabel(std::string(FileLabel(file)) + (write ? ", read+write" : ", read"));
-  fs::remove_all(root, error);
 }
 
 void Files(benchmark::internal::Benchmark* b) {
