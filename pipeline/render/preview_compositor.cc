@@ -34,8 +34,11 @@ struct BandBuffers {
   std::vector<float> depths;
   std::vector<float> contra;
   std::vector<uint8_t> contested;
-  std::vector<uint8_t> wants_witness;  // per row of the band: some pixel's witness is wanted
-  int pixels = 0;                      // pixels per slot plane: rows * width of the current band layout
+  // Where the witness pass draws: per pixel of the band, 1 where its witness is wanted
+  // (WitnessWanted); per row, the pixels [first, end) spanning those (empty: first >= end).
+  std::vector<uint8_t> witness_wanted;
+  std::vector<std::array<int, 2>> witness_span;
+  int pixels = 0;  // pixels per slot plane: rows * width of the current band layout
 
   void Reserve(int band_pixels) {
     pixels = band_pixels;
@@ -69,8 +72,10 @@ inline bool WitnessWanted(const float* const row_cells[3], int x, int witness, f
   return false;
 }
 
-// The rows of the band [row_begin, row_end), its blendable slots drawn, that hold a pixel whose
-// witness is wanted (WitnessWanted), as [*first, *end); false when none does.
+// Marks the pixels of the band [row_begin, row_end), its blendable slots drawn, whose witness is
+// wanted (WitnessWanted; the witness pass draws only there and cannot change the answer: it
+// writes the witness's slot, the test reads the other two), and spans them per row. The rows
+// that hold one are [*first, *end); false when none does.
 bool RowsWantingWitnesses(const std::vector<ViewSlots>& slots,
                           BandBuffers& band,
                           int width,
@@ -82,21 +87,26 @@ bool RowsWantingWitnesses(const std::vector<ViewSlots>& slots,
   const size_t plane = static_cast<size_t>(band.pixels);
   *first = row_end;
   *end = row_begin;
-  band.wants_witness.assign(row_end - row_begin, 0);
+  band.witness_wanted.assign(static_cast<size_t>(row_end - row_begin) * width, 0);
+  band.witness_span.assign(row_end - row_begin, {width, 0});
   for (int y = row_begin; y < row_end; ++y) {
     const ViewSlots* slot_row = slots.data() + static_cast<size_t>(y) * width;
     const size_t row_offset = static_cast<size_t>(y - row_begin) * width;
     const float* const row_cells[3] = {band.cells.data() + 4 * row_offset,
                                        band.cells.data() + 4 * (plane + row_offset),
                                        band.cells.data() + 4 * (2 * plane + row_offset)};
+    uint8_t* wanted = band.witness_wanted.data() + row_offset;
+    std::array<int, 2>& span = band.witness_span[y - row_begin];
     for (int x = 0; x < width; ++x) {
       if (slot_row[x].witness == ViewSlots::kNone || !WitnessWanted(row_cells, x, slot_row[x].witness, agree_levels))
         continue;
-      *first = std::min(*first, y);
-      *end = y + 1;
-      band.wants_witness[y - row_begin] = 1;
-      break;
+      wanted[x] = 1;
+      span[0] = std::min(span[0], x);
+      span[1] = x + 1;
     }
+    if (span[0] >= span[1]) continue;
+    *first = std::min(*first, y);
+    *end = y + 1;
   }
   return *first < *end;
 }
@@ -120,7 +130,6 @@ long CompositeSegment(const SceneView& view,
                       bool with_colour,
                       bool contradictions,
                       SlotPass pass,
-                      float agree_levels,
                       BandBuffers* band) {
   const int view_index = fv.view;
   const SceneSegment& segment = view.segments[s.segment];
@@ -134,19 +143,25 @@ long CompositeSegment(const SceneView& view,
   const cv::v_float32x4 fade = cv::v_setall_f32(s.texture_weight);
   long fragments = 0;
   ForEachSegmentRow(fv, s, width, row_begin, row_end, [&](const SegmentRow& r) {
-    if (witness_pass && !band->wants_witness[r.y - band_begin]) return;
+    int x_begin = r.x_begin, x_end = r.x_end;
+    if (witness_pass) {
+      const std::array<int, 2>& span = band->witness_span[r.y - band_begin];
+      x_begin = std::max(x_begin, span[0]);
+      x_end = std::min(x_end, span[1]);
+    }
     const ViewSlots* slot_row = slots.data() + static_cast<size_t>(r.y) * width;
     // This row's cells and depth sums in each slot's plane.
     const size_t row_offset = static_cast<size_t>(r.y - band_begin) * width;
+    const uint8_t* witness_wanted = witness_pass ? band->witness_wanted.data() + row_offset : nullptr;
     float* const row_cells[3] = {
         cells + 4 * row_offset, cells + 4 * (plane + row_offset), cells + 4 * (2 * plane + row_offset)};
     float* const row_depths[3] = {depths + row_offset, depths + plane + row_offset, depths + 2 * plane + row_offset};
-    for (int x = r.x_begin; x < r.x_end; ++x) {
+    for (int x = x_begin; x < x_end; ++x) {
+      if (witness_pass && !witness_wanted[x]) continue;
       const int slot = SlotOf(slot_row[x], view_index);
       if (slot < 0) continue;
       const bool is_witness = slot == slot_row[x].witness;
       if (is_witness != witness_pass) continue;
-      if (witness_pass && !WitnessWanted(row_cells, x, slot, agree_levels)) continue;
       float* cell = row_cells[slot] + 4 * x;
       if (cell[3] >= 1.0f) continue;  // saturated: nothing behind can add to it
       const float fx = static_cast<float>(x);
@@ -921,7 +936,6 @@ void CompositePreview(const LayeredScene& scene,
                                     with_colour,
                                     rules != nullptr,
                                     pass,
-                                    vote ? rules->colour_agree_levels : 0.0f,
                                     &band);
         }
       }
