@@ -7,11 +7,13 @@
 #include <cstdio>
 #include <limits>
 #include <opencv2/core/utility.hpp>
+#include <string>
 #include <thread>
 #include <utility>
 #include <vector>
 
 #include "pipeline/render/layered_from_depth.h"
+#include "pipeline/render/layered_scene.h"
 #include "pipeline/render/render_test_util.h"
 
 namespace px {
@@ -321,6 +323,50 @@ TEST_F(CpuSceneRendererTest, NanPlanesAndWeightsAreDroppedNotDrawn) {
               frame->holes.hole_ratio,
               MaskedPsnr(frame->bgr, views_[4].image));
   EXPECT_GT(MaskedPsnr(frame->bgr, views_[4].image), 25.0);
+}
+
+TEST_F(CpuSceneRendererTest, APlanePassingInfinityWithinItsRectangleIsDrawnFlatNotDropped) {
+  std::vector<LayeredDepthView> layers = layers_;
+  LayeredDepthView& centre = layers[4];
+  // Tilt a segment of the centre view along u so that 1/z falls to 0 at the right edge of its
+  // rectangle (its centre keeps its depth); another, mirrored, is behind infinity at its centre.
+  const auto tilt = [&](int s, double zero_at_u) {
+    DepthSegment& segment = centre.segments[s];
+    const cv::Rect& b = segment.bbox;
+    const double u = b.x + 0.5 * (b.width - 1), v = b.y + 0.5 * (b.height - 1);
+    const double inverse = segment.inv_depth_a * u + segment.inv_depth_b * v + segment.inv_depth_c;
+    segment.inv_depth_a = -inverse / (zero_at_u - u);
+    segment.inv_depth_b = 0;
+    segment.inv_depth_c = inverse - segment.inv_depth_a * u;
+    return inverse;
+  };
+  int flat = -1, behind = -1;
+  for (int s = 0; s < centre.NumSegments() && behind < 0; ++s) {
+    if (centre.segments[s].bbox.width < 8) continue;
+    (flat < 0 ? flat : behind) = s;
+  }
+  ASSERT_GE(behind, 0);
+  const cv::Rect& b = centre.segments[flat].bbox;
+  const double centre_inverse = tilt(flat, b.x + b.width);  // the rectangle's right edge
+  tilt(behind, centre.segments[behind].bbox.x);  // its left edge, then beyond infinity at the centre
+  centre.segments[behind].inv_depth_a *= -1;
+  centre.segments[behind].inv_depth_c *= -1;
+  StatusOr<render::LayeredScene> scene = render::LayeredScene::Create(views_, layers, RenderOptions());
+  ASSERT_TRUE(scene.ok()) << scene.status().ToString();
+  const render::SceneView& view = scene->views()[4];
+  ASSERT_EQ(view.id, views_[4].id);
+  EXPECT_TRUE(view.segments[flat].drawn);
+  EXPECT_NEAR(view.segments[flat].plane[0], 0.0, 1e-12);
+  EXPECT_NEAR(view.segments[flat].plane[1], 0.0, 1e-12);
+  EXPECT_NEAR(view.segments[flat].plane[2], centre_inverse, 1e-9);
+  EXPECT_FALSE(view.segments[behind].drawn);
+  const auto warned = [&](const std::string& words) {
+    return std::any_of(scene->warnings().begin(), scene->warnings().end(), [&](const std::string& w) {
+      return w.find(words) != std::string::npos;
+    });
+  };
+  EXPECT_TRUE(warned("1 segments drawn facing the camera"));
+  EXPECT_TRUE(warned("1 segments dropped: plane at or behind infinity at the rectangle's centre"));
 }
 
 // A floor 10 cm below one view, a wall 5 m away: per output pixel covered by a source, the share

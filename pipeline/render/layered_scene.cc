@@ -43,7 +43,7 @@ SceneView PrepareView(const View& pose, const LayeredDepthView& layered, std::ve
   const int width = layered.camera.width, height = layered.camera.height;
   const int num_segments = layered.NumSegments();
   view.segments.resize(num_segments);
-  int bad_plane = 0, behind_infinity = 0;
+  int bad_plane = 0, behind_infinity = 0, flattened = 0;
   for (int s = 0; s < num_segments; ++s) {
     const DepthSegment& segment = layered.segments[s];
     SceneSegment& out = view.segments[s];
@@ -67,8 +67,16 @@ SceneView PrepareView(const View& pose, const LayeredDepthView& layered, std::ve
       positive = positive && out.plane[0] * c[0] + out.plane[1] * c[1] + out.plane[2] > kMinInverseDepth;
     }
     if (!positive) {
-      ++behind_infinity;
-      continue;
+      // A far plane steep enough to pass infinity within its rectangle (sky, distant ground):
+      // its texels are still seen, so it is drawn facing the camera at its centre's depth.
+      const double centre =
+          out.plane[0] * (b.x + 0.5 * (b.width - 1)) + out.plane[1] * (b.y + 0.5 * (b.height - 1)) + out.plane[2];
+      if (!(centre > kMinInverseDepth)) {
+        ++behind_infinity;
+        continue;
+      }
+      out.plane = {0.0, 0.0, centre};
+      ++flattened;
     }
     for (int k = 0; k < 4; ++k) out.corners_in_world[k] = Lift(view, out.plane, corners[k][0], corners[k][1]);
     out.centre_in_world = Lift(view, out.plane, b.x + 0.5 * (b.width - 1), b.y + 0.5 * (b.height - 1));
@@ -118,7 +126,12 @@ SceneView PrepareView(const View& pose, const LayeredDepthView& layered, std::ve
   }
   if (behind_infinity > 0) {
     warnings->push_back(name + ": " + std::to_string(behind_infinity) +
-                        " segments dropped: plane at or behind infinity at a rectangle corner");
+                        " segments dropped: plane at or behind infinity at the rectangle's centre");
+  }
+  if (flattened > 0) {
+    warnings->push_back(name + ": " + std::to_string(flattened) +
+                        " segments drawn facing the camera at their centre's depth: plane at or behind infinity at a "
+                        "rectangle corner");
   }
   if (bad_texels > 0) {
     warnings->push_back(name + ": " + std::to_string(bad_texels) +

@@ -3,9 +3,10 @@
 // the view mesh over the views, and the soft z-buffer's depth range. Built once per shot and
 // shared by every frame and by every back end's CPU-side setup.
 //
-// Bad content is sanitised, not fatal: segments with non-finite planes or planes behind infinity,
-// and texels with bad weights or segment indices, count as uncovered; a view left without any
-// segment gets no view-mesh vertex. Each such repair is named in warnings().
+// Bad content is sanitised, not fatal: segments with non-finite planes or planes behind infinity
+// at their centre, and texels with bad weights or segment indices, count as uncovered; a plane
+// that passes infinity only within its rectangle is drawn facing the camera at its centre's depth; a view left without
+// any segment gets no view-mesh vertex. Each such repair is named in warnings().
 #pragma once
 
 #include <Eigen/Core>
