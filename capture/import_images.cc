@@ -34,9 +34,7 @@ bool IsAnimation(const std::filesystem::path& file) {
   return extension == ".gif" || extension == ".webp";
 }
 
-bool IsImage(const std::filesystem::path& file) {
-  return IsJpeg(file) || LowerExtension(file) == ".png" || IsMpo(file) || IsAnimation(file);
-}
+bool IsImage(const std::filesystem::path& file) { return IsStillPhotoName(file) || IsMpo(file) || IsAnimation(file); }
 
 // One photo file as a frame: upright by its EXIF orientation (IMREAD_COLOR, which FocalPx
 // expects), with a JPEG's EXIF focal length (unknown, and said in `warnings`, when unreadable).
@@ -165,7 +163,7 @@ StatusOr<Recording> ReadImageSet(const std::vector<std::filesystem::path>& files
 // One JPEG or PNG and nothing else: one viewpoint, so views only as a lattice (a film scan, a
 // multi-lens frame, a side-by-side stereo photo).
 bool IsLonePhoto(const std::vector<std::filesystem::path>& files) {
-  return files.size() == 1 && (IsJpeg(files[0]) || LowerExtension(files[0]) == ".png");
+  return files.size() == 1 && IsStillPhotoName(files[0]);
 }
 
 StatusOr<Recording> LonePhotoAsLattice(const std::filesystem::path& file, std::vector<std::string>* warnings) {
@@ -233,6 +231,8 @@ StatusOr<Recording> RecordingFromLatticePhoto(const std::filesystem::path& file,
   recording.frames.frames.push_back(std::move(frame));
   return recording;
 }
+
+bool IsStillPhotoName(const std::filesystem::path& file) { return IsJpeg(file) || LowerExtension(file) == ".png"; }
 
 StatusOr<LatticeHint> ParseLatticeSize(const std::string& text) {
   LatticeHint hint;

@@ -48,6 +48,11 @@ StatusOr<Recording> RecordingFromLatticePhoto(const std::filesystem::path& file,
                                               const LatticeHint& hint,
                                               std::vector<std::string>* warnings);
 
+// Whether `file` is a still photo by its name, a JPEG or a PNG (any case): a file that alone holds
+// views only as a lattice (RecordingFromLatticePhoto), where an MPO or an animation holds a view
+// per image.
+bool IsStillPhotoName(const std::filesystem::path& file);
+
 // "auto" (0x0: found blind) or "RxC" (rows x columns, each 1..16, at least 2 tiles).
 StatusOr<LatticeHint> ParseLatticeSize(const std::string& text);
 

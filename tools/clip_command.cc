@@ -45,9 +45,7 @@ StatusOr<clip::ClipFormat> ChooseFormat(const ClipArgs& args) {
 
 // A JPEG or PNG file (by its name): one photo, which holds several views only as a lattice.
 bool IsSinglePhoto(const std::filesystem::path& path) {
-  std::string extension = path.extension().string();
-  for (char& c : extension) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-  return std::filesystem::is_regular_file(path) && (extension == ".jpg" || extension == ".jpeg" || extension == ".png");
+  return std::filesystem::is_regular_file(path) && IsStillPhotoName(path);
 }
 
 // A folder without a recording's manifest, read as photos taken by hand, or a file holding

@@ -84,10 +84,8 @@ Status LoadHciPhotos(const fs::path& path, RealSet* set) {
 }
 
 bool IsSinglePhoto(const fs::path& path) {
-  std::string extension = path.extension().string();
-  for (char& c : extension) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
   std::error_code error;
-  return fs::is_regular_file(path, error) && (extension == ".jpg" || extension == ".jpeg" || extension == ".png");
+  return fs::is_regular_file(path, error) && IsStillPhotoName(path);
 }
 
 // `path` when it is one JPEG or PNG, or a folder's only image when that is one: a lattice photo
