@@ -348,7 +348,7 @@ TEST_F(CpuSceneRendererTest, APlanePassingInfinityWithinItsRectangleIsDrawnFlatN
   ASSERT_GE(behind, 0);
   const cv::Rect& b = centre.segments[flat].bbox;
   const double centre_inverse = tilt(flat, b.x + b.width);  // the rectangle's right edge
-  tilt(behind, centre.segments[behind].bbox.x);  // its left edge, then beyond infinity at the centre
+  tilt(behind, centre.segments[behind].bbox.x);             // its left edge, then beyond infinity at the centre
   centre.segments[behind].inv_depth_a *= -1;
   centre.segments[behind].inv_depth_c *= -1;
   StatusOr<render::LayeredScene> scene = render::LayeredScene::Create(views_, layers, RenderOptions());
