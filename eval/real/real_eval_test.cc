@@ -31,6 +31,17 @@ TEST(RealSetTest, AMissingSetIsNamed) {
   EXPECT_NE(set.status().message().find("/nonexistent/set"), std::string::npos);
 }
 
+TEST(RealSetTest, AFolderOfTwoAnimationsIsReadAsParallaxClipReadsIt) {
+  // The photo booth's folder holds the rectified and the raw wigglegram of one shot: one capture
+  // of four views, not eight views of one scene.
+  const fs::path dir = sim::SharedDataDir() / "multicam" / "photobooth_pi_4cam_person";
+  if (!fs::exists(dir)) GTEST_SKIP() << dir.string() << " is absent (the shared real data sits beside the project)";
+  StatusOr<RealSet> set = LoadRealSet(dir, "multicam/photobooth_pi_4cam_person");
+  ASSERT_TRUE(set.ok()) << set.status().ToString();
+  EXPECT_EQ(set->capture.frames.size(), 4u);
+  EXPECT_EQ(set->held_out.size(), 4u);
+}
+
 TEST(ContactSheetTest, TilesCellsRowByRowWithLabels) {
   const cv::Mat red(100, 200, CV_8UC3, cv::Scalar(0, 0, 255));
   const cv::Mat grey(50, 100, CV_8U, cv::Scalar(128));

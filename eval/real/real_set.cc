@@ -36,7 +36,11 @@ Status LoadPhotoFolder(const fs::path& path, RealSet* set) {
   set->layout = fs::is_directory(path) ? "photo folder" : extension == ".mpo" ? "MPO file" : "animation";
   PX_ASSIGN_OR_RETURN(std::vector<fs::path> files, ListImages({path}));
   std::vector<std::string> warnings;
-  PX_ASSIGN_OR_RETURN(Recording recording, RecordingFromImages(files, &warnings));
+  // A folder is read as `parallax clip FOLDER` reads it: of several files each holding views
+  // (a wigglegram maker's rectified and raw versions of one shot), only the first.
+  PX_ASSIGN_OR_RETURN(
+      Recording recording,
+      fs::is_directory(path) ? RecordingFromFolder(path, files, &warnings) : RecordingFromImages(files, &warnings));
   set->capture = std::move(recording.frames);
   if (files.size() == set->capture.frames.size()) {
     for (const fs::path& file : files) set->view_names.push_back(file.filename().string());

@@ -2,7 +2,8 @@
 // image set (one frame per view, upright, with the lens's focal length where the capture says it),
 // posed later by the product's own calibration. Layouts read:
 //  - a folder of photos (JPEG, PNG; ../shared/data/handheld, stereo_face, the Lytro 5x5), a 3D
-//    camera's MPO file or a wigglegram's animated GIF or WebP (capture/import_images.h);
+//    camera's MPO file or a wigglegram's animated GIF or WebP (capture/import_images.h); a folder
+//    is read as `parallax clip FOLDER` reads it (RecordingFromFolder);
 //  - an LLFF folder (poses_bounds.npy, images_8/): the photos with the focal length the set's
 //    metadata gives (a phone's EXIF would), its poses ignored;
 //  - an HCI light field folder (parameters.cfg): its 3x3 of every 4th view (the 9x9's corners,
