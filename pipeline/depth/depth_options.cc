@@ -70,6 +70,12 @@ Status ValidateSegments(const SegmentOptions& s) {
   if (!(s.coplanar_tolerance_px > 0 && s.coplanar_tolerance_px <= 8)) {
     return OptionOutOfRange("depth options", "segments.coplanar_tolerance_px", s.coplanar_tolerance_px, "(0, 8]");
   }
+  if (!(s.weak_region_colour_lab >= 0 && s.weak_region_colour_lab <= 50)) {
+    return OptionOutOfRange("depth options", "segments.weak_region_colour_lab", s.weak_region_colour_lab, "[0, 50]");
+  }
+  if (!(s.weak_region_cost_margin >= 0 && s.weak_region_cost_margin <= 1)) {
+    return OptionOutOfRange("depth options", "segments.weak_region_cost_margin", s.weak_region_cost_margin, "[0, 1]");
+  }
   if (s.refine_iterations < 0 || s.refine_iterations > 20) {
     return OptionOutOfRange("depth options", "segments.refine_iterations", s.refine_iterations, "[0, 20]");
   }

@@ -80,6 +80,15 @@ struct SegmentOptions {
   // render --group closeup`, about 1 dB); 0.85 and 0.95 score within 0.1 dB of 0.9.
   double coplanar_keep_fraction = 0.9;
   double coplanar_tolerance_px = 0.25;
+  // Weak regions (weak_regions.h): touching propagated segments within weak_region_colour_lab of
+  // each other in mean Lab (OpenCV's 8-bit scale, [0, 50]; 0 = off) take the one plane with the
+  // lowest matching cost over the whole region, unless a member's own cost along it is worse than
+  // along its plane by more than weak_region_cost_margin (cost units, [0, 1]). Keeps a plain desk
+  // top on one plane instead of a chain of planes copied across it. Off by default: on the real
+  // sets it lowers double images on the office and the photo booth but costs leave-one-out PSNR
+  // (office 0.1 dB, photo booth 0.1 to 0.6 dB; pipeline/depth/README.md).
+  double weak_region_colour_lab = 0;
+  double weak_region_cost_margin = 0.02;
   // Segment-level PatchMatch after the fits (refine_segment_planes.h): in each of
   // refine_iterations sweeps ([0, 20], 0 = off) every segment tries its neighbours' planes and
   // refine_random_trials ([0, 20]) random changes of its own (depth at its centre by up to

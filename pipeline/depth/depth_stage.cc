@@ -30,6 +30,7 @@
 #include "pipeline/depth/superpixels.h"
 #include "pipeline/depth/two_layer.h"
 #include "pipeline/depth/volume_plane_cost.h"
+#include "pipeline/depth/weak_regions.h"
 #include "pipeline/depth/working_view.h"
 #include "pipeline/depth/zncc_cost.h"
 
@@ -322,6 +323,15 @@ ReferenceDepth MatchReference(const std::vector<View>& views,
                                 UnseenFractions(segment_pixels, volume.sampled),
                                 so.propagation_cost_margin,
                                 &segment_planes);
+  if (so.weak_region_colour_lab > 0) {
+    depth::WeakRegionOptions weak;
+    weak.same_colour_lab = static_cast<float>(so.weak_region_colour_lab);
+    weak.cost_margin = so.weak_region_cost_margin;
+    const depth::WeakRegionStats stats =
+        depth::UnifyWeakRegions(segments, std::cref(volume_cost), weak, &segment_planes);
+    Logger("depth")->debug(
+        "view {}: {} weak regions, {} segments changed", view.id.value, stats.regions, stats.changed_segments);
+  }
   if (so.refine_iterations > 0) {
     RefineSegmentPlanes(ref,
                         neighbours,
