@@ -3,30 +3,9 @@
 #include <algorithm>
 #include <numeric>
 
+#include "pipeline/core/disjoint_sets.h"
+
 namespace px::calib {
-namespace {
-
-class DisjointSets {
- public:
-  explicit DisjointSets(int n) : parent_(n) { std::iota(parent_.begin(), parent_.end(), 0); }
-  int Find(int x) {
-    while (parent_[x] != x) {
-      parent_[x] = parent_[parent_[x]];
-      x = parent_[x];
-    }
-    return x;
-  }
-  void Join(int a, int b) {
-    a = Find(a);
-    b = Find(b);
-    if (a != b) parent_[std::max(a, b)] = std::min(a, b);  // the smaller id leads: deterministic
-  }
-
- private:
-  std::vector<int> parent_;
-};
-
-}  // namespace
 
 std::vector<Track> BuildTracks(const std::vector<int>& features_per_view,
                                const std::vector<PairMatches>& pairs,

@@ -2,21 +2,13 @@
 
 #include <algorithm>
 #include <map>
-#include <numeric>
 #include <tuple>
 
 #include "pipeline/core/check.h"
+#include "pipeline/core/disjoint_sets.h"
 
 namespace px::depth {
 namespace {
-
-int FindRoot(std::vector<int>& parent, int s) {
-  while (parent[s] != s) {
-    parent[s] = parent[parent[s]];
-    s = parent[s];
-  }
-  return s;
-}
 
 // Planes copied from segment to segment are bit-identical: the key that tells them apart.
 using PlaneKey = std::tuple<double, double, double>;
@@ -31,25 +23,23 @@ WeakRegionStats UnifyWeakRegions(const Superpixels& segments,
   const int n = segments.count;
   PX_CHECK(planes->size() == static_cast<size_t>(n));
   const auto weak = [&](int s) { return (*planes)[s].source == PlaneSource::kPropagated; };
-  std::vector<int> parent(n);
-  std::iota(parent.begin(), parent.end(), 0);
+  DisjointSets sets(n);
   for (int s = 0; s < n; ++s) {
     if (!weak(s)) continue;
     for (int t : segments.adjacent[s]) {
-      if (t < s || !weak(t)) continue;
-      if (cv::norm(segments.mean_lab[s] - segments.mean_lab[t]) < options.same_colour_lab) {
-        parent[FindRoot(parent, t)] = FindRoot(parent, s);
+      if (t > s && weak(t) && cv::norm(segments.mean_lab[s] - segments.mean_lab[t]) < options.same_colour_lab) {
+        sets.Join(s, t);
       }
     }
   }
   std::map<int, std::vector<int>> regions;
   for (int s = 0; s < n; ++s) {
-    if (weak(s)) regions[FindRoot(parent, s)].push_back(s);
+    if (weak(s)) regions[sets.Find(s)].push_back(s);
   }
 
   WeakRegionStats stats;
-  for (const auto& [root, members] : regions) {
-    (void)root;
+  for (const auto& region : regions) {
+    const std::vector<int>& members = region.second;
     if (static_cast<int>(members.size()) < options.min_segments) continue;
     ++stats.regions;
     // Candidates: the members' planes and their fitted neighbours', by how many hold each.
@@ -92,7 +82,12 @@ WeakRegionStats UnifyWeakRegions(const Superpixels& segments,
     for (size_t m = 0; m < members.size(); ++m) {
       SegmentPlane& plane = (*planes)[members[m]];
       if (KeyOf(plane.plane) == KeyOf(chosen)) continue;
-      if (member_cost[best][m] > cost(members[m], plane.plane) + options.cost_margin) continue;
+      // The member's cost along its own plane: among the candidates' unless that plane was cut.
+      const auto own = std::find_if(
+          candidates.begin(), candidates.end(), [&](const auto& c) { return KeyOf(c.second) == KeyOf(plane.plane); });
+      const double own_cost =
+          own != candidates.end() ? member_cost[own - candidates.begin()][m] : cost(members[m], plane.plane);
+      if (member_cost[best][m] > own_cost + options.cost_margin) continue;
       plane.plane = chosen;
       ++stats.changed_segments;
     }
