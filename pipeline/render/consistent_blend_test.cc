@@ -260,5 +260,64 @@ TEST(ConsistentBlendTest, OptionsOutsideTheirRangesAreNamed) {
   EXPECT_NE(options.Validate().message().find("dominance_exponent"), std::string::npos);
 }
 
+// Two shots side by side: the right one (view 0) narrow, the left one (view 1) wide, and the
+// foreground right of the narrow shot's frame. A camera behind them and to the right takes the
+// narrow shot alone (beyond the line's end, its neighbour at weight 0) and sees the foreground
+// where the narrow shot sees only the background: a surface behind one it never saw. The
+// blind-view rule draws the foreground there from the wide shot; without it the background
+// covers it (the soft z, depth range 10 m, would blend it at nearly full weight even beside a
+// weighted wide shot).
+TEST(ConsistentBlendTest, AViewDoesNotDrawItsBackgroundOverASurfaceOutOfItsFrame) {
+  render::testing::PlaneScene scene;
+  scene.foreground_xy = cv::Rect2d(0.45, -0.2, 0.35, 0.4);
+  const CameraModel narrow = CameraModel::Pinhole(320, 240, 400);
+  std::vector<View> views(2);
+  std::vector<LayeredDepthView> layers;
+  for (int i = 0; i < 2; ++i) {
+    View& view = views[i];
+    view.id.value = i;
+    view.camera = i == 0 ? narrow : CameraModel::Pinhole(320, 240, 150);
+    view.cam_from_world = Rigid3(Eigen::Quaterniond::Identity(), -Eigen::Vector3d(i == 0 ? 0.0 : -0.05, 0, 0));
+    DepthMap depth;
+    depth.id = view.id;
+    scene.Render(view.camera, view.cam_from_world, &view.image, &depth.depth_m);
+    depth.confidence = cv::Mat(view.camera.height, view.camera.width, CV_32F, cv::Scalar(1));
+    layers.push_back(LayeredDepthFromDepthMap(view, depth).value());
+  }
+  const Eigen::Vector3d centre(0.05, 0, -1.0);
+  const VirtualCamera novel = At(centre);
+  cv::Mat truth, truth_depth;
+  scene.Render(novel.camera, novel.cam_from_world, &truth, &truth_depth);
+  // The foreground's pixels whose point the narrow shot's image does not hold.
+  cv::Mat unseen(truth.size(), CV_8U, cv::Scalar(0));
+  const Eigen::Matrix3d k_inverse = kCamera.K().inverse();
+  for (int y = 0; y < truth.rows; ++y) {
+    for (int x = 0; x < truth.cols; ++x) {
+      const float z = truth_depth.at<float>(y, x);
+      if (!(z > 0 && z < 3)) continue;  // the foreground lies 2 m from this camera, the background 4 m
+      const Eigen::Vector3d point = centre + z * (k_inverse * Eigen::Vector3d(x, y, 1));
+      const double u = narrow.K()(0, 0) * point.x() / point.z() + narrow.K()(0, 2);
+      if (u > narrow.width - 0.5) unseen.at<uint8_t>(y, x) = 255;
+    }
+  }
+  ASSERT_GT(cv::countNonZero(unseen), 1000);
+  RenderOptions options;
+  options.depth_range_m = 10;
+  RenderOptions blended = options;
+  blended.consistent_blend.blind_views = false;
+  const auto render = [&](const RenderOptions& with) {
+    auto renderer = CpuSceneRenderer::Create(views, layers, with);
+    EXPECT_TRUE(renderer.ok()) << renderer.status().ToString();
+    return (*renderer)->Render(novel).value();
+  };
+  const double psnr_blind = MaskedPsnr(render(options).bgr, truth, unseen);
+  const double psnr_blended = MaskedPsnr(render(blended).bgr, truth, unseen);
+  std::printf("foreground out of the narrow shot's frame: %.2f dB without the blind-view rule, %.2f dB with it\n",
+              psnr_blended,
+              psnr_blind);
+  EXPECT_GT(psnr_blind, 30);
+  EXPECT_LT(psnr_blended, psnr_blind - 10);
+}
+
 }  // namespace
 }  // namespace px
