@@ -36,12 +36,6 @@ void AddConsistentBlendFlags(CLI::App& command, ConsistentBlendOptions* options)
                   "... in full from this many levels ([0, 255]; not above --agree-levels: off)")
       ->capture_default_str();
   command
-      .add_option("--blind-views",
-                  options->blind_views,
-                  "A view's surface behind another view's nearer one, whose point lies out of its own frame, "
-                  "takes no part in the pixel (true, false)")
-      ->capture_default_str();
-  command
       .add_option("--one-view-regions",
                   options->one_view_regions,
                   "Where the colour consensus outvotes several views in one region, draw it from its most heavily "

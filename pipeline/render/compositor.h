@@ -8,7 +8,6 @@
 #include <vector>
 
 #include "pipeline/render/layered_scene.h"
-#include "pipeline/render/rays_in_views.h"
 #include "pipeline/render/segment_raster.h"
 #include "pipeline/render/view_mesh.h"
 
@@ -38,11 +37,6 @@ struct BlendRules {
   bool one_view_regions = false;   // ConsistentBlendOptions::one_view_regions
   bool measure_double_images = false;
   int double_image_levels = 30;  // colours further apart than this (largest channel) are two images
-  // Per scene view (null: off), the blind-view rule of the consistent blend: a slot's surface
-  // farther than gamma behind another slot's, where its view's image does not hold that nearer
-  // surface's point (at least blind_margin_px inside), takes no part in the pixel.
-  const std::vector<RayInView>* rays_in_views = nullptr;
-  float blind_margin_px = 2;
 };
 
 // `slots` are the frame's viewing weights (width * height), `frame_views` its set-up segments.

@@ -31,11 +31,6 @@ struct ConsistentBlendOptions {
   // but at that view's place, which costs leave-one-out fidelity and flickers as the heaviest view
   // changes (pipeline/render/README.md, known limitations). Off by default.
   bool one_view_regions = false;
-  // A view whose surface lies behind another view's nearer surface (beyond the soft z's gamma),
-  // where its own image does not hold that nearer surface's point, takes no part in the pixel: it
-  // saw nothing of the space in front of its surface (out of its frame), so the nearer surface is
-  // drawn instead of blended with what may lie hidden behind it.
-  bool blind_views = true;
   // Views checked against each view: of those that can share a pixel with it, the nearest by
   // camera centre. [1, 16].
   int max_neighbours = 8;

@@ -266,11 +266,6 @@ CpuSceneRenderer::Core CpuSceneRenderer::RenderCore(const CameraModel& camera,
     rules.colour_apart_levels = static_cast<float>(blend.colour_apart_levels);
     rules.one_view_regions = blend.one_view_regions;
     rules.measure_double_images = options_.measure_double_images;
-    std::vector<render::RayInView> rays_in_views;
-    if (blend.enabled && blend.blind_views) {
-      rays_in_views = render::RaysInViews(scene_, camera, cam_from_world);
-      rules.rays_in_views = &rays_in_views;
-    }
     const bool contested = rules.consistent || rules.measure_double_images;
     render::CompositePreview(
         scene_, frame_views, slots_, width, height, true, &composite, contested ? &rules : nullptr);

@@ -460,30 +460,7 @@ constexpr uint8_t kBlendDouble = 4;
 // consensus on (rules.colour_apart_levels above colour_agree_levels), slots at close depths whose
 // colours disagree count as contradicting each other too; where that changes the pixel, the
 // result goes to `consensus` instead (when not null).
-// Of the slots `among` (bits) with depths z, those whose surface lies farther than gamma behind
-// another's where their view's image does not hold that nearer surface's point: the view saw
-// nothing of the space in front of its surface (the nearer surface is out of its frame), so a
-// surface it shows behind may well be hidden. Never the nearest slot.
-int BlindSlots(
-    const float z[3], int among, const ViewSlots& slots, const SoftZ& soft_z, const BlendRules& rules, int x, int y) {
-  int blind = 0;
-  for (int j = 0; j < 3; ++j) {
-    if (!((among >> j) & 1)) continue;
-    const RayInView& ray = (*rules.rays_in_views)[slots.view[j]];
-    for (int k = 0; k < 3; ++k) {
-      if (k == j || !((among >> k) & 1) || !(z[j] - z[k] > soft_z.gamma())) continue;
-      if (!ray.Holds(static_cast<float>(x), static_cast<float>(y), z[k], rules.blind_margin_px)) {
-        blind |= 1 << j;
-        break;
-      }
-    }
-  }
-  return blind;
-}
-
-void ResolveContestedPixel(int x,
-                           int y,
-                           const float* const cells[3],
+void ResolveContestedPixel(const float* const cells[3],
                            const float depth_sums[3],
                            const float* contra,
                            const ViewSlots& slots,
@@ -499,19 +476,11 @@ void ResolveContestedPixel(int x,
   for (int k = 0; k < 3; ++k) {
     seen |= (slots.view[k] != ViewSlots::kNone && cells[k][3] > kSeenAlpha) << k;
     weighted |= (slots.weight[k] > 0) << k;
-    if ((seen >> k) & 1) p.z[k] = depth_sums[k] / cells[k][3];
   }
-  // A blind slot (BlendRules::rays_in_views) leaves before the tiers: a view of weight 0 (a lone
-  // view's outline neighbour, ALGORITHM.md section 3) then draws what the lone view had out of frame.
-  if (rules.rays_in_views != nullptr)
-    seen &= ~BlindSlots(p.z, seen & slots.BlendableBits(), slots, soft_z, rules, x, y);
   p.in = seen & weighted;
+  p.seen = seen;
   const bool tier1 = p.in != 0;
   if (!tier1) p.in = seen & slots.BlendableBits();
-  // The slots that vote: those taking part and the witness (a view of weight 0 beside weighted
-  // ones, a lone view's outline neighbour, has no say in the colour).
-  const int witness_bit = slots.witness == ViewSlots::kNone ? 0 : 1 << slots.witness;
-  p.seen = seen & (p.in | witness_bit);
   *alpha = *depth = 0;
   if (bgr != nullptr) bgr[0] = bgr[1] = bgr[2] = 0;
   if (double_image != nullptr) *double_image = 0;
@@ -520,6 +489,7 @@ void ResolveContestedPixel(int x,
   for (int k = 0; k < 3; ++k) {
     p.view_weight[k] = tier1 ? slots.weight[k] : 1.0f;
     if (!((seen >> k) & 1)) continue;
+    p.z[k] = depth_sums[k] / cells[k][3];
     for (int c = 0; c < 3; ++c) p.colour[k][c] = cells[k][c] / cells[k][3];
     if (contra == nullptr || !p.TakesPart(k)) continue;
     for (int m = 0; m < 2; ++m) p.contradicted[k][(k + 1 + m) % 3] = std::min(1.0f, contra[2 * k + m] / cells[k][3]);
@@ -579,14 +549,12 @@ void ResolveContestedPixel(int x,
 // nearest (soft z weight 1): `cells[k]` and `depth_sums[k]` point at slot k of pixel x, `slots` at
 // pixel x's. Lane by lane the same operations in the same order as ResolvePixel, the slots not
 // taking part adding exact zeros. False, with nothing written, when one of the four is not such
-// a pixel, or (`blind_rule`) when a slot of weight 0 saw a surface more than gamma nearer than
-// the tier-1 slots' (BlindSlots decides there).
+// a pixel.
 inline bool ResolveFourUsualPixels(const float* const cells[3],
                                    const float* const depth_sums[3],
                                    const ViewSlots* slots,
                                    float gamma,
                                    float agree_levels,
-                                   bool blind_rule,
                                    float* alpha,
                                    float* depth,
                                    float* bgr) {
@@ -634,15 +602,6 @@ inline bool ResolveFourUsualPixels(const float* const cells[3],
   const v_float32x4 gamma4 = cv::v_setall_f32(gamma);
   for (int k = 0; k < 3; ++k) {
     if (!cv::v_check_all(~in[k] | ((z[k] - near) <= gamma4))) return false;
-  }
-  if (blind_rule) {
-    for (int k = 0; k < 3; ++k) {
-      const cv::v_uint32x4 no_view = ((view_bytes >> (8 * k)) & none) == none;
-      const v_float32x4 other = cv::v_reinterpret_as_f32(~no_view) & (a[k] > seen) & ~in[k];
-      const v_float32x4 z_other =
-          cv::v_select(other, cv::v_load(depth_sums[k]) / cv::v_select(other, a[k], one), infinity);
-      if (!cv::v_check_all((near - z_other) <= gamma4)) return false;
-    }
   }
   if (agree_levels > 0) {
     // The consistent blend: slots whose colours disagree beyond agree_levels are resolved one by one.
@@ -750,9 +709,7 @@ void ResolveBand(const std::vector<ViewSlots>& slots,
             contested[index] = 0;
           }
           const ConsensusOut consensus = consensus_at(x);
-          ResolveContestedPixel(x,
-                                y,
-                                cell,
+          ResolveContestedPixel(cell,
                                 sums,
                                 is_contested ? contra_sums : nullptr,
                                 slot_row[x],
@@ -769,7 +726,6 @@ void ResolveBand(const std::vector<ViewSlots>& slots,
                                                         slot_row + x0,
                                                         soft_z.gamma(),
                                                         agree_levels,
-                                                        rules != nullptr && rules->rays_in_views != nullptr,
                                                         alpha_row + x0,
                                                         depth_row + x0,
                                                         colour_row != nullptr ? colour_row + 3 * x0 : nullptr)) {
@@ -782,9 +738,7 @@ void ResolveBand(const std::vector<ViewSlots>& slots,
           const float sums[3] = {depths[index], depths[plane + index], depths[2 * plane + index]};
           if (consistent) {
             const ConsensusOut consensus = consensus_at(x);
-            ResolveContestedPixel(x,
-                                  y,
-                                  cell,
+            ResolveContestedPixel(cell,
                                   sums,
                                   nullptr,
                                   slot_row[x],

@@ -336,16 +336,6 @@ void ViewMesh::BuildTriangleData() {
       outer_edge_witness_.push_back(witness_of({vertices_[a].view, vertices_[b].view, -1}));
     }
   }
-  outline_neighbours_.assign(vertices_.size(), {-1, -1});
-  const auto add_neighbour = [&](int vertex, int view) {
-    std::array<int, 2>& n = outline_neighbours_[vertex];
-    if (view == vertices_[vertex].view || n[0] == view || n[1] == view) return;
-    (n[0] < 0 ? n[0] : n[1]) = view;
-  };
-  for (const auto& [a, b] : outer_edges_) {
-    add_neighbour(a, vertices_[b].view);
-    add_neighbour(b, vertices_[a].view);
-  }
   // Counter-clockwise triangles leave the outside to the right of their outer edges.
   outline_convex_ = !outer_edges_.empty();
   for (const auto& edge : outer_edges_) {
@@ -402,9 +392,8 @@ std::vector<std::vector<int>> ViewMesh::SlotNeighbours() const {
 ViewSlots ViewMesh::LineWeights(const Eigen::Vector2d& q) const {
   const int first = line_order_.front(), last = line_order_.back();
   const double x = q.x();
-  // Beyond an end: the end's view alone, its neighbour along the line at weight 0.
-  if (x <= vertices_[first].position.x()) return Merge({first, line_order_[1], -1}, {1, 0, 0});
-  if (x >= vertices_[last].position.x()) return Merge({last, line_order_[line_order_.size() - 2], -1}, {1, 0, 0});
+  if (x <= vertices_[first].position.x()) return Merge({first, -1, -1}, {1, 0, 0});
+  if (x >= vertices_[last].position.x()) return Merge({last, -1, -1}, {1, 0, 0});
   for (size_t i = 0; i + 1 < line_order_.size(); ++i) {
     const int a = line_order_[i], b = line_order_[i + 1];
     const double xa = vertices_[a].position.x(), xb = vertices_[b].position.x();
@@ -435,15 +424,9 @@ std::pair<int, double> ViewMesh::NearestOuterEdge(const Eigen::Vector2d& q, cons
   return nearest;
 }
 
-ViewSlots ViewMesh::OuterVertexWeights(int vertex) const {
-  const std::array<int, 2>& n = outline_neighbours_[vertex];
-  return Merge({vertices_[vertex].view, n[0], n[1]}, {1, 0, 0});
-}
-
 ViewSlots ViewMesh::OutsideWeights(const Eigen::Vector2d& q, const std::vector<int>* among) const {
   const auto [e, t] = NearestOuterEdge(q, among);
   if (e < 0) return ViewSlots{};
-  if (t <= 0 || t >= 1) return OuterVertexWeights(outer_edges_[e][t <= 0 ? 0 : 1]);
   return WithWitness(Merge({vertices_[outer_edges_[e][0]].view, vertices_[outer_edges_[e][1]].view, -1}, {1 - t, t, 0}),
                      outer_edge_witness_[e]);
 }
@@ -712,7 +695,7 @@ void ViewMesh::ComputeWeights(const CameraModel& camera,
   // OutsideWeights would give them pixel by pixel.
   const auto fill_outside = [&](int region, int x0, int y0, int x1, int y1) {
     if (region <= -2) {
-      const ViewSlots vertex = OuterVertexWeights(-2 - region);
+      const ViewSlots vertex = Merge({vertices_[-2 - region].view, -1, -1}, {1, 0, 0});
       for (int y = y0; y <= y1; ++y)
         std::fill_n(slots->data() + static_cast<size_t>(y) * width + x0, x1 - x0 + 1, vertex);
       return;

@@ -111,9 +111,6 @@ class ViewMesh {
   // `vertex_edges` receives the outer edges from the vertex (ascending), else it is left empty.
   bool OutsideRegionHolds(int region, const std::array<Eigen::Vector2d, 4>& quad, std::vector<int>* vertex_edges) const;
   ViewSlots LineWeights(const Eigen::Vector2d& q) const;
-  // An outer vertex's region: its view alone, and its neighbours along the outline at weight 0
-  // (ALGORITHM.md section 3: they draw what the lone view has out of its frame).
-  ViewSlots OuterVertexWeights(int vertex) const;
   // The view, other than `views` (-1: none), whose vertex lies nearest `at`; -1 when there is none.
   int NearestOtherView(const Eigen::Vector2d& at, const std::array<int, 3>& views) const;
 
@@ -130,12 +127,10 @@ class ViewMesh {
   std::vector<std::array<int, 3>> neighbours_;   // per triangle: across the edge opposite vertex k
   std::vector<std::array<int, 2>> outer_edges_;  // vertex pairs on the extended mesh's boundary
   std::vector<int> outer_edge_witness_;          // per outer edge: its witness view (ViewSlots), or -1
-  std::vector<std::array<int, 2>>
-      outline_neighbours_;             // per vertex: the views at the far ends of its outer edges (-1: none)
-  std::vector<int> triangle_witness_;  // per triangle with fewer than three views: its witness, or -1
-  std::vector<int> line_witness_;      // kLine: per pair of neighbours along it, their witness
-  bool outline_convex_ = false;        // every outer vertex on or inside every outer edge
-  std::vector<int> line_order_;        // kLine: views sorted along axis_u
+  std::vector<int> triangle_witness_;            // per triangle with fewer than three views: its witness, or -1
+  std::vector<int> line_witness_;                // kLine: per pair of neighbours along it, their witness
+  bool outline_convex_ = false;                  // every outer vertex on or inside every outer edge
+  std::vector<int> line_order_;                  // kLine: views sorted along axis_u
 };
 
 // Raises every slot's weight to `exponent` in (0, 1] and renormalises the three to sum 1

@@ -191,33 +191,6 @@ TEST(ViewMeshTest, CameraInFrontOfTheMeshAndOnItUsesTheNearestPointOfTheMesh) {
   EXPECT_GT(WeightOf(right_pixel, 3) + WeightOf(right_pixel, 4), WeightOf(left_pixel, 3) + WeightOf(left_pixel, 4));
 }
 
-// Where the mesh leaves one view alone (an outer vertex's region, a line's end), its neighbours
-// along the outline hold the pixel's other slots at weight 0 (they draw what the lone view has
-// out of its frame); the tiles give what the pixels give there too.
-TEST(ViewMeshTest, ALoneViewKeepsItsOutlineNeighboursAtWeightZero) {
-  const ViewMesh lattice = Lattice3x3();
-  // Far beyond the corner lens 8 (bottom right): 8, and its neighbours 5 and 7 along the outline.
-  const ViewSlots corner = lattice.WeightsAt(Eigen::Vector2d(1.0, 1.0));
-  EXPECT_EQ(ViewsIn(corner), (std::set<int>{5, 7, 8}));
-  EXPECT_EQ(WeightOf(corner, 8), 1.0);
-  EXPECT_EQ(corner.witness, ViewSlots::kNone);
-  // Beyond a line's end: the end and the next along the line.
-  const ViewMesh line =
-      ViewMesh::Build({Eigen::Vector3d(-0.1, 0, 0), Eigen::Vector3d(0, 0, 0), Eigen::Vector3d(0.1, 0, 0)},
-                      std::vector<Eigen::Matrix3d>(3, Eigen::Matrix3d::Identity()))
-          .value();
-  const ViewSlots beyond = line.WeightsAt(line.ToPlane(Eigen::Vector3d(0.3, 0.05, 0)));
-  EXPECT_EQ(ViewsIn(beyond), (std::set<int>{1, 2}));
-  EXPECT_EQ(WeightOf(beyond, 2), 1.0);
-  // A camera far in front of the lattice: its frame's corners meet the plane beyond the extension
-  // ring, in the corner lenses' regions, filled tile by tile as pixel by pixel.
-  const Eigen::Vector3d in_front(0.01, 0.005, 0.5);
-  const CameraModel camera = CameraModel::Pinhole(96, 64, 80);
-  const Rigid3 pose(Eigen::Quaterniond::Identity(), -in_front);
-  EXPECT_EQ(ViewsIn(lattice.WeightsAt(lattice.PlanePointOfPixel(camera, pose, 0, 0))), (std::set<int>{5, 7, 8}));
-  EXPECT_EQ(CompareTilesWithPixels(lattice, {in_front}, {0.0}, true), 96 * 64);
-}
-
 TEST(ViewMeshTest, DegenerateSetsStillGiveWeightsThatSumToOne) {
   // One view: weight 1 everywhere.
   const ViewMesh one = ViewMesh::Build({Eigen::Vector3d::Zero()}, {Eigen::Matrix3d::Identity()}).value();

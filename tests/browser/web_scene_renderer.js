@@ -220,24 +220,16 @@ void main() {
         for (let k = 0; k < 3; ++k) add(u[3 * t + k][2]);
         return views;
       }
-      let best = Infinity, bestEdge = null, bestT = 0;
+      let best = Infinity, bestEdge = null;
       for (let e = 0; e < m.edges; ++e) {
         const a = u[3 * m.triangles + 2 * e], b = u[3 * m.triangles + 2 * e + 1];
         const ab = [b[0] - a[0], b[1] - a[1]];
         const s = Math.min(1, Math.max(0, ((q[0] - a[0]) * ab[0] + (q[1] - a[1]) * ab[1]) /
             Math.max(ab[0] * ab[0] + ab[1] * ab[1], 1e-30)));
         const dist = Math.hypot(q[0] - a[0] - s * ab[0], q[1] - a[1] - s * ab[1]);
-        if (dist < best) { best = dist; bestEdge = [a, b]; bestT = s; }
+        if (dist < best) { best = dist; bestEdge = [a, b]; }
       }
-      if (bestEdge) {
-        add(bestEdge[0][2]);
-        add(bestEdge[1][2]);
-        // One view alone: its outline neighbours too (w, and the edge's far end, added above).
-        if (bestT <= 0 || bestT >= 1 || bestEdge[0][2] === bestEdge[1][2]) {
-          const end = bestEdge[bestT >= 1 ? 1 : 0];
-          if (end[3] >= 0) add(end[3]);
-        }
-      }
+      if (bestEdge) { add(bestEdge[0][2]); add(bestEdge[1][2]); }
       return views;
     }
     // GlSceneRenderer::ViewBoxes: per view and slot, the box of output pixels it may hold it in.

@@ -24,8 +24,7 @@ uniform vec3 mesh_origin;
 uniform vec3 mesh_normal;
 uniform vec3 mesh_axis1;
 uniform vec3 mesh_axis2;
-// (x, y, view, 0): 3 per triangle, then 2 per outer edge, whose w is the end's outline neighbour
-// other than the edge's far end (-1: none); MESH_VECTORS is defined ahead of this text.
+// (x, y, view, 0): 3 per triangle, then 2 per outer edge; MESH_VECTORS is defined ahead of this text.
 uniform vec4 mesh[MESH_VECTORS];
 uniform int num_triangles;
 uniform int num_edges;
@@ -112,18 +111,8 @@ void main() {
     float dist = length(q - (a.xy + t * ab));
     if (dist < best) { best = dist; best_t = t; best_a = a; best_b = b; }
   }
-  if (best_t > 0.0 && best_t < 1.0 && best_a.z != best_b.z) {
-    Add(best_a.z, 1.0 - best_t);
-    Add(best_b.z, best_t);
-  } else {
-    // One view alone (ViewMesh::OuterVertexWeights), its neighbours along the outline at weight 0,
-    // in the slots SlotViewsAt gives them (the edge's ends first).
-    bool at_b = best_t >= 1.0;
-    Add(best_a.z, at_b ? 0.0 : 1.0);
-    Add(best_b.z, at_b ? 1.0 : 0.0);
-    float other = at_b ? best_b.w : best_a.w;
-    if (other >= 0.0) Add(other, 0.0);
-  }
+  Add(best_a.z, 1.0 - best_t);
+  Add(best_b.z, best_t);
   slot_views = views_out;
   slot_weights = Flatten(weights_out);
 }

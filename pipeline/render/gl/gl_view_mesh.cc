@@ -17,20 +17,6 @@ namespace {
 // weight of view b is the ray point's fraction of the way from view a to b along the line
 // (whatever its distance across); beyond the strip the nearest outer edge gives the same, and
 // beyond the ends the end view has weight 1.
-void AddOutlineNeighbour(GlViewMesh* mesh, int vertex, int view) {
-  std::array<int, 2>& n = mesh->outline_neighbours[vertex];
-  if (view == mesh->vertex_view[vertex] || n[0] == view || n[1] == view) return;
-  (n[0] < 0 ? n[0] : n[1]) = view;
-}
-
-void FindOutlineNeighbours(GlViewMesh* mesh) {
-  mesh->outline_neighbours.assign(mesh->vertices.size(), {-1, -1});
-  for (const auto& [a, b] : mesh->outer_edges) {
-    AddOutlineNeighbour(mesh, a, mesh->vertex_view[b]);
-    AddOutlineNeighbour(mesh, b, mesh->vertex_view[a]);
-  }
-}
-
 StatusOr<GlViewMesh> BuildLineMesh(const std::vector<Eigen::Vector3d>& centres,
                                    const Eigen::Vector3d& mean_axis,
                                    const Eigen::Vector3d& mean_x,
@@ -73,12 +59,6 @@ StatusOr<GlViewMesh> BuildLineMesh(const std::vector<Eigen::Vector3d>& centres,
   // degenerate line can never yield an empty mesh.
   if (mesh->triangles.empty()) {
     return FailedPreconditionError("view mesh: the " + std::to_string(n) + " collinear centres span no length");
-  }
-  FindOutlineNeighbours(mesh);
-  // Beyond an end the end cap's two ends are one view: its neighbour is the next along the line.
-  for (int k = 0; k < 3; ++k) {
-    AddOutlineNeighbour(mesh, k, along[1].second);
-    AddOutlineNeighbour(mesh, last + k, along[n - 2].second);
   }
   return *mesh;
 }
@@ -151,7 +131,6 @@ StatusOr<GlViewMesh> BuildGlViewMesh(const std::vector<Eigen::Vector3d>& centres
     }
     if (duplicates == 2) mesh.outer_edges.push_back(edge);
   }
-  FindOutlineNeighbours(&mesh);
   return mesh;
 }
 
@@ -194,22 +173,16 @@ std::array<int, 3> SlotViewsAt(const GlViewMesh& mesh, const Eigen::Vector2d& q)
     for (int k = 0; k < 3; ++k) add(mesh.vertex_view[mesh.triangles[t][k]]);
     return views;
   }
-  double best = 1e300, best_t = 0;
+  double best = 1e300;
   std::array<int, 2> best_edge = {0, 0};
   for (const auto& e : mesh.outer_edges) {
     const Eigen::Vector2d a = mesh.vertices[e[0]], ab = mesh.vertices[e[1]] - a;
     const double t = std::clamp((q - a).dot(ab) / std::max(ab.squaredNorm(), 1e-30), 0.0, 1.0);
     const double dist = (q - (a + t * ab)).norm();
-    if (dist < best) best = dist, best_t = t, best_edge = e;
+    if (dist < best) best = dist, best_edge = e;
   }
   add(mesh.vertex_view[best_edge[0]]);
   add(mesh.vertex_view[best_edge[1]]);
-  // One view alone: its neighbours along the outline too.
-  if (best_t <= 0 || best_t >= 1 || mesh.vertex_view[best_edge[0]] == mesh.vertex_view[best_edge[1]]) {
-    for (int view : mesh.outline_neighbours[best_edge[best_t >= 1 ? 1 : 0]]) {
-      if (view >= 0) add(view);
-    }
-  }
   return views;
 }
 

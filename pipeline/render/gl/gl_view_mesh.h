@@ -28,11 +28,7 @@ struct GlViewMesh {
   std::vector<int> vertex_view;                 // the view (index into the inputs) of each vertex
   std::vector<std::array<int, 3>> triangles;    // the extended mesh
   std::vector<std::array<int, 2>> outer_edges;  // the extended mesh's outer boundary
-  // Per vertex: the views at the far ends of its outer edges, other than its own (-1: none); at a
-  // line's ends, the next view along it. Where the nearest outer edge leaves one view alone,
-  // they take slots at weight 0 (ALGORITHM.md 3).
-  std::vector<std::array<int, 2>> outline_neighbours;
-  bool single_view = false;  // one view (or all centres together): weight 1 everywhere
+  bool single_view = false;                     // one view (or all centres together): weight 1 everywhere
 };
 
 // `centres_in_world` and `optical_axes_in_world` (unit, R^T (0,0,1)) and `x_axes_in_world`, one of

@@ -187,20 +187,8 @@ std::vector<std::array<float, 4>> MeshUniforms(const GlViewMesh& mesh) {
   for (const auto& triangle : mesh.triangles) {
     for (int vertex : triangle) uniforms.push_back(corner(vertex));
   }
-  // An outer edge's end carries in w its outline neighbour other than the edge's far end (-1: none).
   for (const auto& edge : mesh.outer_edges) {
-    for (int end = 0; end < 2; ++end) {
-      std::array<float, 4> u = corner(edge[end]);
-      const int far_view = mesh.vertex_view[edge[1 - end]];
-      u[3] = -1;
-      for (int view : mesh.outline_neighbours[edge[end]]) {
-        if (view >= 0 && view != far_view) {
-          u[3] = static_cast<float>(view);
-          break;
-        }
-      }
-      uniforms.push_back(u);
-    }
+    for (int vertex : edge) uniforms.push_back(corner(vertex));
   }
   if (uniforms.empty()) uniforms.push_back({0, 0, 0, 0});
   return uniforms;
