@@ -328,7 +328,9 @@ def run(daemon, driver, checks, parallax):
         time.sleep(0.05)
     cards = driver.find_elements(By.CSS_SELECTOR, "li.card.state-done")
     checks.expect(len(cards) == 1, "the pressed job's clip appears in the gallery")
-    checks.expect(len(stages & {"depth", "render", "encode", "processing"}) >= 2,
+    # Any two of the job's working stages: on a fast machine the small simulated shot renders and
+    # encodes between two polls of the page, so which stages are caught varies.
+    checks.expect(len(stages & {"lattice", "depth", "direct", "render", "encode", "processing"}) >= 2,
                   f"progress showed the job's stages live ({sorted(stages)})")
     checks.wait(lambda: "ready" in by_id("message").text, "the page says the clip is ready")
     checks.wait(lambda: driver.execute_script(
